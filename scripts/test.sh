@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Runs every test: installs what is missing, builds host and AVR, runs ctest
+# (unit, integration on ptys, vcan under user-mode Linux), checks AVR size budgets.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/deps.sh
+scripts/build.sh
+echo "== AVR build (avr-g++ $(avr-g++ -dumpversion)) and size budgets"
+firmware/avr/build-and-check.sh
+echo "== ctest"
+ctest --test-dir build --output-on-failure -j"$(nproc)" --timeout 600

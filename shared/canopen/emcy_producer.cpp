@@ -1,0 +1,139 @@
+#include "canopen/emcy_producer.h"
+
+#include <string.h>
+
+#include "canopen/clock.h"
+#include "canopen/od_comm.h"
+
+namespace mb2co {
+namespace canopen {
+
+void EmcyProducer::init(ObjectDictionary* od) {
+  od_ = od;
+  row_1001_ = od->find(0x1001, 0);
+  row_1003_ = od->find(0x1003, 0);
+  row_1014_ = od->find(0x1014, 0);
+  row_1015_ = od->find(0x1015, 0);
+  active_count_ = 0;
+  queue_head_ = 0;
+  queue_count_ = 0;
+  inhibit_running_ = false;
+  update_register();
+}
+
+bool EmcyProducer::active(uint16_t code) const {
+  for (uint8_t i = 0; i < active_count_; ++i) {
+    if (active_[i].code == code) return true;
+  }
+  return false;
+}
+
+void EmcyProducer::update_register() {
+  uint8_t reg = 0;
+  for (uint8_t i = 0; i < active_count_; ++i) reg = static_cast<uint8_t>(reg | active_[i].bits);
+  if (active_count_ != 0) reg |= kErrGeneric;
+  od_->set(row_1001_, reg);
+}
+
+void EmcyProducer::push_history(uint16_t code, const uint8_t* info) {
+  // Newest at sub 1 (CiA 301 §7.5.2.3); the manufacturer field's first two
+  // bytes go into the upper half of the entry.
+  uint32_t entry = code;
+  if (info != nullptr) entry |= (static_cast<uint32_t>(info[0]) | (static_cast<uint32_t>(info[1]) << 8)) << 16;
+  for (uint8_t s = kErrorHistoryLength; s > 1; --s) {
+    od_->set(static_cast<uint16_t>(row_1003_ + s), od_->get(static_cast<uint16_t>(row_1003_ + s - 1)));
+  }
+  od_->set(static_cast<uint16_t>(row_1003_ + 1), entry);
+  const uint32_t n = od_->get(row_1003_);
+  if (n < kErrorHistoryLength) od_->set(row_1003_, n + 1);
+}
+
+void EmcyProducer::enqueue(uint16_t code, const uint8_t* info) {
+  if (queue_count_ == kQueueLength) {
+    ++overflows_;
+    return;
+  }
+  Pending& p = queue_[(queue_head_ + queue_count_) % kQueueLength];
+  p.code = code;
+  p.reg = static_cast<uint8_t>(od_->get(row_1001_));
+  if (info != nullptr) {
+    memcpy(p.info, info, 5);
+  } else {
+    memset(p.info, 0, 5);
+  }
+  ++queue_count_;
+}
+
+void EmcyProducer::raise(uint16_t code, uint8_t register_bits, const uint8_t* info) {
+  if (active(code)) return;
+  if (active_count_ == kMaxActive) {
+    // Still tell the network; the set of active errors is full.
+    ++overflows_;
+  } else {
+    active_[active_count_].code = code;
+    active_[active_count_].bits = register_bits;
+    ++active_count_;
+  }
+  update_register();
+  push_history(code, info);
+  enqueue(code, info);
+}
+
+void EmcyProducer::clear(uint16_t code) {
+  for (uint8_t i = 0; i < active_count_; ++i) {
+    if (active_[i].code != code) continue;
+    active_[i] = active_[active_count_ - 1];
+    --active_count_;
+    update_register();
+    if (active_count_ == 0) enqueue(kEmcyErrorReset, nullptr);
+    return;
+  }
+}
+
+void EmcyProducer::process(uint32_t now_us, bool allowed, const CanSink& sink) {
+  if (inhibit_running_ && time_reached(now_us, inhibit_until_us_)) inhibit_running_ = false;
+  if (!allowed || queue_count_ == 0 || inhibit_running_) return;
+  const uint32_t cob = od_->get(row_1014_);
+  if (cob & 0x80000000u) {  // EMCY not valid: nothing is sent, queue dropped
+    queue_count_ = 0;
+    return;
+  }
+  const Pending& p = queue_[queue_head_];
+  CanFrame f = {};
+  f.id = cob & 0x7FFu;
+  f.dlc = 8;
+  f.data[0] = static_cast<uint8_t>(p.code);
+  f.data[1] = static_cast<uint8_t>(p.code >> 8);
+  f.data[2] = p.reg;
+  memcpy(&f.data[3], p.info, 5);
+  if (!sink.send(sink.ctx, f)) return;  // port busy: try again next time
+  queue_head_ = static_cast<uint8_t>((queue_head_ + 1) % kQueueLength);
+  --queue_count_;
+  const uint32_t inhibit_us = od_->get(row_1015_) * 100u;
+  if (inhibit_us != 0) {
+    inhibit_running_ = true;
+    inhibit_until_us_ = now_us + inhibit_us;
+  }
+}
+
+uint32_t EmcyProducer::on_write(uint16_t index, uint8_t sub, const uint8_t* data) {
+  if (index == 0x1003) {
+    // Only sub 0 is writable, and only with 0: clears the history.
+    if (sub != 0 || data[0] != 0) return kAbortInvalidValue;
+    for (uint8_t s = 1; s <= kErrorHistoryLength; ++s) od_->set(static_cast<uint16_t>(row_1003_ + s), 0);
+    return kSdoOk;
+  }
+  if (index == 0x1014) {
+    const uint32_t v = le32(data);
+    const uint32_t cur = od_->get(row_1014_);
+    if (v & 0x20000000u) return kAbortInvalidValue;  // 29-bit ids not supported
+    // The CAN-ID of a valid EMCY may only change after it is made invalid.
+    if (!(cur & 0x80000000u) && !(v & 0x80000000u) && (v & 0x7FFu) != (cur & 0x7FFu)) {
+      return kAbortInvalidValue;
+    }
+  }
+  return kSdoOk;
+}
+
+}  // namespace canopen
+}  // namespace mb2co

@@ -1,0 +1,88 @@
+// EMCY producer (CiA 301 §7.2.7): keeps the set of active errors, the error
+// register 1001h and the pre-defined error field 1003h, and sends an EMCY for
+// every error that appears and an "error reset" (code 0000h) when the last one
+// clears, spaced by the inhibit time 1015h.
+#pragma once
+#include <stdint.h>
+
+#include "canopen/can_frame.h"
+#include "canopen/od.h"
+
+namespace mb2co {
+namespace canopen {
+
+/// Emergency error codes used by mb2co (CiA 301 table 26).
+enum EmcyCode : uint16_t {
+  kEmcyErrorReset = 0x0000,
+  kEmcyGeneric = 0x1000,
+  kEmcyCanOverrun = 0x8110,       ///< CAN overrun (objects lost)
+  kEmcyCanPassive = 0x8120,       ///< CAN in error passive mode
+  kEmcyLifeGuard = 0x8130,        ///< life guard error or heartbeat error
+  kEmcyBusOffRecovered = 0x8140,  ///< recovered from bus-off
+  kEmcyPdoLength = 0x8210,        ///< PDO not processed due to length error
+  kEmcyPdoLengthExceeded = 0x8220,///< PDO length exceeded
+  kEmcySyncLength = 0x8240,       ///< unexpected SYNC data length
+  kEmcyRpdoTimeout = 0x8250,      ///< RPDO timeout
+};
+
+/// Error register 1001h bits.
+enum ErrorRegisterBit : uint8_t {
+  kErrGeneric = 0x01,
+  kErrCurrent = 0x02,
+  kErrVoltage = 0x04,
+  kErrTemperature = 0x08,
+  kErrCommunication = 0x10,
+  kErrDeviceProfile = 0x20,
+  kErrManufacturer = 0x80,
+};
+
+class EmcyProducer {
+ public:
+  static const uint8_t kMaxActive = 8;
+  static const uint8_t kQueueLength = 4;
+
+  void init(ObjectDictionary* od);
+  /// An error condition appeared. Ignored when already active (one EMCY per
+  /// appearance). `info` is the 5-byte manufacturer field (may be nullptr).
+  void raise(uint16_t code, uint8_t register_bits, const uint8_t* info = nullptr);
+  /// The error condition is gone; the last one to go sends "error reset".
+  void clear(uint16_t code);
+  bool active(uint16_t code) const;
+  /// Sends queued EMCY frames when allowed and the inhibit time has passed.
+  void process(uint32_t now_us, bool allowed, const CanSink& sink);
+  /// Validates writes to 1003h, 1014h, 1015h (OD hook).
+  uint32_t on_write(uint16_t index, uint8_t sub, const uint8_t* data);
+  /// Messages dropped because the queue was full (never decrements).
+  uint16_t overflows() const { return overflows_; }
+
+ private:
+  void push_history(uint16_t code, const uint8_t* info);
+  void enqueue(uint16_t code, const uint8_t* info);
+  void update_register();
+
+  struct Active {
+    uint16_t code;
+    uint8_t bits;
+  };
+  struct Pending {
+    uint16_t code;
+    uint8_t reg;
+    uint8_t info[5];
+  };
+  ObjectDictionary* od_ = nullptr;
+  uint16_t row_1001_ = 0;
+  uint16_t row_1003_ = 0;
+  uint16_t row_1014_ = 0;
+  uint16_t row_1015_ = 0;
+  Active active_[kMaxActive] = {};
+  uint8_t active_count_ = 0;
+  Pending queue_[kQueueLength] = {};
+  uint8_t queue_head_ = 0;
+  uint8_t queue_count_ = 0;
+  uint16_t overflows_ = 0;
+  uint32_t inhibit_until_us_ = 0;
+  bool inhibit_running_ = false;
+};
+
+}  // namespace canopen
+}  // namespace mb2co

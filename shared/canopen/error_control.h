@@ -1,0 +1,39 @@
+// Error control of the node itself (CiA 301 §7.2.8.3): the heartbeat producer
+// (1017h) and, when no heartbeat is produced, node guarding answers with life
+// guarding (100Ch guard time × 100Dh life time factor).
+#pragma once
+#include <stdint.h>
+
+#include "canopen/can_frame.h"
+#include "canopen/nmt_slave.h"
+
+namespace mb2co {
+namespace canopen {
+
+class ErrorControl {
+ public:
+  enum Event : uint8_t { kNoEvent = 0, kLifeGuardLost, kLifeGuardResumed };
+
+  void init(uint8_t node_id);
+  /// 1017h, 100Ch or 100Dh was written: timers restart at the next process().
+  void restart() { restart_ = true; }
+  /// Node guarding request (RTR on 700h+id). Answered only while the node
+  /// produces no heartbeat (one error-control protocol at a time).
+  void on_guard_request(uint32_t now_us, NmtState state, const CanSink& sink,
+                        uint16_t producer_ms, uint16_t guard_ms, uint8_t life_factor);
+  /// Sends due heartbeats; returns a life-guarding event when one happened.
+  Event process(uint32_t now_us, NmtState state, const CanSink& sink, uint16_t producer_ms,
+                uint16_t guard_ms, uint8_t life_factor);
+
+ private:
+  uint32_t next_heartbeat_us_ = 0;
+  uint32_t life_deadline_us_ = 0;
+  uint8_t node_id_ = 0;
+  bool restart_ = true;
+  bool toggle_ = false;
+  bool guarded_ = false;     ///< a guarding request arrived since (re)start
+  bool life_lost_ = false;   ///< life guarding event raised, not yet resumed
+};
+
+}  // namespace canopen
+}  // namespace mb2co

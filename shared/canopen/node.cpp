@@ -1,0 +1,209 @@
+#include "canopen/node.h"
+
+namespace mb2co {
+namespace canopen {
+
+Node::Node(ObjectDictionary& od, const CanSink& sink) : od_(od), sink_(sink) {
+  od_.set_write_hook(&Node::od_hook, this);
+}
+
+void Node::start(uint8_t node_id, uint32_t now_us) {
+  next_node_id_ = node_id;
+  reset(kResetNode, now_us);
+}
+
+void Node::reset(NmtReset kind, uint32_t now_us) {
+  node_id_ = next_node_id_;
+  od_.set_node_id(node_id_);
+  // Reset node restores every area, reset communication only 1000h–1FFFh;
+  // saved parameters (1010h) then replace the defaults.
+  const uint16_t from = kind == kResetNode ? 0x0000 : 0x1000;
+  const uint16_t to = kind == kResetNode ? 0xFFFF : 0x1FFF;
+  od_.restore_defaults(from, to);
+  if (storage_ != nullptr) params_load(od_, *storage_, from, to);
+  row_1016_ = od_.find(0x1016, 0);
+  row_1017_ = od_.find(0x1017, 0);
+  row_100c_ = od_.find(0x100C, 0);
+  row_100d_ = od_.find(0x100D, 0);
+  row_1010_ = od_.find(0x1010, 1);
+  // 1010h sub 1 reads the storage capability: 1 = saves on command.
+  od_.set(row_1010_, storage_ != nullptr ? 1u : 0u);
+  nmt_.init(node_id_);
+  error_control_.init(node_id_);
+  emcy_.init(&od_);
+  sync_.init(&od_);
+  tpdos_.init(&od_);
+  rpdos_.init(&od_, &emcy_);
+  sdo_.init(&od_, node_id_);
+  hb_consumer_.reset_all();
+  for (uint8_t s = 1; s <= kHbConsumers; ++s) {
+    hb_consumer_.configure(s, od_.get(static_cast<uint16_t>(row_1016_ + s)));
+  }
+  hb_lost_ = false;
+  life_lost_ = false;
+  if (reset_cb_ != nullptr) reset_cb_(reset_ctx_, kind);
+  // Boot-up, then pre-operational autonomously (CiA 301 §7.3.2.2).
+  CanFrame boot = {};
+  boot.id = 0x700u + node_id_;
+  boot.dlc = 1;
+  sink_.send(sink_.ctx, boot);
+  enter(kNmtPreOperational);
+  error_control_.restart();
+  (void)now_us;
+}
+
+void Node::enter(NmtState state) {
+  const NmtState before = nmt_.state();
+  nmt_.set_state(state);
+  on_transition(before);
+}
+
+void Node::on_transition(NmtState before) {
+  const NmtState state = nmt_.state();
+  if (state == before) return;
+  if (state == kNmtOperational) tpdos_.on_operational();
+  if (before == kNmtOperational) rpdos_.stop();
+  if (state == kNmtStopped) {
+    sdo_.cancel();
+    hb_consumer_.reset_all();
+  }
+}
+
+void Node::receive(const CanFrame& f, uint32_t now_us) {
+  if (f.extended() || nmt_.state() == kNmtInitialising) return;
+  if (f.id == 0) {
+    const NmtState before = nmt_.state();
+    if (!nmt_.on_frame(f)) return;
+    const NmtReset r = nmt_.take_reset();
+    if (r != kResetNone) return reset(r, now_us);
+    return on_transition(before);
+  }
+  if (nmt_.sync_allowed()) {
+    uint8_t counter = 0;
+    const Sync::Result r = sync_.on_frame(f, &counter);
+    if (r == Sync::kSyncEvent) {
+      emcy_.clear(kEmcySyncLength);
+      return on_sync_event(counter, now_us);
+    }
+    if (r == Sync::kSyncLengthError) return emcy_.raise(kEmcySyncLength, kErrCommunication);
+  }
+  if (f.id == 0x600u + node_id_) {
+    if (nmt_.sdo_allowed()) sdo_.on_frame(f, now_us, sink_);
+    return;
+  }
+  if (f.id == 0x700u + node_id_) {
+    if (f.rtr()) {
+      error_control_.on_guard_request(now_us, nmt_.state(), sink_,
+                                      static_cast<uint16_t>(od_.get(row_1017_)),
+                                      static_cast<uint16_t>(od_.get(row_100c_)),
+                                      static_cast<uint8_t>(od_.get(row_100d_)));
+    }
+    return;
+  }
+  if (nmt_.pdo_allowed()) {
+    if (f.rtr() && tpdos_.on_rtr(f, sink_, now_us)) return;
+    if (rpdos_.on_frame(f, now_us)) return;
+  }
+  if (f.id > 0x700u && f.id <= 0x77Fu && nmt_.sdo_allowed()) hb_consumer_.on_frame(f, now_us);
+}
+
+void Node::on_sync_event(uint8_t counter, uint32_t now_us) {
+  if (!nmt_.pdo_allowed()) return;
+  rpdos_.on_sync();
+  tpdos_.on_sync(counter, sink_, now_us);
+}
+
+void Node::update_guard_emcy() {
+  if (hb_lost_ || life_lost_) {
+    emcy_.raise(kEmcyLifeGuard, kErrCommunication);
+  } else {
+    emcy_.clear(kEmcyLifeGuard);
+  }
+}
+
+void Node::process(uint32_t now_us) {
+  if (nmt_.state() == kNmtInitialising) return;
+  const ErrorControl::Event ev = error_control_.process(
+      now_us, nmt_.state(), sink_, static_cast<uint16_t>(od_.get(row_1017_)),
+      static_cast<uint16_t>(od_.get(row_100c_)), static_cast<uint8_t>(od_.get(row_100d_)));
+  if (ev != ErrorControl::kNoEvent) {
+    life_lost_ = ev == ErrorControl::kLifeGuardLost;
+    update_guard_emcy();
+  }
+  if (nmt_.sdo_allowed()) {
+    const bool lost = hb_consumer_.process(now_us) != 0;
+    if (lost != hb_lost_) {
+      hb_lost_ = lost;
+      update_guard_emcy();
+    }
+    uint8_t counter = 0;
+    if (sync_.process(now_us, true, sink_, &counter)) on_sync_event(counter, now_us);
+    sdo_.process(now_us, sink_);
+  }
+  if (nmt_.pdo_allowed()) {
+    rpdos_.process(now_us);
+    tpdos_.process(now_us, sink_);
+  }
+  emcy_.process(now_us, nmt_.emcy_allowed(), sink_);
+}
+
+uint32_t Node::on_hb_consumer_write(uint8_t sub, uint32_t value) {
+  const uint8_t id = static_cast<uint8_t>(value >> 16);
+  const uint16_t time_ms = static_cast<uint16_t>(value);
+  if (value >> 24) return kAbortInvalidValue;  // reserved bits
+  if (id > 127) return kAbortInvalidValue;
+  if (id != 0 && time_ms != 0) {
+    // CiA 301 §7.5.2.34: one consumer time per node id.
+    for (uint8_t s = 1; s <= kHbConsumers; ++s) {
+      if (s == sub) continue;
+      const uint32_t other = od_.get(static_cast<uint16_t>(row_1016_ + s));
+      if (static_cast<uint8_t>(other >> 16) == id && static_cast<uint16_t>(other) != 0) {
+        return kAbortIncompatible;
+      }
+    }
+  }
+  hb_consumer_.configure(sub, value);
+  return kSdoOk;
+}
+
+uint32_t Node::on_store_write(uint16_t index, uint32_t value) {
+  if (index == 0x1010) {
+    if (value != kSaveSignature) return kAbortStore;  // CiA 301 §7.5.2.13
+    if (storage_ == nullptr) return kAbortStore;
+    return params_save(od_, *storage_) ? kHookHandled : kAbortGeneral;
+  }
+  if (value != kLoadSignature) return kAbortStore;
+  if (storage_ == nullptr) return kAbortStore;
+  return params_erase(*storage_) ? kHookHandled : kAbortGeneral;
+}
+
+uint32_t Node::od_hook(void* ctx, uint8_t hook, uint16_t index, uint8_t sub, const uint8_t* data,
+                       uint16_t len) {
+  Node& n = *static_cast<Node*>(ctx);
+  switch (hook) {
+    case kHookNmt:
+      n.error_control_.restart();
+      return kSdoOk;
+    case kHookHbConsumer:
+      return n.on_hb_consumer_write(sub, le32(data));
+    case kHookEmcy:
+      return n.emcy_.on_write(index, sub, data);
+    case kHookSync:
+      return n.sync_.on_write(index, data);
+    case kHookRpdoComm:
+    case kHookRpdoMap:
+      return n.rpdos_.on_write(index, sub, data);
+    case kHookTpdoComm:
+    case kHookTpdoMap:
+      return n.tpdos_.on_write(index, sub, data);
+    case kHookStore:
+      return n.on_store_write(index, le32(data));
+    case kHookApp:
+      return n.app_hook_ != nullptr ? n.app_hook_(n.app_ctx_, hook, index, sub, data, len) : kSdoOk;
+    default:
+      return kSdoOk;
+  }
+}
+
+}  // namespace canopen
+}  // namespace mb2co

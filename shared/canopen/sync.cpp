@@ -1,0 +1,77 @@
+#include "canopen/sync.h"
+
+#include "canopen/clock.h"
+
+namespace mb2co {
+namespace canopen {
+
+void Sync::init(ObjectDictionary* od) {
+  od_ = od;
+  row_1005_ = od->find(0x1005, 0);
+  row_1006_ = od->find(0x1006, 0);
+  row_1019_ = od->find(0x1019, 0);
+  counter_ = 0;
+  restart_ = true;
+}
+
+Sync::Result Sync::on_frame(const CanFrame& f, uint8_t* counter) {
+  if (f.rtr() || f.extended() || f.id != cob_id()) return kNotSync;
+  const uint8_t overflow = static_cast<uint8_t>(od_->get(row_1019_));
+  const uint8_t expected = overflow == 0 ? 0 : 1;
+  if (f.dlc != expected) return kSyncLengthError;
+  *counter = overflow == 0 ? 0 : f.data[0];
+  return kSyncEvent;
+}
+
+bool Sync::process(uint32_t now_us, bool allowed, const CanSink& sink, uint8_t* counter) {
+  const uint32_t cob = od_->get(row_1005_);
+  const uint32_t period_us = od_->get(row_1006_);
+  if (!(cob & 0x40000000u) || period_us == 0) {
+    restart_ = true;
+    return false;
+  }
+  if (restart_) {
+    restart_ = false;
+    counter_ = 0;
+    next_us_ = now_us + period_us;
+    return false;
+  }
+  if (!time_reached(now_us, next_us_)) return false;
+  next_us_ += period_us;
+  if (time_reached(now_us, next_us_)) next_us_ = now_us + period_us;  // no bursts
+  if (!allowed) return false;
+  const uint8_t overflow = static_cast<uint8_t>(od_->get(row_1019_));
+  CanFrame f = {};
+  f.id = cob & 0x7FFu;
+  if (overflow != 0) {
+    counter_ = static_cast<uint8_t>(counter_ >= overflow ? 1 : counter_ + 1);
+    f.dlc = 1;
+    f.data[0] = counter_;
+  }
+  sink.send(sink.ctx, f);
+  *counter = overflow != 0 ? counter_ : 0;
+  return true;
+}
+
+uint32_t Sync::on_write(uint16_t index, const uint8_t* data) {
+  if (index == 0x1005) {
+    const uint32_t v = le32(data);
+    const uint32_t cur = od_->get(row_1005_);
+    if (v & 0x20000000u) return kAbortInvalidValue;  // 29-bit ids not supported
+    // The CAN-ID may not change while this node produces SYNC.
+    if ((cur & 0x40000000u) && (v & 0x40000000u) && (v & 0x7FFu) != (cur & 0x7FFu)) {
+      return kAbortInvalidValue;
+    }
+    restart_ = true;
+  } else if (index == 0x1006) {
+    restart_ = true;
+  } else if (index == 0x1019) {
+    // CiA 301 §7.5.2.41: only while no communication cycle period is set.
+    if (od_->get(row_1006_) != 0) return kAbortDeviceState;
+    if (data[0] == 1) return kAbortInvalidValue;  // 0 or 2..240 (240: OD limit)
+  }
+  return kSdoOk;
+}
+
+}  // namespace canopen
+}  // namespace mb2co

@@ -1,0 +1,39 @@
+// SYNC consumer and producer (CiA 301 §7.2.5; 1005h, 1006h, 1019h). The
+// producer (1005h bit 30) sends a SYNC every 1006h µs; both a received and a
+// produced SYNC are reported to the PDOs as one event with its counter.
+#pragma once
+#include <stdint.h>
+
+#include "canopen/can_frame.h"
+#include "canopen/od.h"
+
+namespace mb2co {
+namespace canopen {
+
+class Sync {
+ public:
+  enum Result : uint8_t { kNotSync = 0, kSyncEvent, kSyncLengthError };
+
+  void init(ObjectDictionary* od);
+  /// A frame with the SYNC COB-ID: kSyncEvent (counter in *counter, 0 when
+  /// the SYNC has none), or kSyncLengthError (EMCY 8240h) when its length does
+  /// not match 1019h. Other frames: kNotSync.
+  Result on_frame(const CanFrame& f, uint8_t* counter);
+  /// Producer: true when a SYNC was sent now (*counter as for on_frame).
+  bool process(uint32_t now_us, bool allowed, const CanSink& sink, uint8_t* counter);
+  /// Validates writes to 1005h, 1006h, 1019h (OD hook).
+  uint32_t on_write(uint16_t index, const uint8_t* data);
+  uint32_t cob_id() const { return od_->get(row_1005_) & 0x7FFu; }
+
+ private:
+  ObjectDictionary* od_ = nullptr;
+  uint16_t row_1005_ = 0;
+  uint16_t row_1006_ = 0;
+  uint16_t row_1019_ = 0;
+  uint32_t next_us_ = 0;
+  uint8_t counter_ = 0;
+  bool restart_ = true;
+};
+
+}  // namespace canopen
+}  // namespace mb2co

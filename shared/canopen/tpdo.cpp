@@ -1,0 +1,184 @@
+#include "canopen/tpdo.h"
+
+#include <string.h>
+
+#include "canopen/clock.h"
+#include "canopen/pdo_map.h"
+
+namespace mb2co {
+namespace canopen {
+
+// Row offsets inside one communication record (sub 4 is absent).
+enum : uint8_t { kCob = 1, kType = 2, kInhibit = 3, kEvent = 4, kSyncStart = 5 };
+
+void Tpdos::init(ObjectDictionary* od) {
+  od_ = od;
+  comm0_ = od->find(0x1800, 0);
+  map0_ = od->find(0x1A00, 0);
+  memset(st_, 0, sizeof st_);
+}
+
+bool Tpdos::valid(uint8_t n, uint32_t* cob) const {
+  *cob = od_->get(static_cast<uint16_t>(comm_row(n) + kCob));
+  return !(*cob & 0x80000000u) && od_->get(map_row(n)) != 0;
+}
+
+void Tpdos::on_operational() {
+  for (uint8_t n = 0; n < kPdoCount; ++n) {
+    st_[n].flags = static_cast<uint8_t>(st_[n].flags & ~(kSent | kSyncStarted | kInhibiting));
+    st_[n].sync_count = 0;
+    const uint8_t type = static_cast<uint8_t>(od_->get(static_cast<uint16_t>(comm_row(n) + kType)));
+    if (type >= 254) st_[n].flags |= kPending;
+  }
+}
+
+void Tpdos::request(uint8_t n) {
+  if (n < kPdoCount) st_[n].flags |= kPending;
+}
+
+bool Tpdos::send(uint8_t n, uint32_t cob, const uint8_t* data, uint8_t len, const CanSink& sink,
+                 uint32_t now_us) {
+  CanFrame f = {};
+  f.id = cob & 0x7FFu;
+  f.dlc = len;
+  memcpy(f.data, data, len);
+  if (!sink.send(sink.ctx, f)) {
+    ++send_failures_;
+    return false;
+  }
+  State& s = st_[n];
+  memcpy(s.last, data, 8);
+  s.last_len = len;
+  s.flags = static_cast<uint8_t>((s.flags & ~kPending) | kSent);
+  const uint16_t inhibit = static_cast<uint16_t>(od_->get(static_cast<uint16_t>(comm_row(n) + kInhibit)));
+  if (inhibit != 0) {
+    s.flags |= kInhibiting;
+    s.inhibit_until_us = now_us + inhibit * 100u;
+  }
+  const uint16_t event_ms = static_cast<uint16_t>(od_->get(static_cast<uint16_t>(comm_row(n) + kEvent)));
+  if (event_ms != 0) {
+    s.flags |= kEventTimer;
+    s.event_deadline_us = now_us + event_ms * 1000u;
+  } else {
+    s.flags = static_cast<uint8_t>(s.flags & ~kEventTimer);
+  }
+  return true;
+}
+
+void Tpdos::process(uint32_t now_us, const CanSink& sink) {
+  for (uint8_t n = 0; n < kPdoCount; ++n) {
+    uint32_t cob = 0;
+    if (!valid(n, &cob)) continue;
+    State& s = st_[n];
+    const uint8_t type = static_cast<uint8_t>(od_->get(static_cast<uint16_t>(comm_row(n) + kType)));
+    uint8_t data[8];
+    const uint8_t len = pdo_build(*od_, map_row(n), data);
+    const bool changed = !(s.flags & kSent) || len != s.last_len || memcmp(data, s.last, len) != 0;
+    if (type == 0) {  // acyclic synchronous: remember the change for the next SYNC
+      if (changed) s.flags |= kPending;
+      continue;
+    }
+    if (type < 254) continue;
+    if (changed) s.flags |= kPending;
+    if ((s.flags & kEventTimer) && time_reached(now_us, s.event_deadline_us)) s.flags |= kPending;
+    if ((s.flags & kInhibiting) && time_reached(now_us, s.inhibit_until_us)) {
+      s.flags = static_cast<uint8_t>(s.flags & ~kInhibiting);
+    }
+    if ((s.flags & kPending) && !(s.flags & kInhibiting)) send(n, cob, data, len, sink, now_us);
+  }
+}
+
+void Tpdos::on_sync(uint8_t counter, const CanSink& sink, uint32_t now_us) {
+  for (uint8_t n = 0; n < kPdoCount; ++n) {
+    uint32_t cob = 0;
+    if (!valid(n, &cob)) continue;
+    State& s = st_[n];
+    const uint8_t type = static_cast<uint8_t>(od_->get(static_cast<uint16_t>(comm_row(n) + kType)));
+    uint8_t data[8];
+    if (type == 0) {
+      if (!(s.flags & kPending)) continue;
+      const uint8_t len = pdo_build(*od_, map_row(n), data);
+      send(n, cob, data, len, sink, now_us);
+    } else if (type <= 240) {
+      const uint8_t start = static_cast<uint8_t>(od_->get(static_cast<uint16_t>(comm_row(n) + kSyncStart)));
+      if (!(s.flags & kSyncStarted)) {
+        if (start != 0 && counter != 0 && counter != start) continue;
+        s.flags |= kSyncStarted;
+        s.sync_count = static_cast<uint8_t>(type - 1);  // first transmission on this SYNC
+      }
+      if (++s.sync_count < type) continue;
+      s.sync_count = 0;
+      const uint8_t len = pdo_build(*od_, map_row(n), data);
+      send(n, cob, data, len, sink, now_us);
+    } else if (type == 252) {  // sample now, send on request
+      s.last_len = pdo_build(*od_, map_row(n), s.last);
+    }
+  }
+}
+
+bool Tpdos::on_rtr(const CanFrame& f, const CanSink& sink, uint32_t now_us) {
+  for (uint8_t n = 0; n < kPdoCount; ++n) {
+    uint32_t cob = 0;
+    if (!valid(n, &cob) || (cob & 0x7FFu) != f.id) continue;
+    if (cob & 0x40000000u) return true;  // RTR not allowed on this PDO: ignored
+    const uint8_t type = static_cast<uint8_t>(od_->get(static_cast<uint16_t>(comm_row(n) + kType)));
+    uint8_t data[8];
+    if (type == 252) {
+      memcpy(data, st_[n].last, 8);
+      send(n, cob, data, st_[n].last_len, sink, now_us);
+    } else {
+      const uint8_t len = pdo_build(*od_, map_row(n), data);
+      send(n, cob, data, len, sink, now_us);
+    }
+    return true;
+  }
+  return false;
+}
+
+uint32_t Tpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data) {
+  if (index >= 0x1A00) {  // mapping
+    const uint8_t n = static_cast<uint8_t>(index - 0x1A00);
+    uint32_t cob = 0;
+    const bool enabled = !(od_->get(static_cast<uint16_t>(comm_row(n) + kCob)) & 0x80000000u);
+    (void)cob;
+    if (enabled) return kAbortUnsupported;  // CiA 301: disable the PDO first
+    if (sub == 0) {
+      uint16_t bits = 0;
+      return pdo_check_mapping(*od_, map_row(n), data[0], false, &bits);
+    }
+    if (od_->get(map_row(n)) != 0) return kAbortUnsupported;  // sub 0 must be 0 first
+    const uint32_t entry = le32(data);
+    return entry == 0 ? kSdoOk : pdo_check_entry(*od_, entry, false);
+  }
+  const uint8_t n = static_cast<uint8_t>(index - 0x1800);
+  const uint32_t cur = od_->get(static_cast<uint16_t>(comm_row(n) + kCob));
+  const bool enabled = !(cur & 0x80000000u);
+  switch (sub) {
+    case 1: {
+      const uint32_t v = le32(data);
+      const uint32_t abort = pdo_check_cob_id(cur, v);
+      if (abort != kSdoOk) return abort;
+      if (!(v & 0x80000000u) && !enabled) {  // being enabled: start afresh
+        st_[n].flags = kPending;
+        st_[n].sync_count = 0;
+      }
+      return kSdoOk;
+    }
+    case 2:
+      if (data[0] >= 241 && data[0] <= 251) return kAbortInvalidValue;
+      st_[n].flags = static_cast<uint8_t>(st_[n].flags & ~kSyncStarted);
+      return kSdoOk;
+    case 3:  // inhibit time: only while the PDO does not exist
+    case 6:  // SYNC start value: likewise
+      if (enabled) return kAbortInvalidValue;
+      if (sub == 6 && data[0] > 240) return kAbortInvalidValue;
+      return kSdoOk;
+    case 5:  // event timer: takes effect from the next transmission
+      return kSdoOk;
+    default:
+      return kAbortNoSubindex;
+  }
+}
+
+}  // namespace canopen
+}  // namespace mb2co

@@ -1,0 +1,64 @@
+// The node's transmit PDOs 1–4 (1800h–1803h communication, 1A00h–1A03h
+// mapping). Transmission types: 0 (synchronous acyclic: at SYNC after a
+// change), 1–240 (every n-th SYNC), 252 (sampled at SYNC, sent on RTR), 253
+// (built and sent on RTR), 254/255 (event: change of mapped data or event
+// timer, spaced by the inhibit time in 100 µs units).
+#pragma once
+#include <stdint.h>
+
+#include "canopen/can_frame.h"
+#include "canopen/od.h"
+#include "canopen/od_comm.h"
+
+namespace mb2co {
+namespace canopen {
+
+class Tpdos {
+ public:
+  void init(ObjectDictionary* od);
+  /// Entering operational: event-driven TPDOs send their current data.
+  void on_operational();
+  /// Asks TPDO `n` (0-based) to send at the next opportunity (event types).
+  void request(uint8_t n);
+  /// A SYNC with `counter` (0 if the SYNC has none).
+  void on_sync(uint8_t counter, const CanSink& sink, uint32_t now_us);
+  /// An RTR on one of our COB-IDs; returns true if it was for a TPDO.
+  bool on_rtr(const CanFrame& f, const CanSink& sink, uint32_t now_us);
+  /// Event-driven transmissions (change of data, event timer, inhibit).
+  void process(uint32_t now_us, const CanSink& sink);
+  /// Validates writes to 1800h–1803h and 1A00h–1A03h (OD hook).
+  uint32_t on_write(uint16_t index, uint8_t sub, const uint8_t* data);
+  /// Frames the port refused (never decrements).
+  uint16_t send_failures() const { return send_failures_; }
+
+ private:
+  struct State {
+    uint32_t inhibit_until_us;
+    uint32_t event_deadline_us;
+    uint8_t last[8];     ///< last sent (254/255, 0) or sampled (252) payload
+    uint8_t last_len;
+    uint8_t sync_count;  ///< SYNCs since the last cyclic transmission
+    uint8_t flags;
+  };
+  enum : uint8_t {
+    kPending = 0x01,       ///< send when inhibit time allows
+    kInhibiting = 0x02,
+    kEventTimer = 0x04,    ///< event timer armed
+    kSyncStarted = 0x08,   ///< SYNC start value reached
+    kSent = 0x10,          ///< `last` holds a transmitted payload
+  };
+  bool valid(uint8_t n, uint32_t* cob) const;
+  bool send(uint8_t n, uint32_t cob, const uint8_t* data, uint8_t len, const CanSink& sink,
+            uint32_t now_us);
+  uint16_t comm_row(uint8_t n) const { return static_cast<uint16_t>(comm0_ + n * 6u); }
+  uint16_t map_row(uint8_t n) const { return static_cast<uint16_t>(map0_ + n * 9u); }
+
+  ObjectDictionary* od_ = nullptr;
+  uint16_t comm0_ = 0;  ///< row of 1800h sub 0; records are 6 rows apart
+  uint16_t map0_ = 0;   ///< row of 1A00h sub 0; records are 9 rows apart
+  State st_[kPdoCount] = {};
+  uint16_t send_failures_ = 0;
+};
+
+}  // namespace canopen
+}  // namespace mb2co

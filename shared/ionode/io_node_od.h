@@ -1,0 +1,50 @@
+// Object Dictionary of the CiA 401-style digital I/O test node: two input
+// bytes (6000h), two output bytes (6200h), TPDO1 = inputs, RPDO1 = outputs,
+// as the CO4011 module of seed 004 §2.11 that the frame trace talks to.
+#pragma once
+#include "canopen/od_comm.h"
+#include "canopen/od_define.h"
+
+namespace mb2co {
+namespace ionode {
+
+#define MB2CO_IO_NODE_OD(N, S)                                                                    \
+  MB2CO_OD_DATA_TYPES(N, S)                                                                       \
+  MB2CO_OD_COMM_1000(N, S, 0x00030191, "mb2co I/O node", "1.0", "0.1.0", 0, 0x401, 1)              \
+  MB2CO_OD_RPDO_COMM(N, 0x1400, 0x200, kAttrNodeId, 255, 0, "RPDO1")                              \
+  MB2CO_OD_RPDO_COMM(N, 0x1401, 0x80000300, kAttrNodeId, 255, 0, "RPDO2")                         \
+  MB2CO_OD_RPDO_COMM(N, 0x1402, 0x80000400, kAttrNodeId, 255, 0, "RPDO3")                         \
+  MB2CO_OD_RPDO_COMM(N, 0x1403, 0x80000500, kAttrNodeId, 255, 0, "RPDO4")                         \
+  MB2CO_OD_PDO_MAP(N, 0x1600, kHookRpdoMap, 2, MB2CO_PDO_MAP_ENTRY(0x6200, 1, 8),                 \
+                   MB2CO_PDO_MAP_ENTRY(0x6200, 2, 8), 0, 0, 0, 0, 0, 0, "RPDO1 mapping")           \
+  MB2CO_OD_PDO_MAP(N, 0x1601, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO2 mapping")           \
+  MB2CO_OD_PDO_MAP(N, 0x1602, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO3 mapping")           \
+  MB2CO_OD_PDO_MAP(N, 0x1603, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO4 mapping")           \
+  MB2CO_OD_TPDO_COMM(N, 0x1800, 0x180, kAttrNodeId, 255, 0, 0, "TPDO1")                           \
+  MB2CO_OD_TPDO_COMM(N, 0x1801, 0x80000280, kAttrNodeId, 255, 0, 0, "TPDO2")                      \
+  MB2CO_OD_TPDO_COMM(N, 0x1802, 0x80000380, kAttrNodeId, 255, 0, 0, "TPDO3")                      \
+  MB2CO_OD_TPDO_COMM(N, 0x1803, 0x80000480, kAttrNodeId, 255, 0, 0, "TPDO4")                      \
+  MB2CO_OD_PDO_MAP(N, 0x1A00, kHookTpdoMap, 2, MB2CO_PDO_MAP_ENTRY(0x6000, 1, 8),                 \
+                   MB2CO_PDO_MAP_ENTRY(0x6000, 2, 8), 0, 0, 0, 0, 0, 0, "TPDO1 mapping")           \
+  MB2CO_OD_PDO_MAP(N, 0x1A01, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO2 mapping")           \
+  MB2CO_OD_PDO_MAP(N, 0x1A02, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO3 mapping")           \
+  MB2CO_OD_PDO_MAP(N, 0x1A03, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO4 mapping")           \
+  S(0x2000, 0, RW, kHookNone, 24, "", "Location label")                                           \
+  N(0x2100, 0, BOOL, RW, 0, kHookApp, 0, "Local control (outputs refuse network writes)")         \
+  N(0x2101, 0, U16, RW, 0, kHookNone, 10, "Input debounce (ms)")                                  \
+  N(0x6000, 0, U8, CONST, 0, kHookNone, 2, "Read input 8-bit: highest sub-index")                 \
+  N(0x6000, 1, U8, RO, kAttrPdo, kHookNone, 0, "Read input 8-bit 1")                              \
+  N(0x6000, 2, U8, RO, kAttrPdo, kHookNone, 0, "Read input 8-bit 2")                              \
+  N(0x6200, 0, U8, CONST, 0, kHookNone, 2, "Write output 8-bit: highest sub-index")               \
+  N(0x6200, 1, U8, RW, kAttrPdo, kHookApp, 0, "Write output 8-bit 1")                             \
+  N(0x6200, 2, U8, RW, kAttrPdo, kHookApp, 0, "Write output 8-bit 2")
+
+#define MB2CO_IO_NODE_LIMITS(L) L(0x2101, 0, 1, 250)
+
+namespace od {
+using namespace ::mb2co::canopen;
+MB2CO_OD_DECLARE(IoNode, MB2CO_IO_NODE_OD)
+}  // namespace od
+
+}  // namespace ionode
+}  // namespace mb2co

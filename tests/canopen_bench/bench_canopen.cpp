@@ -1,0 +1,108 @@
+// Google Benchmarks of the CANopen core's hot paths (figures in
+// docs/performance.md): OD lookup, expedited SDO request → response, and a
+// SYNC that makes 4 synchronous TPDOs.
+#include <benchmark/benchmark.h>
+
+#include "canopen/od_comm.h"
+#include "ionode/io_node.h"
+
+namespace mb2co {
+namespace {
+
+struct CountingSink {
+  uint32_t frames = 0;
+  uint8_t last = 0;
+  static bool send(void* ctx, const CanFrame& f) {
+    CountingSink& s = *static_cast<CountingSink*>(ctx);
+    ++s.frames;
+    s.last = f.data[0];
+    return true;
+  }
+  CanSink sink() { return CanSink{&CountingSink::send, this}; }
+};
+
+CanFrame frame(uint32_t id, uint8_t dlc, const uint8_t* bytes) {
+  CanFrame f = {};
+  f.id = id;
+  f.dlc = dlc;
+  for (uint8_t i = 0; i < dlc; ++i) f.data[i] = bytes[i];
+  return f;
+}
+
+void BM_OdLookup(benchmark::State& state) {
+  CountingSink bus;
+  ionode::IoNode node(bus.sink());
+  const uint16_t keys[][2] = {{0x1000, 0}, {0x1017, 0}, {0x1400, 1}, {0x1A00, 2},
+                              {0x1803, 5}, {0x6000, 1}, {0x6200, 2}, {0x0007, 0}};
+  size_t i = 0;
+  for (auto _ : state) {
+    const uint16_t* k = keys[i++ % 8];
+    benchmark::DoNotOptimize(node.od().find(k[0], static_cast<uint8_t>(k[1])));
+  }
+  state.counters["rows"] = node.od().row_count();
+}
+BENCHMARK(BM_OdLookup);
+
+void BM_SdoExpeditedUpload(benchmark::State& state) {
+  CountingSink bus;
+  ionode::IoNode node(bus.sink());
+  node.start(3, 0);
+  const uint8_t req[8] = {0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0};
+  const CanFrame f = frame(0x603, 8, req);
+  for (auto _ : state) node.receive(f, 1000);
+  if (bus.last != 0x42) state.SkipWithError("unexpected SDO response");
+}
+BENCHMARK(BM_SdoExpeditedUpload);
+
+void BM_SdoExpeditedDownload(benchmark::State& state) {
+  CountingSink bus;
+  ionode::IoNode node(bus.sink());
+  node.start(3, 0);
+  const uint8_t req[8] = {0x2B, 0x17, 0x10, 0x00, 0xF4, 0x01, 0, 0};
+  const CanFrame f = frame(0x603, 8, req);
+  for (auto _ : state) node.receive(f, 1000);
+  if (bus.last != 0x60) state.SkipWithError("unexpected SDO response");
+}
+BENCHMARK(BM_SdoExpeditedDownload);
+
+// Configures TPDO n (0-based) as synchronous every SYNC, mapping both input
+// bytes and the error register, by the CiA 301 procedure.
+void make_sync_tpdo(canopen::ObjectDictionary& od, uint8_t n) {
+  using canopen::put_le32;
+  uint8_t b[4];
+  const uint16_t comm = static_cast<uint16_t>(0x1800 + n);
+  const uint16_t map = static_cast<uint16_t>(0x1A00 + n);
+  put_le32(b, 0x80000000u | (0x180u + 0x100u * n + 3));
+  od.write(comm, 1, b, 4);
+  b[0] = 0;
+  od.write(map, 0, b, 1);
+  put_le32(b, MB2CO_PDO_MAP_ENTRY(0x6000, 1, 8));
+  od.write(map, 1, b, 4);
+  put_le32(b, MB2CO_PDO_MAP_ENTRY(0x6000, 2, 8));
+  od.write(map, 2, b, 4);
+  put_le32(b, MB2CO_PDO_MAP_ENTRY(0x1001, 0, 8));
+  od.write(map, 3, b, 4);
+  b[0] = 3;
+  od.write(map, 0, b, 1);
+  b[0] = 1;
+  od.write(comm, 2, b, 1);
+  put_le32(b, 0x180u + 0x100u * n + 3);
+  od.write(comm, 1, b, 4);
+}
+
+void BM_Sync4Tpdos(benchmark::State& state) {
+  CountingSink bus;
+  ionode::IoNode node(bus.sink());
+  node.start(3, 0);
+  for (uint8_t n = 0; n < 4; ++n) make_sync_tpdo(node.od(), n);
+  const uint8_t start[2] = {0x01, 0x03};
+  node.receive(frame(0x000, 2, start), 0);
+  const CanFrame sync = frame(0x080, 0, nullptr);
+  bus.frames = 0;
+  for (auto _ : state) node.receive(sync, 2000);
+  if (bus.frames != 4 * state.iterations()) state.SkipWithError("SYNC did not make 4 TPDOs");
+}
+BENCHMARK(BM_Sync4Tpdos);
+
+}  // namespace
+}  // namespace mb2co

@@ -1,0 +1,15 @@
+// Writes an Object Dictionary, from the same constant rows the node runs on,
+// as the user's Markdown table (docs/od*.md) or as a CiA 306 EDS file.
+#pragma once
+#include <string>
+
+#include "canopen/od.h"
+
+namespace mb2co {
+namespace odtool {
+
+std::string od_markdown(const canopen::ObjectDictionary& od, const std::string& title);
+std::string od_eds(const canopen::ObjectDictionary& od, const std::string& product);
+
+}  // namespace odtool
+}  // namespace mb2co

@@ -13,7 +13,7 @@ namespace canopen {
 const uint8_t kErrorHistoryLength = 4;  ///< 1003h sub1..4
 const uint8_t kHbConsumers = 4;         ///< 1016h sub1..4
 const uint8_t kPdoCount = 4;            ///< RPDOs and TPDOs each
-const uint8_t kPdoMaxMapped = 8;        ///< 16xxh/1Axxh sub1..8
+const uint8_t kPdoMaxMapped = 8;        ///< 16xxh/1Axxh sub1..8 at most (an OD may have fewer)
 const uint32_t kSaveSignature = 0x65766173u;  ///< "save" (1010h)
 const uint32_t kLoadSignature = 0x64616F6Cu;  ///< "load" (1011h)
 }  // namespace canopen
@@ -115,6 +115,14 @@ const uint32_t kLoadSignature = 0x64616F6Cu;  ///< "load" (1011h)
   N(INDEX, 6, U32, RW, 0, HOOK, M6, NAME ": mapped object 6")                         \
   N(INDEX, 7, U32, RW, 0, HOOK, M7, NAME ": mapped object 7")                         \
   N(INDEX, 8, U32, RW, 0, HOOK, M8, NAME ": mapped object 8")
+
+// The same with 4 entries (saves 16 bytes of RAM per PDO on the Uno).
+#define MB2CO_OD_PDO_MAP4(N, INDEX, HOOK, COUNT, M1, M2, M3, M4, NAME) \
+  N(INDEX, 0, U8, RW, 0, HOOK, COUNT, NAME ": number of mapped objects") \
+  N(INDEX, 1, U32, RW, 0, HOOK, M1, NAME ": mapped object 1")            \
+  N(INDEX, 2, U32, RW, 0, HOOK, M2, NAME ": mapped object 2")            \
+  N(INDEX, 3, U32, RW, 0, HOOK, M3, NAME ": mapped object 3")            \
+  N(INDEX, 4, U32, RW, 0, HOOK, M4, NAME ": mapped object 4")
 
 /// A mapping entry: index, sub-index, length in bits (CiA 301 §7.4.8.3).
 #define MB2CO_PDO_MAP_ENTRY(index, sub, bits) \

@@ -25,9 +25,9 @@ uint32_t pdo_check_entry(const ObjectDictionary& od, uint32_t entry, bool receiv
   return kSdoOk;
 }
 
-uint32_t pdo_check_mapping(const ObjectDictionary& od, uint16_t row0, uint8_t count, bool receive,
-                           uint16_t* bits) {
-  if (count > kPdoMaxMapped) return kAbortMapLength;
+uint32_t pdo_check_mapping(const ObjectDictionary& od, uint16_t row0, uint8_t count,
+                           uint8_t max_count, bool receive, uint16_t* bits) {
+  if (count > max_count || count > kPdoMaxMapped) return kAbortMapLength;
   uint16_t total = 0;
   for (uint8_t s = 1; s <= count; ++s) {
     const uint32_t entry = od.get(static_cast<uint16_t>(row0 + s));
@@ -107,6 +107,11 @@ void pdo_apply(ObjectDictionary& od, uint16_t row0, const uint8_t* data) {
     }
     at = static_cast<uint16_t>(at + bits);
   }
+}
+
+uint8_t pdo_map_stride(const ObjectDictionary& od, uint16_t first_index) {
+  return static_cast<uint8_t>(od.first_row(static_cast<uint16_t>(first_index + 1)) -
+                              od.first_row(first_index));
 }
 
 bool can_id_restricted(uint32_t id) {

@@ -22,7 +22,10 @@ uint32_t pdo_check_entry(const ObjectDictionary& od, uint32_t entry, bool receiv
 /// Validates the first `count` entries of the mapping record whose sub 0 is at
 /// `row0`; *bits = their total length. 0 or the abort code of the first fault.
 uint32_t pdo_check_mapping(const ObjectDictionary& od, uint16_t row0, uint8_t count,
-                           bool receive, uint16_t* bits);
+                           uint8_t max_count, bool receive, uint16_t* bits);
+/// Rows of one mapping record (1 + entries) in this OD, from the distance
+/// between the first two records starting at `first_index`.
+uint8_t pdo_map_stride(const ObjectDictionary& od, uint16_t first_index);
 /// Builds the payload of the mapping at `row0`; returns its length in bytes.
 uint8_t pdo_build(const ObjectDictionary& od, uint16_t row0, uint8_t data[8]);
 /// Writes a received payload into the mapped objects.

@@ -16,6 +16,7 @@ void Rpdos::init(ObjectDictionary* od, EmcyProducer* emcy) {
   emcy_ = emcy;
   comm0_ = od->find(0x1400, 0);
   map0_ = od->find(0x1600, 0);
+  map_stride_ = pdo_map_stride(*od, 0x1600);
   memset(st_, 0, sizeof st_);
 }
 
@@ -111,7 +112,8 @@ uint32_t Rpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data) {
     if (!(od_->get(static_cast<uint16_t>(comm_row(n) + kCob)) & 0x80000000u)) return kAbortUnsupported;
     if (sub == 0) {
       uint16_t bits = 0;
-      return pdo_check_mapping(*od_, map_row(n), data[0], true, &bits);
+      return pdo_check_mapping(*od_, map_row(n), data[0], static_cast<uint8_t>(map_stride_ - 1),
+                               true, &bits);
     }
     if (od_->get(map_row(n)) != 0) return kAbortUnsupported;  // sub 0 must be 0 first
     const uint32_t entry = le32(data);

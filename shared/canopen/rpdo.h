@@ -43,14 +43,15 @@ class Rpdos {
   };
   enum : uint8_t { kBuffered = 0x01, kMonitoring = 0x02, kTimedOut = 0x04, kShort = 0x08, kLong = 0x10 };
   uint16_t comm_row(uint8_t n) const { return static_cast<uint16_t>(comm0_ + n * 5u); }
-  uint16_t map_row(uint8_t n) const { return static_cast<uint16_t>(map0_ + n * 9u); }
+  uint16_t map_row(uint8_t n) const { return static_cast<uint16_t>(map0_ + n * map_stride_); }
   void apply(uint8_t n, const uint8_t* data);
   void update_length_errors();
 
   ObjectDictionary* od_ = nullptr;
   EmcyProducer* emcy_ = nullptr;
   uint16_t comm0_ = 0;  ///< row of 1400h sub 0; records are 5 rows apart
-  uint16_t map0_ = 0;   ///< row of 1600h sub 0; records are 9 rows apart
+  uint16_t map0_ = 0;   ///< row of 1600h sub 0; records are map_stride_ rows apart
+  uint8_t map_stride_ = 9;  ///< 1 + mapping entries per record in this OD
   State st_[kPdoCount] = {};
   RpdoCallback cb_ = nullptr;
   void* cb_ctx_ = nullptr;

@@ -15,6 +15,7 @@ void Tpdos::init(ObjectDictionary* od) {
   od_ = od;
   comm0_ = od->find(0x1800, 0);
   map0_ = od->find(0x1A00, 0);
+  map_stride_ = pdo_map_stride(*od, 0x1A00);
   memset(st_, 0, sizeof st_);
 }
 
@@ -138,13 +139,12 @@ bool Tpdos::on_rtr(const CanFrame& f, const CanSink& sink, uint32_t now_us) {
 uint32_t Tpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data) {
   if (index >= 0x1A00) {  // mapping
     const uint8_t n = static_cast<uint8_t>(index - 0x1A00);
-    uint32_t cob = 0;
     const bool enabled = !(od_->get(static_cast<uint16_t>(comm_row(n) + kCob)) & 0x80000000u);
-    (void)cob;
     if (enabled) return kAbortUnsupported;  // CiA 301: disable the PDO first
     if (sub == 0) {
       uint16_t bits = 0;
-      return pdo_check_mapping(*od_, map_row(n), data[0], false, &bits);
+      return pdo_check_mapping(*od_, map_row(n), data[0], static_cast<uint8_t>(map_stride_ - 1),
+                               false, &bits);
     }
     if (od_->get(map_row(n)) != 0) return kAbortUnsupported;  // sub 0 must be 0 first
     const uint32_t entry = le32(data);

@@ -51,11 +51,12 @@ class Tpdos {
   bool send(uint8_t n, uint32_t cob, const uint8_t* data, uint8_t len, const CanSink& sink,
             uint32_t now_us);
   uint16_t comm_row(uint8_t n) const { return static_cast<uint16_t>(comm0_ + n * 6u); }
-  uint16_t map_row(uint8_t n) const { return static_cast<uint16_t>(map0_ + n * 9u); }
+  uint16_t map_row(uint8_t n) const { return static_cast<uint16_t>(map0_ + n * map_stride_); }
 
   ObjectDictionary* od_ = nullptr;
   uint16_t comm0_ = 0;  ///< row of 1800h sub 0; records are 6 rows apart
-  uint16_t map0_ = 0;   ///< row of 1A00h sub 0; records are 9 rows apart
+  uint16_t map0_ = 0;   ///< row of 1A00h sub 0; records are map_stride_ rows apart
+  uint8_t map_stride_ = 9;  ///< 1 + mapping entries per record in this OD
   State st_[kPdoCount] = {};
   uint16_t send_failures_ = 0;
 };

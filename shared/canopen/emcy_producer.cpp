@@ -4,6 +4,7 @@
 
 #include "canopen/clock.h"
 #include "canopen/od_comm.h"
+#include "canopen/pdo_map.h"
 
 namespace mb2co {
 namespace canopen {
@@ -127,6 +128,8 @@ uint32_t EmcyProducer::on_write(uint16_t index, uint8_t sub, const uint8_t* data
     const uint32_t v = le32(data);
     const uint32_t cur = od_->get(row_1014_);
     if (v & 0x20000000u) return kAbortInvalidValue;  // 29-bit ids not supported
+    // CiA 301 §7.3.5: no restricted CAN-ID for a valid EMCY.
+    if (!(v & 0x80000000u) && can_id_restricted(v & 0x7FFu)) return kAbortInvalidValue;
     // The CAN-ID of a valid EMCY may only change after it is made invalid.
     if (!(cur & 0x80000000u) && !(v & 0x80000000u) && (v & 0x7FFu) != (cur & 0x7FFu)) {
       return kAbortInvalidValue;

@@ -20,7 +20,10 @@ void Node::reset(NmtReset kind, uint32_t now_us) {
   const uint16_t from = kind == kResetNode ? 0x0000 : 0x1000;
   const uint16_t to = kind == kResetNode ? 0xFFFF : 0x1FFF;
   od_.restore_defaults(from, to);
-  if (storage_ != nullptr) params_load(od_, *storage_, from, to);
+  params_loaded_ = storage_ != nullptr && params_load(od_, *storage_, from, to);
+  // The application adjusts what it derives from the configuration (e.g. its
+  // device type, the line's PDO COB-IDs) before the services read the OD.
+  if (reset_cb_ != nullptr) reset_cb_(reset_ctx_, kind);
   row_1016_ = od_.find(0x1016, 0);
   row_1017_ = od_.find(0x1017, 0);
   row_100c_ = od_.find(0x100C, 0);
@@ -41,7 +44,6 @@ void Node::reset(NmtReset kind, uint32_t now_us) {
   }
   hb_lost_ = false;
   life_lost_ = false;
-  if (reset_cb_ != nullptr) reset_cb_(reset_ctx_, kind);
   // Boot-up, then pre-operational autonomously (CiA 301 §7.3.2.2).
   CanFrame boot = {};
   boot.id = 0x700u + node_id_;
@@ -122,6 +124,11 @@ void Node::update_guard_emcy() {
 }
 
 void Node::process(uint32_t now_us) {
+  if (pending_reset_ != kResetNone) {
+    const NmtReset kind = pending_reset_;
+    pending_reset_ = kResetNone;
+    reset(kind, now_us);
+  }
   if (nmt_.state() == kNmtInitialising) return;
   const ErrorControl::Event ev = error_control_.process(
       now_us, nmt_.state(), sink_, static_cast<uint16_t>(od_.get(row_1017_)),

@@ -21,8 +21,9 @@
 namespace mb2co {
 namespace canopen {
 
-/// Told after a reset (node or communication) re-initialised the OD, before
-/// the boot-up message: the application re-applies what it owns (e.g. 1000h).
+/// Told after a reset (node or communication) restored defaults and saved
+/// parameters, before the services start from the OD and before the boot-up
+/// message: the application re-applies what it owns (e.g. 1000h).
 typedef void (*ResetCallback)(void* ctx, NmtReset kind);
 
 class Node {
@@ -42,6 +43,12 @@ class Node {
   }
   /// Node id used from the next reset communication on (1..127).
   void set_node_id_for_next_reset(uint8_t node_id) { next_node_id_ = node_id; }
+
+  /// A reset as if by NMT command, carried out at the next process() (so that
+  /// a response to the request that asked for it can still leave first).
+  void request_reset(NmtReset kind) { pending_reset_ = kind; }
+  /// True when the last reset found a valid saved-parameter image.
+  bool params_loaded() const { return params_loaded_; }
 
   /// Power-on: defaults and saved parameters, boot-up, pre-operational.
   void start(uint8_t node_id, uint32_t now_us);
@@ -90,6 +97,8 @@ class Node {
   uint16_t row_1010_ = 0;
   uint8_t node_id_ = 0;
   uint8_t next_node_id_ = 0;
+  NmtReset pending_reset_ = kResetNone;
+  bool params_loaded_ = false;
   bool hb_lost_ = false;
   bool life_lost_ = false;
 };

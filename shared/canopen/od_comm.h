@@ -49,8 +49,9 @@ const uint32_t kLoadSignature = 0x64616F6Cu;  ///< "load" (1011h)
   N(0x0023, 4, U16, CONST, 0, kHookNone, 0x0007, "serial number type")
 
 // 1000h–1200h. DEVTYPE: device type default (the node may set it at start),
-// NAME/HW/SW: texts of 1008h–100Ah, VENDOR/PRODUCT/REVISION: 1018h.
-#define MB2CO_OD_COMM_1000(N, S, DEVTYPE, NAME, HW, SW, VENDOR, PRODUCT, REVISION)                  \
+// NAME/HW/SW: texts of 1008h–100Ah, VENDOR/PRODUCT/REVISION: 1018h,
+// HEARTBEAT_MS: default producer heartbeat time 1017h.
+#define MB2CO_OD_COMM_1000(N, S, DEVTYPE, NAME, HW, SW, VENDOR, PRODUCT, REVISION, HEARTBEAT_MS)                  \
   N(0x1000, 0, U32, RO, 0, kHookNone, DEVTYPE, "Device type")                                        \
   N(0x1001, 0, U8, RO, kAttrPdo, kHookNone, 0, "Error register")                                     \
   N(0x1003, 0, U8, RW, 0, kHookEmcy, 0, "Pre-defined error field: number of errors")                 \
@@ -76,7 +77,7 @@ const uint32_t kLoadSignature = 0x64616F6Cu;  ///< "load" (1011h)
   N(0x1016, 2, U32, RW, 0, kHookHbConsumer, 0, "Consumer heartbeat time 2")                          \
   N(0x1016, 3, U32, RW, 0, kHookHbConsumer, 0, "Consumer heartbeat time 3")                          \
   N(0x1016, 4, U32, RW, 0, kHookHbConsumer, 0, "Consumer heartbeat time 4")                          \
-  N(0x1017, 0, U16, RW, 0, kHookNmt, 0, "Producer heartbeat time (ms)")                              \
+  N(0x1017, 0, U16, RW, 0, kHookNmt, HEARTBEAT_MS, "Producer heartbeat time (ms)")                              \
   N(0x1018, 0, U8, CONST, 0, kHookNone, 4, "Identity object: highest sub-index")                     \
   N(0x1018, 1, U32, CONST, 0, kHookNone, VENDOR, "Vendor-ID")                                        \
   N(0x1018, 2, U32, CONST, 0, kHookNone, PRODUCT, "Product code")                                    \

@@ -34,6 +34,16 @@ void SdoServer::respond(const CanSink& sink, uint8_t cmd, const uint8_t* payload
   sink.send(sink.ctx, f);
 }
 
+// A download segment response carries no multiplexer: bytes 1..7 are
+// reserved and sent as 0 (CiA 301 §7.2.4.3.5).
+static void segment_ack(const CanSink& sink, uint8_t node_id, uint8_t cmd) {
+  CanFrame f = {};
+  f.id = 0x580u + node_id;
+  f.dlc = 8;
+  f.data[0] = cmd;
+  sink.send(sink.ctx, f);
+}
+
 void SdoServer::abort(const CanSink& sink, uint16_t index, uint8_t sub, uint32_t code) {
   index_ = index;
   sub_ = sub;
@@ -121,13 +131,13 @@ void SdoServer::download_segment(const CanFrame& f, const CanSink& sink) {
   length_ = static_cast<uint8_t>(length_ + count);
   const uint8_t ack = static_cast<uint8_t>(0x20 | toggle_);
   toggle_ ^= 0x10;
-  if (!(f.data[0] & 0x01)) return respond(sink, ack, nullptr);
+  if (!(f.data[0] & 0x01)) return segment_ack(sink, node_id_, ack);
   // Last segment: the data reaches the OD in one piece or not at all.
   if (size_indicated_ && announced_ != length_) return abort(sink, index_, sub_, kAbortTypeMismatch);
   const uint32_t code = od_->write(index_, sub_, buffer_, length_);
   if (code != kSdoOk) return abort(sink, index_, sub_, code);
   state_ = kIdle;
-  respond(sink, ack, nullptr);
+  segment_ack(sink, node_id_, ack);
 }
 
 void SdoServer::initiate_upload(const CanFrame& f, const CanSink& sink) {

@@ -1,6 +1,7 @@
 #include "canopen/sync.h"
 
 #include "canopen/clock.h"
+#include "canopen/pdo_map.h"
 
 namespace mb2co {
 namespace canopen {
@@ -58,6 +59,7 @@ uint32_t Sync::on_write(uint16_t index, const uint8_t* data) {
     const uint32_t v = le32(data);
     const uint32_t cur = od_->get(row_1005_);
     if (v & 0x20000000u) return kAbortInvalidValue;  // 29-bit ids not supported
+    if (can_id_restricted(v & 0x7FFu)) return kAbortInvalidValue;  // CiA 301 §7.3.5
     // The CAN-ID may not change while this node produces SYNC.
     if ((cur & 0x40000000u) && (v & 0x40000000u) && (v & 0x7FFu) != (cur & 0x7FFu)) {
       return kAbortInvalidValue;
@@ -68,7 +70,8 @@ uint32_t Sync::on_write(uint16_t index, const uint8_t* data) {
   } else if (index == 0x1019) {
     // CiA 301 §7.5.2.41: only while no communication cycle period is set.
     if (od_->get(row_1006_) != 0) return kAbortDeviceState;
-    if (data[0] == 1) return kAbortInvalidValue;  // 0 or 2..240 (240: OD limit)
+    if (data[0] == 1) return kAbortInvalidValue;  // 0 or 2..240
+    if (data[0] > 240) return kAbortValueTooHigh;
   }
   return kSdoOk;
 }

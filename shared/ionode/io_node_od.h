@@ -10,7 +10,7 @@ namespace ionode {
 
 #define MB2CO_IO_NODE_OD(N, S)                                                                    \
   MB2CO_OD_DATA_TYPES(N, S)                                                                       \
-  MB2CO_OD_COMM_1000(N, S, 0x00030191, "mb2co I/O node", "1.0", "0.1.0", 0, 0x401, 1)              \
+  MB2CO_OD_COMM_1000(N, S, 0x00030191, "mb2co I/O node", "1.0", "0.1.0", 0, 0x401, 1, 0)              \
   MB2CO_OD_RPDO_COMM(N, 0x1400, 0x200, kAttrNodeId, 255, 0, "RPDO1")                              \
   MB2CO_OD_RPDO_COMM(N, 0x1401, 0x80000300, kAttrNodeId, 255, 0, "RPDO2")                         \
   MB2CO_OD_RPDO_COMM(N, 0x1402, 0x80000400, kAttrNodeId, 255, 0, "RPDO3")                         \

@@ -1,0 +1,137 @@
+// The station controller: START/STOP/STOP2 operator logic (seed 000 §10) and
+// the filling cycle of one bottling station. Plain structs in, plain structs
+// out; the app and the line simulator do the Modbus / CANopen side.
+//
+// One cycle, exactly once per plant step (the plant's step_ms):
+//   outputs = controller.step(inputs incl. plant.sensors());  plant.step(outputs.plant);
+// and the app writes outputs.run to the Arduino every cycle.
+#pragma once
+#include <stdint.h>
+
+#include "plant/edges.h"
+#include "plant/plant.h"
+#include "plant/plant_config.h"
+
+namespace mb2co {
+namespace plant {
+
+/// Own RUN state as written to the Arduino.
+enum class RunState : uint8_t { stopped = 0, running = 1 };
+
+/// A neighbour's RUN state as the gateway reports it. `unknown` = its
+/// heartbeat is lost (never taken for running); `absent` = end of the chain.
+enum class NeighbourState : uint8_t { absent = 0, unknown = 1, stopped = 2, running = 3 };
+
+/// Why the station stopped; one counter each.
+enum class StopCause : uint8_t {
+  stop_button = 0,  ///< STOP pressed
+  local_stop2 = 1,  ///< STOP2 pressed on this station's panel
+  prev_stop2 = 2,   ///< STOP2 pressed on the previous station
+  link_lost = 3,    ///< force_safe(): the serial link to the Arduino is gone
+  fault = 4,        ///< the controller found the plant misbehaving
+};
+constexpr uint8_t kStopCauseCount = 5;
+
+enum class Fault : uint8_t {
+  none = 0,
+  fill_timeout = 1,  ///< "full" not reached within fill_timeout_steps
+  bottle_lost = 2,   ///< sensor at the valve lost the bottle while filling
+  overfill = 3,      ///< the overfill switch rose while running
+};
+
+/// stopped and fault are safe (motor off, valve closed). moving, approach and
+/// filling are RUNNING: the filling cycle moving -> approach -> filling -> moving.
+enum class State : uint8_t { stopped = 0, fault = 1, moving = 2, approach = 3, filling = 4 };
+
+/// Everything the controller reads in one cycle.
+struct ControllerInputs {
+  bool start_pressed = false;  ///< button levels, true = pressed
+  bool stop_pressed = false;
+  bool stop2_pressed = false;
+  uint16_t local_stop2_events = 0;  ///< this panel's STOP2 event counter (wraps)
+  uint16_t prev_stop2_events = 0;   ///< previous station's STOP2 event counter (wraps)
+  NeighbourState prev_run = NeighbourState::absent;
+  NeighbourState next_run = NeighbourState::absent;
+  Sensors plant;
+};
+
+/// Everything the controller decides in one cycle.
+struct ControllerOutputs {
+  RunState run = RunState::stopped;  ///< write to the Arduino every cycle
+  Actuators plant;                   ///< apply to the plant's next step
+  bool lamp_fault = false;           ///< a fault waits for START
+  bool lamp_neighbour_unknown = false;  ///< a neighbour's state is unknown (heartbeat lost)
+};
+
+/// Counters only grow (wrap after 2^32).
+struct ControllerCounters {
+  uint32_t starts = 0;
+  uint32_t bottles_filled = 0;  ///< filling cycles that ended at "full"
+  uint32_t overfills = 0;       ///< rising edges of the overfill switch
+  uint32_t stops[kStopCauseCount] = {};  ///< RUNNING -> stopped/fault, by StopCause
+  uint32_t local_stop2_events = 0;  ///< STOP2 events seen on the counters
+  uint32_t prev_stop2_events = 0;
+};
+
+/// What the controller must know about the plant it drives.
+struct ControllerConfig {
+  uint32_t approach_steps = 0;      ///< belt steps from the sensor's edge to the valve
+  uint32_t fill_timeout_steps = 1;  ///< longest filling before Fault::fill_timeout
+  bool sensor_at_valve = true;      ///< sensor_to_valve_mm == 0: the bottle must stay seen while filling
+};
+
+/// The ControllerConfig for a plant (config must pass check_plant_config()).
+ControllerConfig controller_config_for(const PlantConfig& config);
+
+/// Starts stopped, no fault. Caller owns it; no heap; not thread-safe.
+class Controller {
+ public:
+  explicit Controller(const ControllerConfig& config);
+
+  /// One control cycle. Any stop input seen (STOP or STOP2 held, a new local
+  /// or previous-station STOP2 event) stops a running station in this very
+  /// cycle: the returned outputs are already safe. Stop inputs beat START.
+  /// A stopped station runs on a rising edge of START with no stop input,
+  /// resuming the filling cycle where it was stopped; after a fault it
+  /// resumes at `moving` (the faulty bottle is passed on, not refilled).
+  /// A bottle reaching the sensor while the station is not running (the
+  /// belt's last step before the stop) is remembered, never skipped.
+  const ControllerOutputs& step(const ControllerInputs& inputs);
+
+  /// The serial link is lost: safe outputs now (counted as link_lost if it
+  /// was running); START needs a fresh press once step() is called again.
+  /// Counter baselines are kept, so STOP2 events during the outage are seen.
+  const ControllerOutputs& force_safe();
+
+  State state() const { return state_; }
+  Fault fault() const { return fault_; }
+  bool running() const {
+    return state_ == State::moving || state_ == State::approach || state_ == State::filling;
+  }
+  const ControllerOutputs& outputs() const { return outputs_; }
+  const ControllerCounters& counters() const { return counters_; }
+
+ private:
+  /// The filling cycle; `state_` is a running state.
+  void run_cycle(const Sensors& sensors, bool present_edge);
+  void stop(StopCause cause);
+  void enter_fault(Fault fault);
+  void update_outputs();
+
+  ControllerConfig config_;
+  State state_ = State::stopped;
+  State resume_ = State::moving;  ///< running state START resumes
+  Fault fault_ = Fault::none;
+  uint32_t approach_left_ = 0;
+  uint32_t fill_steps_ = 0;  ///< steps with the valve open for the current bottle
+  RisingEdge start_;
+  RisingEdge present_;
+  RisingEdge overfill_;
+  EventCounter local_stop2_;
+  EventCounter prev_stop2_;
+  ControllerOutputs outputs_;
+  ControllerCounters counters_;
+};
+
+}  // namespace plant
+}  // namespace mb2co

@@ -1,0 +1,47 @@
+// Turning sampled signals into events without inventing or losing any:
+// rising edges of a polled level, and new events of a wrapping counter that
+// another node publishes (STOP2 travels as a counter, seed 000 §10, DESIGN §6).
+#pragma once
+#include <stdint.h>
+
+namespace mb2co {
+namespace plant {
+
+/// Rising edges of a level sampled once per cycle. The first sample after
+/// construction or forget() only sets the baseline: a level that was already
+/// high (a button held while the link came back) is not an edge.
+class RisingEdge {
+ public:
+  bool update(bool level) {
+    const bool edge = known_ && level && !last_;
+    last_ = level;
+    known_ = true;
+    return edge;
+  }
+  void forget() { known_ = false; }
+
+ private:
+  bool last_ = false;
+  bool known_ = false;
+};
+
+/// New events of a uint16 event counter that wraps 65535 -> 0. Any change is
+/// (value - last) mod 2^16 new events, so nothing is lost as long as fewer than
+/// 65536 events happen between two samples. The first sample is the baseline:
+/// events from before this process existed are not ours to act on.
+class EventCounter {
+ public:
+  uint16_t update(uint16_t value) {
+    const uint16_t fresh = known_ ? static_cast<uint16_t>(value - last_) : 0u;
+    last_ = value;
+    known_ = true;
+    return fresh;
+  }
+
+ private:
+  uint16_t last_ = 0;
+  bool known_ = false;
+};
+
+}  // namespace plant
+}  // namespace mb2co

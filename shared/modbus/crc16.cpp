@@ -1,0 +1,57 @@
+#include "modbus/crc16.h"
+
+#include "modbus/protocol.h"
+
+#ifdef __AVR__
+#include <avr/pgmspace.h>
+#define MB2CO_MODBUS_CRC_TABLE_ATTR PROGMEM
+#define MB2CO_MODBUS_CRC_TABLE_READ(p) pgm_read_word(p)
+#else
+#define MB2CO_MODBUS_CRC_TABLE_ATTR
+#define MB2CO_MODBUS_CRC_TABLE_READ(p) (*(p))
+#endif
+
+namespace mb2co {
+namespace modbus {
+namespace {
+
+// kNibbleTable[n] is the reflected CRC update for the 4-bit value n:
+// n shifted out bit by bit with poly 0xA001 (checked against the bitwise
+// algorithm in tests/modbus/crc_test.cpp).
+const uint16_t kNibbleTable[16] MB2CO_MODBUS_CRC_TABLE_ATTR = {
+    0x0000, 0xCC01, 0xD801, 0x1400, 0xF001, 0x3C00, 0x2800, 0xE401,
+    0xA001, 0x6C00, 0x7800, 0xB401, 0x5000, 0x9C01, 0x8801, 0x4400,
+};
+
+inline uint16_t step_nibble(uint16_t crc, uint8_t nibble) {
+  const uint16_t entry = MB2CO_MODBUS_CRC_TABLE_READ(&kNibbleTable[(crc ^ nibble) & 0x0Fu]);
+  return static_cast<uint16_t>((crc >> 4) ^ entry);
+}
+
+}  // namespace
+
+uint16_t crc16(const uint8_t* data, uint16_t length, uint16_t crc) {
+  for (uint16_t i = 0; i < length; ++i) {
+    crc = step_nibble(crc, data[i]);                            // low nibble first:
+    crc = step_nibble(crc, static_cast<uint8_t>(data[i] >> 4));  // the CRC is reflected
+  }
+  return crc;
+}
+
+uint16_t append_crc(uint8_t* data, uint16_t length) {
+  const uint16_t crc = crc16(data, length);
+  data[length] = static_cast<uint8_t>(crc & 0xFFu);
+  data[length + 1u] = static_cast<uint8_t>(crc >> 8);
+  return static_cast<uint16_t>(length + kCrcBytes);
+}
+
+bool crc_ok(const uint8_t* adu, uint16_t length) {
+  if (length < kCrcBytes + 1u) return false;
+  const uint16_t body = static_cast<uint16_t>(length - kCrcBytes);
+  const uint16_t crc = crc16(adu, body);
+  return adu[body] == static_cast<uint8_t>(crc & 0xFFu) &&
+         adu[body + 1u] == static_cast<uint8_t>(crc >> 8);
+}
+
+}  // namespace modbus
+}  // namespace mb2co

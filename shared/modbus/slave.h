@@ -1,0 +1,120 @@
+// Modbus/RTU slave (server): byte-fed, time handed in, data behind a
+// RegisterBank. Function codes 01 02 03 04 05 06 0F 10 17, 08 (diagnostics),
+// 2B/0E (device identification, basic category, conformity level 0x81).
+//
+// Usage (main loop, one context):
+//   slave.begin(now);                        // optional: power-up wait of t3.5
+//   for each received byte:  slave.on_byte(b, stamp_us);
+//   regularly:               slave.process(now_us);
+// Call process() with a `now_us` taken before the port was last found empty,
+// so that no byte that arrived before `now_us` is still unread.
+// Responses go out through the ByteSink from inside process() (or on_byte(),
+// when process() was late and a new frame starts after t3.5).
+//
+// Rules. Broadcast (address 0): only 05 06 0F 10 are executed, nothing is
+// ever answered; other broadcast requests are ignored (counted unanswered).
+// Listen-only mode (08/04): frames are counted, only 08/01 to our address is
+// acted upon (it ends the mode, clears the counters and is not answered).
+// Exceptions, checked in this order (application protocol state diagrams):
+// 01 function or sub-function not supported; 03 malformed request (quantity,
+// byte count, length, FC 05 value, FC 08 data field, 2B read code); 02 an
+// address outside what RegisterBank::covers(); 04 (or the bank's code) when
+// executing fails.
+//
+// Memory: 304 bytes on the AVR: the 256-byte frame buffer (request, then
+// response in place) and 48 bytes of state.
+#pragma once
+#include <stdint.h>
+
+#include "modbus/byte_sink.h"
+#include "modbus/protocol.h"
+#include "modbus/register_bank.h"
+#include "modbus/rtu_framer.h"
+#include "modbus/rtu_timing.h"
+
+namespace mb2co {
+namespace modbus {
+
+/// Diagnostic counters, serial line spec V1.02 §6.1 (16 bits, wrap around).
+/// Cleared by power-up, 08/01 restart and 08/0A; 08/14 clears only overruns.
+struct DiagCounters {
+  uint16_t bus_messages;      ///< CPT1 08/0B: frames with a good CRC, any address
+  uint16_t bus_comm_errors;   ///< CPT2 08/0C: bad CRC, < 4 bytes, t1.5 gap, parity
+  uint16_t exceptions;        ///< CPT3 08/0D: exceptions, including broadcast ones
+  uint16_t server_messages;   ///< CPT4 08/0E: good frames for us or broadcast
+  uint16_t no_responses;      ///< CPT5 08/0F: of those, not answered
+  uint16_t char_overruns;     ///< CPT8 08/12: frames longer than 256 bytes (any
+                              ///< address: the rest of such a frame is lost)
+};
+
+/// Counters outside the Modbus model (never cleared, for logs and tests).
+struct LinkStats {
+  uint16_t t15_violations;  ///< frames discarded for a gap > t1.5 (also in CPT2)
+  uint16_t send_failures;   ///< responses the ByteSink refused (also in CPT5)
+};
+
+class Slave {
+ public:
+  /// `identity` may be null: FC 2B then answers exception 01.
+  /// `address` outside 1..247 is replaced by 1 (check with set_address).
+  Slave(RegisterBank& bank, DeviceIdentity* identity, ByteSink sink, uint8_t address,
+        const RtuTiming& timing);
+
+  /// False (and no change) for an address outside 1..247.
+  bool set_address(uint8_t address);
+  uint8_t address() const { return address_; }
+  void set_timing(const RtuTiming& timing) { framer_.set_timing(timing); }
+  void set_check_t15(bool check) { framer_.set_check_t15(check); }
+
+  void begin(uint32_t now_us) { framer_.begin(now_us); }
+  /// A received character, stamped when it was complete (see rtu_framer.h).
+  void on_byte(uint8_t byte, uint32_t byte_us);
+  /// A character received with a parity or framing error.
+  void on_char_error(uint32_t byte_us);
+  /// Ends a frame after t3.5 of silence and answers it.
+  void process(uint32_t now_us);
+  /// When process() must run next at the latest; false: only after a byte.
+  bool deadline(uint32_t& at_us) const { return framer_.deadline(at_us); }
+
+  const DiagCounters& counters() const { return counters_; }
+  const LinkStats& stats() const { return stats_; }
+  bool listen_only() const { return listen_only_; }
+
+ private:
+  /// Outcome of executing one request PDU (buf_[1..]).
+  struct Reply {
+    uint16_t pdu_length;  ///< normal response PDU length (valid if exception == kNone)
+    Exception exception;
+  };
+
+  void handle_frame();
+  void handle_request(uint16_t pdu_length, bool broadcast);
+  void send(uint16_t pdu_length);
+  void clear_counters();
+
+  Reply execute(uint16_t pdu_length);
+  Reply read(uint16_t pdu_length, Table table);            // FC 01 02 03 04
+  Reply write_single_coil(uint16_t pdu_length);            // FC 05
+  Reply write_single_register(uint16_t pdu_length);        // FC 06
+  Reply write_multiple(uint16_t pdu_length, Table table);  // FC 0F 10
+  Reply read_write_registers(uint16_t pdu_length);
+  Reply diagnostics(uint16_t pdu_length);
+  Reply device_identification(uint16_t pdu_length);
+  /// 08/01 request valid and we are in listen-only mode: restart, no answer.
+  bool is_restart_request(uint16_t pdu_length) const;
+
+  uint8_t* pdu() { return framer_.buffer() + 1; }
+
+  RegisterBank& bank_;
+  DeviceIdentity* identity_;
+  ByteSink sink_;
+  RtuFramer framer_;
+  DiagCounters counters_ = {};
+  LinkStats stats_ = {};
+  uint8_t address_;
+  bool listen_only_ = false;
+  bool restart_pending_ = false;  ///< 08/01 answered: restart after sending
+};
+
+}  // namespace modbus
+}  // namespace mb2co

@@ -1,0 +1,28 @@
+// Reads a CAN message set from CSV:
+//   name,id,ext,dlc,period_us[,deadline_us][,jitter_us][,c_us][,bits]
+// Columns in any order, named by the first non-comment line. '#' starts a
+// comment line; blank lines are skipped. id is decimal or 0x-hex; ext 0/1;
+// deadline_us defaults to period_us, jitter_us to 0; c_us (transmission
+// time) or bits (frame length) overrides what the DLC gives, for textbook
+// sets that state C directly. Every error names FILE:LINE:COL.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "timing/message_set.h"
+
+namespace mb2co {
+namespace timing_cli {
+
+/// Parses `text` (the contents of `source`, used in messages). On success
+/// fills `out` in file order and returns true; otherwise sets `error` to one
+/// line "source:line:col: what" and returns false.
+bool parse_message_csv(const std::string& text, const std::string& source,
+                       std::vector<timing::MessageSpec>& out, std::string& error);
+
+/// Reads the file at `path` and parses it.
+bool read_message_csv(const std::string& path, std::vector<timing::MessageSpec>& out,
+                      std::string& error);
+
+}  // namespace timing_cli
+}  // namespace mb2co

@@ -1,0 +1,154 @@
+// `mb2co-timing frame`: frame lengths by DLC (both worst-case conventions)
+// or the exact length of one concrete frame.
+#include <cstdio>
+
+#include "command_parts.h"
+#include "timing/can_bits.h"
+#include "timing/time_base.h"
+
+namespace mb2co {
+namespace timing_cli {
+namespace {
+
+bool parse_hex_bytes(const std::string& hex, CanFrame& frame, std::string& error) {
+  if (hex.size() % 2 != 0 || hex.size() > 16) {
+    error = "option --data must be 0..8 bytes as an even number of hex digits, got \"" + hex + "\"";
+    return false;
+  }
+  for (size_t i = 0; i < hex.size(); i += 2) {
+    unsigned value = 0;
+    for (size_t k = i; k < i + 2; ++k) {
+      const char c = hex[k];
+      const int digit = c >= '0' && c <= '9'   ? c - '0'
+                        : c >= 'a' && c <= 'f' ? c - 'a' + 10
+                        : c >= 'A' && c <= 'F' ? c - 'A' + 10
+                                               : -1;
+      if (digit < 0) {
+        error = "option --data must be hex digits, got \"" + hex + "\"";
+        return false;
+      }
+      value = value * 16u + static_cast<unsigned>(digit);
+    }
+    frame.data[i / 2] = static_cast<uint8_t>(value);
+  }
+  frame.dlc = static_cast<uint8_t>(hex.size() / 2);
+  return true;
+}
+
+bool parse_id(const std::string& text, bool extended, uint32_t* id, std::string& error) {
+  const uint64_t max = extended ? 0x1FFFFFFFu : 0x7FFu;
+  uint64_t v = 0;
+  const bool hex = text.size() > 2 && text[0] == '0' && (text[1] == 'x' || text[1] == 'X');
+  bool ok = text.size() > (hex ? 2u : 0u) && text.size() <= 12;
+  for (size_t i = hex ? 2 : 0; ok && i < text.size(); ++i) {
+    const char c = text[i];
+    int digit = c >= '0' && c <= '9' ? c - '0' : -1;
+    if (hex && c >= 'a' && c <= 'f') digit = c - 'a' + 10;
+    if (hex && c >= 'A' && c <= 'F') digit = c - 'A' + 10;
+    ok = digit >= 0;
+    v = v * (hex ? 16u : 10u) + static_cast<uint64_t>(digit < 0 ? 0 : digit);
+  }
+  if (!ok || v > max) {
+    error = std::string("option --id must be ") + (extended ? "0..0x1FFFFFFF" : "0..0x7FF") +
+            " (decimal or 0x-hex), got \"" + text + "\"";
+    return false;
+  }
+  *id = static_cast<uint32_t>(v);
+  return true;
+}
+
+int exact_frame(const Options& o, uint32_t bitrate, timing::WorstCase convention,
+                std::ostream& out, Format format, std::string& error) {
+  if (!o.has("--id")) {
+    error = "option --data/--rtr needs --id";
+    return 1;
+  }
+  CanFrame frame{};
+  frame.flags = static_cast<uint8_t>((o.has("--ext") ? CanFrame::kExtended : 0) |
+                                     (o.has("--rtr") ? CanFrame::kRtr : 0));
+  if (!parse_id(o.get("--id"), frame.extended(), &frame.id, error)) return 1;
+  if (o.has("--data") && !parse_hex_bytes(o.get("--data"), frame, error)) return 1;
+  if (o.has("--dlc")) {
+    uint64_t dlc = 0;
+    if (!uint_option(o, "--dlc", 0, 8, 0, false, &dlc, error)) return 1;
+    if (!frame.rtr() && o.has("--data") && dlc != frame.dlc) {
+      error = "option --dlc disagrees with the " + std::to_string(frame.dlc) + " bytes of --data";
+      return 1;
+    }
+    frame.dlc = static_cast<uint8_t>(dlc);
+  }
+  const timing::ExactFrameBits exact = timing::frame_bits_exact(frame);
+  char crc[8];
+  std::snprintf(crc, sizeof crc, "0x%04X", exact.crc15);
+  std::string data;
+  for (uint8_t i = 0; i < (frame.rtr() ? 0 : frame.dlc); ++i) {
+    char byte[4];
+    std::snprintf(byte, sizeof byte, "%02X", frame.data[i]);
+    data += byte;
+  }
+  Report r;
+  r.rows_key = "frames";
+  r.columns = {"id", "ext", "rtr", "dlc", "data", "bits_unstuffed", "stuff_bits", "bits",
+               "crc15", "c_us", "bits_worst"};
+  r.rows.push_back({Cell::id(frame.id, frame.extended()), Cell::boolean(frame.extended()),
+                    Cell::boolean(frame.rtr()), Cell::integer(frame.dlc), Cell::str(data),
+                    Cell::integer(static_cast<uint64_t>(exact.total_bits - exact.stuff_bits)),
+                    Cell::integer(exact.stuff_bits), Cell::integer(exact.total_bits),
+                    Cell::str(crc), Cell::us(timing::bits_to_ns_ceil(exact.total_bits, bitrate)),
+                    Cell::integer(timing::frame_bits_worst(frame.extended(), frame.rtr() ? 0 : frame.dlc,
+                                                          convention))});
+  r.totals = {{"bitrate", Cell::integer(bitrate)},
+              {"frame_bits", Cell::str(frame_bits_name(convention))}};
+  print_report(r, format, out);
+  return 0;
+}
+
+}  // namespace
+
+int frame_command(const Options& o, std::ostream& out, std::string& error) {
+  uint64_t bitrate = 0;
+  timing::WorstCase convention = timing::WorstCase::kDavis;
+  Format format = Format::kTable;
+  if (!uint_option(o, "--bitrate", 1, timing::kMaxBitrateBps, 1000000, true, &bitrate, error) ||
+      !frame_bits_option(o, &convention, error) || !format_option(o, &format, error)) {
+    return 1;
+  }
+  if (!o.positional.empty()) {
+    error = "unexpected argument \"" + o.positional[0] + "\"";
+    return 1;
+  }
+  const uint32_t rate = static_cast<uint32_t>(bitrate);
+  if (o.has("--id") || o.has("--data") || o.has("--rtr")) {
+    return exact_frame(o, rate, convention, out, format, error);
+  }
+  uint64_t dlc_first = 0;
+  uint64_t dlc_last = 8;
+  if (o.has("--dlc")) {
+    if (!uint_option(o, "--dlc", 0, 8, 0, false, &dlc_first, error)) return 1;
+    dlc_last = dlc_first;
+  }
+  const bool ext = o.has("--ext");
+  Report r;
+  r.columns = {"dlc",        "bits_unstuffed", "stuffable_bits", "stuff_course", "bits_course",
+               "stuff_davis", "bits_davis",    "bits",           "c_us"};
+  for (uint64_t d = dlc_first; d <= dlc_last; ++d) {
+    const uint8_t dlc = static_cast<uint8_t>(d);
+    const uint16_t bits = timing::frame_bits_worst(ext, dlc, convention);
+    r.rows.push_back(
+        {Cell::integer(dlc), Cell::integer(timing::frame_bits_unstuffed(ext, dlc)),
+         Cell::integer(timing::stuffable_bits(ext, dlc)),
+         Cell::integer(timing::worst_stuff_bits(ext, dlc, timing::WorstCase::kCourse)),
+         Cell::integer(timing::frame_bits_worst(ext, dlc, timing::WorstCase::kCourse)),
+         Cell::integer(timing::worst_stuff_bits(ext, dlc, timing::WorstCase::kDavis)),
+         Cell::integer(timing::frame_bits_worst(ext, dlc, timing::WorstCase::kDavis)),
+         Cell::integer(bits), Cell::us(timing::bits_to_ns_ceil(bits, rate))});
+  }
+  r.totals = {{"bitrate", Cell::integer(rate)},
+              {"frame_bits", Cell::str(frame_bits_name(convention))},
+              {"extended", Cell::boolean(ext)}};
+  print_report(r, format, out);
+  return 0;
+}
+
+}  // namespace timing_cli
+}  // namespace mb2co

@@ -1,0 +1,265 @@
+#include "options.h"
+
+#include <cstring>
+
+namespace mb2co {
+namespace timing_cli {
+namespace {
+
+struct OptionSpec {
+  const char* name;
+  bool takes_value;
+  unsigned commands;  // Command bits
+};
+
+constexpr unsigned kSets = kLoad | kRta | kLatency;  // commands that analyse a message set
+constexpr unsigned kAll = kFrame | kSets;
+
+const OptionSpec kSpecs[] = {
+    {"--bitrate", true, kAll},
+    {"--frame-bits", true, kAll},
+    {"--json", false, kAll},
+    {"--csv", false, kAll},
+    {"--dlc", true, kFrame},
+    {"--ext", false, kFrame},
+    {"--id", true, kFrame},
+    {"--data", true, kFrame},
+    {"--rtr", false, kFrame},
+    {"--window-us", true, kLoad},
+    {"--svg", true, kRta},
+    {"--message", true, kRta},
+    {"--check", false, kRta},
+    {"--line", true, kSets},
+    {"--no-tpdo1", false, kSets},
+    {"--tpdo-dlc", true, kSets},
+    {"--tpdo-inhibit-100us", true, kSets},
+    {"--tpdo-event-ms", true, kSets},
+    {"--tpdo-deadline-us", true, kSets},
+    {"--heartbeat-ms", true, kSets},
+    {"--sync-us", true, kSets},
+    {"--sync-tpdos", true, kSets},
+    {"--sync-dlc", true, kSets},
+    {"--sync-type", true, kSets},
+    {"--jitter-us", true, kSets},
+    {"--button-node", true, kLatency},
+    {"--pc-node", true, kLatency},
+    {"--baud", true, kLatency},
+    {"--parity", true, kLatency},
+    {"--stop-bits", true, kLatency},
+    {"--debounce-us", true, kLatency},
+    {"--fw-loop-us", true, kLatency},
+    {"--pc-cycle-us", true, kLatency},
+    {"--pc-compute-us", true, kLatency},
+    {"--master-end-us", true, kLatency},
+    {"--no-t35", false, kLatency},
+};
+
+const OptionSpec* find_spec(const std::string& name) {
+  for (const OptionSpec& s : kSpecs) {
+    if (name == s.name) return &s;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+bool parse_options(int argc, char** argv, Options& out, std::string& error) {
+  const std::string command = argv[1];
+  if (command == "frame") {
+    out.command = kFrame;
+  } else if (command == "load") {
+    out.command = kLoad;
+  } else if (command == "rta") {
+    out.command = kRta;
+  } else if (command == "latency") {
+    out.command = kLatency;
+  } else {
+    error = "unknown command \"" + command + "\" (expected frame, load, rta or latency)";
+    return false;
+  }
+  for (int i = 2; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (arg.size() < 2 || arg.compare(0, 2, "--") != 0) {
+      out.positional.push_back(arg);
+      continue;
+    }
+    std::string value;
+    bool inline_value = false;
+    const size_t eq = arg.find('=');
+    if (eq != std::string::npos) {
+      value = arg.substr(eq + 1);
+      arg.resize(eq);
+      inline_value = true;
+    }
+    const OptionSpec* spec = find_spec(arg);
+    if (spec == nullptr || (spec->commands & out.command) == 0) {
+      error = "unknown option " + arg + " for " + command + " (see --help)";
+      return false;
+    }
+    if (spec->takes_value && !inline_value) {
+      if (i + 1 >= argc) {
+        error = "option " + arg + " needs a value";
+        return false;
+      }
+      value = argv[++i];
+    } else if (!spec->takes_value && inline_value) {
+      error = "option " + arg + " takes no value";
+      return false;
+    }
+    if (!out.values.emplace(arg, value).second) {
+      error = "option " + arg + " given twice";
+      return false;
+    }
+  }
+  return true;
+}
+
+bool uint_option(const Options& o, const std::string& name, uint64_t min, uint64_t max,
+                 uint64_t fallback, bool scaled, uint64_t* value, std::string& error) {
+  if (!o.has(name)) {
+    *value = fallback;
+    return true;
+  }
+  const std::string& text = o.get(name);
+  std::string digits = text;
+  uint64_t scale = 1;
+  if (scaled && !digits.empty() && (digits.back() == 'k' || digits.back() == 'M')) {
+    scale = digits.back() == 'k' ? 1000u : 1000000u;
+    digits.pop_back();
+  }
+  uint64_t v = 0;
+  bool ok = !digits.empty() && digits.size() <= 12;
+  for (const char c : digits) ok = ok && c >= '0' && c <= '9';
+  if (ok) {
+    for (const char c : digits) v = v * 10u + static_cast<uint64_t>(c - '0');
+    v *= scale;
+  }
+  if (!ok || v < min || v > max) {
+    error = "option " + name + " must be a whole number " + std::to_string(min) + ".." +
+            std::to_string(max) + ", got \"" + text + "\"";
+    return false;
+  }
+  *value = v;
+  return true;
+}
+
+bool format_option(const Options& o, Format* format, std::string& error) {
+  if (o.has("--json") && o.has("--csv")) {
+    error = "choose one of --json and --csv";
+    return false;
+  }
+  *format = o.has("--json") ? Format::kJson : o.has("--csv") ? Format::kCsv : Format::kTable;
+  return true;
+}
+
+bool frame_bits_option(const Options& o, timing::WorstCase* convention, std::string& error) {
+  const std::string v = o.has("--frame-bits") ? o.get("--frame-bits") : "davis";
+  if (v == "davis") {
+    *convention = timing::WorstCase::kDavis;
+  } else if (v == "course") {
+    *convention = timing::WorstCase::kCourse;
+  } else {
+    error = "option --frame-bits must be course or davis, got \"" + v + "\"";
+    return false;
+  }
+  return true;
+}
+
+const char* frame_bits_name(timing::WorstCase convention) {
+  return convention == timing::WorstCase::kCourse ? "course" : "davis";
+}
+
+bool line_config_option(const Options& o, timing::LineCanConfig* cfg, std::string& error) {
+  timing::LineCanConfig c;
+  uint64_t v = 0;
+  auto take = [&](const char* name, uint64_t min, uint64_t max, uint64_t fallback) {
+    return uint_option(o, name, min, max, fallback, false, &v, error);
+  };
+  if (!take("--line", 1, timing::kMaxStations, c.stations)) return false;
+  c.stations = static_cast<uint8_t>(v);
+  if (!uint_option(o, "--bitrate", 1, timing::kMaxBitrateBps, c.bitrate_bps, true, &v, error)) {
+    return false;
+  }
+  c.bitrate_bps = static_cast<uint32_t>(v);
+  c.tpdo1 = !o.has("--no-tpdo1");
+  if (!take("--tpdo-dlc", 0, 8, c.tpdo1_dlc)) return false;
+  c.tpdo1_dlc = static_cast<uint8_t>(v);
+  if (!take("--tpdo-inhibit-100us", 0, UINT16_MAX, c.tpdo1_inhibit_100us)) return false;
+  c.tpdo1_inhibit_100us = static_cast<uint16_t>(v);
+  if (!take("--tpdo-event-ms", 0, UINT16_MAX, c.tpdo1_event_timer_ms)) return false;
+  c.tpdo1_event_timer_ms = static_cast<uint16_t>(v);
+  if (!take("--tpdo-deadline-us", 0, UINT32_MAX, c.tpdo1_deadline_us)) return false;
+  c.tpdo1_deadline_us = static_cast<uint32_t>(v);
+  if (!take("--heartbeat-ms", 0, UINT16_MAX, c.heartbeat_ms)) return false;
+  c.heartbeat_ms = static_cast<uint16_t>(v);
+  if (!take("--sync-us", 0, UINT32_MAX, c.sync_period_us)) return false;
+  c.sync_period_us = static_cast<uint32_t>(v);
+  if (!take("--sync-tpdos", 0, timing::kMaxSyncTpdos, c.sync_tpdos)) return false;
+  c.sync_tpdos = static_cast<uint8_t>(v);
+  if (!take("--sync-dlc", 0, 8, c.sync_tpdo_dlc)) return false;
+  c.sync_tpdo_dlc = static_cast<uint8_t>(v);
+  if (!take("--sync-type", 1, 240, c.sync_transmission_type)) return false;
+  c.sync_transmission_type = static_cast<uint8_t>(v);
+  if (!take("--jitter-us", 0, UINT32_MAX, c.queue_jitter_us)) return false;
+  c.queue_jitter_us = static_cast<uint32_t>(v);
+  *cfg = c;
+  return true;
+}
+
+std::string line_status_text(timing::LineStatus status) {
+  using timing::LineStatus;
+  switch (status) {
+    case LineStatus::kOk: return "ok";
+    case LineStatus::kStations: return "--line must be 1..127 stations";
+    case LineStatus::kBitrate: return "--bitrate must be 1..1000000 bit/s";
+    case LineStatus::kNoInterArrival:
+      return "event-driven TPDO1 needs --tpdo-inhibit-100us > 0 (its minimum inter-arrival "
+             "time)";
+    case LineStatus::kEventTimer:
+      return "--tpdo-event-ms must be 0 or at least the inhibit time";
+    case LineStatus::kSyncTpdos: return "--sync-tpdos needs --sync-us > 0";
+    case LineStatus::kTransmissionType:
+      return "--sync-type times --sync-us exceeds 4294967295 us";
+    case LineStatus::kDlc: return "a DLC above 8";
+    case LineStatus::kCapacity: return "too many messages";
+  }
+  return "invalid line configuration";
+}
+
+const char* usage_text() {
+  return R"(usage: mb2co-timing COMMAND [options]
+Timing analysis of a CAN/CANopen line (seed 000 §2.9-2.13, §11).
+
+commands:
+  frame    frame length in bits and transmission time
+           --dlc N (default: all 0..8)  --ext  --bitrate B (default 1M)
+           exact length of one frame: --id X --data HEX [--ext] [--rtr]
+  load     bus load and utilisation of a message set
+           FILE.csv | --line N [line options]   --bitrate B   [--window-us W]
+  rta      worst-case response times: first attempt and revised analysis
+           FILE.csv | --line N [line options]   --bitrate B
+           [--check] (exit 3 unless all deadlines met)
+           [--svg OUT.svg --message NAME] (worst-case busy period of NAME)
+  latency  button-to-LED bound, Modbus only and Modbus + CANopen
+           [line options] [--button-node 2] [--pc-node 1] [--baud 115200]
+           [--parity even|none|odd] [--stop-bits 1|2] [--debounce-us 20000]
+           [--fw-loop-us 1000] [--pc-cycle-us 10000] [--pc-compute-us 0]
+           [--master-end-us 0] [--no-t35]
+
+common options:
+  --frame-bits course|davis   worst-case stuffing bound (default davis)
+  --json | --csv              machine-readable output instead of a table
+  --bitrate B                 bit/s, k and M suffixes allowed (125k, 1M)
+
+line options (the CANopen configuration of N stations, node IDs 1..N):
+  --line N (default 3)  --no-tpdo1  --tpdo-dlc 2  --tpdo-inhibit-100us 100
+  --tpdo-event-ms 500  --tpdo-deadline-us 0  --heartbeat-ms 1000
+  --sync-us 0  --sync-tpdos 0  --sync-dlc 8  --sync-type 1  --jitter-us 0
+
+CSV columns: name,id,ext,dlc,period_us[,deadline_us,jitter_us,c_us,bits]
+exit status: 0 done, 1 error (one line on stderr), 3 --check found a miss
+)";
+}
+
+}  // namespace timing_cli
+}  // namespace mb2co

@@ -10,6 +10,8 @@ namespace odtool {
 
 std::string od_markdown(const canopen::ObjectDictionary& od, const std::string& title);
 std::string od_eds(const canopen::ObjectDictionary& od, const std::string& product);
+/// The Modbus register map of a gateway OD (maps 2400h–2403h) as Markdown.
+std::string register_map_markdown(const canopen::ObjectDictionary& od);
 
 }  // namespace odtool
 }  // namespace mb2co

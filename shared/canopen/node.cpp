@@ -109,6 +109,14 @@ void Node::receive(const CanFrame& f, uint32_t now_us) {
   if (f.id > 0x700u && f.id <= 0x77Fu && nmt_.sdo_allowed()) hb_consumer_.on_frame(f, now_us);
 }
 
+void Node::local_nmt(NmtCommand command, uint32_t now_us) {
+  CanFrame f = {};
+  f.dlc = 2;
+  f.data[0] = command;
+  f.data[1] = node_id_;
+  receive(f, now_us);
+}
+
 void Node::on_sync_event(uint8_t counter, uint32_t now_us) {
   if (!nmt_.pdo_allowed()) return;
   rpdos_.on_sync();

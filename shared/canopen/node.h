@@ -47,6 +47,9 @@ class Node {
   /// A reset as if by NMT command, carried out at the next process() (so that
   /// a response to the request that asked for it can still leave first).
   void request_reset(NmtReset kind) { pending_reset_ = kind; }
+  /// An NMT command given by the device itself (a self-starting node enters
+  /// operational without a master), with the same effects as on the bus.
+  void local_nmt(NmtCommand command, uint32_t now_us);
   /// True when the last reset found a valid saved-parameter image.
   bool params_loaded() const { return params_loaded_; }
 

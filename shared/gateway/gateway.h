@@ -1,0 +1,68 @@
+// One station's Arduino: CANopen node (gateway OD), Modbus/RTU slave whose
+// registers are windows onto that OD, and the RUN/STOP2 line application.
+// The same object runs on the Uno, in the Linux build (mb2co-node) and in the
+// line simulator: ports hand in CAN frames, serial bytes, button levels and
+// time, and take out CAN frames, serial bytes and LED levels.
+// Memory: the caller owns the Gateway (static on the Uno); no heap.
+#pragma once
+#include <stdint.h>
+
+#include "canopen/node.h"
+#include "gateway/gateway_od.h"
+#include "gateway/line_app.h"
+#include "gateway/od_register_bank.h"
+#include "modbus/slave.h"
+
+namespace mb2co {
+namespace gateway {
+
+struct GatewayPorts {
+  CanSink can;
+  modbus::ByteSink serial;
+  const canopen::ParamStorage* storage;  ///< may be null (nothing persists)
+  uint32_t serial_baud;                  ///< for the RTU t1.5/t3.5 timing
+};
+
+class Gateway {
+ public:
+  explicit Gateway(const GatewayPorts& ports);
+
+  /// Power-on. Node id, bit rate and Modbus address come from the saved
+  /// parameters (2000h), or `default_node_id` when none are saved.
+  void start(uint32_t now_us, uint8_t default_node_id = 1);
+  void on_can_frame(const CanFrame& f, uint32_t now_us) { node_.receive(f, now_us); }
+  void on_serial_byte(uint8_t byte, uint32_t byte_us) { slave_.on_byte(byte, byte_us); }
+  /// Runs everything due at `now_us` with the raw button levels (Button bits,
+  /// 1 = pressed); returns the LED levels to drive (Led bits).
+  uint8_t process(uint32_t now_us, uint8_t raw_buttons);
+
+  uint8_t node_id() const { return node_.node_id(); }
+  /// CAN bit rate in kbit/s in effect since the last reset (2000h/2 then).
+  uint16_t bitrate_kbit() const { return bitrate_kbit_; }
+  canopen::Node& node() { return node_; }
+  canopen::ObjectDictionary& od() { return od_; }
+  modbus::Slave& modbus_slave() { return slave_; }
+
+ private:
+  static uint32_t app_write(void* ctx, uint8_t hook, uint16_t index, uint8_t sub,
+                            const uint8_t* data, uint16_t len);
+  static void on_reset(void* ctx, canopen::NmtReset kind);
+  static void on_heartbeat(void* ctx, uint8_t node_id, canopen::HbEvent event, uint8_t nmt);
+  static void on_rpdo(void* ctx, uint8_t n);
+
+  od::GatewayValues values_;
+  canopen::ObjectDictionary od_;
+  canopen::Node node_;
+  OdRegisterBank bank_;
+  OdDeviceIdentity identity_;
+  modbus::Slave slave_;
+  LineApp line_;
+  uint32_t now_us_ = 0;  ///< time of the frame or call being handled
+  uint16_t bitrate_kbit_ = 500;
+  const canopen::ParamStorage* ports_storage_ = nullptr;
+  uint8_t default_node_id_ = 1;
+  bool start_pending_ = false;  ///< self-starting (2000h/8): NMT start after boot-up
+};
+
+}  // namespace gateway
+}  // namespace mb2co

@@ -1,0 +1,153 @@
+// Object Dictionary of the gateway: the CiA 301 communication area, the
+// station's line state (RUN/STOP2, seed 000 §10), CiA 401 inputs/outputs, the
+// latency-lab timestamps, and the Modbus register maps (2400h–2403h) that bind
+// every Modbus table to OD entries. docs/od-gateway.md and the EDS are printed
+// from this very list by mb2co-od.
+#pragma once
+#include "canopen/od_comm.h"
+#include "canopen/od_define.h"
+
+namespace mb2co {
+namespace gateway {
+
+/// Capacities of the Modbus maps (sub-entries of 2400h–2403h).
+const uint8_t kHoldingMapSize = 12;
+const uint8_t kInputMapSize = 20;
+const uint8_t kCoilMapSize = 2;
+const uint8_t kDiscreteMapSize = 8;
+
+#define MB2CO_MAP MB2CO_PDO_MAP_ENTRY
+#define MB2CO_GW_MAP_ENTRY(N, INDEX, SUB, HOOK, DEF, NAME) N(INDEX, SUB, U32, RW, 0, HOOK, DEF, NAME)
+
+// Default Modbus map (docs/register-map.md is generated from it).
+#define MB2CO_GATEWAY_OD(N, S)                                                                          \
+  MB2CO_OD_DATA_TYPES(N, S)                                                                             \
+  MB2CO_OD_COMM_1000(N, S, 0x00030191, "mb2co gateway", "Uno+MCP2515", "0.1.0", 0, 0x0B2C, 1, 100)           \
+  MB2CO_OD_RPDO_COMM(N, 0x1400, 0x17F, kAttrNodeId, 254, 0, "RPDO1 previous station")                  \
+  MB2CO_OD_RPDO_COMM(N, 0x1401, 0x181, kAttrNodeId, 254, 0, "RPDO2 next station")                      \
+  MB2CO_OD_RPDO_COMM(N, 0x1402, 0x27F, kAttrNodeId, 254, 0, "RPDO3 remote buttons")                    \
+  MB2CO_OD_RPDO_COMM(N, 0x1403, 0x80000500, kAttrNodeId, 254, 0, "RPDO4")                              \
+  MB2CO_OD_PDO_MAP4(N, 0x1600, kHookRpdoMap, 2, MB2CO_MAP(0x2110, 1, 8), MB2CO_MAP(0x2110, 2, 16), 0,   \
+                    0, "RPDO1 mapping")                                                                 \
+  MB2CO_OD_PDO_MAP4(N, 0x1601, kHookRpdoMap, 2, MB2CO_MAP(0x2120, 1, 8), MB2CO_MAP(0x0006, 0, 16), 0,   \
+                    0, "RPDO2 mapping")                                                                 \
+  MB2CO_OD_PDO_MAP4(N, 0x1602, kHookRpdoMap, 1, MB2CO_MAP(0x2130, 1, 8), 0, 0, 0, "RPDO3 mapping")      \
+  MB2CO_OD_PDO_MAP4(N, 0x1603, kHookRpdoMap, 0, 0, 0, 0, 0, "RPDO4 mapping")                            \
+  MB2CO_OD_TPDO_COMM(N, 0x1800, 0x180, kAttrNodeId, 254, 10, 100, "TPDO1 line state")                  \
+  MB2CO_OD_TPDO_COMM(N, 0x1801, 0x280, kAttrNodeId, 254, 0, 0, "TPDO2 buttons")                        \
+  MB2CO_OD_TPDO_COMM(N, 0x1802, 0x80000380, kAttrNodeId, 254, 0, 0, "TPDO3")                           \
+  MB2CO_OD_TPDO_COMM(N, 0x1803, 0x80000480, kAttrNodeId, 254, 0, 0, "TPDO4")                           \
+  MB2CO_OD_PDO_MAP4(N, 0x1A00, kHookTpdoMap, 2, MB2CO_MAP(0x2100, 2, 8), MB2CO_MAP(0x2100, 3, 16), 0,   \
+                    0, "TPDO1 mapping")                                                                 \
+  MB2CO_OD_PDO_MAP4(N, 0x1A01, kHookTpdoMap, 1, MB2CO_MAP(0x6000, 1, 8), 0, 0, 0, "TPDO2 mapping")      \
+  MB2CO_OD_PDO_MAP4(N, 0x1A02, kHookTpdoMap, 0, 0, 0, 0, 0, "TPDO3 mapping")                            \
+  MB2CO_OD_PDO_MAP4(N, 0x1A03, kHookTpdoMap, 0, 0, 0, 0, 0, "TPDO4 mapping")                            \
+  N(0x2000, 0, U8, CONST, 0, kHookNone, 8, "Station configuration: highest sub-index")                 \
+  N(0x2000, 1, U8, RW, 0, kHookApp, 1, "Station configuration: node id (from next reset)")             \
+  N(0x2000, 2, U16, RW, 0, kHookApp, 500, "Station configuration: CAN bit rate kbit/s (from next reset)") \
+  N(0x2000, 3, U8, RW, 0, kHookNone, 1, "Station configuration: topology 0 chain, 1 ring")              \
+  N(0x2000, 4, U8, RW, 0, kHookNone, 4, "Station configuration: stations in the line")                 \
+  N(0x2000, 5, U8, RW, 0, kHookNone, 1, "Station configuration: Modbus address (from next reset)")     \
+  N(0x2000, 6, U16, RW, 0, kHookNone, 20, "Station configuration: button debounce ms")                 \
+  N(0x2000, 7, U8, RW, 0, kHookNone, 0, "Station configuration: PDOs and 1016h 0 derived, 1 as stored") \
+  N(0x2000, 8, U8, RW, 0, kHookNone, 1, "Station configuration: 1 enter operational by itself, 0 wait for NMT") \
+  N(0x2001, 0, U8, RW, 0, kHookApp, 0, "Restart request: 1 reset communication, 2 reset node")         \
+  N(0x2002, 0, U8, RO, 0, kHookNone, 0, "NMT state of this node")                                      \
+  N(0x2100, 0, U8, CONST, 0, kHookNone, 6, "Own station: highest sub-index")                            \
+  N(0x2100, 1, U8, RW, 0, kHookApp, 0, "Own station: RUN command from the PC")                         \
+  N(0x2100, 2, U8, RO, kAttrPdo, kHookNone, 0, "Own station: RUN state")                               \
+  N(0x2100, 3, U16, RO, kAttrPdo, kHookNone, 0, "Own station: STOP2 event counter")                    \
+  N(0x2100, 4, U8, RO, 0, kHookNone, 0, "Own station: stop cause")                                     \
+  N(0x2100, 5, U16, RO, 0, kHookNone, 0, "Own station: START press counter")                           \
+  N(0x2100, 6, U16, RO, 0, kHookNone, 0, "Own station: STOP press counter")                            \
+  N(0x2110, 0, U8, CONST, 0, kHookNone, 4, "Previous station: highest sub-index")                       \
+  N(0x2110, 1, U8, RW, kAttrPdo, kHookNone, 0, "Previous station: RUN state")                          \
+  N(0x2110, 2, U16, RW, kAttrPdo, kHookNone, 0, "Previous station: STOP2 event counter")               \
+  N(0x2110, 3, U8, RO, 0, kHookNone, 0, "Previous station: status 0 unknown, 1 alive, 2 none")         \
+  N(0x2110, 4, U8, RO, 0, kHookNone, 0, "Previous station: node id")                                   \
+  N(0x2120, 0, U8, CONST, 0, kHookNone, 4, "Next station: highest sub-index")                           \
+  N(0x2120, 1, U8, RW, kAttrPdo, kHookNone, 0, "Next station: RUN state")                              \
+  N(0x2120, 2, U16, RW, kAttrPdo, kHookNone, 0, "Next station: STOP2 event counter")                   \
+  N(0x2120, 3, U8, RO, 0, kHookNone, 0, "Next station: status 0 unknown, 1 alive, 2 none")             \
+  N(0x2120, 4, U8, RO, 0, kHookNone, 0, "Next station: node id")                                       \
+  N(0x2130, 0, U8, CONST, 0, kHookNone, 2, "Remote buttons: highest sub-index")                         \
+  N(0x2130, 1, U8, RW, kAttrPdo, kHookNone, 0, "Remote buttons: levels of the watched station")        \
+  N(0x2130, 2, U8, RW, 0, kHookNone, 0, "Remote buttons: watched node id (0 previous station)")        \
+  N(0x2140, 0, U8, CONST, 0, kHookNone, 3, "Buttons: highest sub-index")                               \
+  N(0x2140, 1, BOOL, RO, kAttrPdo, kHookNone, 0, "Buttons: START pressed")                             \
+  N(0x2140, 2, BOOL, RO, kAttrPdo, kHookNone, 0, "Buttons: STOP pressed")                              \
+  N(0x2140, 3, BOOL, RO, kAttrPdo, kHookNone, 0, "Buttons: STOP2 pressed")                             \
+  N(0x2200, 0, U8, RO, kAttrPdo, kHookNone, 0, "LEDs as driven: RUN-self, RUN-prev, RUN-next, lab")     \
+  N(0x2300, 0, U8, CONST, 0, kHookNone, 3, "Latency lab: highest sub-index")                            \
+  N(0x2300, 1, U32, RO, 0, kHookNone, 0, "Latency lab: last button edge (us)")                         \
+  N(0x2300, 2, U32, RO, 0, kHookNone, 0, "Latency lab: last lab LED change (us)")                      \
+  N(0x2300, 3, U32, RO, 0, kHookNone, 0, "Latency lab: last remote buttons arrival (us)")              \
+  N(0x2400, 0, U8, RW, 0, kHookApp, 12, "Modbus holding registers: mapped entries")                    \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 1, kHookApp, MB2CO_MAP(0x2100, 1, 8), "HR map 1")                       \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 2, kHookApp, MB2CO_MAP(0x6200, 1, 8), "HR map 2")                       \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 3, kHookApp, MB2CO_MAP(0x2000, 1, 8), "HR map 3")                       \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 4, kHookApp, MB2CO_MAP(0x2000, 2, 16), "HR map 4")                      \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 5, kHookApp, MB2CO_MAP(0x2000, 3, 8), "HR map 5")                       \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 6, kHookApp, MB2CO_MAP(0x2000, 4, 8), "HR map 6")                       \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 7, kHookApp, MB2CO_MAP(0x2000, 5, 8), "HR map 7")                       \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 8, kHookApp, MB2CO_MAP(0x2000, 6, 16), "HR map 8")                      \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 9, kHookApp, MB2CO_MAP(0x1017, 0, 16), "HR map 9")                      \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 10, kHookApp, MB2CO_MAP(0x1006, 0, 32), "HR map 10")                    \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 11, kHookApp, MB2CO_MAP(0x1010, 1, 32), "HR map 11")                    \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 12, kHookApp, MB2CO_MAP(0x2001, 0, 8), "HR map 12")                     \
+  N(0x2401, 0, U8, RW, 0, kHookApp, 20, "Modbus input registers: mapped entries")                      \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 1, kHookApp, MB2CO_MAP(0x6000, 1, 8), "IR map 1")                       \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 2, kHookApp, MB2CO_MAP(0x2100, 2, 8), "IR map 2")                       \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 3, kHookApp, MB2CO_MAP(0x2100, 3, 16), "IR map 3")                      \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 4, kHookApp, MB2CO_MAP(0x2100, 4, 8), "IR map 4")                       \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 5, kHookApp, MB2CO_MAP(0x2100, 5, 16), "IR map 5")                      \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 6, kHookApp, MB2CO_MAP(0x2100, 6, 16), "IR map 6")                      \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 7, kHookApp, MB2CO_MAP(0x2110, 1, 8), "IR map 7")                       \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 8, kHookApp, MB2CO_MAP(0x2110, 2, 16), "IR map 8")                      \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 9, kHookApp, MB2CO_MAP(0x2110, 3, 8), "IR map 9")                       \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 10, kHookApp, MB2CO_MAP(0x2120, 1, 8), "IR map 10")                     \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 11, kHookApp, MB2CO_MAP(0x2120, 3, 8), "IR map 11")                     \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 12, kHookApp, MB2CO_MAP(0x2200, 0, 8), "IR map 12")                     \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 13, kHookApp, MB2CO_MAP(0x2300, 1, 32), "IR map 13")                    \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 14, kHookApp, MB2CO_MAP(0x2300, 2, 32), "IR map 14")                    \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 15, kHookApp, MB2CO_MAP(0x2300, 3, 32), "IR map 15")                    \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 16, kHookApp, MB2CO_MAP(0x2130, 1, 8), "IR map 16")                     \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 17, kHookApp, MB2CO_MAP(0x1001, 0, 8), "IR map 17")                     \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 18, kHookApp, MB2CO_MAP(0x2110, 4, 8), "IR map 18")                     \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 19, kHookApp, MB2CO_MAP(0x2120, 4, 8), "IR map 19")                     \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 20, kHookApp, MB2CO_MAP(0x2002, 0, 8), "IR map 20")                     \
+  N(0x2402, 0, U8, RW, 0, kHookApp, 2, "Modbus coils: mapped entries")                                 \
+  MB2CO_GW_MAP_ENTRY(N, 0x2402, 1, kHookApp, MB2CO_MAP(0x2100, 1, 1), "coil map 1")                     \
+  MB2CO_GW_MAP_ENTRY(N, 0x2402, 2, kHookApp, MB2CO_MAP(0x6200, 1, 1), "coil map 2")                     \
+  N(0x2403, 0, U8, RW, 0, kHookApp, 7, "Modbus discrete inputs: mapped entries")                       \
+  MB2CO_GW_MAP_ENTRY(N, 0x2403, 1, kHookApp, MB2CO_MAP(0x2140, 1, 1), "DI map 1")                       \
+  MB2CO_GW_MAP_ENTRY(N, 0x2403, 2, kHookApp, MB2CO_MAP(0x2140, 2, 1), "DI map 2")              \
+  MB2CO_GW_MAP_ENTRY(N, 0x2403, 3, kHookApp, MB2CO_MAP(0x2140, 3, 1), "DI map 3")              \
+  MB2CO_GW_MAP_ENTRY(N, 0x2403, 4, kHookApp, MB2CO_MAP(0x2100, 2, 1), "DI map 4")                       \
+  MB2CO_GW_MAP_ENTRY(N, 0x2403, 5, kHookApp, MB2CO_MAP(0x2110, 1, 1), "DI map 5")                       \
+  MB2CO_GW_MAP_ENTRY(N, 0x2403, 6, kHookApp, MB2CO_MAP(0x2120, 1, 1), "DI map 6")                       \
+  MB2CO_GW_MAP_ENTRY(N, 0x2403, 7, kHookApp, MB2CO_MAP(0x2200, 0, 1), "DI map 7")                       \
+  MB2CO_GW_MAP_ENTRY(N, 0x2403, 8, kHookApp, 0, "DI map 8")                                             \
+  N(0x6000, 0, U8, CONST, 0, kHookNone, 1, "Read input 8-bit: highest sub-index")                       \
+  N(0x6000, 1, U8, RO, kAttrPdo, kHookNone, 0, "Read input 8-bit 1: START, STOP, STOP2 pressed")        \
+  N(0x6200, 0, U8, CONST, 0, kHookNone, 1, "Write output 8-bit: highest sub-index")                     \
+  N(0x6200, 1, U8, RW, kAttrPdo, kHookNone, 0, "Write output 8-bit 1: bit 0 lab LED")
+
+#define MB2CO_GATEWAY_LIMITS(L) \
+  L(0x2000, 1, 1, 127)          \
+  L(0x2000, 3, 0, 1)            \
+  L(0x2000, 4, 2, 127)          \
+  L(0x2000, 5, 1, 247)          \
+  L(0x2000, 6, 1, 500)          \
+  L(0x2000, 7, 0, 1)            \
+  L(0x2000, 8, 0, 1)            \
+  L(0x2001, 0, 0, 2)            \
+  L(0x2100, 1, 0, 1)
+
+namespace od {
+using namespace ::mb2co::canopen;
+MB2CO_OD_DECLARE(Gateway, MB2CO_GATEWAY_OD)
+}  // namespace od
+
+}  // namespace gateway
+}  // namespace mb2co

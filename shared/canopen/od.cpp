@@ -12,7 +12,12 @@ namespace canopen {
 #endif
 
 ObjectDictionary::ObjectDictionary(const OdDefinition& def, uint8_t* values)
-    : def_(def), values_(values), hook_(nullptr), hook_ctx_(nullptr), node_id_(0) {}
+    : def_(def), values_(values), hook_(nullptr), hook_ctx_(nullptr), node_id_(0) {
+  for (uint8_t t = 0; t <= kUnsigned32; ++t) {
+    const uint16_t r = t == 0 ? kNoRow : find(t, 0);
+    type_bits_[t] = r == kNoRow ? 0 : static_cast<uint8_t>(flash_read(&def_.rows[r].def));
+  }
+}
 
 uint16_t ObjectDictionary::find(uint16_t index, uint8_t sub) const {
   uint16_t lo = 0;
@@ -50,9 +55,7 @@ uint16_t ObjectDictionary::first_row(uint16_t index) const {
 bool ObjectDictionary::has_index(uint16_t index) const { return first_row(index) != kNoRow; }
 
 uint8_t ObjectDictionary::type_bits(uint8_t type) const {
-  const uint16_t r = find(type, 0);
-  if (r == kNoRow || type > kUnsigned32) return 0;
-  return static_cast<uint8_t>(entry(r).def);
+  return type <= kUnsigned32 ? type_bits_[type] : 0;
 }
 
 uint16_t ObjectDictionary::capacity_of(uint16_t row) const {

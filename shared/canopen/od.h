@@ -89,6 +89,9 @@ class ObjectDictionary {
 
   const OdDefinition& def_;
   uint8_t* values_;
+  /// Bit lengths of types 0001h–0007h, read once from this OD's own
+  /// data-type entries (they are const): sizing is on every value access.
+  uint8_t type_bits_[kUnsigned32 + 1];
   OdWriteHook hook_;
   void* hook_ctx_;
   uint8_t node_id_;

@@ -113,6 +113,7 @@ void Tpdos::on_sync(uint8_t counter, const CanSink& sink, uint32_t now_us) {
       send(n, cob, data, len, sink, now_us);
     } else if (type == 252) {  // sample now, send on request
       s.last_len = pdo_build(*od_, map_row(n), s.last);
+      s.flags |= kSyncStarted;  // for 252: a sample is held
     }
   }
 }
@@ -124,7 +125,7 @@ bool Tpdos::on_rtr(const CanFrame& f, const CanSink& sink, uint32_t now_us) {
     if (cob & 0x40000000u) return true;  // RTR not allowed on this PDO: ignored
     const uint8_t type = static_cast<uint8_t>(od_->get(static_cast<uint16_t>(comm_row(n) + kType)));
     uint8_t data[8];
-    if (type == 252) {
+    if (type == 252 && (st_[n].flags & kSyncStarted)) {
       memcpy(data, st_[n].last, 8);
       send(n, cob, data, st_[n].last_len, sink, now_us);
     } else {
@@ -168,9 +169,12 @@ uint32_t Tpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data) {
       if (data[0] >= 241 && data[0] <= 251) return kAbortInvalidValue;
       st_[n].flags = static_cast<uint8_t>(st_[n].flags & ~kSyncStarted);
       return kSdoOk;
-    case 3:  // inhibit time: only while the PDO does not exist
-    case 6:  // SYNC start value: likewise
-      if (enabled) return kAbortInvalidValue;
+    case 3:  // inhibit time: not changed while the PDO exists
+    case 6:  // SYNC start value: likewise (rewriting the same value is no change)
+      if (enabled && od_->get(static_cast<uint16_t>(comm_row(n) + (sub == 3 ? kInhibit : kSyncStart))) !=
+                         (sub == 3 ? le16(data) : data[0])) {
+        return kAbortInvalidValue;
+      }
       if (sub == 6 && data[0] > 240) return kAbortInvalidValue;
       return kSdoOk;
     case 5:  // event timer: takes effect from the next transmission

@@ -69,44 +69,40 @@ static void get_bits(uint8_t* dst, const uint8_t* src, uint16_t at, uint8_t bits
   }
 }
 
-uint8_t pdo_build(const ObjectDictionary& od, uint16_t row0, uint8_t data[8]) {
-  memset(data, 0, 8);
+// Calls fn(row, bit_offset, bits) for every mapped entry that is not a dummy
+// (row kNoRow if the object vanished) and returns the total mapped bits.
+template <class Fn>
+static uint16_t for_each_mapped(const ObjectDictionary& od, uint16_t row0, Fn fn) {
   const uint8_t count = static_cast<uint8_t>(od.get(row0));
   uint16_t at = 0;
   for (uint8_t s = 1; s <= count && s <= kPdoMaxMapped; ++s) {
     const uint32_t entry = od.get(static_cast<uint16_t>(row0 + s));
     const uint8_t bits = map_bits(entry);
     if (at + bits > 64) break;
-    if (!map_is_dummy(entry)) {
-      const uint16_t row = od.find(map_index(entry), map_sub(entry));
-      if (row != ObjectDictionary::kNoRow) {
-        uint8_t value[4] = {0, 0, 0, 0};
-        od.copy_out(row, value, sizeof value);
-        put_bits(data, at, value, bits);
-      }
-    }
+    if (!map_is_dummy(entry)) fn(od.find(map_index(entry), map_sub(entry)), at, bits);
     at = static_cast<uint16_t>(at + bits);
   }
-  return static_cast<uint8_t>((at + 7) / 8);
+  return at;
+}
+
+uint8_t pdo_build(const ObjectDictionary& od, uint16_t row0, uint8_t data[8]) {
+  memset(data, 0, 8);
+  const uint16_t bits = for_each_mapped(od, row0, [&](uint16_t row, uint16_t at, uint8_t n) {
+    if (row == ObjectDictionary::kNoRow) return;
+    uint8_t value[4] = {0, 0, 0, 0};
+    od.copy_out(row, value, sizeof value);
+    put_bits(data, at, value, n);
+  });
+  return static_cast<uint8_t>((bits + 7) / 8);
 }
 
 void pdo_apply(ObjectDictionary& od, uint16_t row0, const uint8_t* data) {
-  const uint8_t count = static_cast<uint8_t>(od.get(row0));
-  uint16_t at = 0;
-  for (uint8_t s = 1; s <= count && s <= kPdoMaxMapped; ++s) {
-    const uint32_t entry = od.get(static_cast<uint16_t>(row0 + s));
-    const uint8_t bits = map_bits(entry);
-    if (at + bits > 64) break;
-    if (!map_is_dummy(entry)) {
-      const uint16_t row = od.find(map_index(entry), map_sub(entry));
-      if (row != ObjectDictionary::kNoRow) {
-        uint8_t value[4] = {0, 0, 0, 0};
-        get_bits(value, data, at, bits);
-        od.set(row, le32(value));
-      }
-    }
-    at = static_cast<uint16_t>(at + bits);
-  }
+  for_each_mapped(od, row0, [&](uint16_t row, uint16_t at, uint8_t n) {
+    if (row == ObjectDictionary::kNoRow) return;
+    uint8_t value[4] = {0, 0, 0, 0};
+    get_bits(value, data, at, n);
+    od.set(row, le32(value));
+  });
 }
 
 uint8_t pdo_map_stride(const ObjectDictionary& od, uint16_t first_index) {

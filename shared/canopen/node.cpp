@@ -69,6 +69,7 @@ void Node::on_transition(NmtState before) {
     sdo_.cancel();
     hb_consumer_.reset_all();
   }
+  if (before == kNmtStopped) sync_.restart();
 }
 
 void Node::receive(const CanFrame& f, uint32_t now_us) {

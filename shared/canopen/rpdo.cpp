@@ -52,6 +52,9 @@ bool Rpdos::on_frame(const CanFrame& f, uint32_t now_us) {
     const uint32_t cob = od_->get(static_cast<uint16_t>(comm_row(n) + kCob));
     if ((cob & 0x80000000u) || (cob & 0x7FFu) != f.id) continue;
     if (f.rtr()) return true;  // nothing to answer for a receive PDO
+    // Nothing mapped: the PDO carries nothing for us (as a TPDO with no
+    // mapping is not sent), so no length check and no EMCY either.
+    if (od_->get(map_row(n)) == 0) return true;
     State& s = st_[n];
     const uint8_t need = pdo_mapped_bytes(*od_, map_row(n));
     s.flags = static_cast<uint8_t>(s.flags & ~(kShort | kLong));

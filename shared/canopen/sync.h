@@ -24,6 +24,9 @@ class Sync {
   /// Validates writes to 1005h, 1006h, 1019h (OD hook).
   uint32_t on_write(uint16_t index, const uint8_t* data);
   uint32_t cob_id() const { return od_->get(row_1005_) & 0x7FFu; }
+  /// The producer's period starts afresh (e.g. back from NMT stopped, where
+  /// process() was not called and the old deadline went stale).
+  void restart() { restart_ = true; }
 
  private:
   ObjectDictionary* od_ = nullptr;

@@ -44,7 +44,7 @@ class Tpdos {
     kPending = 0x01,       ///< send when inhibit time allows
     kInhibiting = 0x02,
     kEventTimer = 0x04,    ///< event timer armed
-    kSyncStarted = 0x08,   ///< SYNC start value reached
+    kSyncStarted = 0x08,   ///< SYNC start value reached (1–240); 252: a sample is held
     kSent = 0x10,          ///< `last` holds a transmitted payload
   };
   bool valid(uint8_t n, uint32_t* cob) const;

@@ -1,0 +1,179 @@
+#!/bin/bash
+# Runs a command with virtual CAN interfaces up, also on kernels without AF_CAN.
+#
+# Usage: hil/uml/run-with-vcan.sh [--ifaces vcan0,vcan1] [--timeout SEC]
+#                                 [--mode auto|host|uml] -- COMMAND [ARGS...]
+#
+# auto (default): as root, try the host kernel first (fresh network namespace,
+# `ip link add type vcan`); otherwise, or when that fails, boot user-mode Linux
+# (Debian user-mode-linux, hostfs root = the host's /, CAN modules by modprobe).
+# Either way the command sees its own private vcan interfaces (parallel runs do
+# not share a bus), the caller's working directory and environment, stdin
+# /dev/null, and runs in its own PID namespace: background processes it leaves
+# die when it ends. Its stdout/stderr reach ours.
+#
+# Exit status: the command's (124 when --timeout hit it, 128+N for signal N);
+# 125 with one line on stderr when the sandbox could not be set up.
+# Environment: MB2CO_VCAN_MODE (same as --mode), MB2CO_UML_MEM (default 512M),
+# MB2CO_VCAN_KEEP=1 keeps the run's temp dir (request, console.log) for a look.
+set -euo pipefail
+
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+session=$here/session.sh
+ifaces=vcan0
+timeout_s=600
+mode=${MB2CO_VCAN_MODE:-auto}
+
+die() {
+  echo "run-with-vcan: $*" >&2
+  exit 125
+}
+usage() {
+  echo "usage: run-with-vcan.sh [--ifaces vcan0,vcan1] [--timeout SEC] [--mode auto|host|uml] -- COMMAND [ARGS...]" >&2
+  exit 125
+}
+
+while (($#)); do
+  case $1 in
+    --ifaces) (($# >= 2)) || usage; ifaces=$2; shift 2 ;;
+    --timeout) (($# >= 2)) || usage; timeout_s=$2; shift 2 ;;
+    --mode) (($# >= 2)) || usage; mode=$2; shift 2 ;;
+    --) shift; break ;;
+    -h | --help) usage ;;
+    *) die "unknown option '$1' (the command goes after --)" ;;
+  esac
+done
+(($#)) || usage
+[[ $ifaces =~ ^[A-Za-z0-9_]{1,15}(,[A-Za-z0-9_]{1,15})*$ ]] ||
+  die "bad --ifaces '$ifaces' (comma-separated names of at most 15 characters [A-Za-z0-9_])"
+[[ $timeout_s =~ ^[1-9][0-9]{0,5}$ ]] || die "bad --timeout '$timeout_s' (whole seconds, 1..999999)"
+case $mode in auto | host | uml) ;; *) die "bad --mode '$mode' (auto, host or uml)" ;; esac
+[[ $session != *[[:space:]]* ]] || die "the checkout path must not contain blanks: $here"
+
+base=${TMPDIR:-/tmp}
+case $base in /dev/* | /proc/* | /sys/* | *[[:space:]]*) base=/tmp ;; esac
+dir=$(mktemp -d "$base/mb2co-vcan.XXXXXX") || die "cannot create a temp dir in $base"
+
+uml_pid=""
+relays=()
+# shellcheck disable=SC2317  # called from the EXIT trap
+cleanup() {
+  # The UML `timeout` leads a process group; a ptrace-stopped UML helper can
+  # outlive the kernel, so the whole group goes.
+  if [ -n "$uml_pid" ]; then
+    kill -KILL -- "-$uml_pid" 2>/dev/null || true
+    { wait "$uml_pid"; } 2>/dev/null || true # reaped quietly (no "Killed" line)
+  fi
+  ((${#relays[@]} == 0)) || kill "${relays[@]}" 2>/dev/null || true
+  if [ -n "${MB2CO_VCAN_KEEP:-}" ]; then
+    echo "run-with-vcan: kept $dir" >&2
+  else
+    rm -rf -- "$dir"
+  fi
+}
+trap cleanup EXIT
+trap 'exit 143' TERM
+trap 'exit 130' INT
+trap 'exit 129' HUP
+
+# The request the session reads; the environment as exports (no shell state).
+MB2CO_ARGV=("$@")
+{
+  declare -p MB2CO_ARGV
+  printf 'MB2CO_CWD=%q\nMB2CO_TIMEOUT_S=%q\nMB2CO_IFACES=%q\n' "$PWD" "$timeout_s" "$ifaces"
+} >"$dir/request"
+while IFS= read -r name; do
+  case $name in PWD | OLDPWD | SHLVL | _ | SHELLOPTS | BASHOPTS | MB2CO_VCAN_*) continue ;; esac
+  printf 'export %s=%q\n' "$name" "${!name}"
+done < <(compgen -e) >"$dir/env"
+
+# Exit with the command's code if the session ran it; return if it did not.
+exit_with_session_rc() {
+  local rc
+  rc=$(cat "$dir/rc" 2>/dev/null) || return 0
+  [[ $rc =~ ^[0-9]{1,3}$ ]] && exit "$rc"
+}
+
+# --- host kernel: a throw-away probe keeps a failing attempt silent ----------
+host_can_vcan() {
+  [ "$(id -u)" = 0 ] && command -v unshare >/dev/null &&
+    unshare --net -- ip link add dev vcan0 type vcan >/dev/null 2>&1
+}
+if [ "$mode" != uml ] && host_can_vcan; then
+  # In the foreground, so that the command keeps default SIGINT handling
+  # (background jobs of a script start with SIGINT ignored).
+  set +e
+  MB2CO_VCAN_DIR=$dir MB2CO_VCAN_MODE=host unshare --net --kill-child -- "$session"
+  host_rc=$?
+  set -e
+  exit_with_session_rc
+  die "host kernel setup failed: $(cat "$dir/setup-error" 2>/dev/null || echo "unshare exit $host_rc")"
+elif [ "$mode" = host ]; then
+  die "the host kernel cannot create vcan interfaces here (needs root, unshare and the vcan module)"
+fi
+
+# --- user-mode Linux -----------------------------------------------------------
+command -v linux.uml >/dev/null || die "linux.uml not found (apt-get install user-mode-linux)"
+command -v modprobe >/dev/null || die "modprobe not found (apt-get install kmod)"
+command -v ip >/dev/null || die "ip not found (apt-get install iproute2)"
+uml_version=$(linux.uml --version 2>/dev/null) || die "linux.uml --version failed"
+modules=/usr/lib/uml/modules/$uml_version/kernel
+[ -f "$modules/drivers/net/can/vcan.ko" ] || die "no vcan module for UML $uml_version in $modules"
+[[ $dir != *[[:space:]]* ]] || die "temp dir path must not contain blanks: $dir"
+uml_mem=${MB2CO_UML_MEM:-512M}
+[[ $uml_mem =~ ^([1-9][0-9]{0,5})([KMG])$ ]] || die "bad MB2CO_UML_MEM '$uml_mem' (like 512M)"
+mem_kib=${BASH_REMATCH[1]}
+case ${BASH_REMATCH[2]} in M) mem_kib=$((mem_kib * 1024)) ;; G) mem_kib=$((mem_kib * 1048576)) ;; esac
+# The guest's RAM is a sparse file, on /dev/shm by default: a small /dev/shm
+# (64 MiB in a default container) would kill the guest with SIGBUS mid-run.
+mem_dir=/dev/shm
+shm_kib=$(df -Pk /dev/shm 2>/dev/null | awk 'NR == 2 { print $4 }') || shm_kib=0
+((${shm_kib:-0} >= mem_kib)) || mem_dir=$base
+mkdir -p "$dir/modroot/lib"
+ln -s /usr/lib/uml/modules "$dir/modroot/lib/modules"
+printf 'MB2CO_UML_MODROOT=%q\n' "$dir/modroot" >>"$dir/request"
+cat >"$dir/fstab" <<'EOF'
+proc    /proc    proc   defaults 0 0
+sysfs   /sys     sysfs  defaults 0 0
+devpts  /dev/pts devpts newinstance,ptmxmode=0666,mode=0620,X-mount.mkdir 0 0
+tmpfs   /dev/shm tmpfs  mode=1777,X-mount.mkdir 0 0
+EOF
+
+# Relays: UML puts its console fds in O_NONBLOCK mode, which must not leak into
+# the caller's stdout/stderr (a shared pipe or terminal); fifos isolate them.
+# The guest's fifos (guest-*) are created here too: on hostfs they act as
+# pipes local to the guest kernel, unrelated to the host's.
+mkfifo "$dir/host-stdout" "$dir/host-stderr" "$dir/guest-stdout" "$dir/guest-stderr"
+cat "$dir/host-stdout" &
+relays+=($!)
+cat "$dir/host-stderr" >&2 &
+relays+=($!)
+
+# Boot parameters from DESIGN.md §10 (quick boot) plus skipping the raid6
+# benchmark (0.85 s; nothing here uses md-raid or btrfs); con0 is the kernel
+# console (log file), con1/con2 carry the command's stdout/stderr.
+set +e
+TMPDIR=$mem_dir timeout -k 5 $((timeout_s + 120)) linux.uml \
+  mem="$uml_mem" root=/dev/root rootfstype=hostfs rootflags=/ rw \
+  init="$session" con=null ssl=null con0=null,fd:5 con1=null,fd:3 con2=null,fd:4 \
+  pty.legacy_count=0 cryptomgr.notests zswap.enabled=0 initcall_blacklist=raid6_select_algo quiet \
+  MB2CO_VCAN_DIR="$dir" MB2CO_VCAN_MODE=uml \
+  </dev/null 3>"$dir/host-stdout" 4>"$dir/host-stderr" 5>"$dir/console.log" >>"$dir/console.log" 2>&1 &
+uml_pid=$!
+# Quietly: bash would print a job line when UML dies by a signal (see below).
+{ wait "$uml_pid"; } 2>/dev/null
+uml_rc=$?
+set -e
+kill -KILL -- "-$uml_pid" 2>/dev/null || true
+uml_pid=""
+wait "${relays[@]}" 2>/dev/null || true
+relays=()
+
+# The exit code comes from the file: ~1 boot in 40 aborts (SIGABRT) at poweroff
+# after the command has finished.
+exit_with_session_rc
+if [ -f "$dir/setup-error" ]; then
+  die "user-mode Linux setup failed: $(cat "$dir/setup-error")"
+fi
+last=$(grep -v '^[[:space:]]*$' "$dir/console.log" 2>/dev/null | tail -n 1 | tr -d '\r')
+die "user-mode Linux did not run the command (linux.uml exit $uml_rc${last:+; last console line: $last})"

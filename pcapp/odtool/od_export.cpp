@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "gateway/gateway.h"
+
 namespace mb2co {
 namespace odtool {
 
@@ -140,7 +142,15 @@ std::string register_map_markdown(const ObjectDictionary& od) {
        "Exceptions: 01 unknown function; 03 bad quantity or malformed request; 02 an address\n"
        "that is unmapped, beyond the map, or not writable (read-only OD entry, half of a\n"
        "32-bit value); 04 a value the OD refuses (out of the entry's limits, refused by the\n"
-       "owning service). A refused multi-register write changes nothing.\n";
+       "owning service). A refused multi-register write changes nothing.\n\n";
+  s += "On the Arduino Uno the Modbus frame buffer holds " + std::to_string(mb2co::gateway::kMapFrameBytes) +
+       " bytes, not the protocol's 256: enough for\n"
+       "every request the maps can cover and its answer, even with every map entry 32 bits\n"
+       "wide. The Uno counts a longer request as a character overrun (FC 08 sub-function 12h)\n"
+       "and does not answer it, where the Linux build answers: exception 02 or 03 (no map\n"
+       "covers that many addresses), or the echo of an FC 08/00 with more than " +
+       std::to_string(mb2co::gateway::kMapFrameBytes - 6) + " data bytes\n"
+       "(docs/performance.md).\n";
   static const struct {
     uint16_t index;
     const char* title;

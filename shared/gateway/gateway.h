@@ -16,6 +16,20 @@
 namespace mb2co {
 namespace gateway {
 
+/// Longest frame a request the register maps can cover needs: the response
+/// to a read of a whole map of 32-bit entries (2 registers each); the longest
+/// such write (FC 10h/17h) is shorter. Every request that can succeed fits.
+constexpr uint16_t kMapFrameBytes = static_cast<uint16_t>(
+    1u + 2u + 2u * 2u * (kInputMapSize > kHoldingMapSize ? kInputMapSize : kHoldingMapSize) +
+    modbus::kCrcBytes);
+/// The Modbus slave's frame buffer: the protocol's 256 bytes, but on the Uno
+/// only what the maps need (longer requests are lost as overruns: slave.h).
+#ifdef __AVR__
+constexpr uint16_t kModbusFrameBytes = kMapFrameBytes;
+#else
+constexpr uint16_t kModbusFrameBytes = modbus::kMaxAduBytes;
+#endif
+
 struct GatewayPorts {
   CanSink can;
   modbus::ByteSink serial;
@@ -41,7 +55,7 @@ class Gateway {
   uint16_t bitrate_kbit() const { return bitrate_kbit_; }
   canopen::Node& node() { return node_; }
   canopen::ObjectDictionary& od() { return od_; }
-  modbus::Slave& modbus_slave() { return slave_; }
+  modbus::SlaveCore& modbus_slave() { return slave_; }
 
  private:
   static uint32_t app_write(void* ctx, uint8_t hook, uint16_t index, uint8_t sub,
@@ -55,7 +69,7 @@ class Gateway {
   canopen::Node node_;
   OdRegisterBank bank_;
   OdDeviceIdentity identity_;
-  modbus::Slave slave_;
+  modbus::SlaveWithFrame<kModbusFrameBytes> slave_;
   LineApp line_;
   uint32_t now_us_ = 0;  ///< time of the frame or call being handled
   uint16_t bitrate_kbit_ = 500;

@@ -51,7 +51,7 @@ void RtuFramer::store(uint8_t byte, uint32_t byte_us, uint8_t flags) {
     flags_ |= kFlagT15;
   }
   flags_ = static_cast<uint8_t>(flags_ | flags);
-  if (length_ < kMaxAduBytes) {
+  if (length_ < capacity_) {
     buf_[length_++] = byte;
   } else {
     flags_ |= kFlagOverrun;

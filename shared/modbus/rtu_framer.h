@@ -23,14 +23,18 @@ enum class FrameStatus : uint8_t {
   kTooShort,      ///< fewer than 4 bytes
   kT15Violation,  ///< a silence > t1.5 (but < t3.5) between two characters
   kCharError,     ///< the port reported a parity/framing error in a character
-  kOverrun,       ///< more than 256 bytes: the buffer overflowed
+  kOverrun,       ///< longer than the buffer (its capacity): bytes were lost
 };
 
-/// Owns the single 256-byte frame buffer (reused for the response).
+/// Collects a frame into a caller-owned buffer (reused for the response).
 /// Not re-entrant: call from one context only (the main loop).
 class RtuFramer {
  public:
-  explicit RtuFramer(const RtuTiming& timing) : timing_(timing) {}
+  /// `buffer` holds `capacity` bytes (kMinAduBytes..kMaxAduBytes; a larger
+  /// value counts as kMaxAduBytes) and must outlive the framer.
+  RtuFramer(const RtuTiming& timing, uint8_t* buffer, uint16_t capacity)
+      : timing_(timing), buf_(buffer),
+        capacity_(capacity < kMaxAduBytes ? capacity : kMaxAduBytes) {}
 
   void set_timing(const RtuTiming& timing) { timing_ = timing; }
   const RtuTiming& timing() const { return timing_; }
@@ -68,6 +72,7 @@ class RtuFramer {
 
   uint8_t* buffer() { return buf_; }
   const uint8_t* buffer() const { return buf_; }
+  uint16_t capacity() const { return capacity_; }
   uint16_t length() const { return length_; }
   bool receiving() const { return state_ == State::kReceiving; }
 
@@ -79,12 +84,13 @@ class RtuFramer {
   void store(uint8_t byte, uint32_t byte_us, uint8_t flags);
 
   RtuTiming timing_;
+  uint8_t* buf_;
+  uint16_t capacity_;     ///< ≤ kMaxAduBytes
   uint32_t last_us_ = 0;  ///< stamp of the last character (or begin())
-  uint16_t length_ = 0;   ///< ≤ kMaxAduBytes
+  uint16_t length_ = 0;   ///< ≤ capacity_
   State state_ = State::kIdle;
   uint8_t flags_ = 0;
   bool check_t15_ = true;
-  uint8_t buf_[kMaxAduBytes];
 };
 
 }  // namespace modbus

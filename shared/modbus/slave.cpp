@@ -22,38 +22,39 @@ bool broadcast_allowed(uint8_t function) {
 
 }  // namespace
 
-Slave::Slave(RegisterBank& bank, DeviceIdentity* identity, ByteSink sink, uint8_t address,
-             const RtuTiming& timing)
+SlaveCore::SlaveCore(RegisterBank& bank, DeviceIdentity* identity, ByteSink sink,
+                     uint8_t address, const RtuTiming& timing, uint8_t* frame,
+                     uint16_t frame_bytes)
     : bank_(bank),
       identity_(identity),
       sink_(sink),
-      framer_(timing),
+      framer_(timing, frame, frame_bytes),
       address_(valid_address(address) ? address : 1u) {}
 
-bool Slave::set_address(uint8_t address) {
+bool SlaveCore::set_address(uint8_t address) {
   if (!valid_address(address)) return false;
   address_ = address;
   return true;
 }
 
-void Slave::on_byte(uint8_t byte, uint32_t byte_us) {
+void SlaveCore::on_byte(uint8_t byte, uint32_t byte_us) {
   if (framer_.frame_due_before(byte_us)) handle_frame();
   framer_.push(byte, byte_us);
 }
 
-void Slave::on_char_error(uint32_t byte_us) {
+void SlaveCore::on_char_error(uint32_t byte_us) {
   if (framer_.frame_due_before(byte_us)) handle_frame();
   framer_.push_error(byte_us);
 }
 
-void Slave::process(uint32_t now_us) {
+void SlaveCore::process(uint32_t now_us) {
   if (framer_.frame_due(now_us)) handle_frame();
   framer_.tick(now_us);
 }
 
-void Slave::clear_counters() { counters_ = DiagCounters{}; }
+void SlaveCore::clear_counters() { counters_ = DiagCounters{}; }
 
-void Slave::handle_frame() {
+void SlaveCore::handle_frame() {
   switch (framer_.finish()) {
     case FrameStatus::kOk:
       break;
@@ -78,7 +79,7 @@ void Slave::handle_frame() {
   handle_request(static_cast<uint16_t>(framer_.length() - 1u - kCrcBytes), broadcast);
 }
 
-void Slave::handle_request(uint16_t pdu_length, bool broadcast) {
+void SlaveCore::handle_request(uint16_t pdu_length, bool broadcast) {
   if (listen_only_) {
     // Serial line spec: in listen-only mode only 08/01 is acted upon, and it
     // is not answered. It clears the counters, so nothing is counted for it.
@@ -117,7 +118,7 @@ void Slave::handle_request(uint16_t pdu_length, bool broadcast) {
   }
 }
 
-void Slave::send(uint16_t pdu_length) {
+void SlaveCore::send(uint16_t pdu_length) {
   uint8_t* adu = framer_.buffer();
   adu[0] = address_;
   const uint16_t length = append_crc(adu, static_cast<uint16_t>(pdu_length + 1u));
@@ -127,7 +128,7 @@ void Slave::send(uint16_t pdu_length) {
   }
 }
 
-Slave::Reply Slave::execute(uint16_t pdu_length) {
+SlaveCore::Reply SlaveCore::execute(uint16_t pdu_length) {
   switch (pdu()[0]) {
     case fc::kReadCoils:
       return read(pdu_length, Table::kCoils);

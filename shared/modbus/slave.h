@@ -21,8 +21,13 @@
 // address outside what RegisterBank::covers(); 04 (or the bank's code) when
 // executing fails.
 //
-// Memory: 304 bytes on the AVR: the 256-byte frame buffer (request, then
-// response in place) and 48 bytes of state.
+// Memory: the frame buffer (request, then response in place) and ~50 bytes
+// of state. Slave owns a 256-byte buffer: every request the protocol allows.
+// SlaveCore takes a smaller caller-owned one (the Uno's gateway: its register
+// maps are short). Then a longer request is lost like one beyond 256 bytes
+// (counted in CPT8 08/12, not answered), and a covered read whose response
+// would not fit is answered with exception 04; device identification objects
+// are cut to the room there is.
 #pragma once
 #include <stdint.h>
 
@@ -35,6 +40,10 @@
 namespace mb2co {
 namespace modbus {
 
+/// Smallest frame buffer a slave takes: an empty FC 2B/0E response (12 bytes)
+/// and every fixed-size response (write echoes, FC 08: 8 bytes) fit.
+constexpr uint16_t kMinSlaveFrameBytes = 16;
+
 /// Diagnostic counters, serial line spec V1.02 §6.1 (16 bits, wrap around).
 /// Cleared by power-up, 08/01 restart and 08/0A; 08/14 clears only overruns.
 struct DiagCounters {
@@ -43,8 +52,8 @@ struct DiagCounters {
   uint16_t exceptions;        ///< CPT3 08/0D: exceptions, including broadcast ones
   uint16_t server_messages;   ///< CPT4 08/0E: good frames for us or broadcast
   uint16_t no_responses;      ///< CPT5 08/0F: of those, not answered
-  uint16_t char_overruns;     ///< CPT8 08/12: frames longer than 256 bytes (any
-                              ///< address: the rest of such a frame is lost)
+  uint16_t char_overruns;     ///< CPT8 08/12: frames longer than the buffer, 256
+                              ///< bytes or less (any address: the rest is lost)
 };
 
 /// Counters outside the Modbus model (never cleared, for logs and tests).
@@ -53,12 +62,15 @@ struct LinkStats {
   uint16_t send_failures;   ///< responses the ByteSink refused (also in CPT5)
 };
 
-class Slave {
+/// The slave on a caller-owned frame buffer (see Memory above).
+class SlaveCore {
  public:
   /// `identity` may be null: FC 2B then answers exception 01.
   /// `address` outside 1..247 is replaced by 1 (check with set_address).
-  Slave(RegisterBank& bank, DeviceIdentity* identity, ByteSink sink, uint8_t address,
-        const RtuTiming& timing);
+  /// `frame` holds `frame_bytes` bytes (kMinSlaveFrameBytes or more; at most
+  /// kMaxAduBytes are used) and must outlive the slave.
+  SlaveCore(RegisterBank& bank, DeviceIdentity* identity, ByteSink sink, uint8_t address,
+            const RtuTiming& timing, uint8_t* frame, uint16_t frame_bytes);
 
   /// False (and no change) for an address outside 1..247.
   bool set_address(uint8_t address);
@@ -104,6 +116,10 @@ class Slave {
   bool is_restart_request(uint16_t pdu_length) const;
 
   uint8_t* pdu() { return framer_.buffer() + 1; }
+  /// True when a response PDU of `pdu_length` bytes fits the frame buffer.
+  bool fits(uint16_t pdu_length) const {
+    return 1u + pdu_length + kCrcBytes <= framer_.capacity();
+  }
 
   RegisterBank& bank_;
   DeviceIdentity* identity_;
@@ -115,6 +131,27 @@ class Slave {
   bool listen_only_ = false;
   bool restart_pending_ = false;  ///< 08/01 answered: restart after sending
 };
+
+/// Storage that must exist before SlaveCore is built from it (a base class).
+template <uint16_t kFrameBytes>
+struct SlaveFrame {
+  uint8_t frame_[kFrameBytes];
+};
+
+/// A SlaveCore with its own frame buffer of kFrameBytes.
+template <uint16_t kFrameBytes>
+class SlaveWithFrame : private SlaveFrame<kFrameBytes>, public SlaveCore {
+ public:
+  static_assert(kFrameBytes >= kMinSlaveFrameBytes && kFrameBytes <= kMaxAduBytes,
+                "RTU frame size");
+  SlaveWithFrame(RegisterBank& bank, DeviceIdentity* identity, ByteSink sink, uint8_t address,
+                 const RtuTiming& timing)
+      : SlaveFrame<kFrameBytes>(),
+        SlaveCore(bank, identity, sink, address, timing, this->frame_, kFrameBytes) {}
+};
+
+/// The slave with a buffer for every request the protocol allows.
+using Slave = SlaveWithFrame<kMaxAduBytes>;
 
 }  // namespace modbus
 }  // namespace mb2co

@@ -26,7 +26,7 @@ bool accessible(RegisterBank& bank, Table table, Access access, uint16_t start,
 
 }  // namespace
 
-Slave::Reply Slave::read(uint16_t pdu_length, Table table) {
+SlaveCore::Reply SlaveCore::read(uint16_t pdu_length, Table table) {
   uint8_t* p = pdu();
   const bool bits = table == Table::kCoils || table == Table::kDiscreteInputs;
   if (pdu_length != 5u) return Reply{0, Exception::kIllegalDataValue};
@@ -39,6 +39,7 @@ Slave::Reply Slave::read(uint16_t pdu_length, Table table) {
     return Reply{0, Exception::kIllegalDataAddress};
   }
   const uint16_t bytes = bits ? packed_bit_bytes(quantity) : static_cast<uint16_t>(2u * quantity);
+  if (!fits(static_cast<uint16_t>(2u + bytes))) return Reply{0, Exception::kServerDeviceFailure};
   Exception e;
   if (bits) {
     memset(p + 2, 0, bytes);
@@ -51,7 +52,7 @@ Slave::Reply Slave::read(uint16_t pdu_length, Table table) {
   return Reply{static_cast<uint16_t>(2u + bytes), Exception::kNone};
 }
 
-Slave::Reply Slave::write_single_coil(uint16_t pdu_length) {
+SlaveCore::Reply SlaveCore::write_single_coil(uint16_t pdu_length) {
   const uint8_t* p = pdu();
   if (pdu_length != 5u) return Reply{0, Exception::kIllegalDataValue};
   const uint16_t address = get_be16(p + 1);
@@ -65,7 +66,7 @@ Slave::Reply Slave::write_single_coil(uint16_t pdu_length) {
   return Reply{5, e};  // the response echoes the request
 }
 
-Slave::Reply Slave::write_single_register(uint16_t pdu_length) {
+SlaveCore::Reply SlaveCore::write_single_register(uint16_t pdu_length) {
   const uint8_t* p = pdu();
   if (pdu_length != 5u) return Reply{0, Exception::kIllegalDataValue};
   const uint16_t address = get_be16(p + 1);
@@ -77,7 +78,7 @@ Slave::Reply Slave::write_single_register(uint16_t pdu_length) {
   return Reply{5, e};  // echo
 }
 
-Slave::Reply Slave::write_multiple(uint16_t pdu_length, Table table) {
+SlaveCore::Reply SlaveCore::write_multiple(uint16_t pdu_length, Table table) {
   const uint8_t* p = pdu();
   const bool coils = table == Table::kCoils;
   if (pdu_length < 6u) return Reply{0, Exception::kIllegalDataValue};
@@ -98,7 +99,7 @@ Slave::Reply Slave::write_multiple(uint16_t pdu_length, Table table) {
   return Reply{5, e};  // function, start, quantity: already in place
 }
 
-Slave::Reply Slave::read_write_registers(uint16_t pdu_length) {
+SlaveCore::Reply SlaveCore::read_write_registers(uint16_t pdu_length) {
   uint8_t* p = pdu();
   if (pdu_length < 10u) return Reply{0, Exception::kIllegalDataValue};
   const uint16_t read_start = get_be16(p + 1);
@@ -115,6 +116,9 @@ Slave::Reply Slave::read_write_registers(uint16_t pdu_length) {
       !accessible(bank_, Table::kHoldingRegisters, Access::kWrite, write_start,
                   write_quantity)) {
     return Reply{0, Exception::kIllegalDataAddress};
+  }
+  if (!fits(static_cast<uint16_t>(2u + 2u * read_quantity))) {
+    return Reply{0, Exception::kServerDeviceFailure};  // checked before anything is written
   }
   // The write is performed before the read (spec §6.17). The read output
   // overlaps the write data only after write_registers has returned.

@@ -6,7 +6,6 @@ namespace mb2co {
 namespace modbus {
 namespace {
 
-constexpr uint16_t kMaxPduBytes = kMaxAduBytes - 1u - kCrcBytes;  // 253
 constexpr uint8_t kConformityBasicStreamAndIndividual = 0x81;
 constexpr uint8_t kMoreFollows = 0xFF;
 
@@ -15,7 +14,7 @@ enum : uint8_t { kStreamBasic = 1, kStreamRegular = 2, kStreamExtended = 3, kInd
 
 }  // namespace
 
-bool Slave::is_restart_request(uint16_t pdu_length) const {
+bool SlaveCore::is_restart_request(uint16_t pdu_length) const {
   const uint8_t* p = framer_.buffer() + 1;
   if (pdu_length != 5u || p[0] != fc::kDiagnostics) return false;
   if (get_be16(p + 1) != diag::kRestartCommunications) return false;
@@ -23,7 +22,7 @@ bool Slave::is_restart_request(uint16_t pdu_length) const {
   return data == 0x0000u || data == 0xFF00u;
 }
 
-Slave::Reply Slave::diagnostics(uint16_t pdu_length) {
+SlaveCore::Reply SlaveCore::diagnostics(uint16_t pdu_length) {
   uint8_t* p = pdu();
   if (pdu_length < 3u) return Reply{0, Exception::kIllegalDataValue};
   const uint16_t sub = get_be16(p + 1);
@@ -80,7 +79,7 @@ Slave::Reply Slave::diagnostics(uint16_t pdu_length) {
   return Reply{5, Exception::kNone};
 }
 
-Slave::Reply Slave::device_identification(uint16_t pdu_length) {
+SlaveCore::Reply SlaveCore::device_identification(uint16_t pdu_length) {
   uint8_t* p = pdu();
   if (identity_ == nullptr) return Reply{0, Exception::kIllegalFunction};
   if (pdu_length < 2u) return Reply{0, Exception::kIllegalDataValue};
@@ -102,12 +101,14 @@ Slave::Reply Slave::device_identification(uint16_t pdu_length) {
   p[3] = kConformityBasicStreamAndIndividual;
   p[4] = 0;  // more follows
   p[5] = 0;  // next object id
+  // At most 253 with a 256-byte frame; >= 13 (kMinSlaveFrameBytes).
+  const uint16_t max_pdu = static_cast<uint16_t>(framer_.capacity() - 1u - kCrcBytes);
   uint8_t count = 0;
   uint16_t pos = 7;
   for (uint16_t id = first; id <= last; ++id) {
-    // Invariant: pos ≤ kMaxPduBytes; the first object always has room ≥ 244.
-    const bool header_fits = pos + 2u <= kMaxPduBytes;
-    const uint8_t room = header_fits ? static_cast<uint8_t>(kMaxPduBytes - pos - 2u) : 0u;
+    // Invariant: pos ≤ max_pdu; the first object always has room ≥ max_pdu - 9.
+    const bool header_fits = pos + 2u <= max_pdu;
+    const uint8_t room = header_fits ? static_cast<uint8_t>(max_pdu - pos - 2u) : 0u;
     const uint8_t length =
         header_fits ? identity_->copy_object(static_cast<uint8_t>(id), p + pos + 2, room) : 0u;
     if (count != 0u && (!header_fits || length > room)) {  // next transaction

@@ -3,17 +3,18 @@
 // exception, broadcast silence, a bad-CRC frame and a frame split by a gap
 // longer than t3.5. FC 08 and 2B are not in libmodbus 3.1.6's API: they go
 // out with modbus_send_raw_request (libmodbus adds the CRC) and their
-// responses are read from the port here and checked with a bitwise CRC.
+// responses are read from the port and checked with a bitwise CRC
+// (tests/support/rtu_frames.h).
 #include <errno.h>
 #include <gtest/gtest.h>
 #include <modbus.h>
-#include <poll.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <string>
 #include <vector>
 
+#include "rtu_frames.h"
 #include "support/slave_process.h"
 #include "support/test_layout.h"
 
@@ -22,26 +23,11 @@ namespace modbus {
 namespace test {
 namespace {
 
-using Bytes = std::vector<uint8_t>;
+using mb2co::test::Bytes;
+using mb2co::test::drain;
+using mb2co::test::read_response;
+using mb2co::test::with_crc;
 using namespace std::chrono_literals;
-
-uint16_t crc_bitwise(const uint8_t* data, size_t length) {
-  uint16_t crc = 0xFFFF;
-  for (size_t i = 0; i < length; ++i) {
-    crc ^= data[i];
-    for (int b = 0; b < 8; ++b) {
-      crc = (crc & 1) ? static_cast<uint16_t>((crc >> 1) ^ 0xA001) : static_cast<uint16_t>(crc >> 1);
-    }
-  }
-  return crc;
-}
-
-Bytes with_crc(Bytes b) {
-  const uint16_t crc = crc_bitwise(b.data(), b.size());
-  b.push_back(static_cast<uint8_t>(crc));
-  b.push_back(static_cast<uint8_t>(crc >> 8));
-  return b;
-}
 
 // Counter values from a pty_slave "--events" line.
 unsigned field(const std::string& line, const std::string& name) {
@@ -79,30 +65,9 @@ class LibmodbusPeer : public ::testing::Test {
   }
   /// Bytes the slave has written and nobody read yet (after wait_counters the
   /// slave has already written any response, so none means it stayed silent).
-  size_t pending_bytes() {
-    pollfd p{fd_, POLLIN, 0};
-    if (poll(&p, 1, 0) <= 0) return 0;
-    uint8_t junk[512];
-    const ssize_t n = read(fd_, junk, sizeof junk);
-    return n > 0 ? static_cast<size_t>(n) : 0;
-  }
+  size_t pending_bytes() { return drain(fd_); }
   void write_raw(const Bytes& adu) {
     ASSERT_EQ(write(fd_, adu.data(), adu.size()), static_cast<ssize_t>(adu.size()));
-  }
-  /// Reads exactly n bytes within 1 s.
-  bool read_exact(uint8_t* out, size_t n) {
-    const auto deadline = std::chrono::steady_clock::now() + 1s;
-    size_t got = 0;
-    while (got < n) {
-      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-          deadline - std::chrono::steady_clock::now());
-      pollfd p{fd_, POLLIN, 0};
-      if (left.count() <= 0 || poll(&p, 1, static_cast<int>(left.count())) <= 0) return false;
-      const ssize_t r = read(fd_, out + got, n - got);
-      if (r <= 0) return false;
-      got += static_cast<size_t>(r);
-    }
-    return true;
   }
   /// Sends a raw PDU to slave 1 via libmodbus and reads the response whose
   /// length follows from its header (FC 08, 2B, or an exception).
@@ -110,32 +75,9 @@ class LibmodbusPeer : public ::testing::Test {
     Bytes req{kSlaveAddress};
     req.insert(req.end(), pdu.begin(), pdu.end());
     EXPECT_GT(modbus_send_raw_request(ctx_, req.data(), static_cast<int>(req.size())), 0);
-    Bytes rsp(2);
-    if (!read_exact(rsp.data(), 2)) return {};
-    size_t rest = 0;
-    if (rsp[1] & 0x80) {
-      rest = 3;  // exception code + CRC
-    } else if (rsp[1] == 0x08) {
-      rest = pdu.size() - 1 + 2;  // echo of sub + data, CRC
-    } else if (rsp[1] == 0x2B) {
-      rsp.resize(8);
-      if (!read_exact(rsp.data() + 2, 6)) return {};
-      for (uint8_t i = 0; i < rsp[7]; ++i) {
-        const size_t at = rsp.size();
-        rsp.resize(at + 2);
-        if (!read_exact(rsp.data() + at, 2)) return {};
-        rsp.resize(at + 2 + rsp[at + 1]);
-        if (!read_exact(rsp.data() + at + 2, rsp[at + 1])) return {};
-      }
-      rest = 2;
-    }
-    const size_t at = rsp.size();
-    rsp.resize(at + rest);
-    if (!read_exact(rsp.data() + at, rest)) return {};
-    const uint16_t crc = crc_bitwise(rsp.data(), rsp.size() - 2);
-    EXPECT_EQ(rsp[rsp.size() - 2], static_cast<uint8_t>(crc));
-    EXPECT_EQ(rsp[rsp.size() - 1], static_cast<uint8_t>(crc >> 8));
-    return Bytes(rsp.begin(), rsp.end() - 2);  // without CRC
+    const Bytes rsp = read_response(fd_, pdu.size(), 1s);
+    EXPECT_FALSE(rsp.empty()) << "no response, or a wrong CRC";
+    return rsp;
   }
   uint16_t diag_counter(uint8_t sub) {
     const Bytes rsp = raw_transaction({0x08, 0x00, sub, 0x00, 0x00});

@@ -1,0 +1,74 @@
+// The MCP2515 under a canopen::Node on the Uno: services the chip (when INT
+// is low, and every kServicePeriodUs anyway: bus-off recovery raises no
+// interrupt), hands received frames to the node, reports controller trouble
+// by EMCY, keeps the bit rate and the hardware acceptance filters in line
+// with the node's Object Dictionary.
+//
+// Filters admit exactly what the node consumes: NMT 000h, SYNC (1005h),
+// SDO 600h+id, node guarding 700h+id, the valid standard RPDO COB-IDs
+// (1400h-1403h/1) and 700h+n for every heartbeat consumer 1016h/1-4. The list
+// is re-derived every kServicePeriodUs and the filters re-planned when it
+// changed (reset communication, new node id, an SDO write to a COB-ID or to
+// 1016h). Planning takes 30-120 ms (filter_plan.h): the loop stalls that long
+// then. More than mcp2515::kMaxSubscribedIds ids: filters open (accept all).
+// Remote requests for TPDOs are filtered out (RTR is deprecated, CiA AN 802).
+//
+// EMCY (error register bit "communication"):
+//   8110h CAN overrun: frames were lost; cleared after kEventHoldUs without
+//   8120h error passive: while the controller is error passive or bus-off
+//   8140h recovered from bus-off: cleared after kEventHoldUs
+#pragma once
+#include <stdint.h>
+
+#include "canopen/node.h"
+#include "mcp2515.h"
+
+namespace mb2co {
+namespace avr {
+
+class CanPort {
+ public:
+  static const uint32_t kServicePeriodUs = 10000;
+  static const uint32_t kEventHoldUs = 1000000;
+  /// How often begin() is retried while the chip does not answer.
+  static const uint32_t kRetryUs = 1000000;
+
+  CanPort(mcp2515::Driver& driver, canopen::Node& node) : driver_(driver), node_(node) {}
+
+  /// Starts the chip at `kbit` (125, 250, 500 or 1000; others: 500 kbit/s),
+  /// accepting every frame until the next period plans the filters. False
+  /// when it does not answer: poll() retries every kRetryUs.
+  bool begin(uint16_t kbit, uint32_t now_us);
+  /// Re-initialises the chip when `kbit` differs from the rate in use (frames
+  /// still waiting in the chip are lost). Call before every send, so that the
+  /// boot-up after a reset communication already leaves at the new rate.
+  void set_bitrate(uint16_t kbit, uint32_t now_us);
+  /// Queues `frame` (false: chip not ready, or its 3 buffers are busy).
+  bool send(const CanFrame& frame) { return ready_ && driver_.send(frame); }
+  /// Call every loop pass.
+  void poll(uint32_t now_us);
+
+  bool ready() const { return ready_; }
+  /// True when the filters admit exactly the subscribed ids.
+  bool filters_exact() const { return exact_; }
+
+ private:
+  void service(uint32_t now_us);
+  void on_events(uint8_t events, uint32_t now_us);
+  void update_filters();
+  uint8_t collect_ids(uint16_t* ids) const;
+
+  mcp2515::Driver& driver_;
+  canopen::Node& node_;
+  uint16_t ids_[mcp2515::kMaxSubscribedIds] = {};  ///< sorted, as programmed
+  uint8_t id_count_ = 0xFF;                         ///< 0xFF: nothing programmed
+  uint16_t kbit_ = 0;
+  uint32_t last_service_us_ = 0;
+  uint32_t overflow_us_ = 0;  ///< last RX overflow (8110h held until + kEventHoldUs)
+  uint32_t recovered_us_ = 0; ///< last bus-off recovery (8140h likewise)
+  bool ready_ = false;
+  bool exact_ = false;
+};
+
+}  // namespace avr
+}  // namespace mb2co

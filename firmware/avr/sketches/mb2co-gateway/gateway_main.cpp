@@ -1,0 +1,94 @@
+// mb2co-gateway: one station of the line on an Arduino Uno with the SparkFun
+// CAN-BUS shield. The portable gateway (shared/gateway: CANopen node, Modbus/
+// RTU slave on the OD, RUN/STOP2 line application) on the Uno's ports:
+//   CAN      MCP2515 (port/can_port.h): bit rate 2000h/2, filters, EMCY
+//   Modbus   USART0 = USB serial, 115200 8N1 (port/uart.h), stamped bytes
+//   storage  EEPROM (port/eeprom_storage.h): 1010h save, node id at power-on
+//   panel    START/STOP/STOP2 buttons, RUN-self/prev/next LEDs (pins.h);
+//            shield LED D7 = lab LED (6200h/1 bit 0), D8 = CAN not usable
+//            (no answer from the MCP2515, error passive or bus-off).
+// Built by CMake (firmware/avr) or, through mb2co-gateway.ino, by the Arduino IDE
+// (firmware/avr/README.md).
+#include <Arduino.h>
+
+#include "gateway/gateway.h"
+#include "mcp2515.h"
+#include "pins.h"
+#include "port/can_port.h"
+#include "port/eeprom_storage.h"
+#include "port/mcp2515_spi.h"
+#include "port/pressed.h"
+#include "port/uart.h"
+
+namespace {
+
+using namespace mb2co;
+
+constexpr uint32_t kBaud = 115200;
+constexpr avr::UartParity kParity = avr::UartParity::kNone;
+/// Node id (and Modbus address 1) until one is saved in EEPROM (2000h/1).
+constexpr uint8_t kDefaultNodeId = 1;
+
+bool can_send(void*, const CanFrame& frame);
+
+mcp2515::Driver driver(avr::mcp2515_spi());
+const canopen::ParamStorage storage = avr::eeprom_storage();
+gateway::Gateway gw(gateway::GatewayPorts{CanSink{&can_send, nullptr}, avr::uart_sink(), &storage, kBaud});
+avr::CanPort can_port(driver, gw.node());
+
+// Button bits 0..2 (gateway::Button) and LED bits 0..3 (gateway::Led).
+const uint8_t kButtonPins[3] = {pins::kButtonStart, pins::kButtonStop, pins::kButtonStop2};
+const uint8_t kLedPins[4] = {pins::kLedRunSelf, pins::kLedRunPrev, pins::kLedRunNext, pins::kShieldLed1};
+uint8_t leds_shown = 0xFF;
+bool can_led_shown = false;
+
+// A reset communication sets the new bit rate before the boot-up message:
+// the chip follows it before that first frame leaves.
+bool can_send(void*, const CanFrame& frame) {
+  can_port.set_bitrate(gw.bitrate_kbit(), micros());
+  return can_port.send(frame);
+}
+
+void show_leds(uint8_t leds) {
+  if (leds == leds_shown) return;
+  leds_shown = leds;
+  for (uint8_t i = 0; i < 4; ++i) digitalWrite(kLedPins[i], (leds >> i) & 1u ? HIGH : LOW);
+}
+
+void show_can_state() {
+  const bool bad = !can_port.ready() || driver.error_state() >= mcp2515::ErrorState::kPassive;
+  if (bad == can_led_shown) return;
+  can_led_shown = bad;
+  digitalWrite(pins::kShieldLed2, bad ? HIGH : LOW);
+}
+
+}  // namespace
+
+void setup() {
+  avr::pullup_inputs(kButtonPins, 3);
+  for (uint8_t pin : kLedPins) pinMode(pin, OUTPUT);
+  pinMode(pins::kShieldLed2, OUTPUT);
+  pinMode(pins::kCanInt, INPUT);  // the MCP2515 drives INT push-pull
+  avr::uart_begin(kBaud, kParity);
+  avr::mcp2515_spi_begin();
+  // The boot-up message starts the chip at the saved bit rate (can_send).
+  gw.start(micros(), kDefaultNodeId);
+}
+
+void loop() {
+  // `now` is taken before the serial port is drained: no byte stamped before
+  // it is left unread when the Modbus slave decides on t3.5.
+  const uint32_t now_us = micros();
+  avr::UartChar c;
+  while (avr::uart_read(c)) {
+    if (c.error) {
+      gw.modbus_slave().on_char_error(c.stamp_us);
+    } else {
+      gw.on_serial_byte(c.byte, c.stamp_us);
+    }
+  }
+  can_port.set_bitrate(gw.bitrate_kbit(), now_us);
+  can_port.poll(now_us);
+  show_leds(gw.process(now_us, avr::read_pressed(kButtonPins, 3)));
+  show_can_state();
+}

@@ -4,4 +4,4 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/deps.sh
 scripts/build.sh
-exec build/hil/demo/mb2co-demo "$@"
+exec build/hil/lab/mb2co-lab "$@"

@@ -1,0 +1,35 @@
+#include "sim/event_log.h"
+
+#include <cstdarg>
+#include <cstdio>
+
+namespace mb2co {
+namespace sim {
+
+void EventLog::add(SimNs t, int station, const char* event, const std::string& detail) {
+  if (!enabled_) return;
+  char head[64];
+  std::snprintf(head, sizeof head, "%llu,", static_cast<unsigned long long>(t));
+  text_ += head;
+  text_ += run_;
+  text_ += ',';
+  if (station >= 0) text_ += std::to_string(station + 1);
+  text_ += ',';
+  text_ += event;
+  text_ += ',';
+  text_ += detail;
+  text_ += '\n';
+  ++lines_;
+}
+
+std::string strf(const char* format, ...) {
+  char buf[512];
+  va_list ap;
+  va_start(ap, format);
+  const int n = std::vsnprintf(buf, sizeof buf, format, ap);
+  va_end(ap);
+  return std::string(buf, n < 0 ? 0 : (n >= static_cast<int>(sizeof buf) ? sizeof buf - 1 : static_cast<size_t>(n)));
+}
+
+}  // namespace sim
+}  // namespace mb2co

@@ -1,0 +1,39 @@
+// The CSV of every event of a run: one line per event, in the order they
+// happened (the event queue's order), integers only, so the same seed gives
+// the same bytes. Columns: t_ns,run,station,event,detail (station = node id,
+// empty for the bus; detail holds key=value pairs separated by spaces).
+#pragma once
+#include <stdint.h>
+
+#include <string>
+
+#include "sim/event_queue.h"
+
+namespace mb2co {
+namespace sim {
+
+class EventLog {
+ public:
+  static const char* header() { return "t_ns,run,station,event,detail\n"; }
+  /// A disabled log formats nothing (for benchmarks).
+  explicit EventLog(bool enabled = true) : enabled_(enabled) {}
+  bool enabled() const { return enabled_; }
+  /// Name of the run in progress (column 2), e.g. "stop2" or "latency-125k-canopen".
+  void set_run(const std::string& run) { run_ = run; }
+  /// station < 0: the bus / the line as a whole.
+  void add(SimNs t, int station, const char* event, const std::string& detail);
+  const std::string& text() const { return text_; }
+  uint64_t lines() const { return lines_; }
+
+ private:
+  bool enabled_;
+  std::string run_;
+  std::string text_;
+  uint64_t lines_ = 0;
+};
+
+/// printf into a std::string.
+std::string strf(const char* format, ...) __attribute__((format(printf, 1, 2)));
+
+}  // namespace sim
+}  // namespace mb2co

@@ -1,0 +1,166 @@
+// mb2co-node: the gateway firmware (the same shared/gateway code as on the
+// Uno) on Linux: SocketCAN, a pty or tty for Modbus/RTU, buttons and LEDs on
+// a line protocol over stdin/stdout. One thread, one poll() loop that plays
+// the Arduino's loop(): at most 1 ms between two process() calls.
+#include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include "control_channel.h"
+#include "eeprom_file.h"
+#include "gateway/gateway.h"
+#include "node_options.h"
+#include "serial_port.h"
+#include "socketcan_port.h"
+
+namespace {
+
+int g_signal_pipe[2] = {-1, -1};
+
+void on_signal(int) {
+  const char b = 1;
+  const ssize_t n = write(g_signal_pipe[1], &b, 1);
+  (void)n;
+}
+
+bool serial_write(void* ctx, const uint8_t* data, uint16_t n) {
+  return static_cast<mb2co::port::SerialPort*>(ctx)->write(data, n);
+}
+
+bool can_discard(void*, const mb2co::CanFrame&) { return true; }
+
+// Control-channel output: whole lines, flushed at once (tests wait for them).
+void say(const std::string& lines) {
+  if (lines.empty()) return;
+  std::fputs(lines.c_str(), stdout);
+  std::fflush(stdout);
+}
+
+int fail(const std::string& what) {
+  std::fprintf(stderr, "mb2co-node: %s\n", what.c_str());
+  return 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace mb2co;
+  node::NodeOptions opt;
+  const std::string err = node::parse_options(argc, argv, &opt);
+  if (!err.empty()) {
+    std::fprintf(stderr, "mb2co-node: %s\n", err.c_str());
+    return 2;
+  }
+  if (opt.help) {
+    std::fputs(node::usage(), stdout);
+    return 0;
+  }
+  if (opt.version) {
+    std::puts("mb2co-node 0.1.0");
+    return 0;
+  }
+
+  // Signals from here on end the loop below, so that the pty link goes away.
+  if (pipe2(g_signal_pipe, O_CLOEXEC | O_NONBLOCK) != 0) return fail(std::string("pipe: ") + std::strerror(errno));
+  struct sigaction sa = {};
+  sa.sa_handler = on_signal;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+
+  port::SerialPort serial;
+  const port::Parity parity = opt.parity == 'E' ? port::Parity::kEven : opt.parity == 'O' ? port::Parity::kOdd : port::Parity::kNone;
+  if (!opt.serial.empty() ? !serial.open_tty(opt.serial, opt.baud, parity) : !serial.create_pty(opt.pty_link)) {
+    return fail(serial.error());
+  }
+  linux_port::SocketCanPort can;
+  const bool with_can = opt.can != "none";
+  if (with_can && (!can.open(opt.can.c_str()) || !can.accept_all())) return fail(can.error());
+
+  node::EepromFile eeprom(opt.eeprom);
+  canopen::ParamStorage storage = eeprom.storage();
+  gateway::GatewayPorts ports{with_can ? can.sink() : CanSink{&can_discard, nullptr},
+                              modbus::ByteSink{&serial_write, &serial}, opt.eeprom.empty() ? nullptr : &storage,
+                              opt.baud};
+  static gateway::Gateway gw(ports);  // static like on the Uno (and large)
+  node::ControlChannel control(gw);
+
+  gw.start(port::monotonic_us(), opt.node_id);
+  // Command-line settings are written like a technician would over SDO,
+  // then take effect by a reset of communication.
+  canopen::ObjectDictionary& od = gw.od();
+  bool reconfigured = false;
+  auto set = [&](uint8_t sub, uint32_t v, uint16_t size) {
+    uint8_t b[4];
+    canopen::put_le32(b, v);
+    if (od.write(0x2000, sub, b, size) != canopen::kSdoOk) return false;
+    reconfigured = true;
+    return true;
+  };
+  if (opt.bitrate_kbit && !set(2, opt.bitrate_kbit, 2)) return fail("bit rate refused");
+  if (opt.topology >= 0 && !set(3, static_cast<uint32_t>(opt.topology), 1)) return fail("topology refused");
+  if (opt.stations && !set(4, opt.stations, 1)) return fail("station count refused");
+  if (reconfigured) gw.node().request_reset(canopen::kResetCommunication);
+
+  // "ready" once the Modbus slave accepts frames: after power-up it first
+  // waits for t3.5 of silence on the line (serial line spec, initial state),
+  // and a request sent before that would be dropped.
+  std::string ready = "ready node=" + std::to_string(gw.node_id()) + " can=" + opt.can + " serial=" + serial.path() +
+                      (serial.link_path().empty() ? "" : " link=" + serial.link_path()) + "\n";
+
+  std::string input;
+  bool stdin_open = true;
+  while (!control.quit()) {
+    pollfd fds[4] = {{serial.fd(), POLLIN, 0}, {g_signal_pipe[0], POLLIN, 0}, {stdin_open ? 0 : -1, POLLIN, 0},
+                     {with_can ? can.fd() : -1, POLLIN, 0}};
+    if (poll(fds, 4, 1) < 0 && errno != EINTR) return fail(std::string("poll: ") + std::strerror(errno));
+    if (fds[1].revents & POLLIN) break;  // SIGINT / SIGTERM: clean exit
+    // Taken before the serial port is found empty, as modbus/slave.h asks:
+    // no byte that arrived before `now` is left unread when process(now) runs.
+    const uint32_t now = port::monotonic_us();
+    if (fds[0].revents & (POLLIN | POLLERR | POLLHUP)) {
+      uint8_t bytes[256];
+      uint32_t stamps[256];
+      const long n = serial.read(bytes, stamps, sizeof bytes);
+      if (n < 0) return fail(serial.error());
+      for (long i = 0; i < n; ++i) gw.on_serial_byte(bytes[i], stamps[i]);
+    }
+    if (fds[3].revents & POLLIN) {
+      linux_port::TimedCanFrame frames[linux_port::SocketCanPort::kBatch];
+      size_t got = 0;
+      while ((got = can.receive(frames, linux_port::SocketCanPort::kBatch)) > 0) {
+        for (size_t i = 0; i < got; ++i) gw.on_can_frame(frames[i].frame, static_cast<uint32_t>(frames[i].rx_time_us));
+      }
+    }
+    if (fds[2].revents & (POLLIN | POLLHUP)) {
+      char buf[512];
+      const ssize_t r = read(0, buf, sizeof buf);
+      if (r <= 0) {
+        stdin_open = false;  // no more commands; keep running until a signal
+      } else {
+        input.append(buf, static_cast<size_t>(r));
+        for (size_t nl; (nl = input.find('\n')) != std::string::npos;) {
+          const std::string reply = control.handle(input.substr(0, nl), now);
+          input.erase(0, nl + 1);
+          if (!reply.empty()) say(reply + "\n");
+        }
+      }
+    }
+    control.process(now);
+    say(control.events(gw.process(now, control.buttons()), now));
+    uint32_t modbus_deadline_us = 0;
+    if (!ready.empty() && !gw.modbus_slave().deadline(modbus_deadline_us)) {
+      say(ready);
+      ready.clear();
+    }
+  }
+  serial.close();
+  can.close();
+  return 0;
+}

@@ -1,0 +1,122 @@
+#include "node_harness.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <filesystem>
+
+namespace mb2co {
+namespace test {
+
+const char* node_program() { return MB2CO_NODE; }
+
+uint32_t monotonic_us() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<uint32_t>(static_cast<uint64_t>(ts.tv_sec) * 1000000u + static_cast<uint64_t>(ts.tv_nsec) / 1000u);
+}
+
+uint32_t at_us_of(const std::string& line) {
+  return static_cast<uint32_t>(strtoul(field_of(line, "at_us").c_str(), nullptr, 10));
+}
+
+TempDir::TempDir() {
+  const char* base = getenv("TMPDIR");
+  std::string tmpl = std::string(base != nullptr && *base != '\0' ? base : "/tmp") + "/mb2co-node-test.XXXXXX";
+  if (mkdtemp(tmpl.data()) != nullptr) dir_ = tmpl;
+}
+
+TempDir::~TempDir() {
+  std::error_code ignored;
+  if (!dir_.empty()) std::filesystem::remove_all(dir_, ignored);
+}
+
+bool NodeProcess::start(const std::vector<std::string>& args, std::chrono::milliseconds timeout) {
+  std::vector<std::string> argv{node_program()};
+  argv.insert(argv.end(), args.begin(), args.end());
+  if (!child.start(argv)) {
+    error_ = child.error();
+    return false;
+  }
+  std::string ready;
+  if (!child.wait_prefix("ready ", timeout, &ready)) {
+    error_ = "no ready line; stderr: " + child.stderr_text();
+    return false;
+  }
+  node_id_ = atoi(field_of(ready, "node").c_str());
+  device_ = field_of(ready, "link");
+  if (device_.empty()) device_ = field_of(ready, "serial");
+  return true;
+}
+
+std::string NodeProcess::ask(const std::string& command, const std::string& reply_prefix,
+                             std::chrono::milliseconds timeout) {
+  std::string line;
+  if (!child.send_line(command) || !child.wait_prefix(reply_prefix, timeout, &line)) return std::string();
+  return line;
+}
+
+bool NodeProcess::wait_counters(const std::function<bool(const std::string&)>& match,
+                                std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < deadline) {
+    const std::string line = ask("counters?", "counters ");
+    if (line.empty()) return false;
+    if (match(line)) return true;
+  }
+  return false;
+}
+
+bool NodeProcess::wait_event(const std::string& prefix, const std::function<bool(const std::string&)>& match,
+                             std::chrono::milliseconds timeout, std::string* line) {
+  return child.wait_line(
+      [&](const std::string& l) { return l.compare(0, prefix.size(), prefix) == 0 && match(l); }, timeout, line);
+}
+
+int NodeProcess::stop(int sig, std::chrono::milliseconds timeout) {
+  child.signal(sig);
+  return child.wait_exit(timeout);
+}
+
+bool ModbusMaster::open(const std::string& device, std::chrono::milliseconds response_timeout) {
+  close();
+  ctx_ = modbus_new_rtu(device.c_str(), 115200, 'N', 8, 1);
+  if (ctx_ == nullptr || modbus_set_slave(ctx_, 1) != 0 || modbus_connect(ctx_) != 0) {
+    error_ = "libmodbus on " + device + ": " + modbus_strerror(errno);
+    close();
+    return false;
+  }
+  const auto us = std::chrono::duration_cast<std::chrono::microseconds>(response_timeout).count();
+  modbus_set_response_timeout(ctx_, static_cast<uint32_t>(us / 1000000), static_cast<uint32_t>(us % 1000000));
+  return true;
+}
+
+void ModbusMaster::close() {
+  if (ctx_ == nullptr) return;
+  modbus_close(ctx_);
+  modbus_free(ctx_);
+  ctx_ = nullptr;
+}
+
+int ModbusMaster::input_register(int address) {
+  uint16_t v = 0;
+  return modbus_read_input_registers(ctx_, address, 1, &v) == 1 ? v : -1;
+}
+
+int ModbusMaster::holding_register(int address) {
+  uint16_t v = 0;
+  return modbus_read_registers(ctx_, address, 1, &v) == 1 ? v : -1;
+}
+
+bool ModbusMaster::wait_input(int address, int value, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  do {
+    if (input_register(address) == value) return true;
+  } while (std::chrono::steady_clock::now() < deadline);
+  return false;
+}
+
+}  // namespace test
+}  // namespace mb2co

@@ -1,0 +1,99 @@
+// What the mb2co-node tests share: the node as a child process (ready line,
+// control channel) and a libmodbus master on its serial line.
+// Every wait polls for a condition with a deadline that only bounds a failure.
+#pragma once
+#include <modbus.h>
+#include <stdint.h>
+
+#include <chrono>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "line_child.h"
+
+namespace mb2co {
+namespace test {
+
+using namespace std::chrono_literals;
+
+/// Path of the mb2co-node binary under test.
+const char* node_program();
+
+/// CLOCK_MONOTONIC in µs truncated to 32 bits: the clock of the node's at_us.
+uint32_t monotonic_us();
+
+/// The node's own time stamp (at_us=) of a leds/state line; 0 when absent.
+uint32_t at_us_of(const std::string& line);
+
+/// A fresh directory under $TMPDIR (or /tmp), removed with its files.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  std::string path(const std::string& name) const { return dir_ + "/" + name; }
+
+ private:
+  std::string dir_;
+};
+
+/// mb2co-node under test.
+class NodeProcess {
+ public:
+  /// Starts it with `args` and waits for its ready line; false with the
+  /// reason in error() when it does not get there within `timeout`.
+  bool start(const std::vector<std::string>& args, std::chrono::milliseconds timeout = 10s);
+  /// The ready line's node id and device (the link when it made one).
+  int node_id() const { return node_id_; }
+  const std::string& device() const { return device_; }
+  const std::string& error() const { return error_; }
+
+  /// Sends a control command and returns the first line starting with
+  /// `reply_prefix` ("" on timeout). Event lines before it are consumed.
+  std::string ask(const std::string& command, const std::string& reply_prefix,
+                  std::chrono::milliseconds timeout = 10s);
+  /// Polls `counters?` until the counters line satisfies `match`.
+  bool wait_counters(const std::function<bool(const std::string&)>& match,
+                     std::chrono::milliseconds timeout = 10s);
+  /// Waits for an event line starting with `prefix` and satisfying `match`.
+  bool wait_event(const std::string& prefix, const std::function<bool(const std::string&)>& match,
+                  std::chrono::milliseconds timeout, std::string* line = nullptr);
+  /// SIGTERM (or `sig`) and the exit status (see LineChild::wait_exit).
+  int stop(int sig = 15, std::chrono::milliseconds timeout = 10s);
+
+  LineChild child;
+
+ private:
+  int node_id_ = 0;
+  std::string device_;
+  std::string error_;
+};
+
+/// A libmodbus RTU master (115200 8N1, slave 1) on `device`.
+class ModbusMaster {
+ public:
+  ModbusMaster() = default;
+  ~ModbusMaster() { close(); }
+  ModbusMaster(const ModbusMaster&) = delete;
+  ModbusMaster& operator=(const ModbusMaster&) = delete;
+
+  /// False with error() when libmodbus cannot open it.
+  bool open(const std::string& device, std::chrono::milliseconds response_timeout = 500ms);
+  void close();
+  modbus_t* ctx() const { return ctx_; }
+  int fd() const { return modbus_get_socket(ctx_); }
+  const std::string& error() const { return error_; }
+
+  /// One register/bit, -1 when the request fails.
+  int input_register(int address);
+  int holding_register(int address);
+  /// Polls input register `address` until it equals `value`; false on timeout.
+  bool wait_input(int address, int value, std::chrono::milliseconds timeout);
+
+ private:
+  modbus_t* ctx_ = nullptr;
+  std::string error_;
+};
+
+}  // namespace test
+}  // namespace mb2co

@@ -13,12 +13,12 @@ void ErrorControl::init(uint8_t node_id) {
   life_lost_ = false;
 }
 
-static void send_state(const CanSink& sink, uint8_t node_id, uint8_t byte) {
+static bool send_state(const CanSink& sink, uint8_t node_id, uint8_t byte) {
   CanFrame f = {};
   f.id = 0x700u + node_id;
   f.dlc = 1;
   f.data[0] = byte;
-  sink.send(sink.ctx, f);
+  return sink.send(sink.ctx, f);
 }
 
 void ErrorControl::on_guard_request(uint32_t now_us, NmtState state, const CanSink& sink,
@@ -39,8 +39,10 @@ ErrorControl::Event ErrorControl::process(uint32_t now_us, NmtState state, const
     next_heartbeat_us_ = now_us + static_cast<uint32_t>(producer_ms) * 1000u;
     if (guarded_) life_deadline_us_ = now_us + static_cast<uint32_t>(guard_ms) * life_factor * 1000u;
   }
-  if (producer_ms != 0 && time_reached(now_us, next_heartbeat_us_)) {
-    send_state(sink, node_id_, state);
+  // A heartbeat the port refused (transmit queue full) is tried again at the
+  // next call: consumers must not see a gap that is only ours.
+  if (producer_ms != 0 && time_reached(now_us, next_heartbeat_us_) &&
+      send_state(sink, node_id_, state)) {
     next_heartbeat_us_ += static_cast<uint32_t>(producer_ms) * 1000u;
     // After a long pause (e.g. the caller was blocked) do not send a burst.
     if (time_reached(now_us, next_heartbeat_us_)) {

@@ -91,7 +91,8 @@ uint32_t Gateway::app_write(void* ctx, uint8_t, uint16_t index, uint8_t sub, con
 uint8_t Gateway::process(uint32_t now_us, uint8_t raw_buttons) {
   now_us_ = now_us;
   slave_.process(now_us);
-  const uint8_t leds = line_.process(now_us, raw_buttons, node_.nmt_state());
+  const uint8_t leds =
+      line_.process(now_us, raw_buttons, node_.nmt_state(), slave_.counters().server_messages);
   node_.process(now_us);
   if (start_pending_ && node_.nmt_state() == kNmtPreOperational) {
     start_pending_ = false;

@@ -33,8 +33,8 @@ const uint8_t kDiscreteMapSize = 8;
                     0, "RPDO2 mapping")                                                                 \
   MB2CO_OD_PDO_MAP4(N, 0x1602, kHookRpdoMap, 1, MB2CO_MAP(0x2130, 1, 8), 0, 0, 0, "RPDO3 mapping")      \
   MB2CO_OD_PDO_MAP4(N, 0x1603, kHookRpdoMap, 0, 0, 0, 0, 0, "RPDO4 mapping")                            \
-  MB2CO_OD_TPDO_COMM(N, 0x1800, 0x180, kAttrNodeId, 254, 10, 100, "TPDO1 line state")                  \
-  MB2CO_OD_TPDO_COMM(N, 0x1801, 0x280, kAttrNodeId, 254, 0, 0, "TPDO2 buttons")                        \
+  MB2CO_OD_TPDO_COMM(N, 0x1800, 0x180, kAttrNodeId, 254, 100, 100, "TPDO1 line state")                  \
+  MB2CO_OD_TPDO_COMM(N, 0x1801, 0x280, kAttrNodeId, 254, 100, 0, "TPDO2 buttons")                        \
   MB2CO_OD_TPDO_COMM(N, 0x1802, 0x80000380, kAttrNodeId, 254, 0, 0, "TPDO3")                           \
   MB2CO_OD_TPDO_COMM(N, 0x1803, 0x80000480, kAttrNodeId, 254, 0, 0, "TPDO4")                           \
   MB2CO_OD_PDO_MAP4(N, 0x1A00, kHookTpdoMap, 2, MB2CO_MAP(0x2100, 2, 8), MB2CO_MAP(0x2100, 3, 16), 0,   \
@@ -42,7 +42,7 @@ const uint8_t kDiscreteMapSize = 8;
   MB2CO_OD_PDO_MAP4(N, 0x1A01, kHookTpdoMap, 1, MB2CO_MAP(0x6000, 1, 8), 0, 0, 0, "TPDO2 mapping")      \
   MB2CO_OD_PDO_MAP4(N, 0x1A02, kHookTpdoMap, 0, 0, 0, 0, 0, "TPDO3 mapping")                            \
   MB2CO_OD_PDO_MAP4(N, 0x1A03, kHookTpdoMap, 0, 0, 0, 0, 0, "TPDO4 mapping")                            \
-  N(0x2000, 0, U8, CONST, 0, kHookNone, 8, "Station configuration: highest sub-index")                 \
+  N(0x2000, 0, U8, CONST, 0, kHookNone, 9, "Station configuration: highest sub-index")                 \
   N(0x2000, 1, U8, RW, 0, kHookApp, 1, "Station configuration: node id (from next reset)")             \
   N(0x2000, 2, U16, RW, 0, kHookApp, 500, "Station configuration: CAN bit rate kbit/s (from next reset)") \
   N(0x2000, 3, U8, RW, 0, kHookNone, 1, "Station configuration: topology 0 chain, 1 ring")              \
@@ -51,6 +51,7 @@ const uint8_t kDiscreteMapSize = 8;
   N(0x2000, 6, U16, RW, 0, kHookNone, 20, "Station configuration: button debounce ms")                 \
   N(0x2000, 7, U8, RW, 0, kHookNone, 0, "Station configuration: PDOs and 1016h 0 derived, 1 as stored") \
   N(0x2000, 8, U8, RW, 0, kHookNone, 1, "Station configuration: 1 enter operational by itself, 0 wait for NMT") \
+  N(0x2000, 9, U16, RW, 0, kHookNone, 2000, "Station configuration: Modbus watchdog ms (0 off)")     \
   N(0x2001, 0, U8, RW, 0, kHookApp, 0, "Restart request: 1 reset communication, 2 reset node")         \
   N(0x2002, 0, U8, RO, 0, kHookNone, 0, "NMT state of this node")                                      \
   N(0x2100, 0, U8, CONST, 0, kHookNone, 6, "Own station: highest sub-index")                            \

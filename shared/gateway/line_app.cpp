@@ -29,6 +29,7 @@ void LineApp::init(ObjectDictionary* od) {
   r_led_us_ = row(0x2300, 2);
   r_remote_us_ = row(0x2300, 3);
   r_debounce_ = row(0x2000, 6);
+  r_watchdog_ = row(0x2000, 9);
 }
 
 void LineApp::neighbour_config(uint8_t id, uint8_t* prev, uint8_t* next) const {
@@ -112,7 +113,17 @@ static void count_up(ObjectDictionary* od, uint16_t row) {
   od->set(row, static_cast<uint16_t>(od->get(row) + 1u));
 }
 
-uint8_t LineApp::process(uint32_t now_us, uint8_t raw, uint8_t nmt_state) {
+uint8_t LineApp::process(uint32_t now_us, uint8_t raw, uint8_t nmt_state, uint16_t modbus_requests) {
+  if (modbus_requests != requests_seen_) {
+    requests_seen_ = modbus_requests;
+    last_request_us_ = now_us;
+    watchdog_armed_ = true;
+  }
+  const uint32_t watchdog_us = od_->get(r_watchdog_) * 1000u;
+  if (watchdog_armed_ && watchdog_us != 0 && now_us - last_request_us_ > watchdog_us) {
+    watchdog_armed_ = false;  // one stop per silence; the next request re-arms
+    latch_stop(kCausePcSilent);
+  }
   const uint32_t debounce_us = od_->get(r_debounce_) * 1000u;
   for (uint8_t i = 0; i < 3; ++i) {
     const uint8_t bit = static_cast<uint8_t>(1u << i);

@@ -27,6 +27,7 @@ enum StopCause : uint8_t {
   kCauseStopButton = 1,
   kCauseStop2Here = 2,
   kCauseStop2Previous = 3,
+  kCausePcSilent = 4,  ///< no Modbus request for the watchdog time (2000h/9)
 };
 enum NeighbourStatus : uint8_t { kNeighbourUnknown = 0, kNeighbourAlive = 1, kNeighbourNone = 2 };
 
@@ -44,8 +45,9 @@ class LineApp {
   /// Validates application writes (RUN command); 0 or an SDO abort code.
   uint32_t on_run_command(uint8_t value);
   /// Samples raw button levels (Button bits, 1 = pressed), updates the OD,
-  /// returns the LED bits to drive now.
-  uint8_t process(uint32_t now_us, uint8_t raw_buttons, uint8_t nmt_state);
+  /// returns the LED bits to drive now. `modbus_requests` counts the
+  /// requests the slave has accepted (for the watchdog).
+  uint8_t process(uint32_t now_us, uint8_t raw_buttons, uint8_t nmt_state, uint16_t modbus_requests);
 
  private:
   void latch_stop(StopCause cause);
@@ -59,7 +61,7 @@ class LineApp {
   uint16_t r_prev_run_ = 0, r_prev_stop2_ = 0, r_prev_status_ = 0, r_prev_id_ = 0;
   uint16_t r_next_run_ = 0, r_next_status_ = 0, r_next_id_ = 0;
   uint16_t r_inputs_ = 0, r_buttons_ = 0, r_leds_ = 0, r_outputs_ = 0, r_nmt_ = 0;
-  uint16_t r_edge_us_ = 0, r_led_us_ = 0, r_remote_us_ = 0, r_debounce_ = 0;
+  uint16_t r_edge_us_ = 0, r_led_us_ = 0, r_remote_us_ = 0, r_debounce_ = 0, r_watchdog_ = 0;
   uint32_t raw_since_us_[3] = {0, 0, 0};  ///< when each raw level last changed
   uint8_t raw_ = 0;                        ///< last raw levels
   uint8_t stable_ = 0;                     ///< debounced levels
@@ -67,6 +69,11 @@ class LineApp {
   uint16_t prev_stop2_seen_ = 0;
   bool prev_stop2_known_ = false;  ///< a baseline of the previous STOP2 counter
   bool stop_latched_ = false;
+  /// Modbus watchdog: armed by the first request, so a station configured
+  /// without a PC is not stopped; a silent PC then latches a stop.
+  bool watchdog_armed_ = false;
+  uint16_t requests_seen_ = 0;
+  uint32_t last_request_us_ = 0;
 };
 
 }  // namespace gateway

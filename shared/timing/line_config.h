@@ -33,7 +33,7 @@ struct LineCanConfig {
   /// (transmission type 254/255), COB-ID 0x180 + node ID.
   bool tpdo1 = true;
   /// TPDO1 data bytes (RUN state 1 + STOP2 counter 1).
-  uint8_t tpdo1_dlc = 2;
+  uint8_t tpdo1_dlc = 3;  ///< the gateway: RUN state (1 byte) + STOP2 counter (2 bytes)
   /// 1800h sub3, inhibit time in 100 µs units: 100 = 10 ms. Also the minimum
   /// inter-arrival time T of the event-driven PDO (seed 000 §2.11); must be
   /// > 0, else the PDO has no bounded rate.
@@ -41,13 +41,13 @@ struct LineCanConfig {
   /// 1800h sub5, event timer in ms (0 = off): a refresh when nothing changed.
   /// It never makes the PDO faster than the inhibit time, so T stays the
   /// inhibit time; must be 0 or ≥ the inhibit time.
-  uint16_t tpdo1_event_timer_ms = 500;
+  uint16_t tpdo1_event_timer_ms = 100;
   /// Deadline of TPDO1 in µs; 0 = equal to its inter-arrival time.
   uint32_t tpdo1_deadline_us = 0;
 
   /// 1017h producer heartbeat time in ms, COB-ID 0x700 + node ID, 1 byte;
   /// 0 = no heartbeat.
-  uint16_t heartbeat_ms = 1000;
+  uint16_t heartbeat_ms = 100;
 
   /// 1006h communication cycle period in µs of the SYNC producer (COB-ID 80h,
   /// 0 bytes); 0 = no SYNC on the line.

@@ -175,3 +175,33 @@ TEST(Line, ButtonEdgeTimestampIsWhenTheContactMoved) {
 
 }  // namespace
 }  // namespace mb2co
+
+namespace mb2co {
+namespace {
+
+TEST(Line, ASilentPcStopsItsStationAfterTheModbusWatchdogTime) {
+  test::Line line(1);
+  line.run_ms(50);
+  uint8_t req[16];
+  // The PC's first request arms the watchdog (2000h/9 = 2000 ms by default).
+  const uint16_t n = modbus::build_write_single_register(req, sizeof req, 1, 0, 1);
+  ASSERT_FALSE(line.modbus(0, req, n).empty());
+  line.run_ms(100);
+  ASSERT_EQ(line.od_get(0, 0x2100, 2), 1u);
+  line.run_ms(1800);
+  EXPECT_EQ(line.od_get(0, 0x2100, 2), 1u) << "within the watchdog time";
+  line.run_ms(200);
+  EXPECT_EQ(line.od_get(0, 0x2100, 2), 0u);
+  EXPECT_EQ(line.od_get(0, 0x2100, 4), gateway::kCausePcSilent);
+}
+
+TEST(Line, NoWatchdogBeforeTheFirstModbusRequest) {
+  test::Line line(1);
+  uint8_t one = 1;
+  ASSERT_EQ(line.gw(0).od().write(0x2100, 1, &one, 1), canopen::kSdoOk);  // by SDO, no PC
+  line.run_ms(3000);
+  EXPECT_EQ(line.od_get(0, 0x2100, 2), 1u);
+}
+
+}  // namespace
+}  // namespace mb2co

@@ -144,7 +144,7 @@ TEST_F(Cli, LineConfiguration) {
   const Result r = run("rta --line 4 --bitrate 125k --json");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("\"message_count\": 8"), std::string::npos) << r.out;
-  EXPECT_NE(row(r.out, "TPDO1.1").find("\"r_us\": 1200"), std::string::npos) << r.out;
+  EXPECT_NE(row(r.out, "TPDO1.1").find("\"r_us\": 1360"), std::string::npos) << r.out;  // 680 blocked + 680
   EXPECT_NE(row(r.out, "HB.4").find("\"id\": 1796"), std::string::npos) << r.out;
 }
 

@@ -24,12 +24,12 @@ TEST(LineConfig, DefaultsGiveTpdo1AndHeartbeatPerStation) {
   ASSERT_EQ(set.size(), 6u);  // 3 stations x (TPDO1 + heartbeat)
   EXPECT_STREQ(set[0].name, "TPDO1.1");
   EXPECT_EQ(set[0].id, 0x181u);
-  EXPECT_EQ(set[0].dlc, 2);
+  EXPECT_EQ(set[0].dlc, 3);  // the gateway's TPDO1: RUN state + STOP2 counter
   EXPECT_EQ(set[0].period_us, 10000u);  // inhibit 100 x 100 µs = T
   EXPECT_EQ(set[0].deadline_us, 10000u);
   EXPECT_STREQ(set[5].name, "HB.3");
   EXPECT_EQ(set[5].id, 0x703u);
-  EXPECT_EQ(set[5].period_us, 1000000u);
+  EXPECT_EQ(set[5].period_us, 100000u);  // 1017h = 100 ms, as the gateway
 }
 
 TEST(LineConfig, SeedFiveNodeSyncExample) {

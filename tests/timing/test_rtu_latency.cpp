@@ -139,7 +139,7 @@ TEST(Latency, NoInhibitTimeMeansNoWait) {
 }
 
 TEST(Latency, CanHopsFromTheDefaultLine) {
-  const LineCanConfig cfg;  // 3 stations at 125 kbit/s, TPDO1 2 bytes
+  const LineCanConfig cfg;  // 3 stations at 125 kbit/s, TPDO1 3 bytes
   const size_t n = line_message_count(cfg);
   std::vector<MessageSpec> specs(n);
   std::vector<RtaMessage> rta(n);
@@ -149,11 +149,11 @@ TEST(Latency, CanHopsFromTheDefaultLine) {
   ASSERT_EQ(fill_can_hops(cfg, WorstCase::kDavis, 2, 1, {specs.data(), rta.data(), results.data(), n},
                           &p, &line),
             HopStatus::kOk);
-  // A 2-byte frame: 75 bits worst (Davis) = 600 µs, 60 bits bare = 480 µs.
-  EXPECT_EQ(p.can_up_best_ns, 480000u);
-  EXPECT_EQ(p.can_down_best_ns, 480000u);
-  EXPECT_EQ(p.can_down_worst_ns, 1200000u);  // TPDO1.1: blocked 600 + own 600
-  EXPECT_EQ(p.can_up_worst_ns, 1800000u);    // TPDO1.2: + TPDO1.1 600
+  // A 3-byte frame: 85 bits worst (Davis) = 680 µs, 68 bits bare = 544 µs.
+  EXPECT_EQ(p.can_up_best_ns, 544000u);
+  EXPECT_EQ(p.can_down_best_ns, 544000u);
+  EXPECT_EQ(p.can_down_worst_ns, 1360000u);  // TPDO1.1: blocked 680 + own 680
+  EXPECT_EQ(p.can_up_worst_ns, 2040000u);    // TPDO1.2: + TPDO1.1 680
   EXPECT_EQ(fill_can_hops(cfg, WorstCase::kDavis, 2, 2, {specs.data(), rta.data(), results.data(), n},
                           &p, &line),
             HopStatus::kNode);

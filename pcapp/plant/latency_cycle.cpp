@@ -1,0 +1,100 @@
+#include "latency_cycle.h"
+
+#include "gateway/line_app.h"
+
+namespace mb2co {
+namespace pcapp {
+
+LatencyCycle::LatencyCycle(const RegisterLayout& layout, bool remote, uint8_t button, uint32_t max_presses)
+    : layout_(layout), remote_(remote), button_(button), max_presses_(max_presses) {}
+
+std::vector<Field> LatencyCycle::required_reads() const {
+  if (remote_) return {Field::remote_buttons, Field::remote_us, Field::led_us, Field::leds};
+  return {Field::inputs, Field::edge_us, Field::led_us, Field::leds};
+}
+
+void LatencyCycle::step(const RegisterImage& in, RegisterImage& out) {
+  ++cycle_;
+  const uint8_t buttons = static_cast<uint8_t>(in.get(layout_, remote_ ? Field::remote_buttons : Field::inputs));
+  const uint32_t edge_us = in.get(layout_, remote_ ? Field::remote_us : Field::edge_us);
+  const uint32_t led_us = in.get(layout_, Field::led_us);
+  const bool lab_on = (in.get(layout_, Field::leds) & gateway::kLedLab) != 0;
+
+  // First the LED change of a pending press, seen in this read.
+  if (pending_ && led_us != led_us_before_) {
+    pending_ = false;
+    if (lab_on) {
+      PressRecord r;
+      r.press = static_cast<uint32_t>(records_.size() + 1);
+      r.cycle = cycle_;
+      r.edge_us = pending_edge_us_;
+      r.led_us = led_us;
+      r.delay_us = led_us - pending_edge_us_;  // wraps like the firmware's micros()
+      records_.push_back(r);
+      stats_.add(r.delay_us);
+      event_ = "press " + std::to_string(r.press) + " delay_us=" + std::to_string(r.delay_us);
+    } else {
+      ++missed_;  // the LED went on and off again before we read it: its on-time is gone
+    }
+  }
+  const uint32_t presses_before = lab_.presses();
+  level_ = (buttons & button_) != 0;
+  const bool led = lab_.step(level_);
+  if (lab_.presses() != presses_before) {
+    if (pending_) ++missed_;
+    pending_ = true;
+    pending_edge_us_ = edge_us;
+    led_us_before_ = led_us;
+  }
+  out.put(layout_, Field::lab_led, led ? 1u : 0u);
+}
+
+void LatencyCycle::link_lost() {
+  if (pending_) ++missed_;
+  pending_ = false;
+  lab_ = plant::ButtonToLed();
+}
+
+void LatencyCycle::safe_outputs(RegisterImage& out) const { out.put(layout_, Field::lab_led, 0); }
+
+std::string LatencyCycle::take_event() {
+  std::string e;
+  e.swap(event_);
+  return e;
+}
+
+std::string LatencyCycle::status() const {
+  std::string s = std::string("latency ") + (remote_ ? "remote" : "local") + " button " + (level_ ? "down" : "up") +
+                  " | presses " + std::to_string(records_.size());
+  if (!records_.empty()) {
+    s += " last " + std::to_string(records_.back().delay_us) + " us min " + std::to_string(stats_.min_us()) +
+         " max " + std::to_string(stats_.max_us());
+  }
+  return s;
+}
+
+std::vector<const char*> LatencyCycle::column_names() const { return {"button", "led", "pending", "presses"}; }
+
+void LatencyCycle::columns(std::vector<LogValue>& out) const {
+  out.push_back(LogValue{level_ ? 1 : 0, nullptr});
+  out.push_back(LogValue{lab_.led() ? 1 : 0, nullptr});
+  out.push_back(LogValue{pending_ ? 1 : 0, nullptr});
+  out.push_back(LogValue{static_cast<int64_t>(records_.size()), nullptr});
+}
+
+std::string LatencyCycle::summary() const {
+  return "presses=" + std::to_string(records_.size()) + " missed=" + std::to_string(missed_) + "\n" +
+         stats_.report();
+}
+
+std::string LatencyCycle::csv() const {
+  std::string s = "press,cycle,edge_us,led_us,delay_us\n";
+  for (const PressRecord& r : records_) {
+    s += std::to_string(r.press) + "," + std::to_string(r.cycle) + "," + std::to_string(r.edge_us) + "," +
+         std::to_string(r.led_us) + "," + std::to_string(r.delay_us) + "\n";
+  }
+  return s;
+}
+
+}  // namespace pcapp
+}  // namespace mb2co

@@ -1,0 +1,87 @@
+#include "link_supervisor.h"
+
+#include "port_finder.h"
+
+namespace mb2co {
+namespace pcapp {
+
+LinkSupervisor::LinkSupervisor(const SupervisorConfig& config, QObject* parent)
+    : QObject(parent),
+      config_(config),
+      backoff_(static_cast<uint32_t>(config.reconnect_first_ms), static_cast<uint32_t>(config.reconnect_max_ms)) {
+  timer_.setSingleShot(true);
+}
+
+void LinkSupervisor::start() {
+  first_ = true;
+  attempt();
+}
+
+void LinkSupervisor::attempt() {
+  if (stopped_) return;
+  LinkSettings settings = config_.link;
+  const std::vector<PortInfo> ports = list_ports();
+  if (settings.path.empty()) {
+    QString error;
+    settings.path = pick_arduino(ports, error).toStdString();
+    if (settings.path.empty()) return failed(error);
+  }
+  std::string error;
+  if (!link_.open(settings, error)) return failed(QString::fromStdString(error));
+  int wait_ms = config_.boot_wait_ms;
+  if (wait_ms < 0) wait_ms = is_arduino_port(ports, QString::fromStdString(settings.path)) ? kArduinoBootWaitMs : 0;
+  // Opening the port pulsed DTR: an Uno is in its boot loader now. Wait on
+  // the event loop (signals are still served), then verify.
+  timer_.disconnect();
+  connect(&timer_, &QTimer::timeout, this, &LinkSupervisor::verify);
+  timer_.start(wait_ms);
+}
+
+void LinkSupervisor::verify() {
+  if (stopped_) return;
+  std::string identity;
+  std::string error;
+  if (link_.identify(identity, error) != LinkStatus::ok) {
+    link_.close();
+    return failed(QString::fromStdString(link_.settings().path + ": " + error));
+  }
+  up_ = true;
+  first_ = false;
+  backoff_.reset();
+  emit connected(QString::fromStdString(link_.settings().path + " slave " + std::to_string(link_.settings().slave) +
+                                        ": " + identity));
+}
+
+void LinkSupervisor::failed(const QString& reason) {
+  if (first_) {
+    stopped_ = true;
+    emit fatal(reason);
+    return;
+  }
+  const int next = static_cast<int>(backoff_.next_ms());
+  emit retrying(reason, next);
+  timer_.disconnect();
+  connect(&timer_, &QTimer::timeout, this, &LinkSupervisor::attempt);
+  timer_.start(next);
+}
+
+void LinkSupervisor::lost(const QString& reason) {
+  if (!up_) return;
+  up_ = false;
+  link_.close();
+  emit disconnected(reason);
+  const int next = static_cast<int>(backoff_.next_ms());
+  timer_.disconnect();
+  connect(&timer_, &QTimer::timeout, this, &LinkSupervisor::attempt);
+  timer_.start(next);
+}
+
+void LinkSupervisor::stop() {
+  stopped_ = true;
+  timer_.stop();
+  up_ = false;
+  link_.close();
+}
+
+}  // namespace pcapp
+}  // namespace mb2co

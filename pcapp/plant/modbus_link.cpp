@@ -1,0 +1,185 @@
+#include "modbus_link.h"
+
+#include <errno.h>
+#include <modbus.h>
+#include <poll.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cstring>
+
+#include "modbus/master_codec.h"
+
+namespace mb2co {
+namespace pcapp {
+
+namespace {
+bool is_exception(int err) { return err >= EMBXILFUN && err <= EMBXGTAR; }
+
+int64_t now_ms() {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<int64_t>(ts.tv_sec) * 1000 + ts.tv_nsec / 1000000;
+}
+}  // namespace
+
+bool ModbusLink::open(const LinkSettings& settings, std::string& error) {
+  close();
+  settings_ = settings;
+  ctx_ = modbus_new_rtu(settings.path.c_str(), settings.baud, settings.parity, 8, 1);
+  if (ctx_ == nullptr) {
+    error = "cannot use " + settings.path + ": " + modbus_strerror(errno);
+    return false;
+  }
+  const uint32_t us = static_cast<uint32_t>(settings.timeout_ms) * 1000u;
+  if (modbus_set_slave(ctx_, settings.slave) != 0 || modbus_set_response_timeout(ctx_, us / 1000000u, us % 1000000u) != 0 ||
+      modbus_set_byte_timeout(ctx_, us / 1000000u, us % 1000000u) != 0) {
+    error = std::string("libmodbus refused the settings: ") + modbus_strerror(errno);
+    close();
+    return false;
+  }
+  if (modbus_connect(ctx_) != 0) {
+    error = "cannot open " + settings.path + ": " + modbus_strerror(errno);
+    close();
+    return false;
+  }
+  return true;
+}
+
+void ModbusLink::close() {
+  if (ctx_ == nullptr) return;
+  modbus_close(ctx_);
+  modbus_free(ctx_);
+  ctx_ = nullptr;
+}
+
+template <class F>
+LinkStatus ModbusLink::attempt(const char* what, F request, std::string& error) {
+  if (ctx_ == nullptr) {
+    error = std::string(what) + ": port closed";
+    return LinkStatus::failed;
+  }
+  for (int i = 0; i <= settings_.retries; ++i) {
+    if (i > 0) ++retries_used_;
+    if (request() >= 0) return LinkStatus::ok;
+    const int err = errno;
+    error = std::string(what) + ": " + modbus_strerror(err);
+    if (is_exception(err)) return LinkStatus::exception;
+    modbus_flush(ctx_);  // a late answer must not be taken for the next one
+  }
+  return LinkStatus::failed;
+}
+
+LinkStatus ModbusLink::read(const TransactionPlan& plan, const RegisterImage& out, RegisterImage& in,
+                            std::string& error) {
+  if (plan.read_write) {
+    const Block& w = plan.writes[0];
+    const Block& r = plan.reads[0];
+    const uint16_t* values = out.regs[0].data() + w.start;
+    uint16_t* dest = in.block(r);
+    return attempt("FC 17", [&] {
+      return modbus_write_and_read_registers(ctx_, w.start, w.count, values, r.start, r.count, dest);
+    }, error);
+  }
+  for (const Block& b : plan.reads) {
+    uint16_t* dest = in.block(b);
+    const bool input = b.table == RegTable::input;
+    const LinkStatus s = attempt(input ? "FC 04" : "FC 03", [&] {
+      return input ? modbus_read_input_registers(ctx_, b.start, b.count, dest)
+                   : modbus_read_registers(ctx_, b.start, b.count, dest);
+    }, error);
+    if (s != LinkStatus::ok) return s;
+  }
+  return LinkStatus::ok;
+}
+
+LinkStatus ModbusLink::write(const TransactionPlan& plan, const RegisterImage& out, std::string& error) {
+  for (const Block& b : plan.writes) {
+    const uint16_t* values = out.regs[0].data() + b.start;
+    const LinkStatus s = b.count == 1
+        ? attempt("FC 06", [&] { return modbus_write_register(ctx_, b.start, values[0]); }, error)
+        : attempt("FC 10", [&] { return modbus_write_registers(ctx_, b.start, b.count, values); }, error);
+    if (s != LinkStatus::ok) return s;
+  }
+  return LinkStatus::ok;
+}
+
+LinkStatus ModbusLink::raw(const uint8_t* request, uint16_t length, uint8_t* response, uint16_t capacity,
+                           uint16_t& got, std::string& error) {
+  const int fd = modbus_get_socket(ctx_);
+  for (int i = 0; i <= settings_.retries; ++i) {
+    if (i > 0) {
+      ++retries_used_;
+      modbus_flush(ctx_);
+    }
+    if (::write(fd, request, length) != static_cast<ssize_t>(length)) {
+      error = std::string("write: ") + std::strerror(errno);
+      return LinkStatus::failed;
+    }
+    got = 0;
+    const int64_t deadline = now_ms() + settings_.timeout_ms;
+    modbus::Response parsed;
+    modbus::ParseStatus st = modbus::ParseStatus::kTooShort;
+    while (st != modbus::ParseStatus::kOk && st != modbus::ParseStatus::kException) {
+      const int64_t left = deadline - now_ms();
+      pollfd p{fd, POLLIN, 0};
+      if (left <= 0 || poll(&p, 1, static_cast<int>(left)) <= 0) break;
+      const ssize_t n = ::read(fd, response + got, capacity - got);
+      if (n <= 0) {
+        error = std::string("read: ") + (n == 0 ? "end of file" : std::strerror(errno));
+        return LinkStatus::failed;  // a hung-up device does not come back by retrying
+      }
+      got = static_cast<uint16_t>(got + n);
+      st = modbus::parse_response(request, length, response, got, parsed);
+      if (got == capacity) break;
+    }
+    if (st == modbus::ParseStatus::kOk) return LinkStatus::ok;
+    if (st == modbus::ParseStatus::kException) {
+      error = "exception " + std::to_string(static_cast<int>(parsed.exception));
+      return LinkStatus::exception;
+    }
+    error = got == 0 ? "no answer" : "bad answer (" + std::to_string(got) + " bytes)";
+  }
+  return LinkStatus::failed;
+}
+
+LinkStatus ModbusLink::identify(std::string& identity, std::string& error) {
+  if (ctx_ == nullptr) return LinkStatus::failed;
+  const uint8_t slave = static_cast<uint8_t>(settings_.slave);
+  uint8_t request[16];
+  uint8_t response[256];
+  uint16_t got = 0;
+  uint16_t n = modbus::build_read_device_id(request, sizeof request, slave, 1, 0);
+  LinkStatus s = raw(request, n, response, sizeof response, got, error);
+  if (s == LinkStatus::ok) {
+    modbus::Response r;
+    modbus::parse_response(request, n, response, got, r);
+    std::string parts[3];
+    for (uint8_t i = 0; i < r.object_count; ++i) {
+      uint8_t id = 0, len = 0;
+      const uint8_t* value = nullptr;
+      if (modbus::device_id_object(r, i, id, value, len) && id < 3) {
+        parts[id].assign(reinterpret_cast<const char*>(value), len);
+      }
+    }
+    identity = parts[0] + " " + parts[1] + " " + parts[2];
+    if (parts[0] != "mb2co") {
+      error = "slave " + std::to_string(settings_.slave) + " is not an mb2co gateway (vendor '" + parts[0] + "')";
+      return LinkStatus::exception;
+    }
+    return LinkStatus::ok;
+  }
+  if (s != LinkStatus::exception) {
+    error = "FC 2B/0E: " + error;
+    return s;
+  }
+  // No FC 2B: an echo (FC 08/00) at least shows a live slave at this address.
+  n = modbus::build_diagnostics(request, sizeof request, slave, 0x0000, 0xA55A);
+  s = raw(request, n, response, sizeof response, got, error);
+  if (s == LinkStatus::ok) identity = "unidentified slave (FC 08/00 echo)";
+  else error = "FC 08/00: " + error;
+  return s;
+}
+
+}  // namespace pcapp
+}  // namespace mb2co

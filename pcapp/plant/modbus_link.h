@@ -1,0 +1,87 @@
+// The Modbus/RTU master: owns a libmodbus RTU context on one serial device
+// and runs the cycle's transactions (transaction_plan.h) with a response
+// timeout and retries. Calls block for at most (retries + 1) x timeout.
+//
+// Where it runs: in the cycle timer's slot, on the GUI-less main thread,
+// not in a worker QThread. The controller cannot step before the read
+// returns and the write carries the step's result, so the transaction is
+// the cycle's critical path either way; a worker thread would only add a
+// hand-over per cycle and a second owner of the plant state. The event loop
+// has nothing time-critical to do meanwhile (signals wait in the self-pipe,
+// the status line is drawn after the cycle), and the block is bounded: a
+// healthy exchange takes the frame times (~6-10 ms at 115200 baud), a dead
+// link at most (retries + 1) x timeout, after which the link is declared lost
+// and the port closed (no blocking call at all while it is down).
+// On a pty: no RS-485 mode, no RTS control (DESIGN §10).
+#pragma once
+#include <stdint.h>
+
+#include <string>
+
+#include "station_io.h"
+#include "transaction_plan.h"
+
+typedef struct _modbus modbus_t;
+
+namespace mb2co {
+namespace pcapp {
+
+struct LinkSettings {
+  std::string path;
+  int baud = 115200;
+  char parity = 'N';     ///< N, E or O
+  int slave = 1;         ///< Modbus address 1..247
+  int timeout_ms = 25;   ///< response timeout (and inter-byte timeout)
+  int retries = 2;       ///< extra attempts after a timeout / CRC error
+};
+
+enum class LinkStatus : uint8_t {
+  ok,
+  exception,  ///< the slave answered with an exception (the link is fine)
+  failed,     ///< no valid answer after every retry: the link is lost
+};
+
+/// Not copyable; one context, one open device at a time.
+class ModbusLink {
+ public:
+  ModbusLink() = default;
+  ~ModbusLink() { close(); }
+  ModbusLink(const ModbusLink&) = delete;
+  ModbusLink& operator=(const ModbusLink&) = delete;
+
+  /// Opens and configures the device; false with a one-line `error`.
+  bool open(const LinkSettings& settings, std::string& error);
+  void close();
+  bool is_open() const { return ctx_ != nullptr; }
+  const LinkSettings& settings() const { return settings_; }
+
+  /// Checks that an mb2co gateway answers: FC 2B/0E basic device
+  /// identification (vendor "mb2co"); a slave without FC 2B (exception 01) is
+  /// accepted when it echoes FC 08/00. `identity`: "vendor product revision".
+  LinkStatus identify(std::string& identity, std::string& error);
+
+  /// The plan's reads into `in` (FC 03/04), or with plan.read_write one
+  /// FC 17h that writes `out`'s write block first.
+  LinkStatus read(const TransactionPlan& plan, const RegisterImage& out, RegisterImage& in, std::string& error);
+  /// The plan's write blocks from `out` (FC 06 / FC 10h), also for a
+  /// read_write plan (used at shutdown).
+  LinkStatus write(const TransactionPlan& plan, const RegisterImage& out, std::string& error);
+
+  /// Attempts that timed out or were corrupt and were repeated (only grows).
+  uint64_t retries_used() const { return retries_used_; }
+
+ private:
+  template <class F>
+  LinkStatus attempt(const char* what, F request, std::string& error);
+  /// One raw request/response on the device (for FC 2B and 08, which
+  /// libmodbus 3.1 cannot receive); response parsed by the shared codec.
+  LinkStatus raw(const uint8_t* request, uint16_t length, uint8_t* response, uint16_t capacity,
+                 uint16_t& got, std::string& error);
+
+  modbus_t* ctx_ = nullptr;
+  LinkSettings settings_;
+  uint64_t retries_used_ = 0;
+};
+
+}  // namespace pcapp
+}  // namespace mb2co

@@ -1,0 +1,144 @@
+#include "options.h"
+
+#include <QCommandLineParser>
+#include <QCoreApplication>
+#include <type_traits>
+
+namespace mb2co {
+namespace pcapp {
+
+namespace {
+const char kDescription[] =
+    "The PC side of one bottling station (seed 000 §9-11): plant simulator and controller,\n"
+    "talking Modbus/RTU to the station's Arduino gateway.\n"
+    "  station (default)  run the station: START/STOP/STOP2 on the Arduino, RUN state to it\n"
+    "  latency            latency lab: a button mirrored to the lab LED, delay per press";
+
+bool to_int(const QString& text, long lo, long hi, long& out) {
+  bool ok = false;
+  const long v = text.toLong(&ok, 10);
+  if (!ok || v < lo || v > hi) return false;
+  out = v;
+  return true;
+}
+
+bool standard_baud(long b) {
+  for (long s : {1200L, 2400L, 4800L, 9600L, 19200L, 38400L, 57600L, 115200L, 230400L, 460800L, 500000L,
+                 921600L, 1000000L}) {
+    if (b == s) return true;
+  }
+  return false;
+}
+}  // namespace
+
+ParseOutcome parse_options(const QStringList& args, AppOptions& o, QString& message) {
+  QCommandLineParser p;
+  p.setApplicationDescription(QString::fromUtf8(kDescription));
+  const QCommandLineOption help = p.addHelpOption();
+  const QCommandLineOption version = p.addVersionOption();
+  p.addPositionalArgument("mode", "station (default) or latency", "[station|latency]");
+  const QCommandLineOption port("port", "Serial device of the gateway (default: the one Arduino on USB).", "PATH");
+  const QCommandLineOption list("list-ports", "List serial ports (Arduinos marked) and exit.");
+  const QCommandLineOption baud("baud", "Baud rate (default 115200).", "N", "115200");
+  const QCommandLineOption parity("parity", "Parity N, E or O (default N).", "P", "N");
+  const QCommandLineOption slave("slave", "Modbus address of the gateway 1..247 (default 1).", "N", "1");
+  const QCommandLineOption cycle("cycle-ms", "Control cycle = plant step in ms, 1..1000 (default: the config's "
+                                 "step_ms, else 20).", "MS");
+  const QCommandLineOption config("config", "Plant config file (docs/plant.md).", "FILE");
+  const QCommandLineOption timeout("timeout-ms", "Modbus response timeout 1..10000 ms (default 25).", "MS", "25");
+  const QCommandLineOption retries("retries", "Retries after a timeout or bad frame 0..10 (default 2).", "N", "2");
+  const QCommandLineOption boot("boot-wait-ms", "Wait after opening the port for the Uno's boot loader, "
+                                "0..60000 (default 2000 for an Arduino port, 0 otherwise).", "MS");
+  const QCommandLineOption no_reset("no-reset-wait", "Do not wait for a boot loader (same as --boot-wait-ms 0).");
+  const QCommandLineOption reconnect("reconnect-max-ms", "Longest pause between reconnection attempts, "
+                                     "100..600000 (default 5000).", "MS", "5000");
+  const QCommandLineOption log("log", "Every cycle's I/O to FILE.csv or FILE.jsonl.", "FILE");
+  const QCommandLineOption plain("plain", "Log lines even on a terminal (no live status line).");
+  const QCommandLineOption cycles("cycles", "Stop after N cycles (default: run until SIGINT/SIGTERM).", "N");
+  const QCommandLineOption remote("remote", "latency: the button is on the watched remote station (by PDO).");
+  const QCommandLineOption button("button", "latency: START, STOP or STOP2 (default START).", "NAME", "START");
+  const QCommandLineOption presses("presses", "latency: stop after N measured presses.", "N");
+  const QCommandLineOption csv("csv", "latency: CSV of every press.", "FILE");
+  p.addOptions({port, list, baud, parity, slave, cycle, config, timeout, retries, boot, no_reset, reconnect, log, plain,
+                cycles, remote, button, presses, csv});
+
+  if (!p.parse(args)) {
+    message = p.errorText() + " (try --help)";
+    return ParseOutcome::error;
+  }
+  if (p.isSet(help)) {
+    message = p.helpText();
+    return ParseOutcome::exit_ok;
+  }
+  if (p.isSet(version)) {
+    message = QCoreApplication::applicationName() + " " + QCoreApplication::applicationVersion() + "\n";
+    return ParseOutcome::exit_ok;
+  }
+  const QStringList pos = p.positionalArguments();
+  if (pos.size() > 1 || (pos.size() == 1 && pos[0] != "station" && pos[0] != "latency")) {
+    message = "unknown mode '" + pos.join(' ') + "' (station or latency)";
+    return ParseOutcome::error;
+  }
+  o.latency = pos.size() == 1 && pos[0] == "latency";
+  o.list_ports = p.isSet(list);
+  o.port = p.value(port);
+  o.plain = p.isSet(plain);
+  o.remote = p.isSet(remote);
+  o.config = p.value(config);
+  o.log = p.value(log);
+  o.csv = p.value(csv);
+
+  long v = 0;
+  auto number = [&](const QCommandLineOption& opt, long lo, long hi, auto& field) {
+    if (!p.isSet(opt) && opt.defaultValues().isEmpty()) return true;
+    if (!to_int(p.value(opt), lo, hi, v)) {
+      message = "bad --" + opt.names().front() + " '" + p.value(opt) + "' (want " + QString::number(lo) + ".." +
+                QString::number(hi) + ")";
+      return false;
+    }
+    field = static_cast<std::remove_reference_t<decltype(field)>>(v);
+    return true;
+  };
+  if (!number(baud, 1200, 4000000, o.baud) || !number(slave, 1, 247, o.slave) || !number(cycle, 1, 1000, o.cycle_ms) ||
+      !number(timeout, 1, 10000, o.timeout_ms) || !number(retries, 0, 10, o.retries) ||
+      !number(boot, 0, 60000, o.boot_wait_ms) || !number(reconnect, 100, 600000, o.reconnect_max_ms) ||
+      !number(cycles, 1, 4000000000L, o.cycles) || !number(presses, 1, 1000000, o.presses)) {
+    return ParseOutcome::error;
+  }
+  if (!standard_baud(o.baud)) {
+    message = "bad --baud '" + p.value(baud) + "' (a standard rate such as 9600, 19200, 115200)";
+    return ParseOutcome::error;
+  }
+  const QString par = p.value(parity).toUpper();
+  if (par != "N" && par != "E" && par != "O") {
+    message = "bad --parity '" + p.value(parity) + "' (N, E or O)";
+    return ParseOutcome::error;
+  }
+  o.parity = par.at(0).toLatin1();
+  if (p.isSet(no_reset)) {
+    if (p.isSet(boot)) {
+      message = "--no-reset-wait and --boot-wait-ms exclude each other";
+      return ParseOutcome::error;
+    }
+    o.boot_wait_ms = 0;
+  }
+  const QString b = p.value(button).toUpper();
+  o.button = b == "START" ? 1 : b == "STOP" ? 2 : b == "STOP2" ? 4 : 0;
+  if (o.button == 0) {
+    message = "bad --button '" + p.value(button) + "' (START, STOP or STOP2)";
+    return ParseOutcome::error;
+  }
+  const bool latency_only = p.isSet(remote) || p.isSet(button) || p.isSet(presses) || p.isSet(csv);
+  if (!o.latency && latency_only) {
+    message = "--remote, --button, --presses and --csv belong to the latency mode (mb2co-plant latency ...)";
+    return ParseOutcome::error;
+  }
+  if (o.latency && p.isSet(config)) {
+    message = "--config belongs to the station mode";
+    return ParseOutcome::error;
+  }
+  return ParseOutcome::run;
+}
+
+}  // namespace pcapp
+}  // namespace mb2co

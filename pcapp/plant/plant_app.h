@@ -1,0 +1,77 @@
+// The application object: owns the mode (station or latency), the link
+// supervisor, the cycle timer, the log and the status view, and runs one
+// control cycle per timer tick. Exit codes: 0 after a signal, --cycles or
+// --presses; 1 when the first connection fails; 2 for a bad config or log.
+#pragma once
+#include <QElapsedTimer>
+#include <QObject>
+#include <QTimer>
+#include <memory>
+
+#include "cycle_log.h"
+#include "cycle_mode.h"
+#include "latency_stats.h"
+#include "link_supervisor.h"
+#include "options.h"
+#include "status_view.h"
+#include "transaction_plan.h"
+
+namespace mb2co {
+namespace pcapp {
+
+class LatencyCycle;
+
+class PlantApp : public QObject {
+  Q_OBJECT
+ public:
+  explicit PlantApp(const AppOptions& options, QObject* parent = nullptr);
+  ~PlantApp() override;
+
+  /// Reads the config, builds the mode and the plan, opens the log. 0 or an
+  /// exit code, with the one-line reason already printed.
+  int prepare();
+  /// Starts the first connection; the cycle timer runs from the start.
+  void start();
+  /// Writes the safe outputs (if the link is up), closes everything, prints
+  /// the summary and emits finished(code).
+  void shutdown(int code, const QString& why);
+
+ signals:
+  void finished(int code);
+
+ private:
+  void tick();
+  void lose_link(const std::string& reason);
+  void log_cycle(bool link_up, uint32_t modbus_us);
+  double seconds() const { return static_cast<double>(clock_.nsecsElapsed()) / 1e9; }
+  void event(const QString& text);
+  std::string cycle_summary() const;
+
+  AppOptions options_;
+  int cycle_ms_ = 20;
+  RegisterLayout layout_;
+  std::unique_ptr<CycleMode> mode_;
+  LatencyCycle* latency_ = nullptr;  ///< mode_ in the latency mode (for its CSV)
+  TransactionPlan plan_;
+  RegisterImage in_;
+  RegisterImage out_;
+  LinkSupervisor* supervisor_ = nullptr;
+  QTimer timer_;
+  QElapsedTimer clock_;
+  StatusView view_;
+  CycleLog log_;
+  std::vector<LogValue> row_;
+  uint64_t cycles_ = 0;
+  uint64_t late_cycles_ = 0;    ///< ticks that came more than half a period late
+  int64_t last_tick_ns_ = -1;
+  int64_t last_status_ns_ = 0;
+  uint64_t link_losses_ = 0;
+  uint64_t exceptions_ = 0;
+  LatencyStats modbus_us_;      ///< Modbus time per cycle (all its transactions)
+  uint32_t last_modbus_us_ = 0;
+  std::string last_exception_;  ///< reported once until the next good cycle
+  bool shutting_down_ = false;
+};
+
+}  // namespace pcapp
+}  // namespace mb2co

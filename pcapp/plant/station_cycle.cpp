@@ -1,0 +1,182 @@
+#include "station_cycle.h"
+
+#include "gateway/line_app.h"
+
+namespace mb2co {
+namespace pcapp {
+
+using plant::State;
+using plant::StopCause;
+
+const char* state_name(State state) {
+  switch (state) {
+    case State::stopped: return "stopped";
+    case State::fault: return "fault";
+    case State::moving: return "moving";
+    case State::approach: return "approach";
+    case State::filling: return "filling";
+  }
+  return "?";
+}
+
+const char* stop_cause_name(StopCause cause) {
+  switch (cause) {
+    case StopCause::stop_button: return "stop_button";
+    case StopCause::local_stop2: return "local_stop2";
+    case StopCause::prev_stop2: return "prev_stop2";
+    case StopCause::link_lost: return "link_lost";
+    case StopCause::fault: return "fault";
+  }
+  return "?";
+}
+
+namespace {
+const char* fault_name(plant::Fault f) {
+  switch (f) {
+    case plant::Fault::none: return "none";
+    case plant::Fault::fill_timeout: return "fill_timeout";
+    case plant::Fault::bottle_lost: return "bottle_lost";
+    case plant::Fault::overfill: return "overfill";
+  }
+  return "?";
+}
+
+std::string buttons_text(uint8_t buttons) {
+  std::string s;
+  if (buttons & gateway::kStart) s += "START ";
+  if (buttons & gateway::kStop) s += "STOP ";
+  if (buttons & gateway::kStop2) s += "STOP2 ";
+  if (s.empty()) return "none";
+  s.pop_back();
+  return s;
+}
+
+const char* neighbour_name(plant::NeighbourState s) {
+  switch (s) {
+    case plant::NeighbourState::absent: return "none";
+    case plant::NeighbourState::unknown: return "unknown";
+    case plant::NeighbourState::stopped: return "stopped";
+    case plant::NeighbourState::running: return "running";
+  }
+  return "?";
+}
+}  // namespace
+
+StationCycle::StationCycle(const RegisterLayout& layout, const plant::PlantConfig& config)
+    : layout_(layout), plant_(config), controller_(plant::controller_config_for(config)) {}
+
+std::vector<Field> StationCycle::required_reads() const {
+  return {Field::inputs,   Field::run_state,   Field::stop2_count, Field::stop_cause,  Field::prev_run,
+          Field::prev_stop2, Field::prev_status, Field::next_run,  Field::next_status};
+}
+
+std::vector<Field> StationCycle::optional_reads() const {
+  return {Field::leds, Field::start_count, Field::stop_count, Field::error_register, Field::nmt_state};
+}
+
+void StationCycle::step(const RegisterImage& in, RegisterImage& out) {
+  const uint8_t buttons_before = panel_.buttons;
+  panel_ = decode_panel(layout_, in);
+  if (!panel_known_ || panel_.buttons != buttons_before) event_ = "buttons " + buttons_text(panel_.buttons);
+  panel_known_ = true;
+  const plant::ControllerCounters before = controller_.counters();
+  const State state_before = controller_.state();
+  const bool confirmed = run_written_[0] && run_written_[1];
+  const plant::ControllerOutputs& o =
+      controller_.step(controller_inputs(panel_, confirmed, plant_.sensors()));
+  plant_.step(o.plant);
+  const bool run = o.run == plant::RunState::running;
+  out.put(layout_, Field::run_command, run ? 1u : 0u);
+  run_written_[1] = run_written_[0];
+  run_written_[0] = run;
+  note_changes(before, state_before);
+}
+
+void StationCycle::step_offline() { plant_.step(controller_.outputs().plant); }
+
+void StationCycle::link_lost() {
+  const plant::ControllerCounters before = controller_.counters();
+  const State state_before = controller_.state();
+  controller_.force_safe();
+  run_written_[0] = run_written_[1] = false;  // the gateway may come back reset
+  panel_known_ = false;
+  note_changes(before, state_before);
+}
+
+void StationCycle::safe_outputs(RegisterImage& out) const { out.put(layout_, Field::run_command, 0); }
+
+void StationCycle::note_changes(const plant::ControllerCounters& before, State state_before) {
+  const State now = controller_.state();
+  if (now == state_before) return;
+  if (!event_.empty()) event_ += '\n';
+  event_ += std::string("state ") + state_name(now);
+  for (uint8_t c = 0; c < plant::kStopCauseCount; ++c) {
+    if (controller_.counters().stops[c] != before.stops[c]) {
+      event_ += std::string(" cause=") + stop_cause_name(static_cast<StopCause>(c));
+      break;
+    }
+  }
+  if (now == State::fault) event_ += std::string(" fault=") + fault_name(controller_.fault());
+}
+
+std::string StationCycle::take_event() {
+  std::string e;
+  e.swap(event_);
+  return e;
+}
+
+std::string StationCycle::status() const {
+  const plant::Sensors s = plant_.sensors();
+  const plant::ControllerInputs in = controller_inputs(panel_, false, s);
+  std::string line = std::string("station ") + state_name(controller_.state());
+  line += std::string(" | prev ") + neighbour_name(in.prev_run) + " next " + neighbour_name(in.next_run);
+  line += " | bottles filled " + std::to_string(controller_.counters().bottles_filled) + " out " +
+          std::to_string(plant_.counters().handed_off) + " | level " + std::to_string(s.level_ml) + " mL";
+  line += " | buttons " + buttons_text(panel_.buttons);
+  return line;
+}
+
+std::vector<const char*> StationCycle::column_names() const {
+  return {"buttons", "run_state",  "stop_cause", "stop2_count", "prev_stop2", "prev",      "next",
+          "leds",    "run_command", "state",     "motor",       "valve",      "bottle",    "level_ml",
+          "filled",  "handed_off",  "spilled_ul"};
+}
+
+void StationCycle::columns(std::vector<LogValue>& out) const {
+  const plant::Sensors s = plant_.sensors();
+  const plant::ControllerOutputs& o = controller_.outputs();
+  auto n = [&](int64_t v) { out.push_back(LogValue{v, nullptr}); };
+  auto t = [&](const char* v) { out.push_back(LogValue{0, v}); };
+  n(panel_.buttons);
+  n(panel_.run_state);
+  n(panel_.stop_cause);
+  n(panel_.stop2_count);
+  n(panel_.prev_stop2);
+  t(neighbour_name(neighbour_state(panel_.prev_status, panel_.prev_run)));
+  t(neighbour_name(neighbour_state(panel_.next_status, panel_.next_run)));
+  n(panel_.leds);
+  n(run_written_[0] ? 1 : 0);
+  t(state_name(controller_.state()));
+  n(o.plant.motor_on ? 1 : 0);
+  n(o.plant.valve_open ? 1 : 0);
+  n(s.bottle_present ? 1 : 0);
+  n(s.level_ml);
+  n(controller_.counters().bottles_filled);
+  n(plant_.counters().handed_off);
+  n(static_cast<int64_t>(plant_.counters().spilled_ul));
+}
+
+std::string StationCycle::summary() const {
+  const plant::ControllerCounters& c = controller_.counters();
+  const plant::PlantCounters& p = plant_.counters();
+  std::string s = "starts=" + std::to_string(c.starts) + " filled=" + std::to_string(c.bottles_filled) +
+                  " handed_off=" + std::to_string(p.handed_off) + " overfilled=" + std::to_string(p.overfilled) +
+                  " spilled_ul=" + std::to_string(p.spilled_ul) + " stops:";
+  for (uint8_t k = 0; k < plant::kStopCauseCount; ++k) {
+    s += std::string(" ") + stop_cause_name(static_cast<StopCause>(k)) + "=" + std::to_string(c.stops[k]);
+  }
+  return s;
+}
+
+}  // namespace pcapp
+}  // namespace mb2co

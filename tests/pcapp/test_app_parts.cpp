@@ -1,0 +1,166 @@
+// Options, port detection, back-off, the cycle log, the status view.
+#include <gtest/gtest.h>
+
+#include <QCoreApplication>
+#include <cstdio>
+#include <fstream>
+
+#include "backoff.h"
+#include "cycle_log.h"
+#include "options.h"
+#include "port_finder.h"
+#include "status_view.h"
+
+using namespace mb2co::pcapp;
+
+namespace {
+ParseOutcome parse(QStringList args, AppOptions& o, QString& msg) {
+  args.prepend("mb2co-plant");
+  return parse_options(args, o, msg);
+}
+}  // namespace
+
+TEST(Options, Defaults) {
+  AppOptions o;
+  QString msg;
+  ASSERT_EQ(parse({}, o, msg), ParseOutcome::run);
+  EXPECT_FALSE(o.latency);
+  EXPECT_EQ(o.baud, 115200);
+  EXPECT_EQ(o.parity, 'N');
+  EXPECT_EQ(o.cycle_ms, -1);
+  EXPECT_EQ(o.boot_wait_ms, -1);
+  EXPECT_EQ(o.timeout_ms, 25);
+  EXPECT_EQ(o.retries, 2);
+}
+
+TEST(Options, LatencyMode) {
+  AppOptions o;
+  QString msg;
+  ASSERT_EQ(parse({"latency", "--remote", "--button", "stop2", "--presses", "5", "--no-reset-wait"}, o, msg),
+            ParseOutcome::run);
+  EXPECT_TRUE(o.latency);
+  EXPECT_TRUE(o.remote);
+  EXPECT_EQ(o.button, 4);
+  EXPECT_EQ(o.presses, 5u);
+  EXPECT_EQ(o.boot_wait_ms, 0);
+}
+
+TEST(Options, BadValuesGiveOneLine) {
+  const struct {
+    QStringList args;
+    const char* message;
+  } cases[] = {
+      {{"--cycle-ms", "0"}, "bad --cycle-ms '0' (want 1..1000)"},
+      {{"--baud", "12345"}, "bad --baud '12345' (a standard rate such as 9600, 19200, 115200)"},
+      {{"--parity", "X"}, "bad --parity 'X' (N, E or O)"},
+      {{"--slave", "248"}, "bad --slave '248' (want 1..247)"},
+      {{"--retries", "x"}, "bad --retries 'x' (want 0..10)"},
+      {{"run"}, "unknown mode 'run' (station or latency)"},
+      {{"--presses", "3"}, "--remote, --button, --presses and --csv belong to the latency mode (mb2co-plant latency ...)"},
+      {{"latency", "--button", "GO"}, "bad --button 'GO' (START, STOP or STOP2)"},
+      {{"--no-reset-wait", "--boot-wait-ms", "5"}, "--no-reset-wait and --boot-wait-ms exclude each other"},
+      {{"--bogus"}, "Unknown option 'bogus'. (try --help)"},
+  };
+  for (const auto& c : cases) {
+    AppOptions o;
+    QString msg;
+    EXPECT_EQ(parse(c.args, o, msg), ParseOutcome::error) << c.message;
+    EXPECT_EQ(msg.toStdString(), c.message);
+    EXPECT_FALSE(msg.contains('\n'));
+  }
+}
+
+TEST(PortFinder, ArduinoIds) {
+  EXPECT_TRUE(is_arduino_usb(0x2341, 0x0043));  // Uno R3
+  EXPECT_TRUE(is_arduino_usb(0x2A03, 0x0043));
+  EXPECT_TRUE(is_arduino_usb(0x1A86, 0x7523));  // CH340 clone
+  EXPECT_FALSE(is_arduino_usb(0x1A86, 0x5523));
+  EXPECT_FALSE(is_arduino_usb(0x0403, 0x6001));  // FTDI
+}
+
+TEST(PortFinder, PicksTheOneArduino) {
+  std::vector<PortInfo> ports(3);
+  ports[0].path = "/dev/ttyS0";
+  ports[1].path = "/dev/ttyACM0";
+  ports[1].arduino = true;
+  ports[1].has_ids = true;
+  ports[1].vendor_id = 0x2341;
+  ports[1].product_id = 0x43;
+  ports[2].path = "/dev/ttyUSB0";
+  QString error;
+  EXPECT_EQ(pick_arduino(ports, error), "/dev/ttyACM0");
+  EXPECT_TRUE(is_arduino_port(ports, "/dev/ttyACM0"));
+  EXPECT_FALSE(is_arduino_port(ports, "/dev/ttyUSB0"));
+  EXPECT_TRUE(format_ports(ports).contains("/dev/ttyACM0  2341:0043  [Arduino]\n"));
+  ports[2].arduino = true;
+  EXPECT_TRUE(pick_arduino(ports, error).isEmpty());
+  EXPECT_EQ(error, "several Arduinos found (/dev/ttyACM0, /dev/ttyUSB0): choose one with --port");
+  ports[1].arduino = ports[2].arduino = false;
+  EXPECT_TRUE(pick_arduino(ports, error).isEmpty());
+  EXPECT_TRUE(error.startsWith("no Arduino found"));
+}
+
+TEST(Backoff, DoublesUpToTheCapAndResets) {
+  Backoff b(100, 1000);
+  EXPECT_EQ(b.next_ms(), 100u);
+  EXPECT_EQ(b.next_ms(), 200u);
+  EXPECT_EQ(b.next_ms(), 400u);
+  EXPECT_EQ(b.next_ms(), 800u);
+  EXPECT_EQ(b.next_ms(), 1000u);
+  EXPECT_EQ(b.next_ms(), 1000u);
+  b.reset();
+  EXPECT_EQ(b.next_ms(), 100u);
+}
+
+TEST(CycleLog, CsvAndJsonlRows) {
+  const std::vector<const char*> names = {"cycle", "state", "level_ml"};
+  const std::vector<LogValue> row = {{12, nullptr}, {0, "moving"}, {-3, nullptr}};
+  std::string s;
+  format_csv_header(names, s);
+  format_row(LogFormat::csv, names, row, s);
+  EXPECT_EQ(s, "cycle,state,level_ml\n12,moving,-3\n");
+  s.clear();
+  format_row(LogFormat::jsonl, names, row, s);
+  EXPECT_EQ(s, "{\"cycle\":12,\"state\":\"moving\",\"level_ml\":-3}\n");
+}
+
+TEST(CycleLog, FileByExtension) {
+  const std::string path = ::testing::TempDir() + "pcapp_log_test.jsonl";
+  {
+    CycleLog log;
+    std::string error;
+    ASSERT_TRUE(log.open(path, {"a"}, error)) << error;
+    log.write({{1, nullptr}});
+    log.write({{2, nullptr}});
+  }
+  std::ifstream in(path);
+  std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(all, "{\"a\":1}\n{\"a\":2}\n");
+  CycleLog log;
+  std::string error;
+  EXPECT_FALSE(log.open(::testing::TempDir() + "x.txt", {"a"}, error));
+  EXPECT_EQ(error, "--log " + ::testing::TempDir() + "x.txt: want a name ending in .csv or .jsonl");
+  EXPECT_FALSE(log.open("/nonexistent-dir/x.csv", {"a"}, error));
+  EXPECT_EQ(error, "--log /nonexistent-dir/x.csv: No such file or directory");
+}
+
+TEST(StatusView, PlainLinesOrOneLiveLine) {
+  char buf[512] = {};
+  std::FILE* f = fmemopen(buf, sizeof buf, "w");
+  StatusView plain(f, false);
+  plain.status("ignored");
+  plain.event(1.5, "state moving");
+  plain.finish();
+  std::fclose(f);
+  EXPECT_STREQ(buf, "1.500 state moving\n");
+
+  char tbuf[512] = {};
+  f = fmemopen(tbuf, sizeof tbuf, "w");
+  StatusView term(f, true);
+  term.status("station moving");
+  term.event(2, "state stopped");
+  term.status("station stopped");
+  term.finish();
+  std::fclose(f);
+  EXPECT_STREQ(tbuf, "\r\033[Kstation moving\r\033[K2.000 state stopped\n\r\033[Kstation stopped\n");
+}

@@ -1,0 +1,101 @@
+// ModbusLink against the real gateway firmware (mb2co-node on a pty), and
+// the signal self-pipe.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <QCoreApplication>
+#include <QElapsedTimer>
+
+#include "modbus_link.h"
+#include "node_process.h"
+#include "signal_pipe.h"
+
+using namespace mb2co::pcapp;
+
+namespace {
+struct LinkTest : ::testing::Test {
+  NodeProcess node;
+  ModbusLink link;
+  RegisterLayout layout = default_layout();
+  TransactionPlan plan;
+  RegisterImage in, out;
+  std::string error;
+
+  void SetUp() override {
+    ASSERT_TRUE(node.ready());
+    LinkSettings s;
+    s.path = node.tty();
+    s.timeout_ms = 500;  // generous: a loaded test machine must not fail the link
+    s.retries = 2;
+    ASSERT_TRUE(link.open(s, error)) << error;
+    ASSERT_TRUE(plan_transactions(layout, {Field::run_state, Field::nmt_state}, {}, {Field::run_command}, plan, error));
+    in.resize(plan);
+    out.resize(plan);
+  }
+};
+}  // namespace
+
+TEST_F(LinkTest, IdentifiesTheGateway) {
+  std::string id;
+  ASSERT_EQ(link.identify(id, error), LinkStatus::ok) << error;
+  EXPECT_EQ(id, "mb2co mb2co gateway 0.1.0");
+}
+
+TEST_F(LinkTest, WriteThenReadTheFirmwareRunState) {
+  ASSERT_EQ(link.read(plan, out, in, error), LinkStatus::ok) << error;
+  EXPECT_EQ(in.get(layout, Field::run_state), 0u);
+  const uint32_t nmt = in.get(layout, Field::nmt_state);
+  EXPECT_TRUE(nmt == 127 || nmt == 5) << nmt;  // pre-operational, operational by itself soon (2000h/8)
+  out.put(layout, Field::run_command, 1);
+  ASSERT_EQ(link.write(plan, out, error), LinkStatus::ok) << error;
+  ASSERT_EQ(link.read(plan, out, in, error), LinkStatus::ok) << error;
+  EXPECT_EQ(in.get(layout, Field::run_state), 1u);
+}
+
+TEST_F(LinkTest, ReadWriteInOneTransaction) {
+  TransactionPlan rw = plan;
+  rw.read_write = true;
+  rw.reads = {Block{RegTable::holding, 0, 2}};
+  rw.writes = {Block{RegTable::holding, 0, 1}};
+  out.put(layout, Field::run_command, 1);
+  ASSERT_EQ(link.read(rw, out, in, error), LinkStatus::ok) << error;
+  EXPECT_EQ(in.regs[0][0], 1);  // FC 17h writes before it reads
+  out.put(layout, Field::run_command, 0);
+  ASSERT_EQ(link.read(rw, out, in, error), LinkStatus::ok) << error;
+  EXPECT_EQ(in.regs[0][0], 0);
+}
+
+TEST_F(LinkTest, RefusedValueIsAnExceptionNotALostLink) {
+  out.put(layout, Field::run_command, 2);  // 2100h/1 accepts 0..1
+  EXPECT_EQ(link.write(plan, out, error), LinkStatus::exception);
+  EXPECT_NE(error.find("FC 06"), std::string::npos);
+  out.put(layout, Field::run_command, 0);
+  EXPECT_EQ(link.write(plan, out, error), LinkStatus::ok) << error;
+}
+
+TEST_F(LinkTest, DeadGatewayIsALostLinkWithinTheRetries) {
+  node.kill(SIGKILL);
+  QElapsedTimer t;
+  t.start();
+  EXPECT_EQ(link.read(plan, out, in, error), LinkStatus::failed);
+  EXPECT_LE(t.elapsed(), 3 * 500 + 500);  // (retries + 1) x timeout, plus slack
+  std::string id;
+  EXPECT_EQ(link.identify(id, error), LinkStatus::failed);
+}
+
+TEST(SignalPipe, SignalArrivesInTheEventLoop) {
+  int argc = 1;
+  char name[] = "test";
+  char* argv[] = {name, nullptr};
+  QCoreApplication app(argc, argv);
+  SignalPipe pipe({SIGUSR1});
+  ASSERT_TRUE(pipe.ok());
+  int got = 0;
+  QObject::connect(&pipe, &SignalPipe::received, [&](int s) { got = s; });
+  ::raise(SIGUSR1);
+  QElapsedTimer t;
+  t.start();
+  while (got == 0 && t.elapsed() < 10000) QCoreApplication::processEvents(QEventLoop::WaitForMoreEvents, 100);
+  EXPECT_EQ(got, SIGUSR1);
+  signal(SIGUSR1, SIG_DFL);
+}

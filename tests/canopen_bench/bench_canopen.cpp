@@ -5,6 +5,7 @@
 
 #include "canopen/od_comm.h"
 #include "ionode/io_node.h"
+#include "sync_tpdos.h"
 
 namespace mb2co {
 namespace {
@@ -65,36 +66,11 @@ void BM_SdoExpeditedDownload(benchmark::State& state) {
 }
 BENCHMARK(BM_SdoExpeditedDownload);
 
-// Configures TPDO n (0-based) as synchronous every SYNC, mapping both input
-// bytes and the error register, by the CiA 301 procedure.
-void make_sync_tpdo(canopen::ObjectDictionary& od, uint8_t n) {
-  using canopen::put_le32;
-  uint8_t b[4];
-  const uint16_t comm = static_cast<uint16_t>(0x1800 + n);
-  const uint16_t map = static_cast<uint16_t>(0x1A00 + n);
-  put_le32(b, 0x80000000u | (0x180u + 0x100u * n + 3));
-  od.write(comm, 1, b, 4);
-  b[0] = 0;
-  od.write(map, 0, b, 1);
-  put_le32(b, MB2CO_PDO_MAP_ENTRY(0x6000, 1, 8));
-  od.write(map, 1, b, 4);
-  put_le32(b, MB2CO_PDO_MAP_ENTRY(0x6000, 2, 8));
-  od.write(map, 2, b, 4);
-  put_le32(b, MB2CO_PDO_MAP_ENTRY(0x1001, 0, 8));
-  od.write(map, 3, b, 4);
-  b[0] = 3;
-  od.write(map, 0, b, 1);
-  b[0] = 1;
-  od.write(comm, 2, b, 1);
-  put_le32(b, 0x180u + 0x100u * n + 3);
-  od.write(comm, 1, b, 4);
-}
-
 void BM_Sync4Tpdos(benchmark::State& state) {
   CountingSink bus;
   ionode::IoNode node(bus.sink());
   node.start(3, 0);
-  for (uint8_t n = 0; n < 4; ++n) make_sync_tpdo(node.od(), n);
+  for (uint8_t n = 0; n < 4; ++n) bench::make_sync_tpdo(node.od(), n);
   const uint8_t start[2] = {0x01, 0x03};
   node.receive(frame(0x000, 2, start), 0);
   const CanFrame sync = frame(0x080, 0, nullptr);

@@ -6,6 +6,7 @@
 
 #include "canopen/od_comm.h"
 #include "ionode/io_node.h"
+#include "sync_tpdos.h"
 
 namespace {
 
@@ -42,28 +43,6 @@ __attribute__((noinline)) void run_sync_4_tpdos(ionode::IoNode& node) {
   for (int i = 0; i < kRuns; ++i) node.receive(sync, 2000);
 }
 
-void make_sync_tpdo(canopen::ObjectDictionary& od, uint8_t n) {
-  uint8_t b[4];
-  const uint16_t comm = static_cast<uint16_t>(0x1800 + n);
-  const uint16_t map = static_cast<uint16_t>(0x1A00 + n);
-  canopen::put_le32(b, 0x80000000u | (0x180u + 0x100u * n + 3));
-  od.write(comm, 1, b, 4);
-  b[0] = 0;
-  od.write(map, 0, b, 1);
-  canopen::put_le32(b, MB2CO_PDO_MAP_ENTRY(0x6000, 1, 8));
-  od.write(map, 1, b, 4);
-  canopen::put_le32(b, MB2CO_PDO_MAP_ENTRY(0x6000, 2, 8));
-  od.write(map, 2, b, 4);
-  canopen::put_le32(b, MB2CO_PDO_MAP_ENTRY(0x1001, 0, 8));
-  od.write(map, 3, b, 4);
-  b[0] = 3;
-  od.write(map, 0, b, 1);
-  b[0] = 1;
-  od.write(comm, 2, b, 1);
-  canopen::put_le32(b, 0x180u + 0x100u * n + 3);
-  od.write(comm, 1, b, 4);
-}
-
 }  // namespace
 
 int main() {
@@ -71,7 +50,7 @@ int main() {
   node.start(3, 0);
   const uint32_t sum = run_od_lookup(node.od());
   run_sdo_upload(node);
-  for (uint8_t n = 0; n < 4; ++n) make_sync_tpdo(node.od(), n);
+  for (uint8_t n = 0; n < 4; ++n) bench::make_sync_tpdo(node.od(), n);
   const uint8_t start[2] = {0x01, 0x03};
   node.receive(frame(0x000, 2, start), 0);
   g_frames = 0;

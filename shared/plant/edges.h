@@ -25,14 +25,19 @@ class RisingEdge {
   bool known_ = false;
 };
 
-/// New events of a uint16 event counter that wraps 65535 -> 0. Any change is
+/// New events of a uint16 event counter that wraps 65535 -> 0. A change is
 /// (value - last) mod 2^16 new events, so nothing is lost as long as fewer than
-/// 65536 events happen between two samples. The first sample is the baseline:
-/// events from before this process existed are not ours to act on.
+/// 32768 events happen between two samples. The first sample is the baseline:
+/// events from before this process existed are not ours to act on. A jump of
+/// 32768 or more is read as the publisher having restarted its counter (the
+/// gateway rebooted and counts from 0 again), not as that many events: it
+/// becomes the new baseline, as the firmware does for a rebooted neighbour.
 class EventCounter {
  public:
+  static const uint16_t kRestartJump = 0x8000;
   uint16_t update(uint16_t value) {
-    const uint16_t fresh = known_ ? static_cast<uint16_t>(value - last_) : 0u;
+    uint16_t fresh = known_ ? static_cast<uint16_t>(value - last_) : 0u;
+    if (fresh >= kRestartJump) fresh = 0;
     last_ = value;
     known_ = true;
     return fresh;

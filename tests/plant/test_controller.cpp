@@ -439,6 +439,19 @@ TEST_F(ControllerTest, PreviousStop2CounterWrapsAndNeverLosesEvents) {
   EXPECT_TRUE(ctl.running());
 }
 
+TEST_F(ControllerTest, ARestartedStop2CounterIsANewBaselineNotThousandsOfEvents) {
+  in.prev_stop2_events = 7;
+  to_moving();
+  in.prev_stop2_events = 0;  // the gateway rebooted: its copy counts from 0 again
+  cycle();
+  EXPECT_TRUE(ctl.running());
+  EXPECT_EQ(ctl.counters().prev_stop2_events, 0u);
+  in.prev_stop2_events = 1;  // and the next real event still counts
+  cycle();
+  EXPECT_EQ(ctl.state(), State::stopped);
+  EXPECT_EQ(ctl.counters().prev_stop2_events, 1u);
+}
+
 TEST_F(ControllerTest, ForceSafeNeedsAFreshStartPress) {
   to_moving();
   in.start_pressed = true;  // held through the outage

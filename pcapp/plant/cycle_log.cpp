@@ -75,6 +75,9 @@ void CycleLog::write(const std::vector<LogValue>& values) {
   line_.clear();
   format_row(format_, names_, values, line_);
   std::fwrite(line_.data(), 1, line_.size(), file_);
+  // One row per cycle (50/s at most): flushed so that a reader (tail -f, the
+  // live script's hardware mode) sees each cycle as it happens.
+  std::fflush(file_);
 }
 
 void CycleLog::close() {

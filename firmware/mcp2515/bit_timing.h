@@ -83,6 +83,11 @@ static_assert(cnf1(kTiming500k) == 0x00 && cnf2(kTiming500k) == 0xBC && cnf3(kTi
               "table in the header comment");
 static_assert(cnf2(kTiming1000k) == 0x8A && cnf1(kTiming125k) == 0x03, "table in the header comment");
 
+/// CNF3 | CNF2 << 8 | CNF1 << 16: the three registers in address order.
+constexpr uint32_t cnf_bytes(const BitTiming& t) {
+  return cnf3(t) | (static_cast<uint32_t>(cnf2(t)) << 8) | (static_cast<uint32_t>(cnf1(t)) << 16);
+}
+
 constexpr BitTiming timing_for(Bitrate rate) {
   return rate == Bitrate::k1000k  ? kTiming1000k
          : rate == Bitrate::k500k ? kTiming500k

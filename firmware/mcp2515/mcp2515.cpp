@@ -6,6 +6,9 @@
 
 namespace mb2co {
 namespace mcp2515 {
+
+constexpr uint8_t Driver::kNoPriority;
+
 namespace {
 
 /// CANSTAT polls before a mode change counts as failed. Each poll is a 3-byte
@@ -14,7 +17,7 @@ namespace {
 constexpr uint16_t kModePolls = 1000;
 
 constexpr uint32_t kMaxExtendedId = 0x1FFFFFFFu;
-constexpr uint8_t kNoPriority = 0xFF;
+static_assert(reg::kModeNormal == 0, "Driver's constructor starts in normal mode");
 
 uint8_t reqop(Mode mode) {
   return mode == Mode::kLoopback     ? reg::kModeLoopback
@@ -80,19 +83,6 @@ uint32_t arbitration_key(const CanFrame& frame) {
   return header_key(header);
 }
 
-Driver::Driver(const Spi& spi)
-    : spi_(spi),
-      mode_(reg::kModeNormal),
-      state_(ErrorState::kActive),
-      seq_(0),
-      tx_key_{0, 0, 0},
-      tx_seq_{0, 0, 0},
-      tx_prio_{kNoPriority, kNoPriority, kNoPriority},
-      stage_{},
-      stage_next_(0),
-      stage_count_(0),
-      counters_{} {}
-
 // --- SPI instructions -----------------------------------------------------
 // Every instruction is built in a byte buffer and shifted in place: one loop
 // with the interface's function pointers instead of a call site per byte
@@ -155,9 +145,19 @@ bool Driver::begin(Bitrate rate, Mode mode) {
   }
   if (!in_config) return false;
 
-  const BitTiming timing = timing_for(rate);
+  // CNF3, CNF2, CNF1 as one constant per rate (a switch: the timing tables
+  // would otherwise be copied into RAM on the AVR).
+  constexpr uint32_t kCnf1000k = cnf_bytes(kTiming1000k);
+  constexpr uint32_t kCnf500k = cnf_bytes(kTiming500k);
+  constexpr uint32_t kCnf250k = cnf_bytes(kTiming250k);
+  constexpr uint32_t kCnf125k = cnf_bytes(kTiming125k);
+  const uint32_t cnf = rate == Bitrate::k1000k  ? kCnf1000k
+                       : rate == Bitrate::k500k ? kCnf500k
+                       : rate == Bitrate::k250k ? kCnf250k
+                                                : kCnf125k;
   // CNF3, CNF2, CNF1, CANINTE are consecutive (0x28..0x2B).
-  const uint8_t config[4] = {cnf3(timing), cnf2(timing), cnf1(timing),
+  const uint8_t config[4] = {static_cast<uint8_t>(cnf), static_cast<uint8_t>(cnf >> 8),
+                             static_cast<uint8_t>(cnf >> 16),
                              static_cast<uint8_t>(reg::kIntRx0 | reg::kIntRx1 | reg::kIntErr)};
   write(reg::kCnf3, config, 4);
   // Read back: a missing chip answers a constant (MISO floating or pulled).

@@ -65,8 +65,21 @@ struct Counters {
 
 class Driver {
  public:
-  /// `spi` is copied; its ctx must outlive the driver.
-  explicit Driver(const Spi& spi);
+  /// `spi` is copied; its ctx must outlive the driver. constexpr: a global
+  /// driver built from a constant Spi is initialised data, not code.
+  constexpr explicit Driver(const Spi& spi)
+      : spi_(spi),
+        mode_(0),  // normal mode (REQOP 000)
+        state_(ErrorState::kActive),
+        seq_(0),
+        tx_key_{0, 0, 0},
+        tx_seq_{0, 0, 0},
+        tx_prio_{kNoPriority, kNoPriority, kNoPriority},
+        stage_{},
+        stage_next_(0),
+        stage_count_(0),
+        counters_{} {}
+  static constexpr uint8_t kNoPriority = 0xFF;  ///< tx_prio_: TXP not known
 
   /// Resets the chip, sets the bit rate, accepts every frame (see
   /// set_filters), enables RX/error interrupts on INT and enters `mode`.

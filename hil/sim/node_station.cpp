@@ -29,9 +29,8 @@ SimNs request_cost(const NodeTiming& t, const uint8_t* req, size_t len) {
   if (single_write) count = 1;
   if (fc > 0x06 && fc != 0x0F && fc != 0x10) return t.request_ns;
   if (count > 2000) count = 2000;
-  SimNs cost = t.request_ns + (fc >= 0x05 ? t.write_ns : 0);
-  for (uint32_t a = start; a < start + count; ++a) cost += t.item_ns + t.item_address_ns * a;
-  return cost;
+  const SimNs per_item = t.item_ns + (fc >= 0x05 ? t.write_ns : 0);
+  return t.request_ns + per_item * count + t.item_address_ns * start;
 }
 
 SimNs max_pass_ns(const NodeTiming& t, size_t frames, size_t bytes, SimNs request) {

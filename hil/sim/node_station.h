@@ -30,21 +30,26 @@ namespace sim {
 /// When passes run and how long each takes. Processing time of one pass =
 /// pass_ns + U(0, jitter_ns) + frame_ns per CAN frame handed in + byte_ns
 /// per serial character handed in + the cost of the Modbus request it
-/// answered: request_ns, + write_ns for a write, + per register or bit
-/// (item_ns + item_address_ns x its address: the register map is scanned
-/// from the start). Defaults: uno_timing().
+/// answered: request_ns + per register or bit item_ns (+ write_ns for a
+/// write) + item_address_ns x the first address (the register map is walked
+/// once per request, from its start). Defaults: uno_timing().
 struct NodeTiming {
   /// 0: back to back (Arduino loop(): the next pass starts when one ends);
   /// > 0: a pass starts every loop_ns, or when the previous one ends if later.
   SimNs loop_ns = 0;
-  SimNs pass_ns = 1588 * kNsPerUs;
-  SimNs jitter_ns = 100 * kNsPerUs;
-  SimNs frame_ns = 450 * kNsPerUs;
-  SimNs byte_ns = 12 * kNsPerUs;
-  SimNs request_ns = 100 * kNsPerUs;
-  SimNs write_ns = 330 * kNsPerUs;
-  SimNs item_ns = 480 * kNsPerUs;
-  SimNs item_address_ns = 53 * kNsPerUs;
+  // Measured with firmware/avr/measure-pass-time.sh (docs/performance.md,
+  // "Gateway on the Uno"): idle pass 180..184 us, 412 us when a TPDO is built
+  // and sent; a heartbeat / RPDO frame +348 / +452..488 us; 8 characters
+  // 132 us; FC 04 of register 0 416 us, of 18 736 us, of 0..22 1,840 us;
+  // FC 06 868..916 us (the second of two identical requests each time).
+  SimNs pass_ns = 184 * kNsPerUs;
+  SimNs jitter_ns = 230 * kNsPerUs;
+  SimNs frame_ns = 490 * kNsPerUs;
+  SimNs byte_ns = 17 * kNsPerUs;
+  SimNs request_ns = 162 * kNsPerUs;
+  SimNs write_ns = 500 * kNsPerUs;
+  SimNs item_ns = 70 * kNsPerUs;
+  SimNs item_address_ns = 18 * kNsPerUs;
   uint32_t uart_rx_bytes = 64;          ///< Arduino serial receive ring
   /// True: the UART interrupt stamps each character at its end (what the
   /// RTU framer wants). False: characters are stamped when a pass reads
@@ -60,7 +65,7 @@ struct NodeTiming {
 };
 
 /// The ATmega328P at 16 MHz running this firmware (measured with simavr on
-/// the shared code, avr-g++ -Os -flto; docs/lab.md): back-to-back loop.
+/// the shared code, firmware/avr/measure-pass-time.sh): back-to-back loop.
 NodeTiming uno_timing();
 /// A fast node: a pass every 1 ms taking 100..300 µs whatever it does (the
 /// firmware loop the timing analysis assumes by default).

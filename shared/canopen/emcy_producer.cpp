@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "canopen/clock.h"
+#include "canopen/frame_out.h"
 #include "canopen/od_comm.h"
 #include "canopen/pdo_map.h"
 
@@ -55,12 +56,12 @@ void EmcyProducer::enqueue(uint16_t code, const uint8_t* info) {
     return;
   }
   Pending& p = queue_[(queue_head_ + queue_count_) % kQueueLength];
-  p.code = code;
-  p.reg = static_cast<uint8_t>(od_->get(row_1001_));
+  put_le16(p.payload, code);
+  p.payload[2] = static_cast<uint8_t>(od_->get(row_1001_));
   if (info != nullptr) {
-    memcpy(p.info, info, 5);
+    memcpy(&p.payload[3], info, 5);
   } else {
-    memset(p.info, 0, 5);
+    memset(&p.payload[3], 0, 5);
   }
   ++queue_count_;
 }
@@ -100,14 +101,8 @@ void EmcyProducer::process(uint32_t now_us, bool allowed, const CanSink& sink) {
     return;
   }
   const Pending& p = queue_[queue_head_];
-  CanFrame f = {};
-  f.id = cob & 0x7FFu;
-  f.dlc = 8;
-  f.data[0] = static_cast<uint8_t>(p.code);
-  f.data[1] = static_cast<uint8_t>(p.code >> 8);
-  f.data[2] = p.reg;
-  memcpy(&f.data[3], p.info, 5);
-  if (!sink.send(sink.ctx, f)) return;  // port busy: try again next time
+  // Port busy: try again next time.
+  if (!send_frame(sink, static_cast<uint16_t>(cob & 0x7FFu), 8, p.payload)) return;
   queue_head_ = static_cast<uint8_t>((queue_head_ + 1) % kQueueLength);
   --queue_count_;
   const uint32_t inhibit_us = od_->get(row_1015_) * 100u;
@@ -124,17 +119,10 @@ uint32_t EmcyProducer::on_write(uint16_t index, uint8_t sub, const uint8_t* data
     for (uint8_t s = 1; s <= kErrorHistoryLength; ++s) od_->set(static_cast<uint16_t>(row_1003_ + s), 0);
     return kSdoOk;
   }
-  if (index == 0x1014) {
-    const uint32_t v = le32(data);
-    const uint32_t cur = od_->get(row_1014_);
-    if (v & 0x20000000u) return kAbortInvalidValue;  // 29-bit ids not supported
-    // CiA 301 §7.3.5: no restricted CAN-ID for a valid EMCY.
-    if (!(v & 0x80000000u) && can_id_restricted(v & 0x7FFu)) return kAbortInvalidValue;
-    // The CAN-ID of a valid EMCY may only change after it is made invalid.
-    if (!(cur & 0x80000000u) && !(v & 0x80000000u) && (v & 0x7FFu) != (cur & 0x7FFu)) {
-      return kAbortInvalidValue;
-    }
-  }
+  // 1014h follows the rules of a PDO COB-ID (bit 31 = not valid): 11-bit
+  // ids only, no restricted CAN-ID while valid (CiA 301 §7.3.5), and the
+  // CAN-ID of a valid EMCY changes only after it is made invalid.
+  if (index == 0x1014) return pdo_check_cob_id(od_->get(row_1014_), le32(data));
   return kSdoOk;
 }
 

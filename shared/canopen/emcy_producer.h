@@ -36,6 +36,8 @@ enum ErrorRegisterBit : uint8_t {
   kErrManufacturer = 0x80,
 };
 
+/// Members that start at zero have no initialisers: the owner (NodeState)
+/// is value-initialised, which zero-fills it in one go.
 class EmcyProducer {
  public:
   static const uint8_t kMaxActive = 8;
@@ -64,24 +66,24 @@ class EmcyProducer {
     uint16_t code;
     uint8_t bits;
   };
+  /// A queued EMCY: its payload as sent (code little-endian, error
+  /// register, manufacturer field).
   struct Pending {
-    uint16_t code;
-    uint8_t reg;
-    uint8_t info[5];
+    uint8_t payload[8];
   };
-  ObjectDictionary* od_ = nullptr;
-  uint16_t row_1001_ = 0;
-  uint16_t row_1003_ = 0;
-  uint16_t row_1014_ = 0;
-  uint16_t row_1015_ = 0;
-  Active active_[kMaxActive] = {};
-  uint8_t active_count_ = 0;
-  Pending queue_[kQueueLength] = {};
-  uint8_t queue_head_ = 0;
-  uint8_t queue_count_ = 0;
-  uint16_t overflows_ = 0;
-  uint32_t inhibit_until_us_ = 0;
-  bool inhibit_running_ = false;
+  ObjectDictionary* od_;
+  uint16_t row_1001_;
+  uint16_t row_1003_;
+  uint16_t row_1014_;
+  uint16_t row_1015_;
+  Active active_[kMaxActive];
+  uint8_t active_count_;
+  Pending queue_[kQueueLength];
+  uint8_t queue_head_;
+  uint8_t queue_count_;
+  uint16_t overflows_;
+  uint32_t inhibit_until_us_;
+  bool inhibit_running_;
 };
 
 }  // namespace canopen

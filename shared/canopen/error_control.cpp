@@ -1,6 +1,7 @@
 #include "canopen/error_control.h"
 
 #include "canopen/clock.h"
+#include "canopen/frame_out.h"
 
 namespace mb2co {
 namespace canopen {
@@ -13,12 +14,13 @@ void ErrorControl::init(uint8_t node_id) {
   life_lost_ = false;
 }
 
+// Life time of node guarding: guard time x life time factor.
+static uint32_t life_time_us(uint16_t guard_ms, uint8_t life_factor) {
+  return static_cast<uint32_t>(guard_ms) * life_factor * 1000u;
+}
+
 static bool send_state(const CanSink& sink, uint8_t node_id, uint8_t byte) {
-  CanFrame f = {};
-  f.id = 0x700u + node_id;
-  f.dlc = 1;
-  f.data[0] = byte;
-  return sink.send(sink.ctx, f);
+  return send_frame(sink, static_cast<uint16_t>(0x700u + node_id), 1, &byte);
 }
 
 void ErrorControl::on_guard_request(uint32_t now_us, NmtState state, const CanSink& sink,
@@ -28,26 +30,25 @@ void ErrorControl::on_guard_request(uint32_t now_us, NmtState state, const CanSi
   send_state(sink, node_id_, static_cast<uint8_t>((toggle_ ? 0x80 : 0x00) | state));
   toggle_ = !toggle_;
   guarded_ = true;
-  life_deadline_us_ = now_us + static_cast<uint32_t>(guard_ms) * life_factor * 1000u;
+  life_deadline_us_ = now_us + life_time_us(guard_ms, life_factor);
 }
 
 ErrorControl::Event ErrorControl::process(uint32_t now_us, NmtState state, const CanSink& sink,
                                           uint16_t producer_ms, uint16_t guard_ms,
                                           uint8_t life_factor) {
+  const uint32_t period_us = static_cast<uint32_t>(producer_ms) * 1000u;
   if (restart_) {
     restart_ = false;
-    next_heartbeat_us_ = now_us + static_cast<uint32_t>(producer_ms) * 1000u;
-    if (guarded_) life_deadline_us_ = now_us + static_cast<uint32_t>(guard_ms) * life_factor * 1000u;
+    next_heartbeat_us_ = now_us + period_us;
+    if (guarded_) life_deadline_us_ = now_us + life_time_us(guard_ms, life_factor);
   }
   // A heartbeat the port refused (transmit queue full) is tried again at the
   // next call: consumers must not see a gap that is only ours.
   if (producer_ms != 0 && time_reached(now_us, next_heartbeat_us_) &&
       send_state(sink, node_id_, state)) {
-    next_heartbeat_us_ += static_cast<uint32_t>(producer_ms) * 1000u;
+    next_heartbeat_us_ += period_us;
     // After a long pause (e.g. the caller was blocked) do not send a burst.
-    if (time_reached(now_us, next_heartbeat_us_)) {
-      next_heartbeat_us_ = now_us + static_cast<uint32_t>(producer_ms) * 1000u;
-    }
+    if (time_reached(now_us, next_heartbeat_us_)) next_heartbeat_us_ = now_us + period_us;
   }
   // Life guarding: only once the master has started guarding us.
   const bool guarding = producer_ms == 0 && guard_ms != 0 && life_factor != 0 && guarded_;

@@ -10,6 +10,8 @@
 namespace mb2co {
 namespace canopen {
 
+/// Members that start at zero have no initialisers: the owner (NodeState)
+/// is value-initialised, which zero-fills it in one go.
 class ErrorControl {
  public:
   enum Event : uint8_t { kNoEvent = 0, kLifeGuardLost, kLifeGuardResumed };
@@ -26,13 +28,13 @@ class ErrorControl {
                 uint16_t guard_ms, uint8_t life_factor);
 
  private:
-  uint32_t next_heartbeat_us_ = 0;
-  uint32_t life_deadline_us_ = 0;
-  uint8_t node_id_ = 0;
+  uint32_t next_heartbeat_us_;
+  uint32_t life_deadline_us_;
+  uint8_t node_id_;
   bool restart_ = true;
-  bool toggle_ = false;
-  bool guarded_ = false;     ///< a guarding request arrived since (re)start
-  bool life_lost_ = false;   ///< life guarding event raised, not yet resumed
+  bool toggle_;
+  bool guarded_;     ///< a guarding request arrived since (re)start
+  bool life_lost_;   ///< life guarding event raised, not yet resumed
 };
 
 }  // namespace canopen

@@ -5,6 +5,11 @@
 #include <stdint.h>
 #include <string.h>
 
+// For the few helpers on the OD's hot paths: the AVR build keeps small
+// functions out of line for size (-fno-inline-small-functions), which would
+// turn each field read into a call with its own register saves.
+#define MB2CO_INLINE inline __attribute__((always_inline))
+
 #ifdef __AVR__
 #include <avr/pgmspace.h>
 #define MB2CO_FLASH PROGMEM
@@ -16,6 +21,11 @@ inline T flash_read(const T* p) {
   return v;
 }
 inline uint8_t flash_byte(const char* p) { return pgm_read_byte(p); }
+// Single fields: one lpm per byte in place, no call and no copy (the OD reads
+// one field of a row on every value access).
+inline uint8_t flash_read(const uint8_t* p) { return pgm_read_byte(p); }
+inline uint16_t flash_read(const uint16_t* p) { return pgm_read_word(p); }
+inline uint32_t flash_read(const uint32_t* p) { return pgm_read_dword(p); }
 }  // namespace mb2co
 #else
 #define MB2CO_FLASH

@@ -27,6 +27,8 @@ enum HbRemoteState : uint8_t {
 /// Called for every event; `nmt_state` is the remote's last reported state.
 typedef void (*HbEventCallback)(void* ctx, uint8_t node_id, HbEvent event, uint8_t nmt_state);
 
+/// Members that start at zero have no initialisers: the owner (NodeState)
+/// is value-initialised, which zero-fills it in one go.
 class HeartbeatConsumer {
  public:
   /// Re-reads one 1016h sub-entry (1-based `sub`); the monitor starts over.
@@ -56,9 +58,9 @@ class HeartbeatConsumer {
   void emit(const Monitor& m, HbEvent e) {
     if (cb_ != nullptr) cb_(cb_ctx_, m.node_id, e, m.nmt);
   }
-  Monitor mon_[kHbConsumers] = {};
-  HbEventCallback cb_ = nullptr;
-  void* cb_ctx_ = nullptr;
+  Monitor mon_[kHbConsumers];
+  HbEventCallback cb_;
+  void* cb_ctx_;
 };
 
 }  // namespace canopen

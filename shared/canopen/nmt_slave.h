@@ -26,6 +26,8 @@ enum NmtCommand : uint8_t {
 
 enum NmtReset : uint8_t { kResetNone = 0, kResetCommunication, kResetNode };
 
+/// Members that start at zero have no initialisers: the owner (NodeState)
+/// is value-initialised, which zero-fills it in one go.
 class NmtSlave {
  public:
   void init(uint8_t node_id) {
@@ -54,9 +56,9 @@ class NmtSlave {
   bool sync_allowed() const { return sdo_allowed(); }
 
  private:
-  uint8_t node_id_ = 0;
-  NmtState state_ = kNmtInitialising;
-  NmtReset reset_ = kResetNone;
+  uint8_t node_id_;
+  NmtState state_;
+  NmtReset reset_;
 };
 
 }  // namespace canopen

@@ -1,9 +1,11 @@
 #include "canopen/node.h"
 
+#include "canopen/frame_out.h"
+
 namespace mb2co {
 namespace canopen {
 
-Node::Node(ObjectDictionary& od, const CanSink& sink) : od_(od), sink_(sink) {
+Node::Node(ObjectDictionary& od, const CanSink& sink) : NodeState(), od_(od), sink_(sink) {
   od_.set_write_hook(&Node::od_hook, this);
 }
 
@@ -45,10 +47,7 @@ void Node::reset(NmtReset kind, uint32_t now_us) {
   hb_lost_ = false;
   life_lost_ = false;
   // Boot-up, then pre-operational autonomously (CiA 301 §7.3.2.2).
-  CanFrame boot = {};
-  boot.id = 0x700u + node_id_;
-  boot.dlc = 1;
-  sink_.send(sink_.ctx, boot);
+  send_frame(sink_, static_cast<uint16_t>(0x700u + node_id_), 1, nullptr);
   enter(kNmtPreOperational);
   error_control_.restart();
   (void)now_us;

@@ -26,7 +26,37 @@ namespace canopen {
 /// message: the application re-applies what it owns (e.g. 1000h).
 typedef void (*ResetCallback)(void* ctx, NmtReset kind);
 
-class Node {
+/// The state of a Node that starts at zero: one block, value-initialised by
+/// the Node's constructor (a zero-fill, then the services' few non-zero
+/// defaults) instead of a store per member.
+struct NodeState {
+  const ParamStorage* storage_;
+  OdWriteHook app_hook_;
+  void* app_ctx_;
+  ResetCallback reset_cb_;
+  void* reset_ctx_;
+  NmtSlave nmt_;
+  ErrorControl error_control_;
+  HeartbeatConsumer hb_consumer_;
+  EmcyProducer emcy_;
+  Sync sync_;
+  Tpdos tpdos_;
+  Rpdos rpdos_;
+  SdoServer sdo_;
+  uint16_t row_1016_;
+  uint16_t row_1017_;
+  uint16_t row_100c_;
+  uint16_t row_100d_;
+  uint16_t row_1010_;
+  uint8_t node_id_;
+  uint8_t next_node_id_;
+  NmtReset pending_reset_;
+  bool params_loaded_;
+  bool hb_lost_;
+  bool life_lost_;
+};
+
+class Node : private NodeState {
  public:
   Node(ObjectDictionary& od, const CanSink& sink);
 
@@ -80,30 +110,6 @@ class Node {
 
   ObjectDictionary& od_;
   CanSink sink_;
-  const ParamStorage* storage_ = nullptr;
-  OdWriteHook app_hook_ = nullptr;
-  void* app_ctx_ = nullptr;
-  ResetCallback reset_cb_ = nullptr;
-  void* reset_ctx_ = nullptr;
-  NmtSlave nmt_;
-  ErrorControl error_control_;
-  HeartbeatConsumer hb_consumer_;
-  EmcyProducer emcy_;
-  Sync sync_;
-  Tpdos tpdos_;
-  Rpdos rpdos_;
-  SdoServer sdo_;
-  uint16_t row_1016_ = 0;
-  uint16_t row_1017_ = 0;
-  uint16_t row_100c_ = 0;
-  uint16_t row_100d_ = 0;
-  uint16_t row_1010_ = 0;
-  uint8_t node_id_ = 0;
-  uint8_t next_node_id_ = 0;
-  NmtReset pending_reset_ = kResetNone;
-  bool params_loaded_ = false;
-  bool hb_lost_ = false;
-  bool life_lost_ = false;
 };
 
 }  // namespace canopen

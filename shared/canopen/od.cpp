@@ -12,23 +12,20 @@ namespace canopen {
 #endif
 
 ObjectDictionary::ObjectDictionary(const OdDefinition& def, uint8_t* values)
-    : def_(def), values_(values), hook_(nullptr), hook_ctx_(nullptr), node_id_(0) {
-  for (uint8_t t = 0; t <= kUnsigned32; ++t) {
-    const uint16_t r = t == 0 ? kNoRow : find(t, 0);
-    type_bits_[t] = r == kNoRow ? 0 : static_cast<uint8_t>(flash_read(&def_.rows[r].def));
-  }
+    : def_(def), values_(values), hook_(nullptr), hook_ctx_(nullptr), revision_(0), node_id_(0) {
+  for (uint8_t t = 0; t <= kUnsigned32; ++t) type_bytes_[t] = static_cast<uint8_t>((type_bits(t) + 7) / 8);
 }
 
 uint16_t ObjectDictionary::find(uint16_t index, uint8_t sub) const {
   uint16_t lo = 0;
   uint16_t hi = def_.row_count;
-  const uint32_t key = (static_cast<uint32_t>(index) << 8) | sub;
   while (lo < hi) {
     const uint16_t mid = static_cast<uint16_t>(lo + (hi - lo) / 2);
     const OdEntry* r = &def_.rows[mid];
-    const uint32_t k = (static_cast<uint32_t>(flash_read(&r->index)) << 8) | flash_read(&r->sub);
-    if (k == key) return mid;
-    if (k < key) {
+    const uint16_t i = flash_read(&r->index);
+    const uint8_t s = i == index ? flash_read(&r->sub) : 0;
+    if (i == index && s == sub) return mid;
+    if (i < index || (i == index && s < sub)) {
       lo = static_cast<uint16_t>(mid + 1);
     } else {
       hi = mid;
@@ -42,38 +39,46 @@ uint16_t ObjectDictionary::first_row(uint16_t index) const {
   uint16_t hi = def_.row_count;
   while (lo < hi) {  // lower bound of (index, 0)
     const uint16_t mid = static_cast<uint16_t>(lo + (hi - lo) / 2);
-    if (flash_read(&def_.rows[mid].index) < index) {
+    if (index_of(mid) < index) {
       lo = static_cast<uint16_t>(mid + 1);
     } else {
       hi = mid;
     }
   }
-  if (lo < def_.row_count && flash_read(&def_.rows[lo].index) == index) return lo;
+  if (lo < def_.row_count && index_of(lo) == index) return lo;
   return kNoRow;
 }
 
 bool ObjectDictionary::has_index(uint16_t index) const { return first_row(index) != kNoRow; }
 
 uint8_t ObjectDictionary::type_bits(uint8_t type) const {
-  return type <= kUnsigned32 ? type_bits_[type] : 0;
+  const uint16_t r = type == 0 || type > kUnsigned32 ? kNoRow : find(type, 0);
+  return r == kNoRow ? 0 : static_cast<uint8_t>(flash_read(&def_.rows[r].def));
 }
 
 uint16_t ObjectDictionary::capacity_of(uint16_t row) const {
-  const OdEntry e = entry(row);
-  if (e.attr & kAttrString) return static_cast<uint16_t>(e.def >> 16);
-  return static_cast<uint16_t>((type_bits(e.type) + 7) / 8);
+  const OdEntry* e = &def_.rows[row];
+  if (flash_read(&e->attr) & kAttrString) return static_cast<uint16_t>(flash_read(&e->def) >> 16);
+  return numeric_size(e);
 }
 
 uint16_t ObjectDictionary::size_of(uint16_t row) const {
-  const OdEntry e = entry(row);
-  if (!(e.attr & kAttrString)) return static_cast<uint16_t>((type_bits(e.type) + 7) / 8);
-  const uint16_t cap = static_cast<uint16_t>(e.def >> 16);
+  const OdEntry* e = &def_.rows[row];
+  if (!(flash_read(&e->attr) & kAttrString)) return numeric_size(e);
+  return string_length(row);
+}
+
+uint16_t ObjectDictionary::string_length(uint16_t row) const {
+  const OdEntry* e = &def_.rows[row];
+  const uint8_t a = flash_read(&e->attr);
+  const uint32_t def = flash_read(&e->def);
+  const uint16_t cap = static_cast<uint16_t>(def >> 16);
   uint16_t n = 0;
-  if (e.attr & kAttrRam) {
-    const uint8_t* p = values_ + e.loc;
+  if (a & kAttrRam) {
+    const uint8_t* p = value_at(e);
     while (n < cap && p[n] != 0) ++n;
   } else {
-    const char* p = def_.strings + (e.def & 0xFFFFu);
+    const char* p = def_.strings + (def & 0xFFFFu);
     while (n < cap && flash_byte(p + n) != 0) ++n;
   }
   return n;
@@ -83,62 +88,79 @@ uint32_t ObjectDictionary::default_of(const OdEntry& e) const {
   return (e.attr & kAttrNodeId) ? e.def + node_id_ : e.def;
 }
 
+// get() and set() are on every path (services, PDOs, Modbus): they read the
+// three fields they need straight from the row and move the value with one
+// memcpy (values are little-endian, like both targets).
 uint32_t ObjectDictionary::get(uint16_t row) const {
-  const OdEntry e = entry(row);
-  if (!(e.attr & kAttrRam)) return default_of(e);
-  const uint8_t* p = values_ + e.loc;
-  switch (size_of(row)) {
-    case 1:
-      return p[0];
-    case 2:
-      return le16(p);
-    case 4:
-      return le32(p);
-    default:
-      return 0;
+  const OdEntry* e = &def_.rows[row];
+  const uint8_t a = flash_read(&e->attr);
+  if (!(a & kAttrRam)) {
+    const uint32_t def = flash_read(&e->def);
+    return (a & kAttrNodeId) ? def + node_id_ : def;
   }
+  // Strings (their current length decides) out of line: the numeric path
+  // then needs no register saves on the AVR.
+  const uint16_t n = (a & kAttrString) ? string_length(row) : numeric_size(e);
+  const uint8_t* p = value_at(e);
+  if (n == 1) return p[0];
+  if (n == 2) {
+    uint16_t v;
+    memcpy(&v, p, 2);
+    return v;
+  }
+  if (n == 4) {
+    uint32_t v;
+    memcpy(&v, p, 4);
+    return v;
+  }
+  return 0;
 }
 
 bool ObjectDictionary::set(uint16_t row, uint32_t value) {
-  const OdEntry e = entry(row);
-  if (!(e.attr & kAttrRam) || (e.attr & kAttrString)) return false;
-  uint8_t bytes[4];
-  put_le32(bytes, value);
-  const uint16_t n = size_of(row);
-  uint8_t* p = values_ + e.loc;
-  if (memcmp(p, bytes, n) == 0) return false;
-  memcpy(p, bytes, n);
-  return true;
+  const OdEntry* e = &def_.rows[row];
+  if ((flash_read(&e->attr) & (kAttrRam | kAttrString)) != kAttrRam) return false;
+  uint8_t* p = value_at(e);
+  const uint8_t n = numeric_size(e);
+  bool changed = false;
+  for (uint8_t i = 0; i < n; ++i, value >>= 8) {  // little-endian, as on the bus
+    const uint8_t b = static_cast<uint8_t>(value);
+    changed = changed || p[i] != b;
+    p[i] = b;
+  }
+  if (changed) touch();
+  return changed;
 }
 
 uint8_t* ObjectDictionary::ram(uint16_t row) {
-  const OdEntry e = entry(row);
-  return (e.attr & kAttrRam) ? values_ + e.loc : nullptr;
+  const OdEntry* e = &def_.rows[row];
+  touch();
+  return (flash_read(&e->attr) & kAttrRam) ? value_at(e) : nullptr;
 }
 
 const uint8_t* ObjectDictionary::ram(uint16_t row) const {
-  const OdEntry e = entry(row);
-  return (e.attr & kAttrRam) ? values_ + e.loc : nullptr;
+  const OdEntry* e = &def_.rows[row];
+  return (flash_read(&e->attr) & kAttrRam) ? value_at(e) : nullptr;
 }
 
 uint16_t ObjectDictionary::copy_out(uint16_t row, uint8_t* buf, uint16_t cap) const {
-  const OdEntry e = entry(row);
+  const OdEntry* e = &def_.rows[row];
+  const uint8_t a = flash_read(&e->attr);
   uint16_t n = size_of(row);
   if (n > cap) n = cap;
-  if (e.attr & kAttrRam) {
-    memcpy(buf, values_ + e.loc, n);
-  } else if (e.attr & kAttrString) {
-    const char* p = def_.strings + (e.def & 0xFFFFu);
+  if (a & kAttrRam) {
+    memcpy(buf, value_at(e), n);
+  } else if (a & kAttrString) {
+    const char* p = def_.strings + (flash_read(&e->def) & 0xFFFFu);
     for (uint16_t i = 0; i < n; ++i) buf[i] = flash_byte(p + i);
   } else {
-    uint8_t bytes[4];
-    put_le32(bytes, default_of(e));
-    memcpy(buf, bytes, n > 4 ? 4 : n);
+    const uint32_t v = get(row);
+    memcpy(buf, &v, n > 4 ? 4 : n);
   }
   return n;
 }
 
 void ObjectDictionary::restore_defaults(uint16_t from_index, uint16_t to_index) {
+  touch();
   for (uint16_t r = 0; r < def_.row_count; ++r) {
     const OdEntry e = entry(r);
     if (e.index < from_index || e.index > to_index || !(e.attr & kAttrRam)) continue;
@@ -160,7 +182,7 @@ void ObjectDictionary::restore_defaults(uint16_t from_index, uint16_t to_index) 
 uint32_t ObjectDictionary::check_read(uint16_t index, uint8_t sub, uint16_t* row) const {
   const uint16_t r = find(index, sub);
   if (r == kNoRow) return has_index(index) ? kAbortNoSubindex : kAbortNoObject;
-  if (!(entry(r).attr & kAttrRead)) return kAbortWriteOnly;
+  if (!(attr(r) & kAttrRead)) return kAbortWriteOnly;
   *row = r;
   return kSdoOk;
 }
@@ -178,20 +200,9 @@ uint32_t ObjectDictionary::read(uint16_t index, uint8_t sub, uint8_t* buf, uint1
 uint32_t ObjectDictionary::check_write(uint16_t index, uint8_t sub, uint16_t* row) const {
   const uint16_t r = find(index, sub);
   if (r == kNoRow) return has_index(index) ? kAbortNoSubindex : kAbortNoObject;
-  if (!(entry(r).attr & kAttrWrite)) return kAbortReadOnly;
+  if (!(attr(r) & kAttrWrite)) return kAbortReadOnly;
   *row = r;
   return kSdoOk;
-}
-
-// Sign- or zero-extends a little-endian value of `len` bytes of type `type`.
-static int64_t decode_number(uint8_t type, const uint8_t* data, uint16_t len) {
-  uint32_t u = 0;
-  for (uint16_t i = 0; i < len && i < 4; ++i) u |= static_cast<uint32_t>(data[i]) << (8 * i);
-  const bool is_signed = type == kInteger8 || type == kInteger16 || type == kInteger32;
-  if (is_signed && len > 0 && len < 4 && (data[len - 1] & 0x80)) {
-    u |= ~((static_cast<uint32_t>(1) << (8 * len)) - 1);
-  }
-  return is_signed ? static_cast<int64_t>(static_cast<int32_t>(u)) : static_cast<int64_t>(u);
 }
 
 uint32_t ObjectDictionary::check_limits(const OdEntry& e, const uint8_t* data,
@@ -200,7 +211,17 @@ uint32_t ObjectDictionary::check_limits(const OdEntry& e, const uint8_t* data,
   for (uint8_t i = 0; i < def_.limit_count; ++i) {
     const OdLimit lim = flash_read(&def_.limits[i]);
     if (lim.index != e.index || lim.sub != e.sub) continue;
-    const int64_t v = decode_number(e.type, data, len);
+    // The value as the data type reads it: sign- or zero-extended from `len`
+    // bytes. Limits are 32-bit signed, so an unsigned value above INT32_MAX
+    // is above every maximum (32-bit arithmetic: no 64-bit code on the AVR).
+    uint32_t u = 0;
+    memcpy(&u, data, len < 4 ? len : 4);  // little-endian, like both targets
+    const bool is_signed = e.type == kInteger8 || e.type == kInteger16 || e.type == kInteger32;
+    if (is_signed && len > 0 && len < 4 && (data[len - 1] & 0x80)) {
+      u |= len == 1 ? 0xFFFFFF00u : len == 2 ? 0xFFFF0000u : 0xFF000000u;
+    }
+    if (!is_signed && u > 0x7FFFFFFFu) return kAbortValueTooHigh;
+    const int32_t v = static_cast<int32_t>(u);
     if (v < lim.min) return kAbortValueTooLow;
     if (v > lim.max) return kAbortValueTooHigh;
   }
@@ -208,6 +229,7 @@ uint32_t ObjectDictionary::check_limits(const OdEntry& e, const uint8_t* data,
 }
 
 void ObjectDictionary::store(const OdEntry& e, const uint8_t* data, uint16_t len) {
+  touch();
   uint8_t* p = values_ + e.loc;
   memcpy(p, data, len);
   if (e.attr & kAttrString) {

@@ -30,7 +30,10 @@ class ObjectDictionary {
   /// `values` must hold def.values_size bytes and outlive the OD (caller-owned).
   ObjectDictionary(const OdDefinition& def, uint8_t* values);
 
-  void set_node_id(uint8_t node_id) { node_id_ = node_id; }
+  void set_node_id(uint8_t node_id) {
+    node_id_ = node_id;  // node-id-relative constants read differently now
+    touch();
+  }
   uint8_t node_id() const { return node_id_; }
   void set_write_hook(OdWriteHook hook, void* ctx) {
     hook_ = hook;
@@ -46,8 +49,13 @@ class ObjectDictionary {
   /// First row of `index` (kNoRow if absent); rows of one index are contiguous.
   uint16_t first_row(uint16_t index) const;
   uint16_t row_count() const { return def_.row_count; }
-  /// Copy of a row's metadata (from flash on AVR).
+  /// Copy of a row's metadata (from flash on AVR). Hot paths read single
+  /// fields instead (attr(), index_of(), ...): one row is 12 bytes of flash.
   OdEntry entry(uint16_t row) const { return flash_read(&def_.rows[row]); }
+  /// Single fields of a row (OdAttr bits, index, sub-index).
+  MB2CO_INLINE uint8_t attr(uint16_t row) const { return flash_read(&def_.rows[row].attr); }
+  MB2CO_INLINE uint16_t index_of(uint16_t row) const { return flash_read(&def_.rows[row].index); }
+  MB2CO_INLINE uint8_t sub_of(uint16_t row) const { return flash_read(&def_.rows[row].sub); }
   /// Bit length of a numeric data type, read from data-type entries
   /// 0001h–0007h of this very OD (0 when the type has no such entry).
   uint8_t type_bits(uint8_t type) const;
@@ -82,18 +90,39 @@ class ObjectDictionary {
   /// Copies value bytes of a row into buf (local read, no rights). Returns length.
   uint16_t copy_out(uint16_t row, uint8_t* buf, uint16_t cap) const;
 
+  // ---- change tracking --------------------------------------------------------
+  /// Changes with every modification made through the OD: set() that changed
+  /// a value, write(), restore_defaults(), a new node id, and every writable
+  /// ram() pointer handed out (its holder may write). Code that writes the
+  /// value block directly calls touch() at least when it changed an entry a
+  /// PDO may map (kAttrPdo). So while the revision stays the same, every PDO
+  /// configuration and every mappable value reads as before: TPDOs skip
+  /// rebuilding their payload then. Wraps at 2^16.
+  uint16_t revision() const { return revision_; }
+  void touch() { ++revision_; }
+
  private:
   uint32_t default_of(const OdEntry& e) const;
+  /// Current text length of a string row (RAM or flash), at most its capacity.
+  uint16_t string_length(uint16_t row) const;
+  /// Bytes of a numeric row's value (0 for a type without a size entry).
+  MB2CO_INLINE uint8_t numeric_size(const OdEntry* e) const {
+    const uint8_t type = flash_read(reinterpret_cast<const uint8_t*>(e) + kOdEntryTypeHookOffset) & 0x0F;
+    return type <= kUnsigned32 ? type_bytes_[type] : static_cast<uint8_t>(0);
+  }
+  MB2CO_INLINE uint8_t* value_at(const OdEntry* e) const { return values_ + flash_read(&e->loc); }
   uint32_t check_limits(const OdEntry& e, const uint8_t* data, uint16_t len) const;
   void store(const OdEntry& e, const uint8_t* data, uint16_t len);
 
   const OdDefinition& def_;
   uint8_t* values_;
-  /// Bit lengths of types 0001h–0007h, read once from this OD's own
-  /// data-type entries (they are const): sizing is on every value access.
-  uint8_t type_bits_[kUnsigned32 + 1];
+  /// Byte sizes of types 0001h–0007h, from the bit lengths in this OD's own
+  /// data-type entries, read once (they are const): sizing is on every value
+  /// access.
+  uint8_t type_bytes_[kUnsigned32 + 1];
   OdWriteHook hook_;
   void* hook_ctx_;
+  uint16_t revision_;
   uint8_t node_id_;
 };
 

@@ -98,11 +98,11 @@ constexpr bool od_rows_sorted(const OdEntry* rows, uint16_t count) {
 #define MB2CO_OD_SCAP_RW MB2CO_OD_SCAP_RO
 
 #define MB2CO_OD_N_ROW(V, P, index, sub, type, access, flags, hook, def, name)                \
-  {index, sub, MB2CO_OD_DT_##type, static_cast<uint8_t>(MB2CO_OD_ACC_##access | (flags)), hook, \
+  {index, sub, MB2CO_OD_DT_##type, hook, static_cast<uint8_t>(MB2CO_OD_ACC_##access | (flags)), \
    static_cast<uint16_t>(MB2CO_OD_LOC_##access(V, index, sub)), static_cast<uint32_t>(def)},
 #define MB2CO_OD_S_ROW(V, P, index, sub, access, hook, cap, text, name)                        \
-  {index, sub, ::mb2co::canopen::kVisibleString,                                               \
-   static_cast<uint8_t>(MB2CO_OD_ACC_##access | ::mb2co::canopen::kAttrString), hook,          \
+  {index, sub, ::mb2co::canopen::kVisibleString, hook,                                         \
+   static_cast<uint8_t>(MB2CO_OD_ACC_##access | ::mb2co::canopen::kAttrString),                \
    static_cast<uint16_t>(MB2CO_OD_LOC_##access(V, index, sub)),                                \
    (static_cast<uint32_t>(MB2CO_OD_SCAP_##access(cap, text)) << 16) |                          \
        static_cast<uint32_t>(offsetof(P, MB2CO_OD_STRMEMBER(index, sub)))},

@@ -1,6 +1,7 @@
 // The constant half of the Object Dictionary: one row per sub-entry, sorted by
 // (index, subindex), kept in flash on the AVR. Values live in RAM elsewhere.
 #pragma once
+#include <stddef.h>
 #include <stdint.h>
 
 namespace mb2co {
@@ -47,18 +48,27 @@ enum OdHook : uint8_t {
   kHookApp,           ///< application area: the application decides
 };
 
-/// One sub-entry's metadata. 12 bytes, constant, in flash on AVR.
+/// One sub-entry's metadata, constant, in flash on AVR: 11 bytes there (a row
+/// per sub-entry makes this the largest table of an image), 12 on the host.
 /// Invariant: a table of OdEntry is sorted by (index, sub) with no duplicates.
 struct OdEntry {
   uint16_t index;
   uint8_t sub;
-  uint8_t type;   ///< DataType
-  uint8_t attr;   ///< OdAttr bits
-  uint8_t hook;   ///< OdHook
-  uint16_t loc;   ///< kAttrRam: byte offset in the value block; strings: capacity
-  uint32_t def;   ///< default (const: the value itself, "stored in place");
-                  ///< strings: offset of the default text in the string pool
+  uint8_t type : 4;  ///< DataType (all below 10h)
+  uint8_t hook : 4;  ///< OdHook (all below 10h)
+  uint8_t attr;      ///< OdAttr bits
+  uint16_t loc;      ///< kAttrRam: byte offset in the value block; strings: capacity
+  uint32_t def;      ///< default (const: the value itself, "stored in place");
+                     ///< strings: offset of the default text in the string pool
 };
+/// The byte holding `type` (low nibble: GCC allocates bit-fields from the
+/// least significant bit on both targets) and `hook`, for single-field
+/// reads from flash.
+const uint8_t kOdEntryTypeHookOffset = 3;
+static_assert(offsetof(OdEntry, sub) + 1 == kOdEntryTypeHookOffset &&
+                  offsetof(OdEntry, attr) == kOdEntryTypeHookOffset + 1,
+              "type and hook share the byte between sub and attr");
+static_assert(kVisibleString < 16 && kHookApp < 16, "types and hooks fit their nibbles");
 
 /// Limits for the few entries that have them beyond their data type.
 struct OdLimit {

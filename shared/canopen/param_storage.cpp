@@ -24,11 +24,14 @@ struct Fletcher {
   uint16_t value() const { return static_cast<uint16_t>((b << 8) | a); }
 };
 
+// Bytes of row `r` in the image: its capacity when "save" keeps it, else 0.
+uint16_t saved_bytes(const ObjectDictionary& od, uint16_t r) {
+  return param_is_saved(od.entry(r)) ? od.capacity_of(r) : 0;
+}
+
 uint16_t payload_length(const ObjectDictionary& od) {
   uint16_t n = 0;
-  for (uint16_t r = 0; r < od.row_count(); ++r) {
-    if (param_is_saved(od.entry(r))) n = static_cast<uint16_t>(n + od.capacity_of(r));
-  }
+  for (uint16_t r = 0; r < od.row_count(); ++r) n = static_cast<uint16_t>(n + saved_bytes(od, r));
   return n;
 }
 }  // namespace
@@ -50,8 +53,8 @@ bool params_save(const ObjectDictionary& od, const ParamStorage& st) {
   sum.add(header, kHeader);
   uint16_t at = kHeader;
   for (uint16_t r = 0; r < od.row_count(); ++r) {
-    if (!param_is_saved(od.entry(r))) continue;
-    const uint16_t n = od.capacity_of(r);
+    const uint16_t n = saved_bytes(od, r);
+    if (n == 0) continue;
     const uint8_t* p = od.ram(r);
     if (!st.write(st.ctx, at, p, n)) return false;
     sum.add(p, n);
@@ -85,10 +88,10 @@ bool params_load(ObjectDictionary& od, const ParamStorage& st, uint16_t from_ind
   // Pass 2 copies straight into the value block.
   uint16_t at = kHeader;
   for (uint16_t r = 0; r < od.row_count(); ++r) {
-    const OdEntry e = od.entry(r);
-    if (!param_is_saved(e)) continue;
-    const uint16_t n = od.capacity_of(r);
-    if (e.index >= from_index && e.index <= to_index && !st.read(st.ctx, at, od.ram(r), n)) {
+    const uint16_t n = saved_bytes(od, r);
+    if (n == 0) continue;
+    const uint16_t index = od.index_of(r);
+    if (index >= from_index && index <= to_index && !st.read(st.ctx, at, od.ram(r), n)) {
       return false;
     }
     at = static_cast<uint16_t>(at + n);

@@ -40,6 +40,18 @@ uint32_t pdo_check_mapping(const ObjectDictionary& od, uint16_t row0, uint8_t co
   return kSdoOk;
 }
 
+uint32_t pdo_check_map_write(const ObjectDictionary& od, uint32_t cob, uint16_t row0,
+                             uint8_t stride, uint8_t sub, const uint8_t* data, bool receive) {
+  if (!(cob & 0x80000000u)) return kAbortUnsupported;  // CiA 301: disable the PDO first
+  if (sub == 0) {
+    uint16_t bits = 0;
+    return pdo_check_mapping(od, row0, data[0], static_cast<uint8_t>(stride - 1), receive, &bits);
+  }
+  if (od.get(row0) != 0) return kAbortUnsupported;  // sub 0 must be 0 first
+  const uint32_t entry = le32(data);
+  return entry == 0 ? kSdoOk : pdo_check_entry(od, entry, receive);
+}
+
 uint8_t pdo_mapped_bytes(const ObjectDictionary& od, uint16_t row0) {
   const uint8_t count = static_cast<uint8_t>(od.get(row0));
   uint16_t total = 0;
@@ -50,22 +62,57 @@ uint8_t pdo_mapped_bytes(const ObjectDictionary& od, uint16_t row0) {
 }
 
 // Copies `bits` bits from src (starting at bit 0) to dst starting at bit `at`.
+// Whole bytes at a byte boundary (every mapping but BOOLEANs and bit fields)
+// are copied as bytes; otherwise bit by bit with running masks (an AVR shifts
+// by a variable count one bit per cycle).
 static void put_bits(uint8_t* dst, uint16_t at, const uint8_t* src, uint8_t bits) {
-  for (uint8_t i = 0; i < bits; ++i, ++at) {
-    const uint8_t bit = static_cast<uint8_t>((src[i / 8] >> (i % 8)) & 1u);
-    const uint8_t mask = static_cast<uint8_t>(1u << (at % 8));
-    if (bit) {
-      dst[at / 8] = static_cast<uint8_t>(dst[at / 8] | mask);
+  dst += at / 8;
+  if ((at % 8) == 0 && (bits % 8) == 0) {
+    memcpy(dst, src, bits / 8);
+    return;
+  }
+  uint8_t in = 1;
+  uint8_t out = static_cast<uint8_t>(1u << (at % 8));
+  for (uint8_t i = 0; i < bits; ++i) {
+    if (*src & in) {
+      *dst = static_cast<uint8_t>(*dst | out);
     } else {
-      dst[at / 8] = static_cast<uint8_t>(dst[at / 8] & ~mask);
+      *dst = static_cast<uint8_t>(*dst & ~out);
+    }
+    in = static_cast<uint8_t>(in << 1);
+    if (in == 0) {
+      in = 1;
+      ++src;
+    }
+    out = static_cast<uint8_t>(out << 1);
+    if (out == 0) {
+      out = 1;
+      ++dst;
     }
   }
 }
 
-// Copies `bits` bits from src starting at bit `at` to dst starting at bit 0.
+// Copies `bits` bits from src starting at bit `at` to dst (zeroed) from bit 0.
 static void get_bits(uint8_t* dst, const uint8_t* src, uint16_t at, uint8_t bits) {
-  for (uint8_t i = 0; i < bits; ++i, ++at) {
-    if ((src[at / 8] >> (at % 8)) & 1u) dst[i / 8] = static_cast<uint8_t>(dst[i / 8] | (1u << (i % 8)));
+  src += at / 8;
+  if ((at % 8) == 0 && (bits % 8) == 0) {
+    memcpy(dst, src, bits / 8);
+    return;
+  }
+  uint8_t in = static_cast<uint8_t>(1u << (at % 8));
+  uint8_t out = 1;
+  for (uint8_t i = 0; i < bits; ++i) {
+    if (*src & in) *dst = static_cast<uint8_t>(*dst | out);
+    in = static_cast<uint8_t>(in << 1);
+    if (in == 0) {
+      in = 1;
+      ++src;
+    }
+    out = static_cast<uint8_t>(out << 1);
+    if (out == 0) {
+      out = 1;
+      ++dst;
+    }
   }
 }
 

@@ -23,6 +23,11 @@ uint32_t pdo_check_entry(const ObjectDictionary& od, uint32_t entry, bool receiv
 /// `row0`; *bits = their total length. 0 or the abort code of the first fault.
 uint32_t pdo_check_mapping(const ObjectDictionary& od, uint16_t row0, uint8_t count,
                            uint8_t max_count, bool receive, uint16_t* bits);
+/// Validates a write to sub `sub` of the mapping record whose sub 0 is at
+/// `row0` (stride rows long) of a PDO whose COB-ID is `cob` (CiA 301
+/// procedure: the PDO disabled, then sub 0 = 0, entries, sub 0 = count).
+uint32_t pdo_check_map_write(const ObjectDictionary& od, uint32_t cob, uint16_t row0,
+                             uint8_t stride, uint8_t sub, const uint8_t* data, bool receive);
 /// Rows of one mapping record (1 + entries) in this OD, from the distance
 /// between the first two records starting at `first_index`.
 uint8_t pdo_map_stride(const ObjectDictionary& od, uint16_t first_index);
@@ -34,7 +39,8 @@ void pdo_apply(ObjectDictionary& od, uint16_t row0, const uint8_t* data);
 uint8_t pdo_mapped_bytes(const ObjectDictionary& od, uint16_t row0);
 /// CiA 301 §7.3.5: CAN-IDs no PDO may use.
 bool can_id_restricted(uint32_t can_id);
-/// Shared validation of a PDO COB-ID write (sub 1): `cur` is the stored value.
+/// Shared validation of a PDO COB-ID write (sub 1), also of the EMCY COB-ID
+/// 1014h (same rules): `cur` is the stored value.
 uint32_t pdo_check_cob_id(uint32_t cur, uint32_t v);
 
 }  // namespace canopen

@@ -11,6 +11,10 @@ namespace canopen {
 // Row offsets inside one communication record (sub 4 is absent).
 enum : uint8_t { kCob = 1, kType = 2, kEvent = 4 };
 
+uint32_t Rpdos::comm(uint8_t n, uint8_t k) const {
+  return od_->get(static_cast<uint16_t>(comm_row(n) + k));
+}
+
 void Rpdos::init(ObjectDictionary* od, EmcyProducer* emcy) {
   od_ = od;
   emcy_ = emcy;
@@ -49,7 +53,7 @@ void Rpdos::update_length_errors() {
 bool Rpdos::on_frame(const CanFrame& f, uint32_t now_us) {
   if (f.extended()) return false;
   for (uint8_t n = 0; n < kPdoCount; ++n) {
-    const uint32_t cob = od_->get(static_cast<uint16_t>(comm_row(n) + kCob));
+    const uint32_t cob = comm(n, kCob);
     if ((cob & 0x80000000u) || (cob & 0x7FFu) != f.id) continue;
     if (f.rtr()) return true;  // nothing to answer for a receive PDO
     // Nothing mapped: the PDO carries nothing for us (as a TPDO with no
@@ -65,7 +69,7 @@ bool Rpdos::on_frame(const CanFrame& f, uint32_t now_us) {
     }
     update_length_errors();
     if (s.flags & kShort) return true;  // not processed
-    const uint16_t event_ms = static_cast<uint16_t>(od_->get(static_cast<uint16_t>(comm_row(n) + kEvent)));
+    const uint16_t event_ms = static_cast<uint16_t>(comm(n, kEvent));
     if (event_ms != 0) {
       s.flags |= kMonitoring;
       s.deadline_us = now_us + event_ms * 1000u;
@@ -76,7 +80,7 @@ bool Rpdos::on_frame(const CanFrame& f, uint32_t now_us) {
       for (const State& o : st_) others = others || (o.flags & kTimedOut);
       if (!others) emcy_->clear(kEmcyRpdoTimeout);
     }
-    const uint8_t type = static_cast<uint8_t>(od_->get(static_cast<uint16_t>(comm_row(n) + kType)));
+    const uint8_t type = static_cast<uint8_t>(comm(n, kType));
     if (type <= 240) {
       memcpy(s.buffer, f.data, 8);
       s.flags |= kBuffered;
@@ -112,18 +116,10 @@ void Rpdos::stop() {
 uint32_t Rpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data) {
   if (index >= 0x1600) {  // mapping
     const uint8_t n = static_cast<uint8_t>(index - 0x1600);
-    if (!(od_->get(static_cast<uint16_t>(comm_row(n) + kCob)) & 0x80000000u)) return kAbortUnsupported;
-    if (sub == 0) {
-      uint16_t bits = 0;
-      return pdo_check_mapping(*od_, map_row(n), data[0], static_cast<uint8_t>(map_stride_ - 1),
-                               true, &bits);
-    }
-    if (od_->get(map_row(n)) != 0) return kAbortUnsupported;  // sub 0 must be 0 first
-    const uint32_t entry = le32(data);
-    return entry == 0 ? kSdoOk : pdo_check_entry(*od_, entry, true);
+    return pdo_check_map_write(*od_, comm(n, kCob), map_row(n), map_stride_, sub, data, true);
   }
   const uint8_t n = static_cast<uint8_t>(index - 0x1400);
-  const uint32_t cur = od_->get(static_cast<uint16_t>(comm_row(n) + kCob));
+  const uint32_t cur = comm(n, kCob);
   switch (sub) {
     case 1: {
       const uint32_t v = le32(data);

@@ -17,6 +17,8 @@ namespace canopen {
 /// Told after an RPDO's data reached the OD (0-based PDO number).
 typedef void (*RpdoCallback)(void* ctx, uint8_t n);
 
+/// Members that start at zero have no initialisers: the owner (NodeState)
+/// is value-initialised, which zero-fills it in one go.
 class Rpdos {
  public:
   void init(ObjectDictionary* od, EmcyProducer* emcy);
@@ -43,18 +45,20 @@ class Rpdos {
   };
   enum : uint8_t { kBuffered = 0x01, kMonitoring = 0x02, kTimedOut = 0x04, kShort = 0x08, kLong = 0x10 };
   uint16_t comm_row(uint8_t n) const { return static_cast<uint16_t>(comm0_ + n * 5u); }
+  /// Value of row `k` of PDO n's communication record (out of line: many callers).
+  uint32_t comm(uint8_t n, uint8_t k) const;
   uint16_t map_row(uint8_t n) const { return static_cast<uint16_t>(map0_ + n * map_stride_); }
   void apply(uint8_t n, const uint8_t* data);
   void update_length_errors();
 
-  ObjectDictionary* od_ = nullptr;
-  EmcyProducer* emcy_ = nullptr;
-  uint16_t comm0_ = 0;  ///< row of 1400h sub 0; records are 5 rows apart
-  uint16_t map0_ = 0;   ///< row of 1600h sub 0; records are map_stride_ rows apart
+  ObjectDictionary* od_;
+  EmcyProducer* emcy_;
+  uint16_t comm0_;  ///< row of 1400h sub 0; records are 5 rows apart
+  uint16_t map0_;   ///< row of 1600h sub 0; records are map_stride_ rows apart
   uint8_t map_stride_ = 9;  ///< 1 + mapping entries per record in this OD
-  State st_[kPdoCount] = {};
-  RpdoCallback cb_ = nullptr;
-  void* cb_ctx_ = nullptr;
+  State st_[kPdoCount];
+  RpdoCallback cb_;
+  void* cb_ctx_;
 };
 
 }  // namespace canopen

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "canopen/clock.h"
+#include "canopen/frame_out.h"
 
 namespace mb2co {
 namespace canopen {
@@ -22,26 +23,26 @@ void SdoServer::init(ObjectDictionary* od, uint8_t node_id) {
   state_ = kIdle;
 }
 
+// Every answer: 580h+id, 8 bytes, command byte then `n` bytes of `bytes`,
+// the rest 0 (reserved bytes are sent as 0, CiA 301 §7.2.4.3).
+static void reply(const CanSink& sink, uint8_t node_id, uint8_t cmd, const uint8_t* bytes,
+                  uint8_t n) {
+  uint8_t data[8] = {cmd, 0, 0, 0, 0, 0, 0, 0};
+  if (n != 0) memcpy(&data[1], bytes, n);
+  send_frame(sink, static_cast<uint16_t>(0x580u + node_id), 8, data);
+}
+
 void SdoServer::respond(const CanSink& sink, uint8_t cmd, const uint8_t* payload4) {
-  CanFrame f = {};
-  f.id = 0x580u + node_id_;
-  f.dlc = 8;
-  f.data[0] = cmd;
-  f.data[1] = static_cast<uint8_t>(index_);
-  f.data[2] = static_cast<uint8_t>(index_ >> 8);
-  f.data[3] = sub_;
-  if (payload4 != nullptr) memcpy(&f.data[4], payload4, 4);
-  sink.send(sink.ctx, f);
+  uint8_t mux_data[7] = {static_cast<uint8_t>(index_), static_cast<uint8_t>(index_ >> 8), sub_,
+                         0, 0, 0, 0};
+  if (payload4 != nullptr) memcpy(&mux_data[3], payload4, 4);
+  reply(sink, node_id_, cmd, mux_data, 7);
 }
 
 // A download segment response carries no multiplexer: bytes 1..7 are
 // reserved and sent as 0 (CiA 301 §7.2.4.3.5).
 static void segment_ack(const CanSink& sink, uint8_t node_id, uint8_t cmd) {
-  CanFrame f = {};
-  f.id = 0x580u + node_id;
-  f.dlc = 8;
-  f.data[0] = cmd;
-  sink.send(sink.ctx, f);
+  reply(sink, node_id, cmd, nullptr, 0);
 }
 
 void SdoServer::abort(const CanSink& sink, uint16_t index, uint8_t sub, uint32_t code) {
@@ -173,12 +174,8 @@ void SdoServer::upload_segment(const CanFrame& f, const CanSink& sink) {
   uint8_t count = static_cast<uint8_t>(length_ - offset_);
   if (count > 7) count = 7;
   const bool last = offset_ + count == length_;
-  CanFrame r = {};
-  r.id = 0x580u + node_id_;
-  r.dlc = 8;
-  r.data[0] = static_cast<uint8_t>(toggle_ | ((7 - count) << 1) | (last ? 1 : 0));
-  memcpy(&r.data[1], &buffer_[offset_], count);
-  sink.send(sink.ctx, r);
+  reply(sink, node_id_, static_cast<uint8_t>(toggle_ | ((7 - count) << 1) | (last ? 1 : 0)),
+             &buffer_[offset_], count);
   offset_ = static_cast<uint8_t>(offset_ + count);
   toggle_ ^= 0x10;
   if (last) state_ = kIdle;

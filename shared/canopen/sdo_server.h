@@ -11,6 +11,8 @@
 namespace mb2co {
 namespace canopen {
 
+/// Members that start at zero have no initialisers: the owner (NodeState)
+/// is value-initialised, which zero-fills it in one go.
 class SdoServer {
  public:
   /// Largest object moved by a segmented transfer (strings); bigger → 06070012h.
@@ -38,19 +40,19 @@ class SdoServer {
   void initiate_upload(const CanFrame& f, const CanSink& sink);
   void upload_segment(const CanFrame& f, const CanSink& sink);
 
-  ObjectDictionary* od_ = nullptr;
+  ObjectDictionary* od_;
   uint32_t timeout_us_ = kDefaultTimeoutUs;
-  uint32_t deadline_us_ = 0;
-  uint32_t announced_ = 0;  ///< size from the initiate request (0: not indicated)
-  uint16_t index_ = 0;
-  uint8_t sub_ = 0;
-  uint8_t node_id_ = 0;
-  State state_ = kIdle;
-  uint8_t toggle_ = 0;      ///< expected toggle bit (0x00 or 0x10)
-  uint8_t length_ = 0;      ///< bytes in buffer_
-  uint8_t offset_ = 0;      ///< upload: bytes already sent
-  bool size_indicated_ = false;
-  uint8_t buffer_[kBufferSize] = {};
+  uint32_t deadline_us_;
+  uint32_t announced_;  ///< size from the initiate request (0: not indicated)
+  uint16_t index_;
+  uint8_t sub_;
+  uint8_t node_id_;
+  State state_;
+  uint8_t toggle_;      ///< expected toggle bit (0x00 or 0x10)
+  uint8_t length_;      ///< bytes in buffer_
+  uint8_t offset_;      ///< upload: bytes already sent
+  bool size_indicated_;
+  uint8_t buffer_[kBufferSize];
 };
 
 }  // namespace canopen

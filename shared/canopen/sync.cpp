@@ -1,6 +1,7 @@
 #include "canopen/sync.h"
 
 #include "canopen/clock.h"
+#include "canopen/frame_out.h"
 #include "canopen/pdo_map.h"
 
 namespace mb2co {
@@ -42,14 +43,8 @@ bool Sync::process(uint32_t now_us, bool allowed, const CanSink& sink, uint8_t* 
   if (time_reached(now_us, next_us_)) next_us_ = now_us + period_us;  // no bursts
   if (!allowed) return false;
   const uint8_t overflow = static_cast<uint8_t>(od_->get(row_1019_));
-  CanFrame f = {};
-  f.id = cob & 0x7FFu;
-  if (overflow != 0) {
-    counter_ = static_cast<uint8_t>(counter_ >= overflow ? 1 : counter_ + 1);
-    f.dlc = 1;
-    f.data[0] = counter_;
-  }
-  sink.send(sink.ctx, f);
+  if (overflow != 0) counter_ = static_cast<uint8_t>(counter_ >= overflow ? 1 : counter_ + 1);
+  send_frame(sink, static_cast<uint16_t>(cob & 0x7FFu), overflow != 0 ? 1 : 0, &counter_);
   *counter = overflow != 0 ? counter_ : 0;
   return true;
 }

@@ -10,6 +10,8 @@
 namespace mb2co {
 namespace canopen {
 
+/// Members that start at zero have no initialisers: the owner (NodeState)
+/// is value-initialised, which zero-fills it in one go.
 class Sync {
  public:
   enum Result : uint8_t { kNotSync = 0, kSyncEvent, kSyncLengthError };
@@ -29,12 +31,12 @@ class Sync {
   void restart() { restart_ = true; }
 
  private:
-  ObjectDictionary* od_ = nullptr;
-  uint16_t row_1005_ = 0;
-  uint16_t row_1006_ = 0;
-  uint16_t row_1019_ = 0;
-  uint32_t next_us_ = 0;
-  uint8_t counter_ = 0;
+  ObjectDictionary* od_;
+  uint16_t row_1005_;
+  uint16_t row_1006_;
+  uint16_t row_1019_;
+  uint32_t next_us_;
+  uint8_t counter_;
   bool restart_ = true;
 };
 

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "canopen/clock.h"
+#include "canopen/frame_out.h"
 #include "canopen/pdo_map.h"
 
 namespace mb2co {
@@ -10,6 +11,10 @@ namespace canopen {
 
 // Row offsets inside one communication record (sub 4 is absent).
 enum : uint8_t { kCob = 1, kType = 2, kInhibit = 3, kEvent = 4, kSyncStart = 5 };
+
+uint32_t Tpdos::comm(uint8_t n, uint8_t k) const {
+  return od_->get(static_cast<uint16_t>(comm_row(n) + k));
+}
 
 void Tpdos::init(ObjectDictionary* od) {
   od_ = od;
@@ -20,7 +25,7 @@ void Tpdos::init(ObjectDictionary* od) {
 }
 
 bool Tpdos::valid(uint8_t n, uint32_t* cob) const {
-  *cob = od_->get(static_cast<uint16_t>(comm_row(n) + kCob));
+  *cob = comm(n, kCob);
   return !(*cob & 0x80000000u) && od_->get(map_row(n)) != 0;
 }
 
@@ -28,7 +33,7 @@ void Tpdos::on_operational() {
   for (uint8_t n = 0; n < kPdoCount; ++n) {
     st_[n].flags = static_cast<uint8_t>(st_[n].flags & ~(kSent | kSyncStarted | kInhibiting));
     st_[n].sync_count = 0;
-    const uint8_t type = static_cast<uint8_t>(od_->get(static_cast<uint16_t>(comm_row(n) + kType)));
+    const uint8_t type = static_cast<uint8_t>(comm(n, kType));
     if (type >= 254) st_[n].flags |= kPending;
   }
 }
@@ -39,11 +44,7 @@ void Tpdos::request(uint8_t n) {
 
 bool Tpdos::send(uint8_t n, uint32_t cob, const uint8_t* data, uint8_t len, const CanSink& sink,
                  uint32_t now_us) {
-  CanFrame f = {};
-  f.id = cob & 0x7FFu;
-  f.dlc = len;
-  memcpy(f.data, data, len);
-  if (!sink.send(sink.ctx, f)) {
+  if (!send_frame(sink, static_cast<uint16_t>(cob & 0x7FFu), len, data)) {
     ++send_failures_;
     return false;
   }
@@ -51,12 +52,12 @@ bool Tpdos::send(uint8_t n, uint32_t cob, const uint8_t* data, uint8_t len, cons
   memcpy(s.last, data, 8);
   s.last_len = len;
   s.flags = static_cast<uint8_t>((s.flags & ~kPending) | kSent);
-  const uint16_t inhibit = static_cast<uint16_t>(od_->get(static_cast<uint16_t>(comm_row(n) + kInhibit)));
+  const uint16_t inhibit = static_cast<uint16_t>(comm(n, kInhibit));
   if (inhibit != 0) {
     s.flags |= kInhibiting;
     s.inhibit_until_us = now_us + inhibit * 100u;
   }
-  const uint16_t event_ms = static_cast<uint16_t>(od_->get(static_cast<uint16_t>(comm_row(n) + kEvent)));
+  const uint16_t event_ms = static_cast<uint16_t>(comm(n, kEvent));
   if (event_ms != 0) {
     s.flags |= kEventTimer;
     s.event_deadline_us = now_us + event_ms * 1000u;
@@ -67,11 +68,25 @@ bool Tpdos::send(uint8_t n, uint32_t cob, const uint8_t* data, uint8_t len, cons
 }
 
 void Tpdos::process(uint32_t now_us, const CanSink& sink) {
+  // While the OD is unchanged every payload is what it was at the previous
+  // call, and so are validity and type (kEventType). A PDO whose last payload
+  // went out then needs no rebuild unless a timer makes it due.
+  const bool od_changed = od_->revision() != seen_revision_;
+  seen_revision_ = od_->revision();
   for (uint8_t n = 0; n < kPdoCount; ++n) {
+    State& s = st_[n];
+    if (!od_changed && (s.flags & (kPending | kSent)) == kSent) {
+      if (!(s.flags & kEventType)) continue;
+      if ((s.flags & kEventTimer) && time_reached(now_us, s.event_deadline_us)) s.flags |= kPending;
+      if ((s.flags & kInhibiting) && time_reached(now_us, s.inhibit_until_us)) {
+        s.flags = static_cast<uint8_t>(s.flags & ~kInhibiting);
+      }
+      if (!(s.flags & kPending) || (s.flags & kInhibiting)) continue;
+    }
+    s.flags = static_cast<uint8_t>(s.flags & ~kEventType);
     uint32_t cob = 0;
     if (!valid(n, &cob)) continue;
-    State& s = st_[n];
-    const uint8_t type = static_cast<uint8_t>(od_->get(static_cast<uint16_t>(comm_row(n) + kType)));
+    const uint8_t type = static_cast<uint8_t>(comm(n, kType));
     uint8_t data[8];
     const uint8_t len = pdo_build(*od_, map_row(n), data);
     const bool changed = !(s.flags & kSent) || len != s.last_len || memcmp(data, s.last, len) != 0;
@@ -80,6 +95,7 @@ void Tpdos::process(uint32_t now_us, const CanSink& sink) {
       continue;
     }
     if (type < 254) continue;
+    s.flags |= kEventType;
     if (changed) s.flags |= kPending;
     if ((s.flags & kEventTimer) && time_reached(now_us, s.event_deadline_us)) s.flags |= kPending;
     if ((s.flags & kInhibiting) && time_reached(now_us, s.inhibit_until_us)) {
@@ -94,14 +110,14 @@ void Tpdos::on_sync(uint8_t counter, const CanSink& sink, uint32_t now_us) {
     uint32_t cob = 0;
     if (!valid(n, &cob)) continue;
     State& s = st_[n];
-    const uint8_t type = static_cast<uint8_t>(od_->get(static_cast<uint16_t>(comm_row(n) + kType)));
+    const uint8_t type = static_cast<uint8_t>(comm(n, kType));
     uint8_t data[8];
     if (type == 0) {
       if (!(s.flags & kPending)) continue;
       const uint8_t len = pdo_build(*od_, map_row(n), data);
       send(n, cob, data, len, sink, now_us);
     } else if (type <= 240) {
-      const uint8_t start = static_cast<uint8_t>(od_->get(static_cast<uint16_t>(comm_row(n) + kSyncStart)));
+      const uint8_t start = static_cast<uint8_t>(comm(n, kSyncStart));
       if (!(s.flags & kSyncStarted)) {
         if (start != 0 && counter != 0 && counter != start) continue;
         s.flags |= kSyncStarted;
@@ -123,7 +139,7 @@ bool Tpdos::on_rtr(const CanFrame& f, const CanSink& sink, uint32_t now_us) {
     uint32_t cob = 0;
     if (!valid(n, &cob) || (cob & 0x7FFu) != f.id) continue;
     if (cob & 0x40000000u) return true;  // RTR not allowed on this PDO: ignored
-    const uint8_t type = static_cast<uint8_t>(od_->get(static_cast<uint16_t>(comm_row(n) + kType)));
+    const uint8_t type = static_cast<uint8_t>(comm(n, kType));
     uint8_t data[8];
     if (type == 252 && (st_[n].flags & kSyncStarted)) {
       memcpy(data, st_[n].last, 8);
@@ -140,19 +156,10 @@ bool Tpdos::on_rtr(const CanFrame& f, const CanSink& sink, uint32_t now_us) {
 uint32_t Tpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data) {
   if (index >= 0x1A00) {  // mapping
     const uint8_t n = static_cast<uint8_t>(index - 0x1A00);
-    const bool enabled = !(od_->get(static_cast<uint16_t>(comm_row(n) + kCob)) & 0x80000000u);
-    if (enabled) return kAbortUnsupported;  // CiA 301: disable the PDO first
-    if (sub == 0) {
-      uint16_t bits = 0;
-      return pdo_check_mapping(*od_, map_row(n), data[0], static_cast<uint8_t>(map_stride_ - 1),
-                               false, &bits);
-    }
-    if (od_->get(map_row(n)) != 0) return kAbortUnsupported;  // sub 0 must be 0 first
-    const uint32_t entry = le32(data);
-    return entry == 0 ? kSdoOk : pdo_check_entry(*od_, entry, false);
+    return pdo_check_map_write(*od_, comm(n, kCob), map_row(n), map_stride_, sub, data, false);
   }
   const uint8_t n = static_cast<uint8_t>(index - 0x1800);
-  const uint32_t cur = od_->get(static_cast<uint16_t>(comm_row(n) + kCob));
+  const uint32_t cur = comm(n, kCob);
   const bool enabled = !(cur & 0x80000000u);
   switch (sub) {
     case 1: {
@@ -171,7 +178,7 @@ uint32_t Tpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data) {
       return kSdoOk;
     case 3:  // inhibit time: not changed while the PDO exists
     case 6:  // SYNC start value: likewise (rewriting the same value is no change)
-      if (enabled && od_->get(static_cast<uint16_t>(comm_row(n) + (sub == 3 ? kInhibit : kSyncStart))) !=
+      if (enabled && comm(n, sub == 3 ? kInhibit : kSyncStart) !=
                          (sub == 3 ? le16(data) : data[0])) {
         return kAbortInvalidValue;
       }

@@ -13,6 +13,8 @@
 namespace mb2co {
 namespace canopen {
 
+/// Members that start at zero have no initialisers: the owner (NodeState)
+/// is value-initialised, which zero-fills it in one go.
 class Tpdos {
  public:
   void init(ObjectDictionary* od);
@@ -46,19 +48,23 @@ class Tpdos {
     kEventTimer = 0x04,    ///< event timer armed
     kSyncStarted = 0x08,   ///< SYNC start value reached (1–240); 252: a sample is held
     kSent = 0x10,          ///< `last` holds a transmitted payload
+    kEventType = 0x20,     ///< valid with type 254/255 at the last full look (process)
   };
   bool valid(uint8_t n, uint32_t* cob) const;
   bool send(uint8_t n, uint32_t cob, const uint8_t* data, uint8_t len, const CanSink& sink,
             uint32_t now_us);
   uint16_t comm_row(uint8_t n) const { return static_cast<uint16_t>(comm0_ + n * 6u); }
+  /// Value of row `k` of PDO n's communication record (out of line: many callers).
+  uint32_t comm(uint8_t n, uint8_t k) const;
   uint16_t map_row(uint8_t n) const { return static_cast<uint16_t>(map0_ + n * map_stride_); }
 
-  ObjectDictionary* od_ = nullptr;
-  uint16_t comm0_ = 0;  ///< row of 1800h sub 0; records are 6 rows apart
-  uint16_t map0_ = 0;   ///< row of 1A00h sub 0; records are map_stride_ rows apart
+  ObjectDictionary* od_;
+  uint16_t comm0_;  ///< row of 1800h sub 0; records are 6 rows apart
+  uint16_t map0_;   ///< row of 1A00h sub 0; records are map_stride_ rows apart
   uint8_t map_stride_ = 9;  ///< 1 + mapping entries per record in this OD
-  State st_[kPdoCount] = {};
-  uint16_t send_failures_ = 0;
+  State st_[kPdoCount];
+  uint16_t send_failures_;
+  uint16_t seen_revision_;  ///< od_->revision() at the last process()
 };
 
 }  // namespace canopen

@@ -11,14 +11,15 @@ Gateway::Gateway(const GatewayPorts& ports)
       node_(od_, ports.can),
       bank_(od_),
       identity_(od_),
-      slave_(bank_, &identity_, ports.serial, 1, modbus::rtu_timing(ports.serial_baud)) {
+      slave_(bank_, &identity_, ports.serial, 1, modbus::rtu_timing(ports.serial_baud)),
+      line_() {
   ports_storage_ = ports.storage;
   node_.set_storage(ports.storage);
   node_.set_app_hook(&Gateway::app_write, this);
   node_.set_reset_callback(&Gateway::on_reset, this);
   node_.heartbeat_consumer().set_callback(&Gateway::on_heartbeat, this);
   node_.rpdos().set_callback(&Gateway::on_rpdo, this);
-  line_.init(&od_);
+  line_.init(&od_, &values_);
 }
 
 void Gateway::start(uint32_t now_us, uint8_t default_node_id) {
@@ -29,7 +30,7 @@ void Gateway::start(uint32_t now_us, uint8_t default_node_id) {
   uint8_t id = default_node_id;
   od_.restore_defaults(0x2000, 0x2000);
   if (ports_storage_ != nullptr && params_load(od_, *ports_storage_, 0x2000, 0x2000)) {
-    id = static_cast<uint8_t>(od_.get(od_.find(0x2000, 1)));
+    id = values_.v_0x2000_1;
   }
   node_.start(id, now_us);
   slave_.begin(now_us);
@@ -37,20 +38,20 @@ void Gateway::start(uint32_t now_us, uint8_t default_node_id) {
 
 void Gateway::on_reset(void* ctx, NmtReset kind) {
   Gateway& g = *static_cast<Gateway*>(ctx);
-  const uint16_t row_id = g.od_.find(0x2000, 1);
+  od::GatewayValues& v = g.values_;
   // Without saved parameters the id given at power-on stays in force.
-  if (kind == kResetNode && !g.node_.params_loaded()) g.od_.set(row_id, g.default_node_id_);
-  const uint8_t id = static_cast<uint8_t>(g.od_.get(row_id));
+  if (kind == kResetNode && !g.node_.params_loaded()) v.v_0x2000_1 = g.default_node_id_;
+  const uint8_t id = v.v_0x2000_1;
   if (id != g.node_.node_id()) {
     // 2000h/1 was changed since: reset once more with it, so that every
     // node-id-relative default follows.
     g.node_.set_node_id_for_next_reset(id);
     g.node_.request_reset(kResetCommunication);
   }
-  g.bitrate_kbit_ = static_cast<uint16_t>(g.od_.get(g.od_.find(0x2000, 2)));
-  g.slave_.set_address(static_cast<uint8_t>(g.od_.get(g.od_.find(0x2000, 5))));
+  g.bitrate_kbit_ = v.v_0x2000_2;
+  g.slave_.set_address(v.v_0x2000_5);
   g.line_.on_reset(g.node_.node_id());
-  g.start_pending_ = g.od_.get(g.od_.find(0x2000, 8)) != 0;
+  g.start_pending_ = v.v_0x2000_8 != 0;
 }
 
 void Gateway::on_heartbeat(void* ctx, uint8_t node_id, HbEvent event, uint8_t) {

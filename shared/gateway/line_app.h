@@ -16,6 +16,7 @@
 #include "canopen/heartbeat_consumer.h"
 #include "canopen/node.h"
 #include "canopen/od.h"
+#include "gateway/gateway_od.h"
 
 namespace mb2co {
 namespace gateway {
@@ -31,12 +32,17 @@ enum StopCause : uint8_t {
 };
 enum NeighbourStatus : uint8_t { kNeighbourUnknown = 0, kNeighbourAlive = 1, kNeighbourNone = 2 };
 
+/// Plain data without initialisers: its owner value-initialises it (all
+/// zero, which a static object on the Uno is without code), then init().
 class LineApp {
  public:
   /// Blink half-period of an LED showing an unknown neighbour.
   static const uint32_t kBlinkHalfPeriodUs = 250000;
 
-  void init(canopen::ObjectDictionary* od);
+  /// `values` is the value block of `od` (the gateway OD): the application
+  /// reads and writes its entries there directly (no lookup, no flash access
+  /// per pass) and tells the OD when it changed one (ObjectDictionary::touch).
+  void init(canopen::ObjectDictionary* od, od::GatewayValues* values);
   /// After every reset: derives neighbours, RPDO COB-IDs and 1016h from node
   /// id and topology unless 2000h/7 says the stored configuration applies.
   void on_reset(uint8_t node_id);
@@ -52,28 +58,32 @@ class LineApp {
  private:
   void latch_stop(StopCause cause);
   void neighbour_config(uint8_t node_id, uint8_t* prev, uint8_t* next) const;
-  uint16_t row(uint16_t index, uint8_t sub) const { return od_->find(index, sub); }
-  bool led_for(uint16_t status_row, uint16_t run_row, uint32_t now_us) const;
 
-  canopen::ObjectDictionary* od_ = nullptr;
-  uint16_t r_run_cmd_ = 0, r_run_ = 0, r_stop2_count_ = 0, r_cause_ = 0, r_start_count_ = 0,
-           r_stop_count_ = 0;
-  uint16_t r_prev_run_ = 0, r_prev_stop2_ = 0, r_prev_status_ = 0, r_prev_id_ = 0;
-  uint16_t r_next_run_ = 0, r_next_status_ = 0, r_next_id_ = 0;
-  uint16_t r_inputs_ = 0, r_buttons_ = 0, r_leds_ = 0, r_outputs_ = 0, r_nmt_ = 0;
-  uint16_t r_edge_us_ = 0, r_led_us_ = 0, r_remote_us_ = 0, r_debounce_ = 0, r_watchdog_ = 0;
-  uint32_t raw_since_us_[3] = {0, 0, 0};  ///< when each raw level last changed
-  uint8_t raw_ = 0;                        ///< last raw levels
-  uint8_t stable_ = 0;                     ///< debounced levels
-  uint8_t leds_ = 0;
-  uint16_t prev_stop2_seen_ = 0;
-  bool prev_stop2_known_ = false;  ///< a baseline of the previous STOP2 counter
-  bool stop_latched_ = false;
+  /// Stores `value` into a PDO-mappable entry of the value block, telling
+  /// the OD (and so the TPDOs) when it changed (ObjectDictionary::touch).
+  /// Entries no PDO can map are assigned directly.
+  template <class T, class V>
+  void put(T& entry, V value) {
+    const T v = static_cast<T>(value);
+    if (entry == v) return;
+    entry = v;
+    od_->touch();
+  }
+
+  canopen::ObjectDictionary* od_;
+  od::GatewayValues* v_;
+  uint32_t raw_since_us_[3];  ///< when each raw level last changed
+  uint32_t last_request_us_;
+  uint16_t prev_stop2_seen_;
+  uint16_t requests_seen_;
+  uint8_t raw_;               ///< last raw levels
+  uint8_t stable_;            ///< debounced levels
+  uint8_t leds_;
+  bool prev_stop2_known_;     ///< a baseline of the previous STOP2 counter
+  bool stop_latched_;
   /// Modbus watchdog: armed by the first request, so a station configured
   /// without a PC is not stopped; a silent PC then latches a stop.
-  bool watchdog_armed_ = false;
-  uint16_t requests_seen_ = 0;
-  uint32_t last_request_us_ = 0;
+  bool watchdog_armed_;
 };
 
 }  // namespace gateway

@@ -8,46 +8,85 @@ namespace mb2co {
 namespace gateway {
 
 using canopen::ObjectDictionary;
-using canopen::OdEntry;
 using modbus::Exception;
 using modbus::Table;
 
 namespace {
 bool is_bit_table(Table t) { return t == Table::kCoils || t == Table::kDiscreteInputs; }
-uint8_t width_of(Table t, uint8_t bits) { return (!is_bit_table(t) && bits == 32) ? 2 : 1; }
 }  // namespace
 
-bool OdRegisterBank::locate(Table table, uint16_t address, Item* item) const {
-  const uint16_t row0 = od_.find(map_index(table), 0);
-  const uint8_t count = static_cast<uint8_t>(od_.get(row0));
-  uint16_t at = 0;
-  for (uint8_t s = 1; s <= count; ++s) {
-    const uint32_t entry = od_.get(static_cast<uint16_t>(row0 + s));
-    const uint8_t bits = canopen::map_bits(entry);
-    const uint8_t width = entry == 0 ? 1 : width_of(table, bits);
-    if (address < at + width) {
-      item->row = entry == 0 ? ObjectDictionary::kNoRow : od_.find(canopen::map_index(entry), canopen::map_sub(entry));
-      item->bits = bits;
-      item->width = width;
-      item->first = at;
-      return true;
-    }
-    at = static_cast<uint16_t>(at + width);
+// Where each table's rows start in cached_rows_, and how many there are.
+constexpr uint8_t kCacheBase[4] = {0, kCoilMapSize,
+                                   kCoilMapSize + kDiscreteMapSize,
+                                   kCoilMapSize + kDiscreteMapSize + kInputMapSize};
+constexpr uint8_t kCacheSize[4] = {kCoilMapSize, kDiscreteMapSize, kInputMapSize, kHoldingMapSize};
+static_assert(static_cast<uint8_t>(Table::kCoils) == 0 && static_cast<uint8_t>(Table::kDiscreteInputs) == 1 &&
+                  static_cast<uint8_t>(Table::kInputRegisters) == 2 &&
+                  static_cast<uint8_t>(Table::kHoldingRegisters) == 3,
+              "cache layout by table");
+
+void OdRegisterBank::begin(Table table, Walk* w) const {
+  const uint8_t t = static_cast<uint8_t>(table);
+  w->row0 = od_.find(map_index(table), 0);
+  w->count = static_cast<uint8_t>(od_.get(w->row0));
+  w->sub = 0;
+  w->bit_table = is_bit_table(table);
+  w->cache_base = kCacheBase[t];
+  w->cache_size = kCacheSize[t];
+  w->item.first = 0;
+  w->item.width = 0;
+}
+
+bool OdRegisterBank::is_map(uint16_t row) const {
+  const uint16_t index = od_.index_of(row);
+  return index >= 0x2400 && index <= 0x2403;
+}
+
+uint16_t OdRegisterBank::row_of(const Walk& w, uint32_t entry) {
+  if (entry == 0) return ObjectDictionary::kNoRow;
+  const uint16_t index = canopen::map_index(entry);
+  const uint8_t sub = canopen::map_sub(entry);
+  uint8_t* slot = w.sub <= w.cache_size ? &cached_rows_[w.cache_base + w.sub - 1] : nullptr;
+  // A remembered row is checked against the entry (two bytes of flash):
+  // whoever changed the map, a stale row is never used.
+  if (slot != nullptr && *slot != 0xFF && od_.index_of(*slot) == index && od_.sub_of(*slot) == sub) {
+    return *slot;
   }
-  return false;
+  const uint16_t row = od_.find(index, sub);
+  if (slot != nullptr) *slot = static_cast<uint8_t>(row < 0xFF ? row : 0xFF);
+  return row;
+}
+
+bool OdRegisterBank::reach(Walk* w, uint16_t address) {
+  Item& it = w->item;
+  if (w->sub != 0 && address < it.first + it.width) return true;
+  uint32_t entry;
+  do {
+    if (w->sub >= w->count) return false;
+    ++w->sub;
+    entry = od_.get(static_cast<uint16_t>(w->row0 + w->sub));
+    it.first = static_cast<uint16_t>(it.first + it.width);
+    it.bits = canopen::map_bits(entry);
+    it.width = (entry != 0 && !w->bit_table && it.bits == 32) ? 2 : 1;
+  } while (address >= it.first + it.width);
+  // Only the item reached is looked up (not those before the request's start).
+  it.row = row_of(*w, entry);
+  return true;
 }
 
 bool OdRegisterBank::covers(Table table, modbus::Access access, uint16_t start, uint16_t count) {
   const uint32_t end = static_cast<uint32_t>(start) + count;
+  Walk w;
+  begin(table, &w);
+  const Item& it = w.item;
   for (uint32_t a = start; a < end;) {
-    Item it;
-    if (!locate(table, static_cast<uint16_t>(a), &it) || it.row == ObjectDictionary::kNoRow) return false;
-    const OdEntry e = od_.entry(it.row);
+    if (!reach(&w, static_cast<uint16_t>(a)) || it.row == ObjectDictionary::kNoRow) return false;
+    const uint8_t attr = od_.attr(it.row);
     if (access == modbus::Access::kWrite) {
-      if (!(e.attr & canopen::kAttrWrite)) return false;
+      if (!(attr & canopen::kAttrWrite)) return false;
       // A 32-bit value is written whole or not at all.
       if (it.first < start || it.first + it.width > end) return false;
-    } else if (!(e.attr & canopen::kAttrRead)) {
+    } else if (!(attr & canopen::kAttrRead)) {
       return false;
     }
     a = it.first + it.width;
@@ -56,36 +95,43 @@ bool OdRegisterBank::covers(Table table, modbus::Access access, uint16_t start, 
 }
 
 Exception OdRegisterBank::read_bits(Table table, uint16_t start, modbus::BitSpan out) {
-  for (uint16_t i = 0; i < out.count; ++i) {
-    Item it;
-    if (!locate(table, static_cast<uint16_t>(start + i), &it)) return Exception::kIllegalDataAddress;
-    out.set(i, (od_.get(it.row) & 1u) != 0);
-  }
-  return Exception::kNone;
+  return read_items(table, start, out.count, out.bytes);
 }
 
 Exception OdRegisterBank::read_registers(Table table, uint16_t start, modbus::RegisterSpan out) {
-  for (uint16_t i = 0; i < out.count; ++i) {
+  return read_items(table, start, out.count, out.bytes);
+}
+
+// Bits and registers share one loop: a bit is bit 0 of its entry; a register
+// the entry's low `bits` bits, or one half of a 32-bit entry (high first).
+Exception OdRegisterBank::read_items(Table table, uint16_t start, uint16_t count, uint8_t* bytes) {
+  Walk w;
+  begin(table, &w);
+  const Item& it = w.item;
+  for (uint16_t i = 0; i < count; ++i) {
     const uint16_t a = static_cast<uint16_t>(start + i);
-    Item it;
-    if (!locate(table, a, &it)) return Exception::kIllegalDataAddress;
+    if (!reach(&w, a)) return Exception::kIllegalDataAddress;
     uint32_t v = od_.get(it.row);
+    if (w.bit_table) {
+      modbus::BitSpan{bytes, count}.set(i, (v & 1u) != 0);
+      continue;
+    }
     if (it.bits < 32) v &= (static_cast<uint32_t>(1) << it.bits) - 1u;
     if (it.width == 2) v = a == it.first ? v >> 16 : v & 0xFFFFu;
-    out.set(i, static_cast<uint16_t>(v));
+    modbus::put_be16(bytes + 2u * i, static_cast<uint16_t>(v));
   }
   return Exception::kNone;
 }
 
 Exception OdRegisterBank::write_value(const Item& it, uint32_t value) {
-  const OdEntry e = od_.entry(it.row);
   const uint16_t size = od_.size_of(it.row);
   if (it.bits < 32 && (value >> it.bits) != 0) return Exception::kServerDeviceFailure;
   uint8_t bytes[4];
   canopen::put_le32(bytes, value);
   if (size < 4 && (value >> (8 * size)) != 0) return Exception::kServerDeviceFailure;
-  return od_.write(e.index, e.sub, bytes, size) == canopen::kSdoOk ? Exception::kNone
-                                                                    : Exception::kServerDeviceFailure;
+  return od_.write(od_.index_of(it.row), od_.sub_of(it.row), bytes, size) == canopen::kSdoOk
+             ? Exception::kNone
+             : Exception::kServerDeviceFailure;
 }
 
 namespace {
@@ -112,40 +158,41 @@ struct Undo {
 }  // namespace
 
 Exception OdRegisterBank::write_registers(uint16_t start, modbus::ConstRegisterSpan values) {
+  return write_items(Table::kHoldingRegisters, start, values.count, values.bytes);
+}
+
+Exception OdRegisterBank::write_coils(uint16_t start, modbus::ConstBitSpan values) {
+  return write_items(Table::kCoils, start, values.count, values.bytes);
+}
+
+// Coils and holding registers share one loop: item by item, each value
+// checked by the OD (limits, hooks), all undone when one is refused.
+Exception OdRegisterBank::write_items(Table table, uint16_t start, uint16_t count,
+                                      const uint8_t* bytes) {
   Undo undo;
-  for (uint16_t i = 0; i < values.count;) {
-    Item it;
-    if (!locate(Table::kHoldingRegisters, static_cast<uint16_t>(start + i), &it)) {
+  Walk w;
+  begin(table, &w);
+  const Item& it = w.item;
+  for (uint16_t i = 0; i < count;) {
+    if (!reach(&w, static_cast<uint16_t>(start + i))) {
       undo.rollback(od_);
       return Exception::kIllegalDataAddress;
     }
-    uint32_t v = values.get(i);
-    if (it.width == 2) v = (v << 16) | values.get(static_cast<uint16_t>(i + 1));
+    uint32_t v;
+    if (w.bit_table) {
+      v = modbus::packed_bit(bytes, i) ? 1u : 0u;
+    } else {
+      v = modbus::get_be16(bytes + 2u * i);
+      if (it.width == 2) v = (v << 16) | modbus::get_be16(bytes + 2u * i + 2u);
+    }
     undo.save(od_, it.row);
     const Exception ex = write_value(it, v);
     if (ex != Exception::kNone) {
       undo.rollback(od_);
       return ex;
     }
-    i = static_cast<uint16_t>(i + it.width);
-  }
-  return Exception::kNone;
-}
-
-Exception OdRegisterBank::write_coils(uint16_t start, modbus::ConstBitSpan values) {
-  Undo undo;
-  for (uint16_t i = 0; i < values.count; ++i) {
-    Item it;
-    if (!locate(Table::kCoils, static_cast<uint16_t>(start + i), &it)) {
-      undo.rollback(od_);
-      return Exception::kIllegalDataAddress;
-    }
-    undo.save(od_, it.row);
-    const Exception ex = write_value(it, values.get(i) ? 1u : 0u);
-    if (ex != Exception::kNone) {
-      undo.rollback(od_);
-      return ex;
-    }
+    i = static_cast<uint16_t>(i + it.width);  // always 1 for coils
+    if (is_map(it.row)) begin(table, &w);     // the map itself changed
   }
   return Exception::kNone;
 }
@@ -168,10 +215,9 @@ uint32_t OdRegisterBank::check_map_write(const ObjectDictionary& od, uint16_t in
   if (row == ObjectDictionary::kNoRow) {
     return od.has_index(canopen::map_index(entry)) ? canopen::kAbortNoSubindex : canopen::kAbortNoObject;
   }
-  const OdEntry e = od.entry(row);
   const uint8_t bits = canopen::map_bits(entry);
   const uint16_t size = od.size_of(row);
-  if (e.attr & canopen::kAttrString) return canopen::kAbortInvalidValue;
+  if (od.attr(row) & canopen::kAttrString) return canopen::kAbortInvalidValue;
   if (is_bit_table(table)) {
     if (bits != 1 || size != 1) return canopen::kAbortInvalidValue;
   } else if (!((bits >= 1 && bits <= 16 && bits <= size * 8u) || (bits == 32 && size == 4))) {
@@ -182,18 +228,15 @@ uint32_t OdRegisterBank::check_map_write(const ObjectDictionary& od, uint16_t in
 
 uint8_t OdDeviceIdentity::copy_object(uint8_t id, uint8_t* out, uint8_t capacity) {
   if (id == kVendorName) {
-    static const char kVendor[] = "mb2co";
+    static const char kVendor[] MB2CO_FLASH = "mb2co";
     const uint8_t n = sizeof kVendor - 1;
-    memcpy(out, kVendor, n < capacity ? n : capacity);
+    for (uint8_t i = 0; i < n && i < capacity; ++i) out[i] = flash_byte(kVendor + i);
     return n;
   }
   const uint16_t row = od_.find(id == kProductCode ? 0x1008 : 0x100A, 0);
   if (row == ObjectDictionary::kNoRow) return 0;
-  const uint16_t n = od_.size_of(row);
-  uint8_t buf[32];
-  od_.copy_out(row, buf, sizeof buf);
-  memcpy(out, buf, n < capacity ? n : capacity);
-  return static_cast<uint8_t>(n);
+  od_.copy_out(row, out, capacity);  // the first `capacity` bytes
+  return static_cast<uint8_t>(od_.size_of(row));
 }
 
 }  // namespace gateway

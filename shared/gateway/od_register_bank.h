@@ -9,8 +9,10 @@
 // entry refuses (limits, write hooks) is exception 04 and nothing is changed.
 #pragma once
 #include <stdint.h>
+#include <string.h>
 
 #include "canopen/od.h"
+#include "gateway/gateway_od.h"
 #include "modbus/register_bank.h"
 
 namespace mb2co {
@@ -18,7 +20,9 @@ namespace gateway {
 
 class OdRegisterBank : public modbus::RegisterBank {
  public:
-  explicit OdRegisterBank(canopen::ObjectDictionary& od) : od_(od) {}
+  explicit OdRegisterBank(canopen::ObjectDictionary& od) : od_(od) {
+    memset(cached_rows_, 0xFF, sizeof cached_rows_);
+  }
 
   bool covers(modbus::Table table, modbus::Access access, uint16_t start, uint16_t count) override;
   modbus::Exception read_bits(modbus::Table table, uint16_t start, modbus::BitSpan out) override;
@@ -46,11 +50,38 @@ class OdRegisterBank : public modbus::RegisterBank {
     uint8_t width;
     uint16_t first;
   };
-  /// Finds the item holding `address` in `table`; false if beyond the map.
-  bool locate(modbus::Table table, uint16_t address, Item* item) const;
+  /// A walk over one table's map in address order. A request reaches its
+  /// addresses in ascending order, so it costs one pass over the map whatever
+  /// its length, and an OD lookup only for the items it uses.
+  struct Walk {
+    Item item;       ///< the current item (valid once reach() returned true)
+    uint16_t row0;   ///< row of the map's sub 0
+    uint8_t count;   ///< entries in use (sub 0)
+    uint8_t sub;     ///< sub-index of `item`, 0 before the first
+    bool bit_table;  ///< coils, discrete inputs: every item is one address
+    uint8_t cache_base;  ///< this table's first slot in cached_rows_
+    uint8_t cache_size;  ///< its slots (the map's capacity)
+  };
+  void begin(modbus::Table table, Walk* walk) const;
+  /// Moves on to the item holding `address` (not before the current one);
+  /// false when the map ends before it.
+  bool reach(Walk* walk, uint16_t address);
+  /// Row of the current item's entry (kNoRow for an unmapped address).
+  uint16_t row_of(const Walk& walk, uint32_t entry);
   modbus::Exception write_value(const Item& item, uint32_t value);
+  modbus::Exception read_items(modbus::Table table, uint16_t start, uint16_t count, uint8_t* bytes);
+  modbus::Exception write_items(modbus::Table table, uint16_t start, uint16_t count,
+                                const uint8_t* bytes);
+  /// True for a row of the maps 2400h-2403h (a write there moves the items).
+  bool is_map(uint16_t row) const;
+
 
   canopen::ObjectDictionary& od_;
+  /// The row each map entry named when it was last looked up, by table and
+  /// sub-index (0xFF: none, or a row above 254), checked against the entry
+  /// before use: a request's covers() and its read or write, and every later
+  /// request, skip the OD's binary search.
+  uint8_t cached_rows_[kCoilMapSize + kDiscreteMapSize + kInputMapSize + kHoldingMapSize];
 };
 
 /// FC 2B/0E basic objects from the OD: vendor name "mb2co", product code =

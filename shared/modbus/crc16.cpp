@@ -3,29 +3,33 @@
 #include "modbus/protocol.h"
 
 #ifdef __AVR__
-#include <avr/pgmspace.h>
-#define MB2CO_MODBUS_CRC_TABLE_ATTR PROGMEM
-#define MB2CO_MODBUS_CRC_TABLE_READ(p) pgm_read_word(p)
-#else
-#define MB2CO_MODBUS_CRC_TABLE_ATTR
-#define MB2CO_MODBUS_CRC_TABLE_READ(p) (*(p))
+#include <util/crc16.h>
 #endif
 
 namespace mb2co {
 namespace modbus {
+
+#ifdef __AVR__
+// avr-libc's _crc16_update is this very CRC (reflected polynomial 0xA001) in
+// a few straight-line instructions per byte: ~5x faster than the nibble table
+// below on the ATmega328P, and every received and sent byte goes through it.
+uint16_t crc16(const uint8_t* data, uint16_t length, uint16_t crc) {
+  for (uint16_t i = 0; i < length; ++i) crc = _crc16_update(crc, data[i]);
+  return crc;
+}
+#else
 namespace {
 
 // kNibbleTable[n] is the reflected CRC update for the 4-bit value n:
 // n shifted out bit by bit with poly 0xA001 (checked against the bitwise
 // algorithm in tests/modbus/crc_test.cpp).
-const uint16_t kNibbleTable[16] MB2CO_MODBUS_CRC_TABLE_ATTR = {
+const uint16_t kNibbleTable[16] = {
     0x0000, 0xCC01, 0xD801, 0x1400, 0xF001, 0x3C00, 0x2800, 0xE401,
     0xA001, 0x6C00, 0x7800, 0xB401, 0x5000, 0x9C01, 0x8801, 0x4400,
 };
 
 inline uint16_t step_nibble(uint16_t crc, uint8_t nibble) {
-  const uint16_t entry = MB2CO_MODBUS_CRC_TABLE_READ(&kNibbleTable[(crc ^ nibble) & 0x0Fu]);
-  return static_cast<uint16_t>((crc >> 4) ^ entry);
+  return static_cast<uint16_t>((crc >> 4) ^ kNibbleTable[(crc ^ nibble) & 0x0Fu]);
 }
 
 }  // namespace
@@ -37,6 +41,7 @@ uint16_t crc16(const uint8_t* data, uint16_t length, uint16_t crc) {
   }
   return crc;
 }
+#endif
 
 uint16_t append_crc(uint8_t* data, uint16_t length) {
   const uint16_t crc = crc16(data, length);

@@ -1,45 +1,49 @@
 #include "mcp2515_spi.h"
 
-#include <Arduino.h>
-#include <SPI.h>
+#include <avr/io.h>
 
 #include "pins.h"
+#include "port/gpio.h"
 
 namespace mb2co {
 namespace avr {
 namespace {
 
-// Mode 0, MSB first. 8 MHz is F_CPU / 2, the AVR's fastest SPI clock and
-// below the MCP2515's 10 MHz limit.
-const SPISettings kSettings(8000000, MSBFIRST, SPI_MODE0);
-
-// Chip select by direct port access: digitalWrite costs ~4 us per call,
-// more than the 13 bytes of a frame take on the wire at 8 MHz.
-volatile uint8_t* cs_port;
-uint8_t cs_mask;
-
-uint8_t transfer(void*, uint8_t out) { return SPI.transfer(out); }
-
-void select(void*, bool active) {
-  if (active) {
-    SPI.beginTransaction(kSettings);
-    *cs_port &= static_cast<uint8_t>(~cs_mask);
-  } else {
-    *cs_port |= cs_mask;
-    SPI.endTransaction();
-  }
-}
+// The MCP2515 is the only SPI device: the SPI unit is set up once (mode 0,
+// MSB first, F_CPU / 2 = 8 MHz, the AVR's fastest clock and below the chip's
+// 10 MHz) and used through its registers, without the Arduino SPI library
+// (its begin() pulls in pinMode and the pin tables; its transactions would
+// rewrite the same settings for every instruction).
+// Chip select by direct port access (one sbi/cbi): digitalWrite costs ~4 us
+// per call, more than the 13 bytes of a frame take on the wire at 8 MHz.
+static_assert(pins::kCanCs == 10, "CS is driven as PB2 (the AVR's SS) below");
 
 }  // namespace
 
-mcp2515::Spi mcp2515_spi() { return mcp2515::Spi{&transfer, &select, nullptr}; }
+uint8_t mcp2515_spi_transfer(void*, uint8_t out) {
+  SPDR = out;
+  while (!(SPSR & _BV(SPIF))) {
+  }
+  return SPDR;
+}
+
+void mcp2515_spi_select(void*, bool active) {
+  if (active) {
+    PORTB &= static_cast<uint8_t>(~_BV(PORTB2));
+  } else {
+    PORTB |= _BV(PORTB2);
+  }
+}
 
 void mcp2515_spi_begin() {
-  pinMode(pins::kCanCs, OUTPUT);
-  digitalWrite(pins::kCanCs, HIGH);
-  cs_port = portOutputRegister(digitalPinToPort(pins::kCanCs));
-  cs_mask = digitalPinToBitMask(pins::kCanCs);
-  SPI.begin();
+  // SS (D10) an output before master mode: as an input pulled low it would
+  // switch the SPI unit back to slave mode.
+  gpio_write(pins::kCanCs, true);  // deselected before it becomes an output
+  gpio_output(pins::kCanCs);
+  gpio_output(13);  // SCK (PB5)
+  gpio_output(11);  // MOSI (PB3); MISO (PB4) stays an input
+  SPCR = _BV(SPE) | _BV(MSTR);
+  SPSR = _BV(SPI2X);
 }
 
 }  // namespace avr

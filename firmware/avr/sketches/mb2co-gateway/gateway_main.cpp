@@ -16,6 +16,7 @@
 #include "pins.h"
 #include "port/can_port.h"
 #include "port/eeprom_storage.h"
+#include "port/gpio.h"
 #include "port/mcp2515_spi.h"
 #include "port/pressed.h"
 #include "port/uart.h"
@@ -52,23 +53,23 @@ bool can_send(void*, const CanFrame& frame) {
 void show_leds(uint8_t leds) {
   if (leds == leds_shown) return;
   leds_shown = leds;
-  for (uint8_t i = 0; i < 4; ++i) digitalWrite(kLedPins[i], (leds >> i) & 1u ? HIGH : LOW);
+  for (uint8_t i = 0; i < 4; ++i) avr::gpio_write(kLedPins[i], (leds >> i) & 1u);
 }
 
 void show_can_state() {
   const bool bad = !can_port.ready() || driver.error_state() >= mcp2515::ErrorState::kPassive;
   if (bad == can_led_shown) return;
   can_led_shown = bad;
-  digitalWrite(pins::kShieldLed2, bad ? HIGH : LOW);
+  avr::gpio_write(pins::kShieldLed2, bad);
 }
 
 }  // namespace
 
 void setup() {
   avr::pullup_inputs(kButtonPins, 3);
-  for (uint8_t pin : kLedPins) pinMode(pin, OUTPUT);
-  pinMode(pins::kShieldLed2, OUTPUT);
-  pinMode(pins::kCanInt, INPUT);  // the MCP2515 drives INT push-pull
+  for (uint8_t pin : kLedPins) avr::gpio_output(pin);
+  avr::gpio_output(pins::kShieldLed2);
+  avr::gpio_input(pins::kCanInt, false);  // the MCP2515 drives INT push-pull
   avr::uart_begin(kBaud, kParity);
   avr::mcp2515_spi_begin();
   // The boot-up message starts the chip at the saved bit rate (can_send).

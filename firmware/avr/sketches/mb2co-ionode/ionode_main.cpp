@@ -13,6 +13,7 @@
 #include "pins.h"
 #include "port/can_port.h"
 #include "port/eeprom_storage.h"
+#include "port/gpio.h"
 #include "port/mcp2515_spi.h"
 #include "port/pressed.h"
 
@@ -54,17 +55,17 @@ void show_outputs() {
   const uint8_t out = io.output(0);
   if (out == outputs_shown) return;
   outputs_shown = out;
-  digitalWrite(pins::kShieldLed1, (out & 0x01) ? HIGH : LOW);
-  digitalWrite(pins::kShieldLed2, (out & 0x02) ? HIGH : LOW);
+  avr::gpio_write(pins::kShieldLed1, (out & 0x01) != 0);
+  avr::gpio_write(pins::kShieldLed2, (out & 0x02) != 0);
 }
 
 }  // namespace
 
 void setup() {
   avr::pullup_inputs(kJoystickPins, 5);
-  pinMode(pins::kShieldLed1, OUTPUT);
-  pinMode(pins::kShieldLed2, OUTPUT);
-  pinMode(pins::kCanInt, INPUT);  // the MCP2515 drives INT push-pull
+  avr::gpio_output(pins::kShieldLed1);
+  avr::gpio_output(pins::kShieldLed2);
+  avr::gpio_input(pins::kCanInt, false);  // the MCP2515 drives INT push-pull
   avr::mcp2515_spi_begin();
   const uint32_t now_us = micros();
   can_port.begin(kBitrateKbit, now_us);  // before the boot-up message

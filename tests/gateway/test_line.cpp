@@ -205,3 +205,24 @@ TEST(Line, NoWatchdogBeforeTheFirstModbusRequest) {
 
 }  // namespace
 }  // namespace mb2co
+
+namespace mb2co {
+namespace {
+
+TEST(Line, ARingOfTwoShowsTheOtherStationAsPreviousAndNext) {
+  test::Line line(2, [](canopen::ObjectDictionary& od, int) {
+    const uint8_t two = 2;
+    ASSERT_EQ(od.write(0x2000, 4, &two, 1), canopen::kSdoOk);
+  });
+  line.run_ms(300);
+  uint8_t one = 1;
+  for (int i = 0; i < 2; ++i) ASSERT_EQ(line.gw(i).od().write(0x2100, 1, &one, 1), canopen::kSdoOk);
+  line.run_ms(300);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(line.station(i).leds & 0x07, gateway::kLedRunSelf | gateway::kLedRunPrev | gateway::kLedRunNext)
+        << "station " << i + 1;
+  }
+}
+
+}  // namespace
+}  // namespace mb2co

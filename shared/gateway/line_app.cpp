@@ -85,7 +85,7 @@ void LineApp::on_rpdo(uint8_t n, uint32_t now_us) {
     if (prev_stop2_known_ && count != prev_stop2_seen_) latch_stop(kCauseStop2Previous);
     prev_stop2_seen_ = count;
     prev_stop2_known_ = true;
-    if (v_->v_0x2120_4 == v_->v_0x2110_4) v_->v_0x2120_1 = v_->v_0x2110_1;  // ring of two
+    if (v_->v_0x2120_4 == v_->v_0x2110_4) put(v_->v_0x2120_1, v_->v_0x2110_1);  // ring of two
   } else if (n == 2) {
     v_->v_0x2300_3 = now_us;
   }

@@ -34,7 +34,7 @@ const uint8_t kDiscreteMapSize = 8;
   MB2CO_OD_PDO_MAP4(N, 0x1602, kHookRpdoMap, 1, MB2CO_MAP(0x2130, 1, 8), 0, 0, 0, "RPDO3 mapping")      \
   MB2CO_OD_PDO_MAP4(N, 0x1603, kHookRpdoMap, 0, 0, 0, 0, 0, "RPDO4 mapping")                            \
   MB2CO_OD_TPDO_COMM(N, 0x1800, 0x180, kAttrNodeId, 254, 100, 100, "TPDO1 line state")                  \
-  MB2CO_OD_TPDO_COMM(N, 0x1801, 0x280, kAttrNodeId, 254, 100, 0, "TPDO2 buttons")                        \
+  MB2CO_OD_TPDO_COMM(N, 0x1801, 0x280, kAttrNodeId, 254, 0, 0, "TPDO2 buttons")                        \
   MB2CO_OD_TPDO_COMM(N, 0x1802, 0x80000380, kAttrNodeId, 254, 0, 0, "TPDO3")                           \
   MB2CO_OD_TPDO_COMM(N, 0x1803, 0x80000480, kAttrNodeId, 254, 0, 0, "TPDO4")                           \
   MB2CO_OD_PDO_MAP4(N, 0x1A00, kHookTpdoMap, 2, MB2CO_MAP(0x2100, 2, 8), MB2CO_MAP(0x2100, 3, 16), 0,   \

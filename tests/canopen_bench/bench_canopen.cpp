@@ -3,12 +3,16 @@
 // SYNC that makes 4 synchronous TPDOs.
 #include <benchmark/benchmark.h>
 
+#include <array>
+
+#include "bench_support.h"
 #include "canopen/od_comm.h"
 #include "ionode/io_node.h"
-#include "sync_tpdos.h"
 
 namespace mb2co {
 namespace {
+
+using bench::frame;
 
 struct CountingSink {
   uint32_t frames = 0;
@@ -22,13 +26,6 @@ struct CountingSink {
   CanSink sink() { return CanSink{&CountingSink::send, this}; }
 };
 
-CanFrame frame(uint32_t id, uint8_t dlc, const uint8_t* bytes) {
-  CanFrame f = {};
-  f.id = id;
-  f.dlc = dlc;
-  for (uint8_t i = 0; i < dlc; ++i) f.data[i] = bytes[i];
-  return f;
-}
 
 void BM_OdLookup(benchmark::State& state) {
   CountingSink bus;
@@ -44,27 +41,19 @@ void BM_OdLookup(benchmark::State& state) {
 }
 BENCHMARK(BM_OdLookup);
 
-void BM_SdoExpeditedUpload(benchmark::State& state) {
+// One expedited SDO request handed in, its response built and sent;
+// `reply` is the command byte the response must carry.
+void sdo_request(benchmark::State& state, std::array<uint8_t, 8> req, uint8_t reply) {
   CountingSink bus;
   ionode::IoNode node(bus.sink());
   node.start(3, 0);
-  const uint8_t req[8] = {0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0};
-  const CanFrame f = frame(0x603, 8, req);
+  const CanFrame f = frame(0x603, 8, req.data());
   for (auto _ : state) node.receive(f, 1000);
-  if (bus.last != 0x42) state.SkipWithError("unexpected SDO response");
+  if (bus.last != reply) state.SkipWithError("unexpected SDO response");
 }
-BENCHMARK(BM_SdoExpeditedUpload);
-
-void BM_SdoExpeditedDownload(benchmark::State& state) {
-  CountingSink bus;
-  ionode::IoNode node(bus.sink());
-  node.start(3, 0);
-  const uint8_t req[8] = {0x2B, 0x17, 0x10, 0x00, 0xF4, 0x01, 0, 0};
-  const CanFrame f = frame(0x603, 8, req);
-  for (auto _ : state) node.receive(f, 1000);
-  if (bus.last != 0x60) state.SkipWithError("unexpected SDO response");
-}
-BENCHMARK(BM_SdoExpeditedDownload);
+// Upload of 1000h (device type); download of 1017h = 500.
+BENCHMARK_CAPTURE(sdo_request, ExpeditedUpload, {0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0}, 0x42);
+BENCHMARK_CAPTURE(sdo_request, ExpeditedDownload, {0x2B, 0x17, 0x10, 0x00, 0xF4, 0x01, 0, 0}, 0x60);
 
 void BM_Sync4Tpdos(benchmark::State& state) {
   CountingSink bus;

@@ -4,13 +4,14 @@
 // wall-clock time). Not a test; see docs/performance.md.
 #include <cstdio>
 
+#include "bench_support.h"
 #include "canopen/od_comm.h"
 #include "ionode/io_node.h"
-#include "sync_tpdos.h"
 
 namespace {
 
 using namespace mb2co;
+using bench::frame;
 const int kRuns = 10000;
 uint32_t g_frames = 0;
 bool count(void*, const CanFrame&) {
@@ -18,13 +19,6 @@ bool count(void*, const CanFrame&) {
   return true;
 }
 
-CanFrame frame(uint32_t id, uint8_t dlc, const uint8_t* bytes) {
-  CanFrame f = {};
-  f.id = id;
-  f.dlc = dlc;
-  for (uint8_t i = 0; i < dlc; ++i) f.data[i] = bytes[i];
-  return f;
-}
 
 __attribute__((noinline)) uint32_t run_od_lookup(canopen::ObjectDictionary& od) {
   uint32_t sum = 0;

@@ -1,14 +1,24 @@
-// Shared by the benchmark and the callgrind driver: configures TPDO n
-// (0-based) as synchronous every SYNC, mapping both input bytes and the error
-// register, by the CiA 301 procedure (disable, sub 0 = 0, entries, sub 0,
-// type, enable).
+// Shared by the benchmark and the callgrind driver: frame building and the
+// configuration of synchronous TPDOs.
 #pragma once
+#include "canopen/can_frame.h"
 #include "canopen/od.h"
 #include "canopen/od_comm.h"
 
 namespace mb2co {
 namespace bench {
 
+inline CanFrame frame(uint32_t id, uint8_t dlc, const uint8_t* bytes) {
+  CanFrame f = {};
+  f.id = id;
+  f.dlc = dlc;
+  for (uint8_t i = 0; i < dlc; ++i) f.data[i] = bytes[i];
+  return f;
+}
+
+/// Configures TPDO n (0-based) as synchronous every SYNC, mapping both input
+/// bytes and the error register, by the CiA 301 procedure (disable, sub 0 =
+/// 0, entries, sub 0, type, enable).
 inline void make_sync_tpdo(canopen::ObjectDictionary& od, uint8_t n) {
   using canopen::put_le32;
   uint8_t b[4];

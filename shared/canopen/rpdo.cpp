@@ -52,13 +52,17 @@ void Rpdos::update_length_errors() {
 
 bool Rpdos::on_frame(const CanFrame& f, uint32_t now_us) {
   if (f.extended()) return false;
+  // Every valid RPDO on this COB-ID gets the frame: several RPDOs may
+  // subscribe to one producer and map its data differently.
+  bool matched = false;
   for (uint8_t n = 0; n < kPdoCount; ++n) {
     const uint32_t cob = comm(n, kCob);
     if ((cob & 0x80000000u) || (cob & 0x7FFu) != f.id) continue;
-    if (f.rtr()) return true;  // nothing to answer for a receive PDO
+    matched = true;
+    if (f.rtr()) continue;  // nothing to answer for a receive PDO
     // Nothing mapped: the PDO carries nothing for us (as a TPDO with no
     // mapping is not sent), so no length check and no EMCY either.
-    if (od_->get(map_row(n)) == 0) return true;
+    if (od_->get(map_row(n)) == 0) continue;
     State& s = st_[n];
     const uint8_t need = pdo_mapped_bytes(*od_, map_row(n));
     s.flags = static_cast<uint8_t>(s.flags & ~(kShort | kLong));
@@ -68,7 +72,7 @@ bool Rpdos::on_frame(const CanFrame& f, uint32_t now_us) {
       s.flags |= kLong;
     }
     update_length_errors();
-    if (s.flags & kShort) return true;  // not processed
+    if (s.flags & kShort) continue;  // not processed
     const uint16_t event_ms = static_cast<uint16_t>(comm(n, kEvent));
     if (event_ms != 0) {
       s.flags |= kMonitoring;
@@ -87,9 +91,8 @@ bool Rpdos::on_frame(const CanFrame& f, uint32_t now_us) {
     } else {
       apply(n, f.data);
     }
-    return true;
   }
-  return false;
+  return matched;
 }
 
 void Rpdos::on_sync() {

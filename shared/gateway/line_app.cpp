@@ -51,9 +51,7 @@ void LineApp::on_reset(uint8_t node_id) {
   // Derived: subscribe to the neighbours' TPDO1 (line state) and to the
   // watched station's TPDO2 (buttons), watch both neighbours' heartbeats.
   v.v_0x1400_1 = rpdo_cob_id(0x180, prev);
-  // In a ring of two, previous and next are one station: one RPDO carries its
-  // TPDO1 (two RPDOs on one COB-ID would leave the second one deaf).
-  v.v_0x1401_1 = rpdo_cob_id(0x180, next != prev ? next : 0);
+  v.v_0x1401_1 = rpdo_cob_id(0x180, next);
   uint8_t watched = v.v_0x2130_2;
   if (watched == 0) watched = prev;
   v.v_0x1402_1 = rpdo_cob_id(0x280, watched);
@@ -85,7 +83,6 @@ void LineApp::on_rpdo(uint8_t n, uint32_t now_us) {
     if (prev_stop2_known_ && count != prev_stop2_seen_) latch_stop(kCauseStop2Previous);
     prev_stop2_seen_ = count;
     prev_stop2_known_ = true;
-    if (v_->v_0x2120_4 == v_->v_0x2110_4) put(v_->v_0x2120_1, v_->v_0x2110_1);  // ring of two
   } else if (n == 2) {
     v_->v_0x2300_3 = now_us;
   }

@@ -240,8 +240,13 @@ void ObjectDictionary::store(const OdEntry& e, const uint8_t* data, uint16_t len
 
 uint32_t ObjectDictionary::write(uint16_t index, uint8_t sub, const uint8_t* data, uint16_t len) {
   uint16_t r = kNoRow;
-  uint32_t abort = check_write(index, sub, &r);
+  const uint32_t abort = check_write(index, sub, &r);
   if (abort != kSdoOk) return abort;
+  return write_row(r, data, len);
+}
+
+uint32_t ObjectDictionary::write_row(uint16_t r, const uint8_t* data, uint16_t len) {
+  uint32_t abort = kSdoOk;
   const OdEntry e = entry(r);
   const uint16_t cap = capacity_of(r);
   if (len > cap) return kAbortTooLong;
@@ -251,7 +256,7 @@ uint32_t ObjectDictionary::write(uint16_t index, uint8_t sub, const uint8_t* dat
     if (abort != kSdoOk) return abort;
   }
   if (e.hook != kHookNone && hook_ != nullptr) {
-    abort = hook_(hook_ctx_, e.hook, index, sub, data, len);
+    abort = hook_(hook_ctx_, e.hook, e.index, e.sub, data, len);
     if (abort == kHookHandled) return kSdoOk;
     if (abort != kSdoOk) return abort;
   }

@@ -56,6 +56,11 @@ class ObjectDictionary {
   MB2CO_INLINE uint8_t attr(uint16_t row) const { return flash_read(&def_.rows[row].attr); }
   MB2CO_INLINE uint16_t index_of(uint16_t row) const { return flash_read(&def_.rows[row].index); }
   MB2CO_INLINE uint8_t sub_of(uint16_t row) const { return flash_read(&def_.rows[row].sub); }
+  /// OdHook of a row (kHookNone: no service validates writes to it).
+  MB2CO_INLINE uint8_t hook_of(uint16_t row) const {
+    return static_cast<uint8_t>(
+        flash_read(reinterpret_cast<const uint8_t*>(&def_.rows[row]) + kOdEntryTypeHookOffset) >> 4);
+  }
   /// Bit length of a numeric data type, read from data-type entries
   /// 0001h–0007h of this very OD (0 when the type has no such entry).
   uint8_t type_bits(uint8_t type) const;
@@ -74,6 +79,9 @@ class ObjectDictionary {
   uint32_t check_write(uint16_t index, uint8_t sub, uint16_t* row) const;
   /// Writes (index, sub) from data/len: rights, size, limits, hook, then store.
   uint32_t write(uint16_t index, uint8_t sub, const uint8_t* data, uint16_t len);
+  /// write() of a row whose access rights the caller has checked (a mapped
+  /// RPDO entry): size, limits, hook, then store.
+  uint32_t write_row(uint16_t row, const uint8_t* data, uint16_t len);
 
   // ---- local access by the device itself (no rights, no hooks) -------------
   /// Numeric value of a row, zero-extended (sign bits kept as stored).

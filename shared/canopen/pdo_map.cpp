@@ -148,7 +148,14 @@ void pdo_apply(ObjectDictionary& od, uint16_t row0, const uint8_t* data) {
     if (row == ObjectDictionary::kNoRow) return;
     uint8_t value[4] = {0, 0, 0, 0};
     get_bits(value, data, at, n);
-    od.set(row, le32(value));
+    // An entry with a write hook takes the network's path: limits and its
+    // owner may refuse the value (an output under local control), which is
+    // then dropped as an SDO write would be refused. PDOs have no answer.
+    if (od.hook_of(row) != kHookNone) {
+      od.write_row(row, value, od.size_of(row));
+    } else {
+      od.set(row, le32(value));
+    }
   });
 }
 

@@ -33,7 +33,9 @@ uint32_t pdo_check_map_write(const ObjectDictionary& od, uint32_t cob, uint16_t 
 uint8_t pdo_map_stride(const ObjectDictionary& od, uint16_t first_index);
 /// Builds the payload of the mapping at `row0`; returns its length in bytes.
 uint8_t pdo_build(const ObjectDictionary& od, uint16_t row0, uint8_t data[8]);
-/// Writes a received payload into the mapped objects.
+/// Writes a received payload into the mapped objects. Entries with a write
+/// hook go through ObjectDictionary::write_row (limits, hook): one the hook
+/// refuses keeps its value.
 void pdo_apply(ObjectDictionary& od, uint16_t row0, const uint8_t* data);
 /// Mapped length in bytes of the mapping at `row0`.
 uint8_t pdo_mapped_bytes(const ObjectDictionary& od, uint16_t row0);

@@ -30,6 +30,24 @@ TEST_F(Rpdo, Type255IsAppliedOnReception) {
   EXPECT_EQ(h.take(), Frames({}));
 }
 
+// An output under local control (2100h) refuses the network: an SDO write
+// gets 08000021h (SdoAbort.OutputsUnderLocalControl_08000021), an RPDO is
+// not applied either; back under network control the next RPDO is.
+TEST_F(Rpdo, OutputsUnderLocalControlIgnoreTheRpdo) {
+  operational();
+  h.rx(F(0x203, {0x12, 0x34}));
+  ASSERT_EQ(io.output(0), 0x12);
+  ASSERT_EQ(h.write_u8(0x2100, 0, 1), 0u);
+  h.rx(F(0x203, {0x56, 0x78}));
+  EXPECT_EQ(io.output(0), 0x12);
+  EXPECT_EQ(io.output(1), 0x34);
+  ASSERT_EQ(h.write_u8(0x2100, 0, 0), 0u);
+  h.rx(F(0x203, {0x56, 0x78}));
+  EXPECT_EQ(io.output(0), 0x56);
+  EXPECT_EQ(io.output(1), 0x78);
+  EXPECT_EQ(h.take(), Frames({})) << "an RPDO is never answered, refused or not";
+}
+
 TEST_F(Rpdo, SynchronousTypesAreAppliedAtTheNextSync) {
   ASSERT_EQ(h.write_u8(0x1400, 2, 1), 0u);
   operational();

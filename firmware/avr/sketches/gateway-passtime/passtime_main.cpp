@@ -15,6 +15,7 @@
 #include <stdint.h>
 
 #include "canopen/pdo_map.h"
+#include "filter_plan.h"
 #include "gateway/gateway.h"
 #include "modbus/crc16.h"
 #include "modbus/master_codec.h"
@@ -132,6 +133,32 @@ void blocks(gateway::Gateway& g) {
   (void)sink;
 }
 
+// MCP2515 acceptance-filter planning (firmware/mcp2515/filter_plan.h) for
+// the ids a gateway consumes: node 2 of a 4-station ring (NMT, SYNC, SDO,
+// guarding RTR, RPDO1-3, the neighbours' heartbeats: 9 ids), its first 6,
+// and 12 (the planner's limit: 3 more heartbeat consumers). Timer1 at clk/256
+// here (16 µs ticks, 1 s before it wraps): a plan takes longer than a pass.
+void filter_plans() {
+  static const uint16_t kIds[12] = {0x000, 0x080, 0x181, 0x183, 0x281, 0x602,
+                                    0x701, 0x702, 0x703, 0x704, 0x705, 0x706};
+  static const uint8_t kCounts[3] = {6, 9, 12};
+  TCCR1B = _BV(CS12);
+  for (uint8_t k = 0; k < 3; ++k) {
+    mcp2515::FilterPlan plan;
+    TCNT1 = 0;
+    const bool ok = mcp2515::plan_filters(kIds, kCounts[k], plan);
+    const uint32_t us = static_cast<uint32_t>(TCNT1) * 16u;
+    put_P(PSTR("filter_plan_ids_"));
+    put_number(kCounts[k]);
+    put(' ');
+    put_number(us);
+    put(' ');
+    put_number(ok ? plan.accepted_ids : 0);
+    put('\n');
+  }
+  TCCR1B = _BV(CS11) | _BV(CS10);
+}
+
 }  // namespace
 
 int main() {
@@ -209,6 +236,8 @@ int main() {
   frame(PSTR("heartbeat_frame"), 0x701, 1, 5);
   frame(PSTR("rpdo3_frame"), 0x281, 1, 1);
   frame(PSTR("rpdo1_frame"), 0x181, 3, 1);
+
+  filter_plans();
 
   put_P(PSTR("end\n"));
   while (!(UCSR0A & _BV(TXC0))) {

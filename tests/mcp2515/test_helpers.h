@@ -24,6 +24,8 @@ inline std::ostream& operator<<(std::ostream& os, const CanFrame& f) {
 
 namespace mcp2515::test {
 
+using model::Mcp2515Model;
+
 inline CanFrame frame(uint32_t id, std::initializer_list<uint8_t> data = {}, uint8_t flags = 0) {
   CanFrame f{};
   f.id = id;

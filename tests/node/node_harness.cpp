@@ -36,6 +36,10 @@ TempDir::~TempDir() {
 bool NodeProcess::start(const std::vector<std::string>& args, std::chrono::milliseconds timeout) {
   std::vector<std::string> argv{node_program()};
   argv.insert(argv.end(), args.begin(), args.end());
+  return start_command(argv, timeout);
+}
+
+bool NodeProcess::start_command(const std::vector<std::string>& argv, std::chrono::milliseconds timeout) {
   if (!child.start(argv)) {
     error_ = child.error();
     return false;
@@ -116,6 +120,18 @@ bool ModbusMaster::wait_input(int address, int value, std::chrono::milliseconds 
     if (input_register(address) == value) return true;
   } while (std::chrono::steady_clock::now() < deadline);
   return false;
+}
+
+Bytes ModbusMaster::raw_transaction(const Bytes& pdu) {
+  Bytes req{1};
+  req.insert(req.end(), pdu.begin(), pdu.end());
+  if (modbus_send_raw_request(ctx_, req.data(), static_cast<int>(req.size())) <= 0) return {};
+  return read_response(fd(), pdu.size(), 1s);
+}
+
+uint16_t ModbusMaster::diag_counter(uint8_t sub) {
+  const Bytes rsp = raw_transaction({0x08, 0x00, sub, 0x00, 0x00});
+  return rsp.size() == 6u ? static_cast<uint16_t>(rsp[4] << 8 | rsp[5]) : 0xFFFF;
 }
 
 }  // namespace test

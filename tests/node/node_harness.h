@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "line_child.h"
+#include "rtu_frames.h"
 
 namespace mb2co {
 namespace test {
@@ -43,6 +44,9 @@ class NodeProcess {
   /// Starts it with `args` and waits for its ready line; false with the
   /// reason in error() when it does not get there within `timeout`.
   bool start(const std::vector<std::string>& args, std::chrono::milliseconds timeout = 10s);
+  /// The same for another program with this control channel and ready line
+  /// (`argv[0]` is its path: mb2co-uno, tests/uno).
+  bool start_command(const std::vector<std::string>& argv, std::chrono::milliseconds timeout);
   /// The ready line's node id and device (the link when it made one).
   int node_id() const { return node_id_; }
   const std::string& device() const { return device_; }
@@ -89,6 +93,11 @@ class ModbusMaster {
   int holding_register(int address);
   /// Polls input register `address` until it equals `value`; false on timeout.
   bool wait_input(int address, int value, std::chrono::milliseconds timeout);
+  /// A request PDU to slave 1 sent by libmodbus (for FCs its API lacks: 08,
+  /// 2B); the response read from the port, without CRC (empty: none).
+  Bytes raw_transaction(const Bytes& pdu);
+  /// FC 08 counter `sub` (0Bh..12h); 0xFFFF when there is no proper answer.
+  uint16_t diag_counter(uint8_t sub);
 
  private:
   modbus_t* ctx_ = nullptr;

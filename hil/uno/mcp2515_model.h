@@ -4,6 +4,8 @@
 // and its recovery. Behaviour follows the datasheet (DS20001801); where the
 // datasheet is silent the model is strict (see the notes at each member), so
 // a driver passing against it does not rely on luck.
+// Used by the driver's unit tests (tests/mcp2515) and as the CAN controller
+// of the simulated Uno (hil/uno, mb2co-uno).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -11,7 +13,7 @@
 #include "canopen/can_frame.h"
 #include "mcp2515.h"
 
-namespace mb2co::mcp2515::test {
+namespace mb2co::mcp2515::model {
 
 class Mcp2515Model {
  public:
@@ -32,6 +34,12 @@ class Mcp2515Model {
   /// mode frames are received by the chip itself instead of going on the bus.
   /// Nothing is sent in configuration mode or bus-off. Returns frames sent.
   int transmit(int max_frames = 1000);
+  /// The frame transmit() would send next, without sending it; false when it
+  /// would send nothing (no TXREQ, configuration/listen-only mode, bus-off).
+  bool next_transmit(CanFrame* out) const;
+  /// Nominal bit rate the CNF1..CNF3 registers give with `oscillator_hz`
+  /// (the SparkFun shield: 16 MHz); > 0 for every register content.
+  uint32_t bitrate_bps(uint32_t oscillator_hz) const;
   /// A frame from another node arrives (normal/listen-only/loopback ignore
   /// it as the chip does in loopback; configuration mode ignores it too).
   /// Returns 0 (accepted into RXB0), 1 (RXB1), -1 (filtered out), -2 (lost: overflow).
@@ -64,6 +72,8 @@ class Mcp2515Model {
     return address;
   }
   void reset();
+  int next_buffer() const;  ///< TX buffer transmit() would send next, -1 none
+  CanFrame buffer_frame(int n) const;
   void write_reg(uint8_t address, uint8_t value, uint8_t mask = 0xFF);
   uint8_t read_reg(uint8_t address);
   void end_instruction();
@@ -95,4 +105,4 @@ class Mcp2515Model {
   uint8_t absent_miso_ = 0xFF;
 };
 
-}  // namespace mb2co::mcp2515::test
+}  // namespace mb2co::mcp2515::model

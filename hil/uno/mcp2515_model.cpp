@@ -4,7 +4,7 @@
 
 #include "mcp2515_regs.h"
 
-namespace mb2co::mcp2515::test {
+namespace mb2co::mcp2515::model {
 namespace {
 
 bool bit_modifiable(uint8_t a) {
@@ -187,29 +187,46 @@ void Mcp2515Model::mode_requested() {
 
 // --- bus --------------------------------------------------------------------------
 
+int Mcp2515Model::next_buffer() const {
+  const uint8_t mode = regs_[kStat] & 0xE0;
+  if (bus_off_ || (mode != reg::kModeNormal && mode != reg::kModeLoopback)) return -1;
+  int best = -1;
+  for (int n = 2; n >= 0; --n) {  // equal TXP: the higher buffer number goes first
+    const uint8_t ctrl = regs_[reg::tx_ctrl(static_cast<uint8_t>(n))];
+    if ((ctrl & reg::kTxCtrlTxReq) == 0) continue;
+    if (best < 0 || (ctrl & 3) > (regs_[reg::tx_ctrl(static_cast<uint8_t>(best))] & 3)) best = n;
+  }
+  return best;
+}
+
+CanFrame Mcp2515Model::buffer_frame(int n) const {
+  const uint8_t* b = &regs_[reg::tx_ctrl(static_cast<uint8_t>(n))];
+  CanFrame f{};
+  const bool ext = b[reg::kOffSidl] & reg::kSidlExide;
+  const uint32_t raw = id29(b + reg::kOffSidh);
+  f.id = ext ? raw : raw >> 18;
+  f.flags = static_cast<uint8_t>((ext ? CanFrame::kExtended : 0) | ((b[reg::kOffDlc] & reg::kDlcRtr) ? CanFrame::kRtr : 0));
+  f.dlc = static_cast<uint8_t>(std::min(b[reg::kOffDlc] & reg::kDlcMask, 8));
+  if (!f.rtr()) std::copy(b + reg::kOffD0, b + reg::kOffD0 + f.dlc, f.data);
+  return f;
+}
+
+bool Mcp2515Model::next_transmit(CanFrame* out) const {
+  const int n = next_buffer();
+  if (n < 0) return false;
+  *out = buffer_frame(n);
+  return true;
+}
+
 int Mcp2515Model::transmit(int max_frames) {
   int sent = 0;
   while (sent < max_frames) {
-    const uint8_t mode = regs_[kStat] & 0xE0;
-    if (bus_off_ || (mode != reg::kModeNormal && mode != reg::kModeLoopback)) break;
-    int best = -1;
-    for (int n = 2; n >= 0; --n) {  // equal TXP: the higher buffer number goes first
-      const uint8_t ctrl = regs_[reg::tx_ctrl(static_cast<uint8_t>(n))];
-      if ((ctrl & reg::kTxCtrlTxReq) == 0) continue;
-      if (best < 0 || (ctrl & 3) > (regs_[reg::tx_ctrl(static_cast<uint8_t>(best))] & 3)) best = n;
-    }
+    const int best = next_buffer();
     if (best < 0) break;
-    const uint8_t* b = &regs_[reg::tx_ctrl(static_cast<uint8_t>(best))];
-    CanFrame f{};
-    const bool ext = b[reg::kOffSidl] & reg::kSidlExide;
-    const uint32_t raw = id29(b + reg::kOffSidh);
-    f.id = ext ? raw : raw >> 18;
-    f.flags = static_cast<uint8_t>((ext ? CanFrame::kExtended : 0) | ((b[reg::kOffDlc] & reg::kDlcRtr) ? CanFrame::kRtr : 0));
-    f.dlc = static_cast<uint8_t>(std::min(b[reg::kOffDlc] & reg::kDlcMask, 8));
-    if (!f.rtr()) std::copy(b + reg::kOffD0, b + reg::kOffD0 + f.dlc, f.data);
+    const CanFrame f = buffer_frame(best);
     regs_[reg::tx_ctrl(static_cast<uint8_t>(best))] &= static_cast<uint8_t>(~reg::kTxCtrlTxReq);
     regs_[kIntF] |= static_cast<uint8_t>(reg::kIntTx0 << best);
-    if (mode == reg::kModeLoopback) {
+    if ((regs_[kStat] & 0xE0) == reg::kModeLoopback) {
       accept(f);
     } else {
       bus.push_back(f);
@@ -219,6 +236,16 @@ int Mcp2515Model::transmit(int max_frames) {
     ++sent;
   }
   return sent;
+}
+
+uint32_t Mcp2515Model::bitrate_bps(uint32_t oscillator_hz) const {
+  // TQ = 2 (BRP + 1) / Fosc; a bit is SyncSeg + PropSeg + PS1 + PS2. PS2 comes
+  // from CNF3 when CNF2.BTLMODE is set, else it is max(PS1, IPT = 2 TQ).
+  const uint8_t c1 = regs_[reg::kCnf1], c2 = regs_[reg::kCnf2], c3 = regs_[reg::kCnf3];
+  const uint32_t prop = (c2 & 0x07u) + 1u, ps1 = ((c2 >> 3) & 0x07u) + 1u;
+  const uint32_t ps2 = (c2 & 0x80u) ? (c3 & 0x07u) + 1u : std::max<uint32_t>(ps1, 2u);
+  const uint32_t tq_per_bit = 1u + prop + ps1 + ps2;
+  return oscillator_hz / (2u * ((c1 & 0x3Fu) + 1u) * tq_per_bit);
 }
 
 int Mcp2515Model::receive_from_bus(const CanFrame& frame) {
@@ -361,4 +388,4 @@ void Mcp2515Model::idle_bits(uint32_t bits) {
   }
 }
 
-}  // namespace mb2co::mcp2515::test
+}  // namespace mb2co::mcp2515::model

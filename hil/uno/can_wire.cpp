@@ -1,0 +1,71 @@
+#include "can_wire.h"
+
+#include "bit_timing.h"
+#include "timing/can_bits.h"
+
+namespace mb2co {
+namespace uno {
+
+bool wins_arbitration(const CanFrame& a, const CanFrame& b) {
+  // The arbitration field bit by bit: 11 base-id bits, then SRR/RTR (an
+  // extended frame's SRR is recessive like a remote frame's RTR), IDE, the
+  // 18 extension bits, RTR. Dominant (0) wins at the first difference.
+  auto key = [](const CanFrame& f) {
+    const uint64_t base = f.extended() ? (f.id >> 18) & 0x7FFu : f.id & 0x7FFu;
+    const uint64_t srr_rtr = f.extended() || f.rtr() ? 1u : 0u;
+    const uint64_t ide = f.extended() ? 1u : 0u;
+    const uint64_t ext = f.extended() ? f.id & 0x3FFFFu : 0u;
+    const uint64_t rtr = f.extended() && f.rtr() ? 1u : 0u;
+    return (base << 21) | (srr_rtr << 20) | (ide << 19) | (ext << 1) | rtr;
+  };
+  return key(a) < key(b);
+}
+
+CanWire::CanWire(uint32_t cpu_hz) : cpu_hz_(cpu_hz) {}
+
+uint64_t CanWire::frame_cycles(const CanFrame& frame) const {
+  const uint64_t bits = timing::frame_bits_exact(frame).total_bits;
+  const uint64_t bps = chip_.bitrate_bps(mcp2515::kOscillatorHz);
+  return (bits * cpu_hz_ + bps - 1u) / bps;
+}
+
+void CanWire::frame_from_bus(const CanFrame& frame, uint64_t now) {
+  inbound_.push_back(frame);
+  advance(now);
+}
+
+void CanWire::advance(uint64_t now) {
+  uint64_t start = now;
+  if (busy_until_ != kIdle) {
+    if (now < busy_until_) return;
+    start = busy_until_;  // the next frame follows right after the interframe space
+    busy_until_ = kIdle;
+    if (on_wire_outbound_) {
+      chip_.bus.clear();
+      if (chip_.transmit(1) == 1 && !chip_.bus.empty()) sent_.push_back(Sent{start, chip_.bus.back()});
+      chip_.bus.clear();
+    } else if (chip_.receive_from_bus(on_wire_) < 0) {
+      ++rx_dropped_;
+    }
+  }
+  CanFrame out{};
+  const bool have_out = chip_.next_transmit(&out);
+  if (!have_out && inbound_.empty()) return;
+  on_wire_outbound_ = have_out && (inbound_.empty() || wins_arbitration(out, inbound_.front()));
+  if (on_wire_outbound_) {
+    on_wire_ = out;
+  } else {
+    on_wire_ = inbound_.front();
+    inbound_.pop_front();
+  }
+  busy_until_ = start + frame_cycles(on_wire_);
+}
+
+std::vector<CanWire::Sent> CanWire::take_sent() {
+  std::vector<Sent> out;
+  out.swap(sent_);
+  return out;
+}
+
+}  // namespace uno
+}  // namespace mb2co

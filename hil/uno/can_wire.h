@@ -1,0 +1,74 @@
+// The CAN side of the simulated Uno: the MCP2515 model on the SPI bus and a
+// wire that carries one frame at a time, each for its exact length in bits
+// (timing/can_bits.h, stuff bits included) at the bit rate the image wrote
+// into CNF1..CNF3 (16 MHz crystal of the SparkFun shield).
+//
+// A frame the chip sends leaves its TX buffer (TXREQ clears, TXnIF sets) and
+// is handed out at the end of its last bit; a frame from the outside is
+// received into RXB0/RXB1 at the end of its last bit. When both wait for the
+// idle wire, the lower identifier wins (arbitration). Not modelled: ACK and
+// error frames (every frame is acknowledged), bit errors, overload frames.
+//
+// Time is the simulated CPU cycle count (16 MHz). The owner calls advance()
+// at next_event() and after anything that may start a frame (end of an SPI
+// instruction, a frame from outside).
+#pragma once
+#include <stdint.h>
+
+#include <deque>
+#include <vector>
+
+#include "canopen/can_frame.h"
+#include "mcp2515_model.h"
+
+namespace mb2co {
+namespace uno {
+
+class CanWire {
+ public:
+  static constexpr uint64_t kIdle = UINT64_MAX;
+
+  /// `cpu_hz`: cycles per second of the clock the times below count.
+  explicit CanWire(uint32_t cpu_hz);
+
+  mcp2515::model::Mcp2515Model& chip() { return chip_; }
+  /// INT pin of the chip (active low).
+  bool int_low() const { return chip_.int_low(); }
+
+  /// A frame from another node, seen from `now`: it waits for the wire.
+  void frame_from_bus(const CanFrame& frame, uint64_t now);
+  /// Completes the frame on the wire if it ends by `now` and starts the next
+  /// waiting one.
+  void advance(uint64_t now);
+  /// Cycle at which the frame on the wire ends; kIdle when the wire is idle.
+  uint64_t next_event() const { return busy_until_; }
+
+  /// A frame the chip put on the bus and when its last bit went.
+  struct Sent {
+    uint64_t end_cycle;
+    CanFrame frame;
+  };
+  /// Frames sent since the last call, oldest first.
+  std::vector<Sent> take_sent();
+  /// Frames from outside that the chip's filters or full buffers dropped.
+  uint64_t rx_dropped() const { return rx_dropped_; }
+
+ private:
+  uint64_t frame_cycles(const CanFrame& frame) const;
+
+  mcp2515::model::Mcp2515Model chip_;
+  uint32_t cpu_hz_;
+  std::deque<CanFrame> inbound_;  ///< from outside, waiting for the wire
+  std::vector<Sent> sent_;
+  uint64_t busy_until_ = kIdle;   ///< end of the frame on the wire
+  bool on_wire_outbound_ = false; ///< the frame on the wire is the chip's
+  CanFrame on_wire_{};
+  uint64_t rx_dropped_ = 0;
+};
+
+/// True when `a` wins arbitration against `b` (lower identifier; with equal
+/// base identifiers a standard frame beats an extended one, data beats remote).
+bool wins_arbitration(const CanFrame& a, const CanFrame& b);
+
+}  // namespace uno
+}  // namespace mb2co

@@ -1,0 +1,217 @@
+// mb2co-uno: the Uno's gateway image (the very mb2co-gateway.elf that is
+// flashed) in libsimavr, paced to real time, with USART0 on a pty, the
+// MCP2515 shield on SocketCAN and the operator panel on stdin/stdout
+// (docs/uno-sim.md). One thread: run the simulation up to 1 ms ahead of the
+// wall clock, move bytes and frames, wait in poll() for input or the clock.
+#include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <string>
+
+#include "eeprom_image.h"
+#include "pacer.h"
+#include "serial_port.h"
+#include "socketcan_port.h"
+#include "uno_options.h"
+#include "uno_rig.h"
+
+namespace {
+
+using namespace mb2co;
+
+int g_signal_pipe[2] = {-1, -1};
+
+void on_signal(int) {
+  const char b = 1;
+  const ssize_t n = write(g_signal_pipe[1], &b, 1);
+  (void)n;
+}
+
+uint64_t wall_us() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<uint64_t>(ts.tv_sec) * 1000000u + static_cast<uint64_t>(ts.tv_nsec) / 1000u;
+}
+
+int fail(const std::string& what) {
+  fprintf(stderr, "mb2co-uno: %s\n", what.c_str());
+  return 1;
+}
+
+// Control-channel output: whole lines, flushed at once (tests wait for them).
+void say(const std::string& line) {
+  fputs(line.c_str(), stdout);
+  fputc('\n', stdout);
+  fflush(stdout);
+}
+
+/// candump's compact form: "701#05", "1FFFFFFF#R".
+std::string can_text(const CanFrame& f) {
+  char text[40];
+  int n = snprintf(text, sizeof text, f.extended() ? "%08X#" : "%03X#", static_cast<unsigned>(f.id));
+  if (f.rtr()) {
+    snprintf(text + n, sizeof text - static_cast<size_t>(n), "R");
+  } else {
+    for (uint8_t i = 0; i < f.dlc && i < 8; ++i) n += snprintf(text + n, sizeof text - static_cast<size_t>(n), "%02X", f.data[i]);
+  }
+  return text;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  uno::UnoOptions opt;
+  opt.elf = MB2CO_UNO_DEFAULT_ELF;
+  const std::string err = uno::parse_options(argc, argv, &opt);
+  if (!err.empty()) {
+    fprintf(stderr, "mb2co-uno: %s\n", err.c_str());
+    return 2;
+  }
+  if (opt.help) {
+    fputs(uno::usage(), stdout);
+    return 0;
+  }
+  if (opt.version) {
+    puts("mb2co-uno 0.1.0");
+    return 0;
+  }
+
+  if (pipe2(g_signal_pipe, O_CLOEXEC | O_NONBLOCK) != 0) return fail(std::string("pipe: ") + strerror(errno));
+  struct sigaction sa = {};
+  sa.sa_handler = on_signal;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+
+  static uno::UnoRig rig;  // large; static like the image's own globals
+  std::string error;
+  if (!rig.load(opt.elf, &error)) return fail(error);
+  uno::EepromImage eeprom(opt.eeprom);
+  if (!opt.eeprom.empty()) {
+    if (!eeprom.load(&error)) return fail(error);
+    rig.board().set_eeprom(eeprom.bytes(), eeprom.size());
+  }
+  linux_port::SocketCanPort can;
+  const bool with_can = opt.can != "none";
+  if (with_can && (!can.open(opt.can.c_str()) || !can.accept_all())) return fail(can.error());
+  port::SerialPort serial;
+  if (!serial.create_pty(opt.pty_link)) return fail(serial.error());
+
+  const uint64_t wall_start = wall_us();
+  uno::Pacer pacer(!opt.unpaced, wall_start, 0);
+  auto at_us = [&](uint64_t sim_us) { return static_cast<uint32_t>(pacer.wall_of(sim_us)); };
+  const uint64_t end_us = opt.duration_ms ? uint64_t{opt.duration_ms} * 1000u : UINT64_MAX;
+  // A "leds" line for each change of what the five LEDs show (the image
+  // rewrites pins with the level they have: no line for that).
+  std::string leds_shown;
+  auto show_leds = [&](uint64_t sim_us) {
+    const std::string line = rig.panel().leds_line(at_us(sim_us));
+    const std::string levels = line.substr(0, line.rfind(" at_us="));
+    if (levels == leds_shown) return;
+    leds_shown = levels;
+    say(line);
+  };
+  show_leds(0);
+
+  bool ready_said = false;
+  bool stdin_open = true;
+  std::string input;
+  int exit_code = 0;
+  while (!rig.panel().quit()) {
+    // Run: at most 1 ms of simulated time per pass, never past the pacer.
+    const uint64_t now_sim = rig.now_us();
+    uint64_t target = pacer.allowed_sim_us(now_sim, wall_us());
+    if (target > now_sim + 1000) target = now_sim + 1000;
+    if (target > end_us) target = end_us;
+    if (target > now_sim && !rig.run_until_us(target)) {
+      exit_code = fail("image stopped: " + rig.board().stop_reason());
+      break;
+    }
+    // Out: serial bytes, CAN frames, panel lines.
+    const std::string out = rig.take_serial_out();
+    if (!out.empty() && !serial.write(reinterpret_cast<const uint8_t*>(out.data()), out.size())) {
+      exit_code = fail(serial.error());
+      break;
+    }
+    for (const uno::CanWire::Sent& s : rig.take_can_out()) {
+      if (with_can) can.send(s.frame);
+      if (opt.trace_can) {
+        const uint64_t sent_us = s.end_cycle / (uno::UnoBoard::kCpuHz / 1000000u);
+        say("can " + can_text(s.frame) + " sim_us=" + std::to_string(sent_us) +
+            " at_us=" + std::to_string(at_us(sent_us)));
+      }
+    }
+    uint64_t led_us = 0;
+    if (rig.take_led_change(&led_us)) show_leds(led_us);
+    if (!ready_said && rig.modbus_ready()) {
+      ready_said = true;
+      say("ready node=" + std::to_string(rig.booted_node()) + " can=" + opt.can + " serial=" + serial.path() +
+          (serial.link_path().empty() ? "" : " link=" + serial.link_path()));
+    }
+    const std::string slow = pacer.slow_report(rig.now_us(), wall_us());
+    if (!slow.empty()) fprintf(stderr, "mb2co-uno: %s\n", slow.c_str());
+    if (rig.now_us() >= end_us) break;
+
+    // Wait for input or for the wall clock to catch up.
+    pollfd fds[4] = {{serial.fd(), POLLIN, 0}, {g_signal_pipe[0], POLLIN, 0}, {stdin_open ? 0 : -1, POLLIN, 0},
+                     {with_can ? can.fd() : -1, POLLIN, 0}};
+    const uint64_t wait = pacer.wait_us(rig.now_us(), wall_us());
+    const timespec timeout{static_cast<time_t>(wait / 1000000u), static_cast<long>(wait % 1000000u) * 1000};
+    if (ppoll(fds, 4, &timeout, nullptr) < 0 && errno != EINTR) {
+      exit_code = fail(std::string("poll: ") + strerror(errno));
+      break;
+    }
+    if (fds[1].revents & POLLIN) break;  // SIGINT / SIGTERM: clean exit
+    if (fds[0].revents & (POLLIN | POLLERR | POLLHUP)) {
+      uint8_t bytes[256];
+      uint32_t stamps[256];
+      const long n = serial.read(bytes, stamps, sizeof bytes);
+      if (n < 0) {
+        exit_code = fail(serial.error());
+        break;
+      }
+      rig.serial_in(bytes, static_cast<size_t>(n));
+    }
+    if (fds[3].revents & POLLIN) {
+      linux_port::TimedCanFrame frames[linux_port::SocketCanPort::kBatch];
+      size_t got = 0;
+      while ((got = can.receive(frames, linux_port::SocketCanPort::kBatch)) > 0) {
+        for (size_t i = 0; i < got; ++i) rig.can_in(frames[i].frame);
+      }
+    }
+    if (fds[2].revents & (POLLIN | POLLHUP)) {
+      char buf[512];
+      const ssize_t r = read(0, buf, sizeof buf);
+      if (r <= 0) {
+        stdin_open = false;  // no more commands; run on until a signal
+      } else {
+        input.append(buf, static_cast<size_t>(r));
+        for (size_t nl; (nl = input.find('\n')) != std::string::npos;) {
+          const std::string reply = rig.panel().handle(input.substr(0, nl), rig.now_us(), at_us(rig.now_us()));
+          input.erase(0, nl + 1);
+          if (!reply.empty()) say(reply);
+        }
+      }
+    }
+    rig.panel().process(rig.now_us());
+    rig.apply_buttons();
+  }
+
+  serial.close();
+  can.close();
+  if (!opt.eeprom.empty()) {
+    rig.board().get_eeprom(eeprom.bytes(), eeprom.size());
+    if (!eeprom.save(&error) && exit_code == 0) exit_code = fail(error);
+  }
+  const double sim_s = static_cast<double>(rig.now_us()) / 1e6;
+  const double wall_s = static_cast<double>(wall_us() - wall_start) / 1e6;
+  fprintf(stderr, "mb2co-uno: %.3f s simulated in %.3f s wall (%.2fx real time)\n", sim_s, wall_s,
+          wall_s > 0 ? sim_s / wall_s : 0.0);
+  return exit_code;
+}

@@ -1,0 +1,48 @@
+// Keeps simulated time in step with the wall clock (CLOCK_MONOTONIC µs).
+//
+// Invariant while paced: the simulation never runs more than kLeadUs ahead
+// of the wall clock. When it falls behind by more than kBehindUs (simavr too
+// slow, or the host paused us), the mapping is moved instead of catching up
+// in a burst: a burst would squeeze the gaps the image sees between the
+// bytes and frames that come in meanwhile (Modbus t3.5!).
+#pragma once
+#include <stdint.h>
+
+#include <string>
+
+namespace mb2co {
+namespace uno {
+
+class Pacer {
+ public:
+  static constexpr uint64_t kLeadUs = 1000;
+  static constexpr uint64_t kBehindUs = 20000;
+  /// Speed is judged over windows of this much wall time.
+  static constexpr uint64_t kWindowUs = 1000000;
+
+  /// `paced` false: allowed_sim_us() never holds the simulation back.
+  Pacer(bool paced, uint64_t wall_us, uint64_t sim_us);
+
+  /// Simulated time the simulation may run to at wall time `wall_us`,
+  /// given it stands at `sim_us` (moves the mapping when far behind).
+  uint64_t allowed_sim_us(uint64_t sim_us, uint64_t wall_us);
+  /// Wall µs to wait before allowed_sim_us() lets the simulation past `sim_us`.
+  uint64_t wait_us(uint64_t sim_us, uint64_t wall_us) const;
+  /// The wall time (CLOCK_MONOTONIC µs) that simulated time `sim_us` stands for.
+  uint64_t wall_of(uint64_t sim_us) const { return offset_us_ + sim_us; }
+
+  /// Once, the first time a whole window ran slower than 95 % of real time
+  /// while the simulation was behind: a one-line report; otherwise "".
+  std::string slow_report(uint64_t sim_us, uint64_t wall_us);
+
+ private:
+  bool paced_;
+  uint64_t offset_us_;       ///< wall_us - sim_us of the mapping
+  uint64_t window_wall_us_;  ///< start of the current speed window
+  uint64_t window_sim_us_;
+  bool behind_in_window_ = false;
+  bool reported_ = false;
+};
+
+}  // namespace uno
+}  // namespace mb2co

@@ -1,0 +1,45 @@
+// The operator panel of the simulated Uno on stdin/stdout, with mb2co-node's
+// line protocol (docs/mb2co-node.md) where the Uno has the same thing:
+//   press B | release B | click B [ms]   (B: START, STOP, STOP2) -> "ok"
+//   leds?  -> "leds self=1 prev=0 next=1 lab=0 canerr=0 at_us=T"
+//   quit   -> "bye"
+// state? and counters? read the gateway's memory in mb2co-node; on the Uno
+// image that is over Modbus only: they get "error ...". A "leds" line also
+// comes unasked whenever a LED pin changes. Button levels are what the pins
+// see (low = pressed); the image debounces them itself.
+#pragma once
+#include <stdint.h>
+
+#include <string>
+
+namespace mb2co {
+namespace uno {
+
+class PanelChannel {
+ public:
+  enum Led : uint8_t { kSelf, kPrev, kNext, kLab, kCanErr, kLedCount };
+
+  /// Handles one line at simulated time `now_us` (`at_us`: the same moment
+  /// on the wall clock, for the leds reply); the reply without newline ("" for
+  /// a blank line).
+  std::string handle(const std::string& line, uint64_t now_us, uint32_t at_us);
+  /// Releases clicked buttons whose time is up.
+  void process(uint64_t now_us);
+  /// Bit i: button i (0 START, 1 STOP, 2 STOP2) is pressed.
+  uint8_t buttons() const { return buttons_; }
+  bool quit() const { return quit_; }
+
+  void set_led(Led led, bool on);
+  /// "leds ..." stamped `at_us`.
+  std::string leds_line(uint32_t at_us) const;
+
+ private:
+  uint8_t buttons_ = 0;
+  uint8_t clicked_ = 0;              ///< buttons a click will release
+  uint64_t release_at_us_[3] = {0, 0, 0};
+  bool leds_[kLedCount] = {};
+  bool quit_ = false;
+};
+
+}  // namespace uno
+}  // namespace mb2co

@@ -1,0 +1,264 @@
+#include "uno_board.h"
+
+#include <avr_eeprom.h>
+#include <avr_ioport.h>
+#include <avr_spi.h>
+#include <avr_uart.h>
+#include <sim_avr.h>
+#include <sim_elf.h>
+#include <sim_io.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include <memory>
+
+namespace mb2co {
+namespace uno {
+namespace {
+
+// ATmega328P data-space addresses of the SPI unit (datasheet, register summary).
+constexpr uint16_t kSpcr = 0x4C;
+constexpr uint16_t kSpsr = 0x4D;
+constexpr uint16_t kSpdr = 0x4E;
+constexpr uint8_t kSpcrSpe = 0x40, kSpcrMstr = 0x10, kSpsrSpi2x = 0x01;
+
+/// Port letter and bit of an Arduino Uno pin (variants/standard).
+struct PortBit {
+  char port;
+  uint8_t bit;
+};
+PortBit port_bit(uint8_t pin) {
+  if (pin < 8) return PortBit{'D', pin};
+  if (pin < 14) return PortBit{'B', static_cast<uint8_t>(pin - 8)};
+  return PortBit{'C', static_cast<uint8_t>(pin - 14)};
+}
+
+/// simavr's messages: warnings and errors on stderr, the rest (UART set-up
+/// traces and the like) dropped: stdout is the control channel. Off while
+/// loading: our own check speaks for a bad file, in one line.
+bool g_log_quiet = false;
+void simavr_log(avr_t*, const int level, const char* format, va_list ap) {
+  if (level > LOG_WARNING || g_log_quiet) return;
+  fputs("mb2co-uno: simavr: ", stderr);
+  vfprintf(stderr, format, ap);
+}
+
+/// The board paces time itself (main loop): a sleeping CPU just lets the
+/// cycle count jump to the next event, it must not usleep() in here.
+void no_sleep(avr_t*, avr_cycle_count_t) {}
+
+/// True for a 32-bit little-endian ELF file for the AVR (e_machine 83).
+bool is_avr_elf(const std::string& path) {
+  unsigned char h[20] = {};
+  FILE* f = fopen(path.c_str(), "rb");
+  const bool read_all = f != nullptr && fread(h, 1, sizeof h, f) == sizeof h;
+  if (f != nullptr) fclose(f);
+  return read_all && memcmp(h, "\x7f" "ELF", 4) == 0 && h[4] == 1 && h[5] == 1 && h[18] == 83 && h[19] == 0;
+}
+
+avr_spi_t* find_spi(avr_t* avr) {
+  for (avr_io_t* io = avr->io_port; io != nullptr; io = io->next) {
+    if (io->kind != nullptr && strcmp(io->kind, "spi") == 0) return reinterpret_cast<avr_spi_t*>(io);
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+UnoBoard::UnoBoard() = default;
+
+UnoBoard::~UnoBoard() {
+  if (avr_ != nullptr) avr_terminate(avr_);
+}
+
+bool UnoBoard::load(const std::string& elf_path, Wiring wiring, std::string* error) {
+  struct stat st{};
+  if (stat(elf_path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) {
+    *error = "elf " + elf_path + ": no such file";
+    return false;
+  }
+  if (!is_avr_elf(elf_path)) {
+    *error = "elf " + elf_path + ": not an ELF file for the AVR";
+    return false;
+  }
+  avr_global_logger_set(&simavr_log);
+  auto fw = std::make_unique<elf_firmware_t>();
+  memset(fw.get(), 0, sizeof(elf_firmware_t));
+  g_log_quiet = true;
+  const int read_rc = elf_read_firmware(elf_path.c_str(), fw.get());
+  g_log_quiet = false;
+  if (read_rc != 0 || fw->flashsize == 0) {
+    *error = "elf " + elf_path + ": not an AVR image simavr can load";
+    return false;
+  }
+  if (fw->mmcu[0] != '\0' && strcmp(fw->mmcu, "atmega328p") != 0) {
+    *error = "elf " + elf_path + ": built for " + fw->mmcu + ", not the Uno's atmega328p";
+    return false;
+  }
+  if (fw->flashsize > 32768) {
+    *error = "elf " + elf_path + ": " + std::to_string(fw->flashsize) + " B of flash, the ATmega328P has 32768";
+    return false;
+  }
+  avr_ = avr_make_mcu_by_name("atmega328p");
+  if (avr_ == nullptr || avr_init(avr_) != 0) {
+    *error = "simavr has no atmega328p";
+    return false;
+  }
+  avr_->frequency = kCpuHz;
+  avr_->sleep = &no_sleep;
+  avr_load_firmware(avr_, fw.get());
+  avr_->frequency = kCpuHz;  // an .mmcu section may have set another one
+  wiring_ = std::move(wiring);
+
+  // USART0: no console echo, no polling usleep(); bytes out to the wiring.
+  uint32_t flags = 0;
+  avr_ioctl(avr_, AVR_IOCTL_UART_SET_FLAGS('0'), &flags);
+  uart_input_ = avr_io_getirq(avr_, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT);
+  avr_irq_register_notify(avr_io_getirq(avr_, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUTPUT), &on_uart_out, this);
+  avr_irq_register_notify(avr_io_getirq(avr_, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUT_XON), &on_uart_xon, this);
+  avr_irq_register_notify(avr_io_getirq(avr_, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUT_XOFF), &on_uart_xoff, this);
+
+  // SPI: our SPDR write handler (header comment), CS on D10.
+  // (The ATmega328P's SPI unit has no name in simavr 1.6: no GETIRQ('0').)
+  spi_ = find_spi(avr_);
+  spi_input_ = spi_ != nullptr && spi_->io.irq != nullptr ? spi_->io.irq + SPI_IRQ_INPUT : nullptr;
+  if (spi_input_ == nullptr) {
+    *error = "simavr's atmega328p has no SPI unit";
+    return false;
+  }
+  avr_->io[AVR_DATA_TO_IO(kSpdr)].w.c = &on_spdr_write;
+  avr_->io[AVR_DATA_TO_IO(kSpdr)].w.param = this;
+  watch_pin(10);
+  return true;
+}
+
+bool UnoBoard::run_until(uint64_t cycle) {
+  while (avr_->cycle < cycle) {
+    const int state = avr_run(avr_);
+    if (state == cpu_Done || state == cpu_Crashed) {
+      stop_reason_ = state == cpu_Crashed ? "the CPU crashed" : "the CPU stopped (cli; sleep)";
+      char where[64];
+      snprintf(where, sizeof where, " at pc 0x%04x, cycle %llu", static_cast<unsigned>(avr_->pc),
+               static_cast<unsigned long long>(avr_->cycle));
+      stop_reason_ += where;
+      return false;
+    }
+  }
+  return true;
+}
+
+uint64_t UnoBoard::cycle() const { return avr_->cycle; }
+
+avr_irq_t* UnoBoard::pin_irq(uint8_t pin) const {
+  const PortBit pb = port_bit(pin);
+  return avr_io_getirq(avr_, static_cast<uint32_t>(AVR_IOCTL_IOPORT_GETIRQ(pb.port)), pb.bit);
+}
+
+void UnoBoard::watch_pin(uint8_t pin) {
+  if (pin >= 20) return;
+  watches_[pin] = Watch{this, pin};
+  avr_irq_register_notify(pin_irq(pin), &on_pin, &watches_[pin]);
+}
+
+void UnoBoard::drive_pin(uint8_t pin, bool high) {
+  if (pin < 20) avr_raise_irq(pin_irq(pin), high ? 1u : 0u);
+}
+
+void UnoBoard::on_pin(avr_irq_t*, uint32_t value, void* param) {
+  const Watch* w = static_cast<const Watch*>(param);
+  UnoBoard* self = w->board;
+  if (w->pin == 10) {
+    if (self->wiring_.spi_select) self->wiring_.spi_select(value == 0);
+    return;
+  }
+  if (self->wiring_.pin_out) self->wiring_.pin_out(w->pin, value != 0);
+}
+
+// --- USART0 ----------------------------------------------------------------------
+
+void UnoBoard::uart_receive(const uint8_t* data, size_t length) {
+  uart_queue_.append(reinterpret_cast<const char*>(data), length);
+  feed_uart();
+}
+
+void UnoBoard::feed_uart() {
+  // simavr raises XOFF from inside the input IRQ when its FIFO fills: stop then.
+  while (!uart_xoff_ && uart_queue_head_ < uart_queue_.size()) {
+    avr_raise_irq(uart_input_, static_cast<uint8_t>(uart_queue_[uart_queue_head_++]));
+  }
+  if (uart_queue_head_ == uart_queue_.size()) {
+    uart_queue_.clear();
+    uart_queue_head_ = 0;
+  }
+}
+
+void UnoBoard::on_uart_out(avr_irq_t*, uint32_t value, void* param) {
+  UnoBoard* self = static_cast<UnoBoard*>(param);
+  if (self->wiring_.uart_tx) self->wiring_.uart_tx(static_cast<uint8_t>(value));
+}
+
+void UnoBoard::on_uart_xon(avr_irq_t*, uint32_t, void* param) {
+  UnoBoard* self = static_cast<UnoBoard*>(param);
+  self->uart_xoff_ = false;
+  self->feed_uart();
+}
+
+void UnoBoard::on_uart_xoff(avr_irq_t*, uint32_t value, void* param) {
+  static_cast<UnoBoard*>(param)->uart_xoff_ = value != 0;
+}
+
+// --- SPI ---------------------------------------------------------------------------
+
+void UnoBoard::on_spdr_write(avr_t* avr, uint16_t addr, uint8_t value, void* param) {
+  UnoBoard* self = static_cast<UnoBoard*>(param);
+  avr_clear_interrupt(avr, &self->spi_->spi);  // writing SPDR starts a byte: SPIF goes
+  avr_core_watch_write(avr, addr, value);
+  const uint8_t spcr = avr->data[kSpcr];
+  if ((spcr & kSpcrSpe) == 0 || (spcr & kSpcrMstr) == 0) return;  // only the master is modelled
+  static const uint8_t kDivider[4] = {4, 16, 64, 128};
+  uint32_t divider = kDivider[spcr & 3u];
+  if (avr->data[kSpsr] & kSpsrSpi2x) divider /= 2;
+  avr_cycle_timer_register(avr, 8u * divider, &on_spi_done, self);
+}
+
+uint64_t UnoBoard::on_spi_done(avr_t* avr, uint64_t, void* param) {
+  UnoBoard* self = static_cast<UnoBoard*>(param);
+  const uint8_t mosi = avr->data[kSpdr];
+  const uint8_t miso = self->wiring_.spi_byte ? self->wiring_.spi_byte(mosi) : 0xFF;
+  avr_raise_irq(self->spi_input_, miso);  // the SPI unit stores it and raises SPIF
+  return 0;
+}
+
+// --- timer, EEPROM ------------------------------------------------------------------
+
+void UnoBoard::call_at(uint64_t at_cycle, std::function<void()> fn) {
+  avr_cycle_timer_cancel(avr_, &on_timer, this);
+  timer_fn_ = std::move(fn);
+  if (!timer_fn_) return;
+  const uint64_t now = avr_->cycle;
+  avr_cycle_timer_register(avr_, at_cycle > now ? at_cycle - now : 1u, &on_timer, this);
+}
+
+uint64_t UnoBoard::on_timer(avr_t*, uint64_t, void* param) {
+  UnoBoard* self = static_cast<UnoBoard*>(param);
+  std::function<void()> fn = self->timer_fn_;  // fn may set the next one
+  if (fn) fn();
+  return 0;
+}
+
+bool UnoBoard::set_eeprom(const uint8_t* data, size_t length) {
+  if (length != kEepromBytes) return false;
+  avr_eeprom_desc_t d{const_cast<uint8_t*>(data), 0, kEepromBytes};
+  return avr_ioctl(avr_, AVR_IOCTL_EEPROM_SET, &d) == 0;
+}
+
+bool UnoBoard::get_eeprom(uint8_t* out, size_t length) const {
+  if (length != kEepromBytes) return false;
+  avr_eeprom_desc_t d{out, 0, kEepromBytes};
+  if (avr_ioctl(avr_, AVR_IOCTL_EEPROM_GET, &d) != 0 || d.ee == nullptr) return false;
+  if (d.ee != out) memcpy(out, d.ee, kEepromBytes);  // a pointer into the EEPROM came back
+  return true;
+}
+
+}  // namespace uno
+}  // namespace mb2co

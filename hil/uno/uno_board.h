@@ -1,0 +1,114 @@
+// An Arduino Uno as libsimavr runs it: an ATmega328P at 16 MHz executing an
+// ELF image, with the board's outside world reduced to callbacks and levels:
+// USART0 bytes out, bytes in (with simavr's flow control), digital pins
+// watched and driven by Arduino pin number, the SPI master's bytes handed to
+// one device, the 1 KiB EEPROM loaded and read back.
+//
+// SPI timing: simavr 1.6 completes every SPI byte a fixed 100 µs after SPDR
+// is written (1,600 CPU cycles; a real Uno at F_CPU/2 needs 16). The board
+// takes over the SPDR write handler of the simulated SPI unit (the io[] table
+// of simavr's public avr_t) and completes each byte after 8 SCK periods as
+// SPCR/SPSR set them (F_CPU/2 -> 1 µs), exactly what the hardware does. The
+// byte received comes in through the SPI unit's own input IRQ, so SPDR reads
+// and the SPIF flag stay simavr's.
+//
+// Time is the simulated CPU cycle count (cycle(), 62.5 ns each). Not
+// thread-safe; every callback runs inside run_until().
+#pragma once
+#include <stdint.h>
+
+#include <functional>
+#include <string>
+
+struct avr_t;
+struct avr_irq_t;
+struct avr_spi_t;
+
+namespace mb2co {
+namespace uno {
+
+class UnoBoard {
+ public:
+  static constexpr uint32_t kCpuHz = 16000000;
+  static constexpr uint16_t kEepromBytes = 1024;
+
+  /// What the board does with the outside world. Unset callbacks ignore the event.
+  struct Wiring {
+    std::function<void(uint8_t byte)> uart_tx;             ///< the image sent a byte on USART0
+    std::function<void(uint8_t pin, bool high)> pin_out;   ///< a watched pin's output level changed
+    std::function<uint8_t(uint8_t mosi)> spi_byte;         ///< one SPI byte: returns MISO
+    std::function<void(bool selected)> spi_select;         ///< chip select (D10 = PB2) edge: low = selected
+  };
+
+  UnoBoard();
+  ~UnoBoard();
+  UnoBoard(const UnoBoard&) = delete;
+  UnoBoard& operator=(const UnoBoard&) = delete;
+
+  /// Reads `elf_path` and makes an ATmega328P at 16 MHz running it from
+  /// reset. False with a one-line reason in `error` for a missing or invalid
+  /// file or an image built for another MCU.
+  bool load(const std::string& elf_path, Wiring wiring, std::string* error);
+
+  /// Runs until the cycle count reaches `cycle` (it may pass it by one
+  /// instruction). False when the CPU stopped (crashed or `done`); the
+  /// reason is in stop_reason().
+  bool run_until(uint64_t cycle);
+  uint64_t cycle() const;
+  const std::string& stop_reason() const { return stop_reason_; }
+
+  /// Microseconds since reset (the image's micros() counts the same time).
+  uint64_t micros() const { return cycle() / (kCpuHz / 1000000u); }
+  static uint64_t cycles_from_us(uint64_t us) { return us * (kCpuHz / 1000000u); }
+
+  /// Watches Arduino pin `pin` (0..19): Wiring::pin_out on every change of
+  /// the level its PORT bit drives. Call after load().
+  void watch_pin(uint8_t pin);
+  /// Drives input pin `pin` from outside (a button, the MCP2515's INT).
+  void drive_pin(uint8_t pin, bool high);
+
+  /// Queues bytes for USART0's receiver; simavr spaces them at the UART's
+  /// character time as they are taken. Bytes wait while its FIFO is full.
+  void uart_receive(const uint8_t* data, size_t length);
+  /// Bytes queued but not yet taken by the UART.
+  size_t uart_backlog() const { return uart_queue_.size() - uart_queue_head_; }
+
+  /// Calls `fn` when the cycle count reaches `at_cycle` (one timer: a later
+  /// call replaces an earlier one). Runs inside run_until().
+  void call_at(uint64_t at_cycle, std::function<void()> fn);
+
+  /// Replaces the EEPROM content (exactly kEepromBytes).
+  bool set_eeprom(const uint8_t* data, size_t length);
+  /// Reads the EEPROM content (kEepromBytes into `out`).
+  bool get_eeprom(uint8_t* out, size_t length) const;
+
+ private:
+  avr_irq_t* pin_irq(uint8_t pin) const;
+  void feed_uart();
+  static void on_uart_out(avr_irq_t* irq, uint32_t value, void* param);
+  static void on_uart_xon(avr_irq_t* irq, uint32_t value, void* param);
+  static void on_uart_xoff(avr_irq_t* irq, uint32_t value, void* param);
+  static void on_pin(avr_irq_t* irq, uint32_t value, void* param);
+  static void on_spdr_write(avr_t* avr, uint16_t addr, uint8_t value, void* param);
+  static uint64_t on_spi_done(avr_t* avr, uint64_t when, void* param);
+  static uint64_t on_timer(avr_t* avr, uint64_t when, void* param);
+
+  avr_t* avr_ = nullptr;
+  Wiring wiring_;
+  avr_spi_t* spi_ = nullptr;
+  avr_irq_t* spi_input_ = nullptr;
+  avr_irq_t* uart_input_ = nullptr;
+  bool uart_xoff_ = false;
+  std::string uart_queue_;
+  size_t uart_queue_head_ = 0;
+  std::function<void()> timer_fn_;
+  struct Watch {
+    UnoBoard* board;
+    uint8_t pin;
+  };
+  Watch watches_[20] = {};
+  std::string stop_reason_;
+};
+
+}  // namespace uno
+}  // namespace mb2co

@@ -1,0 +1,36 @@
+// mb2co-uno as a child process for the tests: the real gateway image
+// (mb2co-gateway.elf of this build tree) in simavr, with the control channel
+// and the ready line of mb2co-node. Every wait polls a condition with a
+// deadline that bounds only a failure.
+#pragma once
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "line_child.h"
+#include "node_harness.h"
+
+namespace mb2co {
+namespace test {
+
+using namespace std::chrono_literals;
+
+/// Path of the mb2co-uno binary and of the AVR image under test.
+const char* uno_program();
+const char* uno_elf();
+
+/// Same control channel and ready line as mb2co-node's: a NodeProcess
+/// started with mb2co-uno --elf <the image>.
+class UnoProcess : public NodeProcess {
+ public:
+  /// Starts mb2co-uno --elf <the image> `args` and waits for its ready line
+  /// (node id from the boot-up frame); false with the reason in error() when
+  /// it does not come within `timeout`.
+  bool start(const std::vector<std::string>& args, std::chrono::milliseconds timeout = 20s);
+  /// Waits for a "leds" line whose `field` has `value`.
+  bool wait_led(const std::string& field, const std::string& value, std::chrono::milliseconds timeout,
+                std::string* line = nullptr);
+};
+
+}  // namespace test
+}  // namespace mb2co

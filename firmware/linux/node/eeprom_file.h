@@ -1,5 +1,7 @@
 // Saved parameters (1010h) in a file of 1 KiB, like the Uno's EEPROM: read
-// and written in place, fsync'ed, so a saved image survives a restart.
+// and written in place, fsync'ed around writes of the image's header (offset
+// 0), so a saved image survives a restart and a crash never leaves a header
+// that declares a payload valid before the payload is on disk.
 #pragma once
 #include <string>
 

@@ -3,6 +3,7 @@
 // scheduled (a sequence number breaks ties), so a run is a pure function of
 // its inputs and seed: no wall clock, no hash order, no threads.
 #pragma once
+#include <stddef.h>
 #include <stdint.h>
 
 #include <vector>
@@ -27,21 +28,46 @@ class Handler {
   ~Handler() = default;
 };
 
-/// Min-heap of (time, sequence). Not thread-safe; handlers may schedule
+/// Events in (time, sequence) order. Not thread-safe; handlers may schedule
 /// new events (at or after now()) from inside on_event.
+///
+/// Two min-heaps: events due within kNearNs of when they were scheduled
+/// (firmware passes, bytes, frames: a handful) and the rest (cycle starts,
+/// timeouts: most of the stale ones). The next event is the earlier of the
+/// two roots, so the order is the same as one heap's; the near one stays
+/// shallow, which is where the frequent events are.
+///
+/// The event being handled stays at the root of its heap until its handler
+/// returns (every event scheduled meanwhile has a later key, so it never
+/// rises above it); then it is removed, or re-keyed in place when the handler
+/// called again_at(). That saves a pop and a push for a periodic event (a
+/// firmware pass), and orders exactly as at() would: the sequence number is
+/// taken when again_at() is called.
 class EventQueue {
  public:
+  static constexpr SimNs kNearNs = 5 * kNsPerMs;
+
   SimNs now() const { return now_; }
   /// Schedules `h->on_event(code, arg)` at `t_ns` (clamped to now()).
   void at(SimNs t_ns, Handler* h, uint32_t code, uint64_t arg = 0);
   void after(SimNs delay_ns, Handler* h, uint32_t code, uint64_t arg = 0) {
     at(now_ + delay_ns, h, code, arg);
   }
+  /// Only from inside on_event, at most once per call: the event being
+  /// handled happens again (same handler, code and arg) at `t_ns` (clamped to
+  /// now()). Same order as at(h, code, arg) called at this point.
+  void again_at(SimNs t_ns) {
+    again_ = true;
+    again_t_ = t_ns < now_ ? now_ : t_ns;
+    again_seq_ = seq_++;
+  }
   /// Runs every event due at or before `t_end_ns`, then sets now() to it.
   void run_until(SimNs t_end_ns);
   /// Events handled so far (for the speed figure).
   uint64_t handled() const { return handled_; }
-  bool empty() const { return heap_.empty(); }
+  bool empty() const { return near_.empty() && far_.empty(); }
+  /// Events scheduled and not yet handled (stale ones included).
+  size_t size() const { return near_.size() + far_.size(); }
 
  private:
   struct Ev {
@@ -51,14 +77,24 @@ class EventQueue {
     uint32_t code;
     uint64_t arg;
   };
-  struct Later {
-    bool operator()(const Ev& a, const Ev& b) const { return a.t != b.t ? a.t > b.t : a.seq > b.seq; }
-  };
+  /// (t, seq) as one number: compared without a branch (heap order is hard
+  /// to predict).
+  static unsigned __int128 key(const Ev& e) { return (static_cast<unsigned __int128>(e.t) << 64) | e.seq; }
+  static bool later(const Ev& a, const Ev& b) { return key(a) > key(b); }
+  using Heap = std::vector<Ev>;
+  static void push(Heap& heap, const Ev& e);
+  static void pop(Heap& heap);
+  /// Restores the heap order after the root's key grew.
+  static void sift_down_root(Heap& heap);
 
-  std::vector<Ev> heap_;
+  Heap near_;
+  Heap far_;
   SimNs now_ = 0;
   uint64_t seq_ = 0;
   uint64_t handled_ = 0;
+  bool again_ = false;   ///< again_at() was called by the handler running
+  SimNs again_t_ = 0;
+  uint64_t again_seq_ = 0;
 };
 
 }  // namespace sim

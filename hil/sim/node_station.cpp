@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "canopen/pdo_map.h"
+#include "canopen/sdo_server.h"
 #include "filter_plan.h"
 #include "modbus/rtu_timing.h"
 
@@ -65,6 +66,9 @@ void NodeStation::make_gateway() {
   wr_.sync_period = od.find(0x1006, 0);
   wr_.emcy_inhibit = od.find(0x1015, 0);
   wr_.debounce = od.find(0x2000, 6);
+  wr_.watchdog = od.find(0x2000, 9);
+  wr_.guard_time = od.find(0x100C, 0);
+  wr_.life_factor = od.find(0x100D, 0);
   wr_.heartbeat = od.find(0x1017, 0);
   for (uint16_t k = 0; k < 4; ++k) {
     const uint16_t comm = static_cast<uint16_t>(0x1800 + k);
@@ -82,6 +86,10 @@ void NodeStation::make_gateway() {
     if (v != nullptr && (values_ == nullptr || v < values_)) values_ = v;
   }
   values_before_.assign(od.definition().values_size, 0);
+  wc_valid_ = false;
+  requests_seen_ = 0;
+  request_seen_ns_ = 0;
+  sdo_heard_ns_ = 0;
 }
 
 void NodeStation::commission(const std::function<void(canopen::ObjectDictionary&)>& configure) {
@@ -117,7 +125,7 @@ void NodeStation::power_on() {
   std::fill(hb_heard_ns_, hb_heard_ns_ + 128, 0);
   booting_ = true;
   frame_.clear();
-  finish_pass(0, timing_.pass_ns);
+  q_.at(finish_pass(0, timing_.pass_ns), this, kPass, generation_);
 }
 
 void NodeStation::power_off() {
@@ -139,55 +147,59 @@ void NodeStation::on_event(uint32_t code, uint64_t arg) {
   else release();
 }
 
-bool NodeStation::input_waiting(SimNs t) const {
-  return buttons_ != last_buttons_ || can_.rx_waiting() != 0 || (rx_ != nullptr && rx_->ready(t));
-}
-
 void NodeStation::pass() {
   const SimNs t = q_.now();
   prev_pass_ns_ = pass_ns_;
   pass_ns_ = t;
   ++passes_;
   SimNs proc = timing_.pass_ns + rng_.range(0, timing_.jitter_ns);
-  if (timing_.skip_idle && quiet_ && t < wake_ns_ && !input_waiting(t)) {
-    finish_pass(leds_out_, proc);  // provably nothing to do: same as running it
+  // Idle: process() now would do nothing (compute_wake), and no CAN frame or
+  // button change came since the firmware last ran. Serial characters may.
+  const bool idle = timing_.skip_idle && quiet_ && t < wake_ns_ && buttons_ == last_buttons_ &&
+                    can_.rx_waiting() == 0;
+  const bool serial = rx_ != nullptr && rx_->ready(t);
+  if (idle && !serial) {
+    q_.again_at(finish_pass(leds_out_, proc));  // same as running it
     return;
   }
-  ++firmware_calls_;
   const uint32_t now_us = micros_at(t);
   gateway::Gateway& g = *gw_;
+  if (timing_.skip_idle) std::copy(values_, values_ + values_before_.size(), values_before_.begin());
+  refused_ = false;
+  if (serial) {
+    const SlaveSnapshot before = slave_snapshot();
+    proc += take_serial(t, now_us);
+    if (idle && slave_snapshot() == before && serial_idle(t, now_us)) {
+      q_.again_at(finish_pass(leds_out_, proc));
+      return;
+    }
+  }
+  ++firmware_calls_;
   if (buttons_ != last_buttons_) {
     last_buttons_ = buttons_;
     buttons_changed_ns_ = t;
-  }
-  if (timing_.skip_idle) std::copy(values_, values_ + values_before_.size(), values_before_.begin());
-  refused_ = false;
-  SerialChar c;
-  uint32_t taken = 0;
-  while (rx_ != nullptr && rx_->take(t, &c)) {
-    if (++taken > timing_.uart_rx_bytes) {  // the ring was full: dropped
-      ++uart_overruns_;
-      continue;
-    }
-    if (c.end_ns - last_char_ns_ > frame_gap_ns_ || frame_.size() >= 256) frame_.clear();
-    frame_.push_back(c.byte);
-    last_char_ns_ = c.end_ns;
-    proc += timing_.byte_ns;
-    g.on_serial_byte(c.byte, timing_.isr_stamps ? micros_at(c.end_ns) : now_us);
   }
   CanFrame f;
   while (can_.receive(f)) {
     proc += timing_.frame_ns;
     if (f.id > 0x700 && f.id < 0x780 && !f.extended()) hb_heard_ns_[f.id - 0x700] = t;
+    if (f.id == 0x600u + g.node_id()) sdo_heard_ns_ = t;
     g.on_can_frame(f, now_us);
   }
   const uint8_t leds = g.process(now_us, buttons_);
+  const uint16_t requests = g.modbus_slave().counters().server_messages;
+  if (requests != requests_seen_) {  // as LineApp::process saw it (watchdog)
+    requests_seen_ = requests;
+    request_seen_ns_ = t;
+  }
   if (!serial_pending_.empty()) {
     proc += request_cost(timing_, frame_.data(), frame_.size());
     frame_.clear();
   }
   const NodeState s = read_state();
-  bool changed = taken != 0 || !tx_pending_.empty() || !serial_pending_.empty() || leds != leds_ || refused_;
+  // Characters taken are no change by themselves: the framer's only timer
+  // (t3.5) is among those compute_wake reads.
+  bool changed = !tx_pending_.empty() || !serial_pending_.empty() || leds != leds_ || refused_;
   if (s != state_) {
     const NodeState before = state_;
     state_ = s;
@@ -203,11 +215,57 @@ void NodeStation::pass() {
     if (on_state) on_state(index_, before, s);
   }
   if (timing_.skip_idle) {
-    changed = changed || !std::equal(values_before_.begin(), values_before_.end(), values_);
+    if (!std::equal(values_before_.begin(), values_before_.end(), values_)) {
+      changed = true;
+      wc_valid_ = false;
+    }
     quiet_ = !changed;
     if (quiet_) wake_ns_ = compute_wake(t);
   }
-  finish_pass(leds, proc);
+  q_.again_at(finish_pass(leds, proc));
+}
+
+SimNs NodeStation::take_serial(SimNs t, uint32_t now_us) {
+  gateway::Gateway& g = *gw_;
+  SimNs proc = 0;
+  SerialChar c;
+  uint32_t taken = 0;
+  while (rx_->take(t, &c)) {
+    if (++taken > timing_.uart_rx_bytes) {  // the ring was full: dropped
+      ++uart_overruns_;
+      continue;
+    }
+    if (c.end_ns - last_char_ns_ > frame_gap_ns_ || frame_.size() >= 256) frame_.clear();
+    frame_.push_back(c.byte);
+    last_char_ns_ = c.end_ns;
+    proc += timing_.byte_ns;
+    g.on_serial_byte(c.byte, timing_.isr_stamps ? micros_at(c.end_ns) : now_us);
+  }
+  return proc;
+}
+
+NodeStation::SlaveSnapshot NodeStation::slave_snapshot() const {
+  const modbus::SlaveCore& m = gw_->modbus_slave();
+  return SlaveSnapshot{m.counters(), m.stats(), m.listen_only()};
+}
+
+bool NodeStation::serial_idle(SimNs t, uint32_t now_us) {
+  uint32_t slave_us = 0;
+  if (!gw_->modbus_slave().deadline(slave_us)) return true;
+  SimNs wake = ~SimNs{0};
+  lower_wake(wake, t, at_micros(t, now_us, slave_us));
+  if (t >= wake) return false;
+  if (wake < wake_ns_) wake_ns_ = wake;
+  return true;
+}
+
+void NodeStation::lower_wake(SimNs& wake, SimNs t, SimNs exact) {
+  // 1 µs margin for the µs clock's rounding. A deadline already behind `t`
+  // was handled by this pass or an earlier one (a pass is never skipped
+  // past a wake time).
+  if (exact + kNsPerUs <= t) return;
+  const SimNs w = exact > kNsPerUs ? exact - kNsPerUs : 0;
+  if (w < wake) wake = w;
 }
 
 SimNs NodeStation::at_micros(SimNs t, uint32_t now_us, uint32_t at_us) const {
@@ -217,54 +275,82 @@ SimNs NodeStation::at_micros(SimNs t, uint32_t now_us, uint32_t at_us) const {
   return t - (t - boot_ns_) % kNsPerUs + SimNs{delta} * kNsPerUs;
 }
 
-// Every timer the firmware keeps, as its configuration and the frames seen
-// tell: Modbus frame end (the slave's own deadline), debounce, heartbeat
-// producer, TPDO inhibit and event timers, heartbeat consumers, the blink
-// of an unknown neighbour. A deadline already behind `t` was handled by this
-// pass or an earlier one (a pass is never skipped past a wake time).
-// Anything not tracked (SYNC, EMCY inhibit, RPDO timeouts, synchronous
-// TPDOs, the first second after a reset) disables skipping. The test
-// sim.SkippingIdlePassesChangesNothing checks the result against running
-// every pass.
-SimNs NodeStation::compute_wake(SimNs t) {
-  if (t < holdoff_ns_) return t;
+void NodeStation::read_wake_config() {
   const canopen::ObjectDictionary& od = gw_->od();
-  if (od.get(wr_.sync_period) != 0 || od.get(wr_.emcy_inhibit) != 0) return t;
-  const uint32_t now_us = micros_at(t);
-  SimNs wake = ~SimNs{0};
-  auto due = [&](SimNs exact) {  // 1 µs margin for the µs clock's rounding
-    if (exact + kNsPerUs <= t) return;
-    const SimNs w = exact > kNsPerUs ? exact - kNsPerUs : 0;
-    if (w < wake) wake = w;
-  };
-  uint32_t slave_us = 0;
-  if (gw_->modbus_slave().deadline(slave_us)) due(at_micros(t, now_us, slave_us));
-  due(buttons_changed_ns_ + od.get(wr_.debounce) * kNsPerMs);
-  // Heartbeat producer: deadlines d, d + P, ...; the last one passed lies
-  // after the pass before the one that sent it, so the next one after that + P.
-  const SimNs hb_ns = od.get(wr_.heartbeat) * kNsPerMs;
-  if (hb_ns != 0) {
-    if (hb_sent_prev_ns_ == 0 || hb_sent_prev_ns_ + hb_ns <= t) return t;
-    due(hb_sent_prev_ns_ + hb_ns + kNsPerUs);
-  }
+  WakeConfig& c = wc_;
+  c = WakeConfig{};
+  c.untracked = od.get(wr_.sync_period) != 0 || od.get(wr_.emcy_inhibit) != 0;
+  c.debounce_ns = od.get(wr_.debounce) * kNsPerMs;
+  c.watchdog_us = od.get(wr_.watchdog) * 1000u;
+  c.heartbeat_ns = od.get(wr_.heartbeat) * kNsPerMs;
+  auto value = [&](uint16_t row) { return row != canopen::ObjectDictionary::kNoRow ? od.get(row) : 0u; };
+  if (c.heartbeat_ns == 0 && value(wr_.guard_time) != 0 && value(wr_.life_factor) != 0) c.untracked = true;
   for (size_t n = 0; n < 4; ++n) {
     if ((od.get(tpdo_cob_rows_[n]) & 0x80000000u) || od.get(wr_.tpdo_map[n]) == 0) continue;
-    if (od.get(wr_.tpdo_type[n]) < 254) return t;
-    const SimNs inhibit_ns = od.get(wr_.tpdo_inhibit[n]) * 100 * kNsPerUs;
-    const SimNs event_ns = od.get(wr_.tpdo_event[n]) * kNsPerMs;
-    if (inhibit_ns + event_ns == 0) continue;  // nothing timed
-    if (tpdo_sent_ns_[n] == 0) return t;
-    if (inhibit_ns != 0) due(tpdo_sent_ns_[n] + inhibit_ns);
-    if (event_ns != 0) due(tpdo_sent_ns_[n] + event_ns);
+    if (od.get(wr_.tpdo_type[n]) < 254) c.untracked = true;
+    c.tpdo_inhibit_ns[n] = od.get(wr_.tpdo_inhibit[n]) * 100 * kNsPerUs;
+    c.tpdo_event_ns[n] = od.get(wr_.tpdo_event[n]) * kNsPerMs;
   }
   for (size_t n = 0; n < 4; ++n) {
-    if (od.get(wr_.rpdo_event[n]) != 0) return t;
+    if (od.get(wr_.rpdo_event[n]) != 0) c.untracked = true;
   }
   for (size_t k = 0; k < 4; ++k) {
     const uint32_t e = od.get(wr_.consumer[k]);
     const uint32_t node = (e >> 16) & 0x7Fu;
-    if ((e & 0xFFFFu) == 0 || node == 0 || hb_heard_ns_[node] == 0) continue;
-    due(hb_heard_ns_[node] + (e & 0xFFFFu) * kNsPerMs);
+    if ((e & 0xFFFFu) == 0 || node == 0) continue;
+    c.consumer_node[k] = static_cast<uint8_t>(node);
+    c.consumer_ns[k] = (e & 0xFFFFu) * kNsPerMs;
+  }
+  wc_valid_ = true;
+}
+
+// Every timer the firmware keeps, as its configuration and the frames seen
+// tell: Modbus frame end (the slave's own deadline), debounce, Modbus
+// watchdog, SDO server timeout, heartbeat producer, TPDO inhibit and event
+// timers, heartbeat consumers, the blink of an unknown neighbour. Anything
+// not tracked (SYNC, EMCY inhibit, RPDO timeouts, synchronous TPDOs, life
+// guarding, the first second after a reset) disables skipping. The tests
+// Determinism.SkippingIdlePasses* check the result against running every
+// pass.
+SimNs NodeStation::compute_wake(SimNs t) {
+  if (t < holdoff_ns_) return t;
+  if (!wc_valid_) read_wake_config();
+  const WakeConfig& c = wc_;
+  if (c.untracked) return t;
+  const uint32_t now_us = micros_at(t);
+  SimNs wake = ~SimNs{0};
+  auto due = [&](SimNs exact) { lower_wake(wake, t, exact); };
+  uint32_t slave_us = 0;
+  if (gw_->modbus_slave().deadline(slave_us)) due(at_micros(t, now_us, slave_us));
+  due(buttons_changed_ns_ + c.debounce_ns);
+  // Modbus watchdog: the line application stops the station in the first
+  // pass with micros() - (micros() of the pass that saw the last request) >
+  // 2000h/9 ms (armed once a request was seen; a past deadline has fired).
+  if (c.watchdog_us != 0 && request_seen_ns_ != 0) {
+    due(request_seen_ns_ - (request_seen_ns_ - boot_ns_) % kNsPerUs + (SimNs{c.watchdog_us} + 1) * kNsPerUs);
+  }
+  // SDO server: a transfer in progress times out a fixed time after the
+  // request that last reached it.
+  if (sdo_heard_ns_ != 0) {
+    due(sdo_heard_ns_ - (sdo_heard_ns_ - boot_ns_) % kNsPerUs +
+        SimNs{canopen::SdoServer::kDefaultTimeoutUs} * kNsPerUs);
+  }
+  // Heartbeat producer: deadlines d, d + P, ...; the last one passed lies
+  // after the pass before the one that sent it, so the next one after that + P.
+  if (c.heartbeat_ns != 0) {
+    if (hb_sent_prev_ns_ == 0 || hb_sent_prev_ns_ + c.heartbeat_ns <= t) return t;
+    due(hb_sent_prev_ns_ + c.heartbeat_ns + kNsPerUs);
+  }
+  for (size_t n = 0; n < 4; ++n) {
+    if (c.tpdo_inhibit_ns[n] + c.tpdo_event_ns[n] == 0) continue;  // off or nothing timed
+    if (tpdo_sent_ns_[n] == 0) return t;
+    if (c.tpdo_inhibit_ns[n] != 0) due(tpdo_sent_ns_[n] + c.tpdo_inhibit_ns[n]);
+    if (c.tpdo_event_ns[n] != 0) due(tpdo_sent_ns_[n] + c.tpdo_event_ns[n]);
+  }
+  for (size_t k = 0; k < 4; ++k) {
+    const SimNs heard = hb_heard_ns_[c.consumer_node[k]];
+    if (c.consumer_ns[k] == 0 || heard == 0) continue;
+    due(heard + c.consumer_ns[k]);
   }
   if (state_.prev_status == gateway::kNeighbourUnknown || state_.next_status == gateway::kNeighbourUnknown) {
     const uint32_t half = gateway::LineApp::kBlinkHalfPeriodUs;
@@ -273,7 +359,7 @@ SimNs NodeStation::compute_wake(SimNs t) {
   return wake;
 }
 
-void NodeStation::finish_pass(uint8_t leds, SimNs proc) {
+SimNs NodeStation::finish_pass(uint8_t leds, SimNs proc) {
   const SimNs t = q_.now();
   leds_out_ = leds;
   if (!tx_pending_.empty() || !serial_pending_.empty() || leds != leds_) {
@@ -285,7 +371,7 @@ void NodeStation::finish_pass(uint8_t leds, SimNs proc) {
   // comes after a random extra delay, so that stations are not in step.
   if (booting_) next = proc + rng_.range(0, timing_.loop_ns != 0 ? timing_.loop_ns : timing_.pass_ns);
   booting_ = false;
-  q_.at(t + next, this, kPass, generation_);
+  return t + next;
 }
 
 void NodeStation::release() {

@@ -13,6 +13,7 @@
 // at each power-on.
 #pragma once
 #include <stdint.h>
+#include <string.h>
 
 #include <functional>
 #include <memory>
@@ -59,8 +60,9 @@ struct NodeTiming {
   /// The port programs the MCP2515's masks and filters (mcp2515::
   /// plan_filters) with the COB-IDs the gateway consumes, after each reset.
   bool can_filters = true;
-  /// Speed only, same results: a pass that provably does nothing is not
-  /// run (see NodeStation::compute_wake). Off = every pass calls the firmware.
+  /// Speed only, same results: the firmware is not called in a pass that
+  /// provably does nothing (the rule: NodeStation, "Idle passes"). Off =
+  /// every pass calls the firmware.
   bool skip_idle = true;
 };
 
@@ -95,6 +97,25 @@ struct NodeState {
   bool operator!=(const NodeState& o) const { return !(*this == o); }
 };
 
+/// Idle passes (NodeTiming::skip_idle). A pass still takes its time, draws
+/// its jitter and hands in the serial characters that arrived, but it does
+/// not call Gateway::process when that call provably changes nothing:
+///  * the last call changed nothing (no frame, byte or LED out, no send
+///    refused, no OD value and no watched state changed): so the firmware
+///    waits only on its timers and on input;
+///  * no timer is due yet: the pass starts before wake_ns_, a lower bound of
+///    every deadline the firmware keeps (compute_wake; a configuration it
+///    cannot bound disables skipping);
+///  * no CAN frame and no button change came since that call;
+///  * serial characters, if any, went to the Modbus framer (on_serial_byte,
+///    as in every pass) without closing a frame (the slave's counters are
+///    unchanged), and the frame's t3.5 deadline (SlaveCore::deadline) is
+///    after the pass start; wake_ns_ is lowered to it. The framer is the only
+///    part characters reach, and process() leaves it alone before t3.5.
+/// Then process() would return the same LEDs and leave every state as it
+/// is, so not calling it gives the same run. Characters taken are therefore
+/// no change in this sense either. Determinism.SkippingIdlePassesChangesNothing
+/// (tests/sim) compares whole runs with skipping on and off.
 class NodeStation : public Handler {
  public:
   NodeStation(EventQueue& queue, CanBus& bus, int index, uint32_t baud, const NodeTiming& timing,
@@ -145,7 +166,28 @@ class NodeStation : public Handler {
   void make_gateway();
   void pass();
   void release();
-  void finish_pass(uint8_t leds, SimNs proc);
+  /// Schedules the release of the pass's outputs; returns the next pass's time.
+  SimNs finish_pass(uint8_t leds, SimNs proc);
+  /// Hands the characters complete by `t` to the firmware; returns their cost.
+  SimNs take_serial(SimNs t, uint32_t now_us);
+  /// What changes when the Modbus slave closes a frame (each frame is
+  /// counted in CPT1, CPT2 or CPT8; a restart leaves listen-only mode).
+  struct SlaveSnapshot {
+    modbus::DiagCounters counters;
+    modbus::LinkStats stats;
+    bool listen_only;
+    bool operator==(const SlaveSnapshot& o) const {
+      return memcmp(&counters, &o.counters, sizeof counters) == 0 &&
+             memcmp(&stats, &o.stats, sizeof stats) == 0 && listen_only == o.listen_only;
+    }
+  };
+  SlaveSnapshot slave_snapshot() const;
+  /// After characters reached an idle firmware: true when the slave's t3.5
+  /// deadline is still ahead of `t` (wake_ns_ lowered to it).
+  bool serial_idle(SimNs t, uint32_t now_us);
+  /// Lowers `wake` to just before `exact`, a deadline of the firmware's
+  /// (1 µs margin for the µs clock); one already behind `t` was handled.
+  static void lower_wake(SimNs& wake, SimNs t, SimNs exact);
   NodeState read_state();
   /// Acceptance filters for what the OD says this node consumes.
   void plan_filters();
@@ -153,7 +195,7 @@ class NodeStation : public Handler {
   /// without new input could do something (a lower bound from the firmware's
   /// timers as the OD configures them and as their frames were seen).
   SimNs compute_wake(SimNs t);
-  bool input_waiting(SimNs t) const;
+  void read_wake_config();
   SimNs at_micros(SimNs t, uint32_t now_us, uint32_t at_us) const;
 
   EventQueue& q_;
@@ -183,8 +225,8 @@ class NodeStation : public Handler {
   uint64_t passes_ = 0;
   uint64_t firmware_calls_ = 0;
   uint16_t rows_[7] = {};
-  // Idle-pass elision (skip_idle).
-  bool quiet_ = false;          ///< the last firmware pass changed nothing
+  // Idle-pass elision (skip_idle, "Idle passes" above).
+  bool quiet_ = false;          ///< the last firmware call changed nothing
   bool refused_ = false;        ///< a CAN send was refused in this pass
   SimNs wake_ns_ = 0;           ///< passes before this may be skipped
   SimNs holdoff_ns_ = 0;        ///< no skipping before (after power-on, NMT changes)
@@ -196,11 +238,25 @@ class NodeStation : public Handler {
   SimNs tpdo_sent_ns_[4] = {};  ///< pass of the last send of each TPDO (0: none)
   uint16_t tpdo_cob_rows_[4] = {};
   struct WakeRows {  ///< OD rows compute_wake reads (found once per gateway)
-    uint16_t sync_period, emcy_inhibit, debounce, heartbeat;
+    uint16_t sync_period, emcy_inhibit, debounce, watchdog, heartbeat, guard_time, life_factor;
     uint16_t tpdo_type[4], tpdo_inhibit[4], tpdo_event[4], tpdo_map[4], rpdo_event[4];
     uint16_t consumer[4];
   } wr_ = {};
   SimNs hb_heard_ns_[128] = {}; ///< pass that handed in the last heartbeat of a node
+  /// The timer settings compute_wake needs, decoded from the OD. Valid while
+  /// no OD value changed (any change in a pass clears wc_valid_).
+  struct WakeConfig {
+    bool untracked;  ///< a timer compute_wake cannot bound is configured
+    SimNs debounce_ns, heartbeat_ns;
+    uint32_t watchdog_us;                        ///< 2000h/9 (0: off)
+    SimNs tpdo_inhibit_ns[4], tpdo_event_ns[4];  ///< both 0: TPDO off or untimed
+    SimNs consumer_ns[4];                        ///< 0: consumer off
+    uint8_t consumer_node[4];
+  } wc_ = {};
+  bool wc_valid_ = false;
+  uint16_t requests_seen_ = 0;  ///< Modbus requests the line application has seen
+  SimNs request_seen_ns_ = 0;   ///< pass in which it saw the last new one (0: none)
+  SimNs sdo_heard_ns_ = 0;      ///< pass that handed in the last SDO request (0: none)
   uint8_t* values_ = nullptr;   ///< the OD's RAM value block
   std::vector<uint8_t> values_before_;
 };

@@ -26,9 +26,12 @@ class Rng {
   /// Uniform in [0, n) without modulo bias; 0 when n == 0.
   uint64_t below(uint64_t n) {
     if (n == 0) return 0;
-    const uint64_t limit = UINT64_MAX - UINT64_MAX % n;  // multiple of n
+    if (n != limit_n_) {  // a stream mostly draws with one bound: divide once
+      limit_n_ = n;
+      limit_ = UINT64_MAX - UINT64_MAX % n;  // multiple of n
+    }
     uint64_t v = g_();
-    while (v >= limit) v = g_();
+    while (v >= limit_) v = g_();
     return v % n;
   }
   /// Uniform in [lo, hi] (inclusive; lo when hi <= lo).
@@ -38,6 +41,8 @@ class Rng {
 
  private:
   std::mt19937_64 g_;
+  uint64_t limit_n_ = 0;  ///< bound that limit_ belongs to (0: none yet)
+  uint64_t limit_ = 0;
 };
 
 }  // namespace sim

@@ -32,7 +32,10 @@ struct FilterPlan {
 /// Computes a plan accepting at least every id in ids[0..count). Duplicates
 /// are allowed. Returns false (plan untouched) when count is 0 or above
 /// kMaxSubscribedIds, or an id exceeds kMaxStandardId.
-bool plan_filters(const uint16_t* ids, uint8_t count, FilterPlan& plan);
+/// Out of line: inlined into its caller's loop, its arrays would enlarge
+/// that frame beyond what the AVR reaches with short offsets (-200 B on
+/// the Uno).
+__attribute__((noinline)) bool plan_filters(const uint16_t* ids, uint8_t count, FilterPlan& plan);
 
 /// True when standard id `id` passes the plan (the chip's acceptance rule).
 bool plan_accepts(const FilterPlan& plan, uint16_t id);

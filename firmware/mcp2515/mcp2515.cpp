@@ -224,11 +224,20 @@ bool Driver::send(const CanFrame& frame) {
   const uint8_t status = command_read(reg::kReadStatus);
   uint8_t pending = 0;  // bit n: TXBn still waits to be sent
   uint8_t buffer = 3;
-  for (uint8_t n = 0; n < 3; ++n) {
-    if (status & reg::status_txreq(n)) {
-      pending = static_cast<uint8_t>(pending | (1u << n));
+  uint8_t buffer_bit = 0;  // 1 << buffer
+  // Masks walk by shifting bytes: a shift by a variable count is a loop on
+  // the AVR (-30 B on the Uno).
+  static_assert(reg::status_txreq(1) == reg::status_txreq(0) << 2 &&
+                    reg::status_txreq(2) == reg::status_txreq(0) << 4,
+                "TXREQ bits of READ STATUS: every second bit");
+  uint8_t txreq = status;  // TXREQ of buffer n at status_txreq(0) after n steps
+  for (uint8_t n = 0, bit = 1; n < 3;
+       ++n, bit = static_cast<uint8_t>(bit << 1), txreq = static_cast<uint8_t>(txreq >> 2)) {
+    if (txreq & reg::status_txreq(0)) {
+      pending = static_cast<uint8_t>(pending | bit);
     } else if (buffer == 3) {
       buffer = n;
+      buffer_bit = bit;
     }
   }
   if (buffer == 3) {
@@ -246,8 +255,8 @@ bool Driver::send(const CanFrame& frame) {
 
   tx_seq_[buffer] = seq_++;
   tx_prio_[buffer] = kNoPriority;  // idle: its TXP is whatever was left there
-  rank_transmit_buffers(static_cast<uint8_t>(pending | (1u << buffer)));
-  command(static_cast<uint8_t>(reg::kRts | (1u << buffer)));
+  rank_transmit_buffers(static_cast<uint8_t>(pending | buffer_bit));
+  command(static_cast<uint8_t>(reg::kRts | buffer_bit));
   ++counters_.tx_frames;
   return true;
 }
@@ -255,11 +264,15 @@ bool Driver::send(const CanFrame& frame) {
 void Driver::rank_transmit_buffers(uint8_t queued) {
   // rank[n]: how many queued frames go before buffer n's. Target TXP: 3 for
   // the frame that wins arbitration first, then 2, 1.
-  uint8_t rank[3] = {0, 0, 0};
-  for (uint8_t n = 0; n < 3; ++n) {
-    for (uint8_t m = 0; m < 3; ++m) {
-      if (m != n && (queued & (1u << n)) && (queued & (1u << m)) &&
-          before(tx_key_[m], tx_seq_[m], tx_key_[n], tx_seq_[n])) {
+  // Not queued: rank 3, which no pass below handles. Masks walk by shifting
+  // a byte (a shift by a variable count is a loop on the AVR): -84 B on the Uno.
+  uint8_t rank[3];
+  for (uint8_t n = 0, bit_n = 1; n < 3; ++n, bit_n = static_cast<uint8_t>(bit_n << 1)) {
+    rank[n] = 3;
+    if (!(queued & bit_n)) continue;
+    rank[n] = 0;
+    for (uint8_t m = 0, bit_m = 1; m < 3; ++m, bit_m = static_cast<uint8_t>(bit_m << 1)) {
+      if (m != n && (queued & bit_m) && before(tx_key_[m], tx_seq_[m], tx_key_[n], tx_seq_[n])) {
         ++rank[n];
       }
     }
@@ -272,7 +285,7 @@ void Driver::rank_transmit_buffers(uint8_t queued) {
     const bool lowering = pass < 3;
     const uint8_t r = lowering ? static_cast<uint8_t>(2u - pass) : static_cast<uint8_t>(pass - 3u);
     for (uint8_t n = 0; n < 3; ++n) {
-      if ((queued & (1u << n)) == 0 || rank[n] != r) continue;
+      if (rank[n] != r) continue;
       const uint8_t target = static_cast<uint8_t>(3u - r);
       const bool known = tx_prio_[n] != kNoPriority;
       if (lowering ? (known && target < tx_prio_[n]) : (tx_prio_[n] != target)) {

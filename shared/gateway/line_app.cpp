@@ -25,8 +25,9 @@ void LineApp::neighbour_config(uint8_t id, uint8_t* prev, uint8_t* next) const {
 namespace {
 
 // COB-ID of an RPDO receiving node `id`'s PDO at base + id; not valid (bit
-// 31) with that base when there is no such node.
-uint32_t rpdo_cob_id(uint16_t base, uint8_t id) {
+// 31) with that base when there is no such node. Out of line: three call
+// sites (-12 B on the Uno).
+__attribute__((noinline)) uint32_t rpdo_cob_id(uint16_t base, uint8_t id) {
   return id != 0 ? static_cast<uint32_t>(base + id) : 0x80000000u | base;
 }
 
@@ -115,8 +116,9 @@ uint8_t LineApp::process(uint32_t now_us, uint8_t raw, uint8_t nmt_state, uint16
     latch_stop(kCausePcSilent);
   }
   const uint32_t debounce_us = static_cast<uint32_t>(v.v_0x2000_6) * 1000u;
-  for (uint8_t i = 0; i < 3; ++i) {
-    const uint8_t bit = static_cast<uint8_t>(1u << i);
+  // The bit walks by a shift of one: a shift by a variable count is a loop
+  // on the AVR (-14 B on the Uno).
+  for (uint8_t i = 0, bit = 1; i < 3; ++i, bit = static_cast<uint8_t>(bit << 1)) {
     if ((raw ^ raw_) & bit) raw_since_us_[i] = now_us;
     if (!((raw ^ stable_) & bit) || now_us - raw_since_us_[i] < debounce_us) continue;
     stable_ ^= bit;

@@ -56,7 +56,8 @@ class LineApp {
   uint8_t process(uint32_t now_us, uint8_t raw_buttons, uint8_t nmt_state, uint16_t modbus_requests);
 
  private:
-  void latch_stop(StopCause cause);
+  /// Out of line: four call sites (-10 B on the Uno).
+  __attribute__((noinline)) void latch_stop(StopCause cause);
   void neighbour_config(uint8_t node_id, uint8_t* prev, uint8_t* next) const;
 
   /// Stores `value` into a PDO-mappable entry of the value block, telling

@@ -66,6 +66,8 @@ bool OdRegisterBank::reach(Walk* w, uint16_t address) {
     ++w->sub;
     entry = od_.get(static_cast<uint16_t>(w->row0 + w->sub));
     it.first = static_cast<uint16_t>(it.first + it.width);
+    it.index = canopen::map_index(entry);
+    it.sub = canopen::map_sub(entry);
     it.bits = canopen::map_bits(entry);
     it.width = (entry != 0 && !w->bit_table && it.bits == 32) ? 2 : 1;
   } while (address >= it.first + it.width);
@@ -129,7 +131,7 @@ Exception OdRegisterBank::write_value(const Item& it, uint32_t value) {
   uint8_t bytes[4];
   canopen::put_le32(bytes, value);
   if (size < 4 && (value >> (8 * size)) != 0) return Exception::kServerDeviceFailure;
-  return od_.write(od_.index_of(it.row), od_.sub_of(it.row), bytes, size) == canopen::kSdoOk
+  return od_.write(it.index, it.sub, bytes, size) == canopen::kSdoOk
              ? Exception::kNone
              : Exception::kServerDeviceFailure;
 }

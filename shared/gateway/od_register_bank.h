@@ -43,9 +43,12 @@ class OdRegisterBank : public modbus::RegisterBank {
                                   const uint8_t* data);
 
  private:
-  /// One mapped item: OD row, length in bits, first address, width in addresses.
+  /// One mapped item: OD row, the entry it maps (index, sub, length in bits),
+  /// first address, width in addresses.
   struct Item {
     uint16_t row;    ///< kNoRow for an unmapped address
+    uint16_t index;  ///< index and sub of `row`, as the map entry names them
+    uint8_t sub;     ///< (no flash reads for them: -10 B on the Uno)
     uint8_t bits;
     uint8_t width;
     uint16_t first;

@@ -25,15 +25,19 @@ uint32_t RtuFramer::silence_before(uint32_t byte_us) const {
   return gap > timing_.char_us ? gap - timing_.char_us : 0u;
 }
 
+bool RtuFramer::t35_passed(uint32_t now_us) const {
+  return elapsed_us(last_us_, now_us) >= timing_.t35_us;
+}
+
 bool RtuFramer::frame_due(uint32_t now_us) const {
-  return state_ == State::kReceiving && elapsed_us(last_us_, now_us) >= timing_.t35_us;
+  return state_ == State::kReceiving && t35_passed(now_us);
 }
 
 bool RtuFramer::frame_due_before(uint32_t byte_us) const {
   return state_ == State::kReceiving && silence_before(byte_us) >= timing_.t35_us;
 }
 
-void RtuFramer::store(uint8_t byte, uint32_t byte_us, uint8_t flags) {
+void RtuFramer::push_char(uint8_t byte, uint32_t byte_us, bool error) {
   if (state_ == State::kInitial) {
     // Still waiting for the line to be quiet: the character is the tail of a
     // frame we joined in the middle; the wait starts again.
@@ -50,7 +54,7 @@ void RtuFramer::store(uint8_t byte, uint32_t byte_us, uint8_t flags) {
   } else if (check_t15_ && silence_before(byte_us) > timing_.t15_us) {
     flags_ |= kFlagT15;
   }
-  flags_ = static_cast<uint8_t>(flags_ | flags);
+  if (error) flags_ |= kFlagCharError;
   if (length_ < capacity_) {
     buf_[length_++] = byte;
   } else {
@@ -59,12 +63,8 @@ void RtuFramer::store(uint8_t byte, uint32_t byte_us, uint8_t flags) {
   last_us_ = byte_us;
 }
 
-void RtuFramer::push(uint8_t byte, uint32_t byte_us) { store(byte, byte_us, 0); }
-
-void RtuFramer::push_error(uint32_t byte_us) { store(0, byte_us, kFlagCharError); }
-
 void RtuFramer::tick(uint32_t now_us) {
-  if (state_ == State::kInitial && elapsed_us(last_us_, now_us) >= timing_.t35_us) {
+  if (state_ == State::kInitial && t35_passed(now_us)) {
     state_ = State::kIdle;
   }
 }

@@ -37,14 +37,9 @@ bool SlaveCore::set_address(uint8_t address) {
   return true;
 }
 
-void SlaveCore::on_byte(uint8_t byte, uint32_t byte_us) {
+void SlaveCore::on_char(uint8_t byte, uint32_t byte_us, bool error) {
   if (framer_.frame_due_before(byte_us)) handle_frame();
-  framer_.push(byte, byte_us);
-}
-
-void SlaveCore::on_char_error(uint32_t byte_us) {
-  if (framer_.frame_due_before(byte_us)) handle_frame();
-  framer_.push_error(byte_us);
+  framer_.push_char(byte, byte_us, error);
 }
 
 void SlaveCore::process(uint32_t now_us) {

@@ -80,9 +80,12 @@ class SlaveCore {
 
   void begin(uint32_t now_us) { framer_.begin(now_us); }
   /// A received character, stamped when it was complete (see rtu_framer.h).
-  void on_byte(uint8_t byte, uint32_t byte_us);
+  void on_byte(uint8_t byte, uint32_t byte_us) { on_char(byte, byte_us, false); }
   /// A character received with a parity or framing error.
-  void on_char_error(uint32_t byte_us);
+  void on_char_error(uint32_t byte_us) { on_char(0, byte_us, true); }
+  /// on_byte(), or on_char_error() when `error`: one path for both (-80 B
+  /// on the Uno, where the main loop hands in either).
+  void on_char(uint8_t byte, uint32_t byte_us, bool error);
   /// Ends a frame after t3.5 of silence and answers it.
   void process(uint32_t now_us);
   /// When process() must run next at the latest; false: only after a byte.
@@ -109,6 +112,7 @@ class SlaveCore {
   Reply write_single_coil(uint16_t pdu_length);            // FC 05
   Reply write_single_register(uint16_t pdu_length);        // FC 06
   Reply write_multiple(uint16_t pdu_length, Table table);  // FC 0F 10
+  Reply write_checked(Table table, uint16_t start, uint16_t quantity, const uint8_t* values);
   Reply read_write_registers(uint16_t pdu_length);
   Reply diagnostics(uint16_t pdu_length);
   Reply device_identification(uint16_t pdu_length);

@@ -65,6 +65,25 @@ TEST(ModbusCrc, RejectsCorruptionAndShortInput) {
   EXPECT_FALSE(crc_ok(frame, 0));
 }
 
+// crc_ok() checks the residue (CRC over body and CRC is 0): it must accept
+// exactly the frames whose last two bytes are the body's CRC, low byte first.
+TEST(ModbusCrc, AcceptsExactlyTheRightCrcBytes) {
+  std::mt19937 rng(11);
+  for (int round = 0; round < 8; ++round) {
+    std::vector<uint8_t> frame(1 + rng() % 20 + 2);
+    for (auto& b : frame) b = static_cast<uint8_t>(rng());
+    const uint16_t body = static_cast<uint16_t>(frame.size() - 2);
+    const uint16_t crc = crc_bitwise(std::vector<uint8_t>(frame.begin(), frame.begin() + body));
+    // Every possible pair of CRC bytes: only the right one passes.
+    for (uint32_t candidate = 0; candidate <= 0xFFFF; ++candidate) {
+      frame[body] = static_cast<uint8_t>(candidate);
+      frame[body + 1u] = static_cast<uint8_t>(candidate >> 8);
+      ASSERT_EQ(crc_ok(frame.data(), static_cast<uint16_t>(frame.size())), candidate == crc)
+          << "round " << round << " candidate " << candidate;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace modbus
 }  // namespace mb2co

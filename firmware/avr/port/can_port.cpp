@@ -54,7 +54,7 @@ bool CanPort::begin(uint16_t kbit, uint32_t now_us) {
   ready_ = driver_.begin(bitrate_of(kbit), can::Mode::kNormal);
   // The chip accepts everything now; the next period plans the filters (not
   // here: begin() may run inside a send, e.g. the boot-up after a reset).
-  id_count_ = 0xFF;
+  id_count_ = 0;
   return ready_;
 }
 
@@ -153,7 +153,7 @@ void CanPort::update_filters() {
     exact_ = false;
   }
   if (!ok) {
-    id_count_ = 0xFF;  // try again next period
+    id_count_ = 0;  // try again next period
     return;
   }
   id_count_ = count;

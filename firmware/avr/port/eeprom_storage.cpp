@@ -15,21 +15,19 @@ bool fits(uint16_t offset, uint16_t len) {
 // EEPROM addresses are pointers in avr-libc's API.
 void* address(uint16_t offset) { return reinterpret_cast<void*>(static_cast<uintptr_t>(offset)); }
 
-bool read(void*, uint16_t offset, uint8_t* data, uint16_t len) {
+}  // namespace
+
+bool eeprom_storage_read(void*, uint16_t offset, uint8_t* data, uint16_t len) {
   if (!fits(offset, len)) return false;
   eeprom_read_block(data, address(offset), len);
   return true;
 }
 
-bool write(void*, uint16_t offset, const uint8_t* data, uint16_t len) {
+bool eeprom_storage_write(void*, uint16_t offset, const uint8_t* data, uint16_t len) {
   if (!fits(offset, len)) return false;
   eeprom_update_block(data, address(offset), len);
   return true;
 }
-
-}  // namespace
-
-canopen::ParamStorage eeprom_storage() { return canopen::ParamStorage{&read, &write, nullptr}; }
 
 }  // namespace avr
 }  // namespace mb2co

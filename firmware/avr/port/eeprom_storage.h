@@ -12,8 +12,15 @@ namespace avr {
 /// Bytes of EEPROM the storage may use (the whole part).
 constexpr uint16_t kEepromBytes = 1024;
 
+bool eeprom_storage_read(void* ctx, uint16_t offset, uint8_t* data, uint16_t len);
+bool eeprom_storage_write(void* ctx, uint16_t offset, const uint8_t* data, uint16_t len);
+
 /// Reads and writes beyond kEepromBytes fail (a save then reports failure).
-canopen::ParamStorage eeprom_storage();
+/// constexpr: a global built from it is initialised data, not constructor
+/// code (-50 B on the Uno).
+constexpr canopen::ParamStorage eeprom_storage() {
+  return canopen::ParamStorage{&eeprom_storage_read, &eeprom_storage_write, nullptr};
+}
 
 }  // namespace avr
 }  // namespace mb2co

@@ -53,7 +53,11 @@ bool can_send(void*, const CanFrame& frame) {
 void show_leds(uint8_t leds) {
   if (leds == leds_shown) return;
   leds_shown = leds;
-  for (uint8_t i = 0; i < 4; ++i) avr::gpio_write(kLedPins[i], (leds >> i) & 1u);
+  // One bit per LED shifted down: a shift by a variable count is a loop on
+  // the AVR (-14 B).
+  for (uint8_t i = 0, bits = leds; i < 4; ++i, bits = static_cast<uint8_t>(bits >> 1)) {
+    avr::gpio_write(kLedPins[i], bits & 1u);
+  }
 }
 
 void show_can_state() {
@@ -81,13 +85,8 @@ void loop() {
   // it is left unread when the Modbus slave decides on t3.5.
   const uint32_t now_us = micros();
   avr::UartChar c;
-  while (avr::uart_read(c)) {
-    if (c.error) {
-      gw.modbus_slave().on_char_error(c.stamp_us);
-    } else {
-      gw.on_serial_byte(c.byte, c.stamp_us);
-    }
-  }
+  // A garbled character's byte lands in a frame that is then discarded.
+  while (avr::uart_read(c)) gw.modbus_slave().on_char(c.byte, c.stamp_us, c.error);
   can_port.set_bitrate(gw.bitrate_kbit(), now_us);
   can_port.poll(now_us);
   show_leds(gw.process(now_us, avr::read_pressed(kButtonPins, 3)));

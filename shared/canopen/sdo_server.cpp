@@ -45,119 +45,121 @@ static void segment_ack(const CanSink& sink, uint8_t node_id, uint8_t cmd) {
   reply(sink, node_id, cmd, nullptr, 0);
 }
 
-void SdoServer::abort(const CanSink& sink, uint16_t index, uint8_t sub, uint32_t code) {
-  index_ = index;
-  sub_ = sub;
+void SdoServer::abort(const CanSink& sink, uint32_t code) {
   uint8_t payload[4];
   put_le32(payload, code);
   respond(sink, 0x80, payload);
   state_ = kIdle;
 }
 
+void SdoServer::take_multiplexer(const CanFrame& f) {
+  index_ = le16(&f.data[1]);
+  sub_ = f.data[3];
+}
+
 void SdoServer::on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink) {
   if (f.rtr() || f.dlc != 8) return;
   const uint8_t ccs = static_cast<uint8_t>(f.data[0] >> 5);
   deadline_us_ = now_us + timeout_us_;
+  uint32_t code = kSdoOk;
   switch (ccs) {
     case kCcsInitiateDownload:
-      initiate_download(f, sink);
+      code = initiate_download(f, sink);
       break;
     case kCcsDownloadSegment:
-      download_segment(f, sink);
+      code = download_segment(f, sink);
       break;
     case kCcsInitiateUpload:
-      initiate_upload(f, sink);
+      code = initiate_upload(f, sink);
       break;
     case kCcsUploadSegment:
-      upload_segment(f, sink);
+      code = upload_segment(f, sink);
       break;
     case kCcsAbort:
       state_ = kIdle;  // the client gave up: no answer
       break;
     default:  // 5, 6 (block transfer) and 7
-      abort(sink, le16(&f.data[1]), f.data[3], kAbortCommand);
+      take_multiplexer(f);
+      code = kAbortCommand;
       break;
   }
+  if (code != kSdoOk) abort(sink, code);
 }
 
 void SdoServer::process(uint32_t now_us, const CanSink& sink) {
-  if (state_ != kIdle && time_reached(now_us, deadline_us_)) abort(sink, index_, sub_, kAbortTimeout);
+  if (state_ != kIdle && time_reached(now_us, deadline_us_)) abort(sink, kAbortTimeout);
 }
 
-void SdoServer::initiate_download(const CanFrame& f, const CanSink& sink) {
-  const uint16_t index = le16(&f.data[1]);
-  const uint8_t sub = f.data[3];
+// The initiate requests name the object: index_/sub_ take it at once (the
+// state is idle, so nothing else reads them before the answer).
+uint32_t SdoServer::initiate_download(const CanFrame& f, const CanSink& sink) {
   state_ = kIdle;  // a new initiate replaces any transfer in progress
+  take_multiplexer(f);
   uint16_t row = 0;
-  uint32_t code = od_->check_write(index, sub, &row);
-  if (code != kSdoOk) return abort(sink, index, sub, code);
+  uint32_t code = od_->check_write(index_, sub_, &row);
+  if (code != kSdoOk) return code;
   const bool expedited = f.data[0] & 0x02;
   const bool indicated = f.data[0] & 0x01;
   const uint16_t capacity = od_->capacity_of(row);
+  const bool is_string = od_->attr(row) & kAttrString;
   if (expedited) {
     uint16_t len = 4;
     if (indicated) {
       len = static_cast<uint16_t>(4 - ((f.data[0] >> 2) & 0x03));
-    } else if (!(od_->entry(row).attr & kAttrString) && capacity < 4) {
+    } else if (!is_string && capacity < 4) {
       len = capacity;  // size not indicated: the object's own size
     }
-    code = od_->write(index, sub, &f.data[4], len);
-    if (code != kSdoOk) return abort(sink, index, sub, code);
-    index_ = index;
-    sub_ = sub;
-    return respond(sink, 0x60, nullptr);
+    code = od_->write(index_, sub_, &f.data[4], len);
+    if (code != kSdoOk) return code;
+    respond(sink, 0x60, nullptr);
+    return kSdoOk;
   }
   announced_ = indicated ? le32(&f.data[4]) : 0;
   size_indicated_ = indicated;
-  if (indicated && (announced_ > capacity || announced_ > kBufferSize)) {
-    return abort(sink, index, sub, kAbortTooLong);
-  }
-  if (indicated && announced_ < capacity && !(od_->entry(row).attr & kAttrString)) {
-    return abort(sink, index, sub, kAbortTooShort);
-  }
-  index_ = index;
-  sub_ = sub;
+  if (indicated && (announced_ > capacity || announced_ > kBufferSize)) return kAbortTooLong;
+  if (indicated && announced_ < capacity && !is_string) return kAbortTooShort;
   state_ = kDownloading;
   toggle_ = 0;
   length_ = 0;
   respond(sink, 0x60, nullptr);
+  return kSdoOk;
 }
 
-void SdoServer::download_segment(const CanFrame& f, const CanSink& sink) {
-  if (state_ != kDownloading) return abort(sink, index_, sub_, kAbortCommand);
-  if ((f.data[0] & 0x10) != toggle_) return abort(sink, index_, sub_, kAbortToggle);
+uint32_t SdoServer::download_segment(const CanFrame& f, const CanSink& sink) {
+  if (state_ != kDownloading) return kAbortCommand;
+  if ((f.data[0] & 0x10) != toggle_) return kAbortToggle;
   const uint8_t count = static_cast<uint8_t>(7 - ((f.data[0] >> 1) & 0x07));
-  if (length_ + count > kBufferSize) return abort(sink, index_, sub_, kAbortTooLong);
+  if (length_ + count > kBufferSize) return kAbortTooLong;
   memcpy(&buffer_[length_], &f.data[1], count);
   length_ = static_cast<uint8_t>(length_ + count);
   const uint8_t ack = static_cast<uint8_t>(0x20 | toggle_);
   toggle_ ^= 0x10;
-  if (!(f.data[0] & 0x01)) return segment_ack(sink, node_id_, ack);
-  // Last segment: the data reaches the OD in one piece or not at all.
-  if (size_indicated_ && announced_ != length_) return abort(sink, index_, sub_, kAbortTypeMismatch);
-  const uint32_t code = od_->write(index_, sub_, buffer_, length_);
-  if (code != kSdoOk) return abort(sink, index_, sub_, code);
-  state_ = kIdle;
+  if (f.data[0] & 0x01) {
+    // Last segment: the data reaches the OD in one piece or not at all.
+    if (size_indicated_ && announced_ != length_) return kAbortTypeMismatch;
+    const uint32_t code = od_->write(index_, sub_, buffer_, length_);
+    if (code != kSdoOk) return code;
+    state_ = kIdle;
+  }
   segment_ack(sink, node_id_, ack);
+  return kSdoOk;
 }
 
-void SdoServer::initiate_upload(const CanFrame& f, const CanSink& sink) {
-  const uint16_t index = le16(&f.data[1]);
-  const uint8_t sub = f.data[3];
+uint32_t SdoServer::initiate_upload(const CanFrame& f, const CanSink& sink) {
   state_ = kIdle;
+  take_multiplexer(f);
   uint16_t len = 0;
   // A snapshot: the client reads consistent data even if the value changes.
-  const uint32_t code = od_->read(index, sub, buffer_, kBufferSize, &len);
-  if (code != kSdoOk) return abort(sink, index, sub, code);
-  index_ = index;
-  sub_ = sub;
+  const uint32_t code = od_->read(index_, sub_, buffer_, kBufferSize, &len);
+  if (code != kSdoOk) return code;
   if (len >= 1 && len <= 4) {
     // Expedited. Four bytes go without size indication (0x42), as in the
     // frame trace of seed 004 §2.11; shorter values state their size.
     const uint8_t cmd = len == 4 ? 0x42 : static_cast<uint8_t>(0x43 | ((4 - len) << 2));
     uint8_t payload[4] = {0, 0, 0, 0};
     memcpy(payload, buffer_, len);
-    return respond(sink, cmd, payload);
+    respond(sink, cmd, payload);
+    return kSdoOk;
   }
   uint8_t size[4];
   put_le32(size, len);
@@ -166,19 +168,21 @@ void SdoServer::initiate_upload(const CanFrame& f, const CanSink& sink) {
   toggle_ = 0;
   state_ = kUploading;
   respond(sink, 0x41, size);
+  return kSdoOk;
 }
 
-void SdoServer::upload_segment(const CanFrame& f, const CanSink& sink) {
-  if (state_ != kUploading) return abort(sink, index_, sub_, kAbortCommand);
-  if ((f.data[0] & 0x10) != toggle_) return abort(sink, index_, sub_, kAbortToggle);
+uint32_t SdoServer::upload_segment(const CanFrame& f, const CanSink& sink) {
+  if (state_ != kUploading) return kAbortCommand;
+  if ((f.data[0] & 0x10) != toggle_) return kAbortToggle;
   uint8_t count = static_cast<uint8_t>(length_ - offset_);
   if (count > 7) count = 7;
   const bool last = offset_ + count == length_;
   reply(sink, node_id_, static_cast<uint8_t>(toggle_ | ((7 - count) << 1) | (last ? 1 : 0)),
-             &buffer_[offset_], count);
+        &buffer_[offset_], count);
   offset_ = static_cast<uint8_t>(offset_ + count);
   toggle_ ^= 0x10;
   if (last) state_ = kIdle;
+  return kSdoOk;
 }
 
 }  // namespace canopen

@@ -7,18 +7,18 @@
 namespace mb2co {
 namespace canopen {
 
+static const uint16_t kIndices[] MB2CO_FLASH = {0x1005, 0x1006, 0x1019};
+
 void Sync::init(ObjectDictionary* od) {
   od_ = od;
-  row_1005_ = od->find(0x1005, 0);
-  row_1006_ = od->find(0x1006, 0);
-  row_1019_ = od->find(0x1019, 0);
+  od->find_rows(kIndices, kRows, row_);
   counter_ = 0;
   restart_ = true;
 }
 
 Sync::Result Sync::on_frame(const CanFrame& f, uint8_t* counter) {
   if (f.rtr() || f.extended() || f.id != cob_id()) return kNotSync;
-  const uint8_t overflow = static_cast<uint8_t>(od_->get(row_1019_));
+  const uint8_t overflow = static_cast<uint8_t>(od_->get(row_[k1019]));
   const uint8_t expected = overflow == 0 ? 0 : 1;
   if (f.dlc != expected) return kSyncLengthError;
   *counter = overflow == 0 ? 0 : f.data[0];
@@ -26,8 +26,8 @@ Sync::Result Sync::on_frame(const CanFrame& f, uint8_t* counter) {
 }
 
 bool Sync::process(uint32_t now_us, bool allowed, const CanSink& sink, uint8_t* counter) {
-  const uint32_t cob = od_->get(row_1005_);
-  const uint32_t period_us = od_->get(row_1006_);
+  const uint32_t cob = od_->get(row_[k1005]);
+  const uint32_t period_us = od_->get(row_[k1006]);
   if (!(cob & 0x40000000u) || period_us == 0) {
     restart_ = true;
     return false;
@@ -42,7 +42,7 @@ bool Sync::process(uint32_t now_us, bool allowed, const CanSink& sink, uint8_t* 
   next_us_ += period_us;
   if (time_reached(now_us, next_us_)) next_us_ = now_us + period_us;  // no bursts
   if (!allowed) return false;
-  const uint8_t overflow = static_cast<uint8_t>(od_->get(row_1019_));
+  const uint8_t overflow = static_cast<uint8_t>(od_->get(row_[k1019]));
   if (overflow != 0) counter_ = static_cast<uint8_t>(counter_ >= overflow ? 1 : counter_ + 1);
   send_frame(sink, static_cast<uint16_t>(cob & 0x7FFu), overflow != 0 ? 1 : 0, &counter_);
   *counter = overflow != 0 ? counter_ : 0;
@@ -52,7 +52,7 @@ bool Sync::process(uint32_t now_us, bool allowed, const CanSink& sink, uint8_t* 
 uint32_t Sync::on_write(uint16_t index, const uint8_t* data) {
   if (index == 0x1005) {
     const uint32_t v = le32(data);
-    const uint32_t cur = od_->get(row_1005_);
+    const uint32_t cur = od_->get(row_[k1005]);
     if (v & 0x20000000u) return kAbortInvalidValue;  // 29-bit ids not supported
     if (can_id_restricted(v & 0x7FFu)) return kAbortInvalidValue;  // CiA 301 §7.3.5
     // The CAN-ID may not change while this node produces SYNC.
@@ -64,7 +64,7 @@ uint32_t Sync::on_write(uint16_t index, const uint8_t* data) {
     restart_ = true;
   } else if (index == 0x1019) {
     // CiA 301 §7.5.2.41: only while no communication cycle period is set.
-    if (od_->get(row_1006_) != 0) return kAbortDeviceState;
+    if (od_->get(row_[k1006]) != 0) return kAbortDeviceState;
     if (data[0] == 1) return kAbortInvalidValue;  // 0 or 2..240
     if (data[0] > 240) return kAbortValueTooHigh;
   }

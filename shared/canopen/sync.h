@@ -25,16 +25,16 @@ class Sync {
   bool process(uint32_t now_us, bool allowed, const CanSink& sink, uint8_t* counter);
   /// Validates writes to 1005h, 1006h, 1019h (OD hook).
   uint32_t on_write(uint16_t index, const uint8_t* data);
-  uint32_t cob_id() const { return od_->get(row_1005_) & 0x7FFu; }
+  uint32_t cob_id() const { return od_->get(row_[k1005]) & 0x7FFu; }
   /// The producer's period starts afresh (e.g. back from NMT stopped, where
   /// process() was not called and the old deadline went stale).
   void restart() { restart_ = true; }
 
  private:
+  /// Rows of 1005h, 1006h, 1019h (sub 0), in this order.
+  enum : uint8_t { k1005, k1006, k1019, kRows };
   ObjectDictionary* od_;
-  uint16_t row_1005_;
-  uint16_t row_1006_;
-  uint16_t row_1019_;
+  uint16_t row_[kRows];
   uint32_t next_us_;
   uint8_t counter_;
   bool restart_ = true;

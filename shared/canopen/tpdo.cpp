@@ -67,6 +67,12 @@ bool Tpdos::send(uint8_t n, uint32_t cob, const uint8_t* data, uint8_t len, cons
   return true;
 }
 
+void Tpdos::build_and_send(uint8_t n, uint32_t cob, const CanSink& sink, uint32_t now_us) {
+  uint8_t data[8];
+  const uint8_t len = pdo_build(*od_, map_row(n), data);
+  send(n, cob, data, len, sink, now_us);
+}
+
 void Tpdos::process(uint32_t now_us, const CanSink& sink) {
   // While the OD is unchanged every payload is what it was at the previous
   // call, and so are validity and type (kEventType). A PDO whose last payload
@@ -111,11 +117,9 @@ void Tpdos::on_sync(uint8_t counter, const CanSink& sink, uint32_t now_us) {
     if (!valid(n, &cob)) continue;
     State& s = st_[n];
     const uint8_t type = static_cast<uint8_t>(comm(n, kType));
-    uint8_t data[8];
     if (type == 0) {
       if (!(s.flags & kPending)) continue;
-      const uint8_t len = pdo_build(*od_, map_row(n), data);
-      send(n, cob, data, len, sink, now_us);
+      build_and_send(n, cob, sink, now_us);
     } else if (type <= 240) {
       const uint8_t start = static_cast<uint8_t>(comm(n, kSyncStart));
       if (!(s.flags & kSyncStarted)) {
@@ -125,8 +129,7 @@ void Tpdos::on_sync(uint8_t counter, const CanSink& sink, uint32_t now_us) {
       }
       if (++s.sync_count < type) continue;
       s.sync_count = 0;
-      const uint8_t len = pdo_build(*od_, map_row(n), data);
-      send(n, cob, data, len, sink, now_us);
+      build_and_send(n, cob, sink, now_us);
     } else if (type == 252) {  // sample now, send on request
       s.last_len = pdo_build(*od_, map_row(n), s.last);
       s.flags |= kSyncStarted;  // for 252: a sample is held
@@ -140,13 +143,12 @@ bool Tpdos::on_rtr(const CanFrame& f, const CanSink& sink, uint32_t now_us) {
     if (!valid(n, &cob) || (cob & 0x7FFu) != f.id) continue;
     if (cob & 0x40000000u) return true;  // RTR not allowed on this PDO: ignored
     const uint8_t type = static_cast<uint8_t>(comm(n, kType));
-    uint8_t data[8];
     if (type == 252 && (st_[n].flags & kSyncStarted)) {
+      uint8_t data[8];
       memcpy(data, st_[n].last, 8);
       send(n, cob, data, st_[n].last_len, sink, now_us);
     } else {
-      const uint8_t len = pdo_build(*od_, map_row(n), data);
-      send(n, cob, data, len, sink, now_us);
+      build_and_send(n, cob, sink, now_us);
     }
     return true;
   }

@@ -53,6 +53,9 @@ class Tpdos {
   bool valid(uint8_t n, uint32_t* cob) const;
   bool send(uint8_t n, uint32_t cob, const uint8_t* data, uint8_t len, const CanSink& sink,
             uint32_t now_us);
+  /// Builds PDO n's payload from the OD and sends it (one copy for SYNC and
+  /// RTR: -70 B on the Uno).
+  void build_and_send(uint8_t n, uint32_t cob, const CanSink& sink, uint32_t now_us);
   uint16_t comm_row(uint8_t n) const { return static_cast<uint16_t>(comm0_ + n * 6u); }
   /// Value of row `k` of PDO n's communication record (out of line: many callers).
   uint32_t comm(uint8_t n, uint8_t k) const;

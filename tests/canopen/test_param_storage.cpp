@@ -127,6 +127,25 @@ TEST_F(Storage, TheErrorHistoryIsNotSaved) {
   EXPECT_EQ(h.read(0x1003, 0), 0u);
 }
 
+// The stored image: magic "BM", payload length, payload, and a Fletcher-16
+// (sums modulo 255) over header and payload, recomputed here independently.
+TEST_F(Storage, TheImageCarriesAFletcher16OfHeaderAndPayload) {
+  configure();
+  ASSERT_EQ(h.write_u32(0x1010, 1, kSaveSignature), 0u);
+  EXPECT_EQ(ram.mem[0], 0x42);
+  EXPECT_EQ(ram.mem[1], 0x4D);
+  const size_t len = ram.mem[2] | (ram.mem[3] << 8);
+  ASSERT_GT(len, 16u);
+  ASSERT_LT(len + 6, ram.mem.size());
+  unsigned a = 0, b = 0;
+  for (size_t i = 0; i < 4 + len; ++i) {
+    a = (a + ram.mem[i]) % 255;
+    b = (b + a) % 255;
+  }
+  EXPECT_EQ(ram.mem[4 + len], a);
+  EXPECT_EQ(ram.mem[5 + len], b);
+}
+
 }  // namespace
 }  // namespace test
 }  // namespace mb2co

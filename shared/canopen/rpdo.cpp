@@ -68,7 +68,8 @@ bool Rpdos::on_frame(const CanFrame& f, uint32_t now_us) {
     const uint16_t event_ms = static_cast<uint16_t>(comm(n, kEvent));
     if (event_ms != 0) {
       s.flags |= kMonitoring;
-      s.deadline_us = now_us + event_ms * 1000u;
+      // 32-bit product: an AVR's int is 16 bits.
+      s.deadline_us = now_us + static_cast<uint32_t>(event_ms) * 1000u;
     }
     if (s.flags & kTimedOut) {
       s.flags = static_cast<uint8_t>(s.flags & ~kTimedOut);

@@ -55,12 +55,13 @@ bool Tpdos::send(uint8_t n, uint32_t cob, const uint8_t* data, uint8_t len, cons
   const uint16_t inhibit = static_cast<uint16_t>(comm(n, kInhibit));
   if (inhibit != 0) {
     s.flags |= kInhibiting;
-    s.inhibit_until_us = now_us + inhibit * 100u;
+    // 32-bit product: an AVR's int is 16 bits (a 100 ms timer wrapped to 34.5 ms there).
+    s.inhibit_until_us = now_us + static_cast<uint32_t>(inhibit) * 100u;
   }
   const uint16_t event_ms = static_cast<uint16_t>(comm(n, kEvent));
   if (event_ms != 0) {
     s.flags |= kEventTimer;
-    s.event_deadline_us = now_us + event_ms * 1000u;
+    s.event_deadline_us = now_us + static_cast<uint32_t>(event_ms) * 1000u;
   } else {
     s.flags = static_cast<uint8_t>(s.flags & ~kEventTimer);
   }

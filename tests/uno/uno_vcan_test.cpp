@@ -183,6 +183,18 @@ TEST_F(UnoOnVcan, BootUpHeartbeatsSdoAndTpdo) {
       << "TPDO1 with RUN state 0";
   EXPECT_EQ(data_of(r), (std::vector<uint8_t>{0, 1, 0})) << "STOP2 counter 1";
   EXPECT_EQ(m.input_register(kIrStop2Count), 1);
+  // Nothing changes now: TPDO1 comes by its event timer, 1800h/5 = 100 ms,
+  // in the image's own time. (On the AVR an int is 16 bits: a product of the
+  // 16-bit ms value and 1000 wrapped there and sent it every 34.5 ms.)
+  std::vector<double> tpdo_ms;
+  while (tpdo_ms.size() < 6) {
+    ASSERT_TRUE(uno.child.wait_line([](const std::string& l) { return l.rfind("can 181#", 0) == 0; }, kDeadline, &line));
+    EXPECT_EQ(line.substr(0, 14), "can 181#000100") << "unchanged line state";
+    tpdo_ms.push_back(std::stod(field_of(line, "sim_us")) / 1000.0);
+  }
+  for (size_t i = 2; i < tpdo_ms.size(); ++i) {
+    EXPECT_NEAR(tpdo_ms[i] - tpdo_ms[i - 1], 100.0, 2.0) << "TPDO1 event timer";
+  }
   m.close();
   EXPECT_EQ(uno.stop(), 0);
   // The pacing report (simulated/wall seconds, a slow simulation) for the log.

@@ -8,6 +8,7 @@ scripts/deps.sh
 scripts/build.sh
 echo "== AVR build (avr-g++ $(avr-g++ -dumpversion)) and size budgets"
 firmware/avr/build-and-check.sh
+firmware/avr/check-int16.sh
 echo "== Arduino IDE route: the sketches built by arduino-builder"
 firmware/avr/arduino/ide-build.sh
 echo "== ctest"

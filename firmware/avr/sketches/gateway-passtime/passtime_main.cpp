@@ -208,7 +208,7 @@ int main() {
     uint8_t adu[8];
     const uint16_t n = modbus::build_read_request(adu, sizeof adu, 1, 0x04, 0, 1);
     timer_start();
-    for (uint16_t i = 0; i < n; ++i) g.on_serial_byte(adu[i], now_us + 96u * (i + 1u));
+    for (uint16_t i = 0; i < n; ++i) g.on_serial_byte(adu[i], now_us + 96u * static_cast<uint32_t>(i + 1u));
     line(PSTR("serial_8_chars"), timer_us());
     now_us += 10000;
     g.process(now_us, 0);  // answers it (not timed)

@@ -193,7 +193,13 @@ int main(int argc, char** argv) {
       } else {
         input.append(buf, static_cast<size_t>(r));
         for (size_t nl; (nl = input.find('\n')) != std::string::npos;) {
-          const std::string reply = rig.panel().handle(input.substr(0, nl), rig.now_us(), at_us(rig.now_us()));
+          const std::string line = input.substr(0, nl);
+          // The stack's high-water mark is the board's, not the panel's.
+          const std::string reply =
+              line == "stack?" ? "stack used=" + std::to_string(rig.board().stack_used()) +
+                                     " room=" + std::to_string(rig.board().stack_room()) +
+                                     " at_us=" + std::to_string(at_us(rig.now_us()))
+                               : rig.panel().handle(line, rig.now_us(), at_us(rig.now_us()));
           input.erase(0, nl + 1);
           if (!reply.empty()) say(reply);
         }

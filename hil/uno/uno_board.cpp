@@ -108,6 +108,12 @@ bool UnoBoard::load(const std::string& elf_path, Wiring wiring, std::string* err
   avr_->sleep = &no_sleep;
   avr_load_firmware(avr_, fw.get());
   avr_->frequency = kCpuHz;  // an .mmcu section may have set another one
+  // .data starts at the first SRAM address (after the 256 register and I/O
+  // addresses), .bss follows; the C runtime initialises only those, so the
+  // paint above them survives until the stack writes over it.
+  ramend_ = static_cast<uint16_t>(avr_->ramend);
+  static_end_ = static_cast<uint16_t>(0x100u + fw->datasize + fw->bsssize);
+  for (uint32_t a = static_end_; a <= ramend_; ++a) avr_->data[a] = kStackPaint;
   wiring_ = std::move(wiring);
 
   // USART0: no console echo, no polling usleep(); bytes out to the wiring.
@@ -130,6 +136,12 @@ bool UnoBoard::load(const std::string& elf_path, Wiring wiring, std::string* err
   avr_->io[AVR_DATA_TO_IO(kSpdr)].w.param = this;
   watch_pin(10);
   return true;
+}
+
+uint16_t UnoBoard::stack_used() const {
+  uint32_t a = static_end_;
+  while (a <= ramend_ && avr_->data[a] == kStackPaint) ++a;
+  return static_cast<uint16_t>(ramend_ + 1u - a);
 }
 
 bool UnoBoard::run_until(uint64_t cycle) {

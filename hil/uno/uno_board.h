@@ -77,6 +77,17 @@ class UnoBoard {
   /// call replaces an earlier one). Runs inside run_until().
   void call_at(uint64_t at_cycle, std::function<void()> fn);
 
+  /// Stack high-water mark: the RAM above .data + .bss (up to RAMEND) is
+  /// painted with kStackPaint at load; the deepest byte no longer holding it
+  /// is how far the stack has grown since reset. Exact unless the deepest
+  /// bytes pushed happened to equal kStackPaint (then a few bytes low).
+  /// The images use no heap (it would grow into the same region).
+  static constexpr uint8_t kStackPaint = 0xA5;
+  /// Bytes of RAM the stack may use: RAMEND + 1 - end of .data + .bss.
+  uint16_t stack_room() const { return static_cast<uint16_t>(ramend_ + 1u - static_end_); }
+  /// Most bytes the stack has held since reset.
+  uint16_t stack_used() const;
+
   /// Replaces the EEPROM content (exactly kEepromBytes).
   bool set_eeprom(const uint8_t* data, size_t length);
   /// Reads the EEPROM content (kEepromBytes into `out`).
@@ -108,6 +119,8 @@ class UnoBoard {
   };
   Watch watches_[20] = {};
   std::string stop_reason_;
+  uint16_t static_end_ = 0;  ///< first RAM address above .data + .bss
+  uint16_t ramend_ = 0;
 };
 
 }  // namespace uno

@@ -19,7 +19,7 @@ const char* usage() {
          "  --trace-can        print 'can ID#DATA sim_us=T at_us=T' for every frame the chip sends\n"
          "  --help, --version\n"
          "Control (stdin, one command per line): press B | release B | click B [ms] (B: START,\n"
-         "STOP, STOP2) | leds? | quit. Exit: 0 on SIGINT/SIGTERM/quit, 2 bad option, 1 error.\n";
+         "STOP, STOP2) | leds? | stack? | quit. Exit: 0 on SIGINT/SIGTERM/quit, 2 bad option, 1 error.\n";
 }
 
 std::string parse_options(int argc, const char* const* argv, UnoOptions* o) {

@@ -22,7 +22,7 @@ namespace {
 constexpr int kHoldingCount = 14;
 constexpr int kInputCount = 23;
 constexpr int kHrRunCommand = 0, kHrNodeId = 2, kHrBitrate = 3, kHrStations = 5, kHrDebounce = 7,
-              kHrHeartbeat = 8;
+              kHrHeartbeat = 8, kHrSave = 11, kHrRestart = 13;
 constexpr int kIrInputs = 0, kIrRunState = 1, kIrStop2Count = 2, kIrStopCause = 3, kIrLeds = 11, kIrPrevId = 20,
               kIrNextId = 21, kIrNmt = 22;
 
@@ -138,6 +138,39 @@ TEST_F(UnoModbus, BadCrcFrameIgnoredAndCounted) {
   EXPECT_EQ(diag_counter(0x0C), 1u) << "08/0C: bus communication errors (CRC)";
   EXPECT_EQ(master_.holding_register(kHrDebounce), 20) << "not executed";
   EXPECT_EQ(diag_counter(0x0B), 3u) << "08/0B: the three good frames since start-up";
+}
+
+// The stack of the real image (2 KiB of RAM, 1.4 KiB of it static) after the
+// deepest paths the PC can drive: the whole input map in one FC 04, a 32-bit
+// write by FC 10h, device identification, diagnostics, 1010h "save" (the
+// parameter image and its checksum), a reset of communication (acceptance
+// filters planned again) and a STOP2 press. mb2co-uno paints the free RAM at
+// load and reports the high-water mark (`stack?`). 64 B must stay free for
+// an interrupt (UART, Timer0) arriving at the deepest point and for paths
+// this does not reach.
+TEST_F(UnoModbus, StackKeepsRoomAfterTheDeepestRequests) {
+  uint16_t ir[kInputCount];
+  ASSERT_EQ(modbus_read_input_registers(ctx_, 0, kInputCount, ir), kInputCount);
+  const uint16_t heartbeat_and_cycle[3] = {100, 0, 0};  // 1017h, 1006h (32 bits, high word first)
+  ASSERT_EQ(modbus_write_registers(ctx_, kHrHeartbeat, 3, heartbeat_and_cycle), 3);
+  EXPECT_FALSE(raw_transaction({0x2B, 0x0E, 0x01, 0x00}).empty());
+  EXPECT_NE(diag_counter(0x0B), 0xFFFF);
+  const uint16_t save[2] = {0x6576, 0x6173};  // 1010h/1 = "save"
+  ASSERT_EQ(modbus_write_registers(ctx_, kHrSave, 2, save), 2);
+  ASSERT_EQ(modbus_write_register(ctx_, kHrRestart, 1), 1);  // 2001h: reset communication
+  ASSERT_TRUE(master_.wait_input(kIrNmt, 5, 5s)) << "operational again after the reset";
+  ASSERT_EQ(uno_.ask("click STOP2 50", "ok"), "ok");
+  ASSERT_TRUE(master_.wait_input(kIrStop2Count, 1, 5s));
+
+  const std::string line = uno_.ask("stack?", "stack ");
+  ASSERT_FALSE(line.empty());
+  const int used = std::stoi(field_of(line, "used"));
+  const int room = std::stoi(field_of(line, "room"));
+  RecordProperty("stack_used_bytes", used);
+  RecordProperty("stack_room_bytes", room);
+  std::printf("stack: %d of %d B used\n", used, room);
+  EXPECT_GT(used, 32) << "the paint was not found overwritten: no measurement";
+  EXPECT_LE(used + 64, room) << "less than 64 B of stack left on the Uno";
 }
 
 }  // namespace

@@ -38,7 +38,7 @@ constexpr uint8_t total_tq(const BitTiming& t) {
   return static_cast<uint8_t>(1u + t.prop_tq + t.ps1_tq + t.ps2_tq);
 }
 constexpr uint32_t bitrate_bps(const BitTiming& t) {
-  return kOscillatorHz / (2u * (t.brp + 1u) * total_tq(t));
+  return kOscillatorHz / (2u * (static_cast<uint32_t>(t.brp) + 1u) * total_tq(t));
 }
 /// Sample point in per mille of the bit time.
 constexpr uint16_t sample_point_permille(const BitTiming& t) {

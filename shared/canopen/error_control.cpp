@@ -14,9 +14,15 @@ void ErrorControl::init(uint8_t node_id) {
   life_lost_ = false;
 }
 
-// Life time of node guarding: guard time x life time factor.
-static uint32_t life_time_us(uint16_t guard_ms, uint8_t life_factor) {
-  return static_cast<uint32_t>(guard_ms) * life_factor * 1000u;
+// Life time of node guarding: guard time x life time factor, at most
+// kMaxLifeMs. 100Ch x 100Dh reaches 65535 x 255 ms: in us that overflows 32
+// bits, and a deadline 2^31 us or more ahead reads as passed to time_reached()
+// (life guarding then failed at the first guard request). Out of line: two
+// callers (-40 B on the Uno).
+static const uint32_t kMaxLifeMs = 0x7FFFFFFFu / 1000u;  // 35.8 min
+__attribute__((noinline)) static uint32_t life_time_us(uint16_t guard_ms, uint8_t life_factor) {
+  const uint32_t ms = static_cast<uint32_t>(guard_ms) * life_factor;
+  return (ms < kMaxLifeMs ? ms : kMaxLifeMs) * 1000u;
 }
 
 static bool send_state(const CanSink& sink, uint8_t node_id, uint8_t byte) {

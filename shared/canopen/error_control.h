@@ -1,6 +1,6 @@
 // Error control of the node itself (CiA 301 §7.2.8.3): the heartbeat producer
 // (1017h) and, when no heartbeat is produced, node guarding answers with life
-// guarding (100Ch guard time × 100Dh life time factor).
+// guarding (100Ch guard time × 100Dh life time factor, at most 35.8 min).
 #pragma once
 #include <stdint.h>
 

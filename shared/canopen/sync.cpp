@@ -1,6 +1,5 @@
 #include "canopen/sync.h"
 
-#include "canopen/clock.h"
 #include "canopen/frame_out.h"
 #include "canopen/pdo_map.h"
 
@@ -35,12 +34,14 @@ bool Sync::process(uint32_t now_us, bool allowed, const CanSink& sink, uint8_t* 
   if (restart_) {
     restart_ = false;
     counter_ = 0;
-    next_us_ = now_us + period_us;
+    period_start_us_ = now_us;
     return false;
   }
-  if (!time_reached(now_us, next_us_)) return false;
-  next_us_ += period_us;
-  if (time_reached(now_us, next_us_)) next_us_ = now_us + period_us;  // no bursts
+  // Elapsed time, not a deadline: 1006h may exceed 2^31 us, where a deadline
+  // reads as passed to time_reached() (a SYNC on every call: a flood).
+  if (now_us - period_start_us_ < period_us) return false;
+  period_start_us_ += period_us;
+  if (now_us - period_start_us_ >= period_us) period_start_us_ = now_us;  // no bursts
   if (!allowed) return false;
   const uint8_t overflow = static_cast<uint8_t>(od_->get(row_[k1019]));
   if (overflow != 0) counter_ = static_cast<uint8_t>(counter_ >= overflow ? 1 : counter_ + 1);

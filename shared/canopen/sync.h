@@ -35,7 +35,9 @@ class Sync {
   enum : uint8_t { k1005, k1006, k1019, kRows };
   ObjectDictionary* od_;
   uint16_t row_[kRows];
-  uint32_t next_us_;
+  /// Start of the current period. Any 32-bit 1006h works as long as process()
+  /// runs at least every 2^32 us - period (every pass does).
+  uint32_t period_start_us_;
   uint8_t counter_;
   bool restart_ = true;
 };

@@ -32,7 +32,7 @@ __attribute__((noinline)) uint32_t rpdo_cob_id(uint16_t base, uint8_t id) {
 }
 
 // A 1016h entry watching node `id` (0: none) with `time_ms` (0: off).
-uint32_t consumer_entry(uint8_t id, uint32_t time_ms) {
+uint32_t consumer_entry(uint8_t id, uint16_t time_ms) {
   return id != 0 && time_ms != 0 ? (static_cast<uint32_t>(id) << 16) | time_ms : 0;
 }
 
@@ -56,7 +56,10 @@ void LineApp::on_reset(uint8_t node_id) {
   uint8_t watched = v.v_0x2130_2;
   if (watched == 0) watched = prev;
   v.v_0x1402_1 = rpdo_cob_id(0x280, watched);
-  const uint32_t consumer_ms = 3u * static_cast<uint32_t>(v.v_0x1017_0);
+  // 3 x 1017h, at most the 65535 ms of a 1016h entry: a 32-bit product OR-ed
+  // in whole turned the node id into another (90000 ms made id 4 into id 5).
+  const uint16_t hb_ms = v.v_0x1017_0;
+  const uint16_t consumer_ms = hb_ms > 0xFFFFu / 3u ? 0xFFFFu : static_cast<uint16_t>(3u * hb_ms);
   v.v_0x1016_1 = consumer_entry(prev, consumer_ms);
   v.v_0x1016_2 = consumer_entry(next != prev ? next : 0, consumer_ms);
 }

@@ -84,14 +84,17 @@ bool OdRegisterBank::covers(Table table, modbus::Access access, uint16_t start, 
   for (uint32_t a = start; a < end;) {
     if (!reach(&w, static_cast<uint16_t>(a)) || it.row == ObjectDictionary::kNoRow) return false;
     const uint8_t attr = od_.attr(it.row);
+    // 32-bit like `end`: first + width stays below 41 (20 map entries), but a
+    // 16-bit int sum widened is what check-int16.sh flags; one sum: -4 B.
+    const uint32_t item_end = static_cast<uint32_t>(it.first) + it.width;
     if (access == modbus::Access::kWrite) {
       if (!(attr & canopen::kAttrWrite)) return false;
       // A 32-bit value is written whole or not at all.
-      if (it.first < start || it.first + it.width > end) return false;
+      if (it.first < start || item_end > end) return false;
     } else if (!(attr & canopen::kAttrRead)) {
       return false;
     }
-    a = it.first + it.width;
+    a = item_end;
   }
   return true;
 }

@@ -10,7 +10,11 @@
 //     RUN state 0 and STOP2 counter 1;
 //   * a mixed line: the Uno (node 1) in a ring of three with two mb2co-node
 //     processes; STOP2 on node 3, the station before the Uno, stops the Uno:
-//     its RUN-self LED pin goes dark.
+//     its RUN-self LED pin goes dark;
+//   * spans a 32-bit microsecond deadline cannot hold: a SYNC period of
+//     F0000000h us and a life time of 40 min (100Ch x 100Dh) neither flood
+//     the bus nor expire at once; a 30 s heartbeat (1017h) gives the derived
+//     consumer entries (1016h) the right node ids.
 #include <gtest/gtest.h>
 #include <linux/can.h>
 #include <linux/can/raw.h>
@@ -55,6 +59,12 @@ class RawCan {
     memcpy(f.data, data.data(), data.size());
     return write(fd_, &f, sizeof f) == static_cast<ssize_t>(sizeof f);
   }
+  /// A remote frame (RTR) on `id`.
+  bool send_rtr(uint32_t id) {
+    can_frame f{};
+    f.can_id = id | CAN_RTR_FLAG;
+    return write(fd_, &f, sizeof f) == static_cast<ssize_t>(sizeof f);
+  }
   /// The first frame with `id` whose data satisfies `match` (others are
   /// skipped); false on timeout.
   bool wait(uint32_t id, const std::function<bool(const can_frame&)>& match, can_frame* out,
@@ -85,6 +95,34 @@ class RawCan {
 };
 
 std::vector<uint8_t> data_of(const can_frame& f) { return std::vector<uint8_t>(f.data, f.data + f.can_dlc); }
+
+/// Expedited SDO download of the `bytes` (1..4) low bytes of `value` to
+/// node 1: true when it answers "done" (60h).
+bool sdo_write(RawCan& can, uint16_t index, uint8_t sub, uint32_t value, int bytes) {
+  can_frame r{};
+  const auto cmd = static_cast<uint8_t>(0x23 | ((4 - bytes) << 2));
+  const std::vector<uint8_t> request{cmd,
+                                     static_cast<uint8_t>(index),
+                                     static_cast<uint8_t>(index >> 8),
+                                     sub,
+                                     static_cast<uint8_t>(value),
+                                     static_cast<uint8_t>(value >> 8),
+                                     static_cast<uint8_t>(value >> 16),
+                                     static_cast<uint8_t>(value >> 24)};
+  return can.sdo(request, &r) && r.data[0] == 0x60;
+}
+
+/// Expedited SDO upload of a numeric entry of node 1 (0 when refused; the
+/// server sends the bytes past the value's size as 0).
+uint32_t sdo_read(RawCan& can, uint16_t index, uint8_t sub) {
+  can_frame r{};
+  if (!can.sdo({0x40, static_cast<uint8_t>(index), static_cast<uint8_t>(index >> 8), sub}, &r)) return 0;
+  if ((r.data[0] & 0xF2) != 0x42) return 0;  // not an expedited upload response
+  return r.data[4] | (r.data[5] << 8) | (r.data[6] << 16) | (static_cast<uint32_t>(r.data[7]) << 24);
+}
+
+/// The image's own time (ms) of a --trace-can line.
+double sim_ms(const std::string& trace_line) { return std::stod(field_of(trace_line, "sim_us")) / 1000.0; }
 
 /// A candump -L line "(seconds.micros) vcan0 ID#DATA": its time and "ID#DATA".
 bool parse_candump(const std::string& line, double* t_s, std::string* frame) {
@@ -240,6 +278,108 @@ TEST_F(UnoOnVcan, MixedRingStop2BeforeTheUnoStopsIt) {
   for (ModbusMaster& nm : node_masters) nm.close();
   EXPECT_EQ(uno.stop(), 0);
   for (NodeProcess& n : nodes) EXPECT_EQ(n.stop(), 0);
+}
+
+// 1006h is a U32 of us: a period beyond 2^31 us (35.8 min) made a deadline
+// that a wrap-safe compare reads as already passed, and the image sent a SYNC
+// on every pass for 1006h = F0000000h. Times are the image's own (--trace-can).
+TEST_F(UnoOnVcan, SyncPeriodBeyond2To31UsDoesNotFloodTheBus) {
+  UnoProcess uno;
+  ASSERT_TRUE(uno.start({"--can", "vcan0", "--pty", dir_.path("uno.pty"), "--trace-can"}, kDeadline)) << uno.error();
+  auto is_sync = [](const std::string& l) { return l.rfind("can 080#", 0) == 0; };
+  // SYNC producer with a 50 ms period first: the SYNCs come, 50 ms apart.
+  ASSERT_TRUE(sdo_write(can_, 0x1006, 0, 50000, 4));
+  ASSERT_TRUE(sdo_write(can_, 0x1005, 0, 0x40000080, 4));
+  std::vector<double> sync_ms;
+  std::string line;
+  while (sync_ms.size() < 4) {
+    ASSERT_TRUE(uno.child.wait_line(is_sync, kDeadline, &line)) << "no SYNC with 1006h = 50 ms";
+    sync_ms.push_back(sim_ms(line));
+  }
+  for (size_t i = 1; i < sync_ms.size(); ++i) EXPECT_NEAR(sync_ms[i] - sync_ms[i - 1], 50.0, 2.0);
+  // 1006h = F0000000h (67 min): not one SYNC in the next three heartbeats.
+  ASSERT_TRUE(sdo_write(can_, 0x1006, 0, 0xF0000000u, 4));
+  ASSERT_TRUE(uno.child.wait_prefix("can 581#60061000", kDeadline)) << "the write's answer";
+  int syncs = 0, beats = 0;
+  ASSERT_TRUE(uno.child.wait_line(
+      [&](const std::string& l) {
+        syncs += is_sync(l) ? 1 : 0;
+        beats += l.rfind("can 701#", 0) == 0 ? 1 : 0;
+        return syncs > 0 || beats == 3;
+      },
+      kDeadline));
+  EXPECT_EQ(syncs, 0) << "a SYNC period above 2^31 us sent SYNCs at once";
+  EXPECT_EQ(uno.stop(), 0);
+}
+
+// Life guarding: 100Ch x 100Dh reaches 65535 ms x 255, beyond 2^31 us (and
+// 2^32): the image reported life guarding lost (EMCY 8130h) at the first
+// guard request for 60000 ms x 40 (40 min). A SYNC producer (50 ms) is the
+// clock of the image's own time (--trace-can).
+TEST_F(UnoOnVcan, LifeTimeBeyond2To31UsDoesNotExpireAtOnce) {
+  UnoProcess uno;
+  ASSERT_TRUE(uno.start({"--can", "vcan0", "--pty", dir_.path("uno.pty"), "--trace-can"}, kDeadline)) << uno.error();
+  ASSERT_TRUE(sdo_write(can_, 0x1006, 0, 50000, 4));
+  ASSERT_TRUE(sdo_write(can_, 0x1005, 0, 0x40000080, 4));
+  // Node guarding (1017h = 0): the guard request is answered, and no EMCY
+  // follows within six SYNCs.
+  ASSERT_TRUE(sdo_write(can_, 0x1017, 0, 0, 2));
+  ASSERT_TRUE(sdo_write(can_, 0x100D, 0, 40, 1));
+  ASSERT_TRUE(sdo_write(can_, 0x100C, 0, 60000, 2));
+  ASSERT_TRUE(uno.child.wait_prefix("can 581#600C1000", kDeadline));
+  ASSERT_TRUE(can_.send_rtr(0x701));
+  ASSERT_TRUE(uno.child.wait_prefix("can 701#05", kDeadline)) << "guard answer: operational, toggle 0";
+  int emcys = 0, syncs = 0;
+  std::string line;
+  ASSERT_TRUE(uno.child.wait_line(
+      [&](const std::string& l) {
+        emcys += l.rfind("can 081#", 0) == 0 ? 1 : 0;
+        syncs += l.rfind("can 080#", 0) == 0 ? 1 : 0;
+        return emcys > 0 || syncs == 6;
+      },
+      kDeadline, &line));
+  EXPECT_EQ(emcys, 0) << "life guarding lost at once: " << line;
+  // A life time of 100 ms x 3 does run out: EMCY 8130h (error register 11h)
+  // 300 ms after it was set.
+  ASSERT_TRUE(sdo_write(can_, 0x100C, 0, 100, 2));
+  ASSERT_TRUE(sdo_write(can_, 0x100D, 0, 3, 1));
+  ASSERT_TRUE(uno.child.wait_prefix("can 581#600D1000", kDeadline, &line));
+  const double set_ms = sim_ms(line);
+  ASSERT_TRUE(uno.child.wait_prefix("can 081#", kDeadline, &line));
+  EXPECT_EQ(line.substr(0, 24), "can 081#3081110000000000");
+  EXPECT_NEAR(sim_ms(line) - set_ms, 300.0, 5.0);
+  RecordProperty("life_guard_lost_after_ms", std::to_string(sim_ms(line) - set_ms));
+  EXPECT_EQ(uno.stop(), 0);
+}
+
+// 1016h entries are derived as (neighbour id << 16) | 3 x 1017h in ms, in 16
+// bits. With a saved 30 s heartbeat the 90000 ms were OR-ed in whole: the
+// entry for node 4 watched node 5, so node 4's heartbeats never made it
+// alive. Now the time is 65535 ms, the most the entry holds.
+TEST_F(UnoOnVcan, SlowHeartbeatKeepsTheNeighboursInTheConsumerEntries) {
+  UnoProcess uno;
+  ASSERT_TRUE(uno.start({"--can", "vcan0", "--pty", dir_.path("uno.pty")}, kDeadline)) << uno.error();
+  ASSERT_EQ(sdo_read(can_, 0x1016, 1), 0x0004012Cu) << "node 4 (before node 1 in the ring of 4), 300 ms";
+  ASSERT_TRUE(sdo_write(can_, 0x1017, 0, 30000, 2));
+  ASSERT_TRUE(sdo_write(can_, 0x1010, 1, 0x65766173, 4)) << "save";
+  ASSERT_TRUE(can_.send(0x000, {0x82, 0x01})) << "reset communication";
+  can_frame r{};
+  ASSERT_TRUE(can_.wait(0x701, [](const can_frame& f) { return f.can_dlc == 1 && f.data[0] == 0; }, &r)) << "boot-up";
+  EXPECT_EQ(sdo_read(can_, 0x1017, 0), 30000u);
+  EXPECT_EQ(sdo_read(can_, 0x1016, 1), 0x0004FFFFu) << "previous station: node 4";
+  EXPECT_EQ(sdo_read(can_, 0x1016, 2), 0x0002FFFFu) << "next station: node 2";
+  // Node 4's heartbeats (as its producer sends them) make it alive (2110h/3).
+  ModbusMaster m;
+  ASSERT_TRUE(m.open(uno.device(), 1000ms)) << m.error();
+  bool alive = false;
+  const auto deadline = std::chrono::steady_clock::now() + kDeadline;
+  while (!alive && std::chrono::steady_clock::now() < deadline) {
+    ASSERT_TRUE(can_.send(0x704, {0x05}));
+    alive = m.wait_input(kIrPrevStatus, 1, 100ms);
+  }
+  EXPECT_TRUE(alive) << "node 4's heartbeats did not reach the previous station's status";
+  m.close();
+  EXPECT_EQ(uno.stop(), 0);
 }
 
 }  // namespace

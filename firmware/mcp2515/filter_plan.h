@@ -16,8 +16,8 @@ namespace mcp2515 {
 /// Most ids plan_filters takes. It tries every run of sorted ids for RXB0 and
 /// a greedy mask search for each buffer: time grows steeply with the count.
 /// Measured on the ATmega328P at 16 MHz (simavr, cycle count; lines
-/// filter_plan_ids_* of firmware/avr/measure-pass-time.sh): 6 ids 33 ms,
-/// 9 ids (a gateway in a ring) 105 ms, 12 ids 372 ms. Plan at start-up, not
+/// filter_plan_ids_* of firmware/avr/measure-pass-time.sh): 6 ids 30 ms,
+/// 9 ids (a gateway in a ring) 102 ms, 12 ids 369 ms. Plan at start-up, not
 /// in the middle of Modbus traffic. Stack: ~100 bytes.
 constexpr uint8_t kMaxSubscribedIds = 12;
 constexpr uint16_t kMaxStandardId = 0x7FF;

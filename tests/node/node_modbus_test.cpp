@@ -12,6 +12,7 @@
 
 #include "node_harness.h"
 #include "rtu_frames.h"
+#include "rtu_peer_test.h"
 
 namespace mb2co {
 namespace test {
@@ -32,33 +33,10 @@ unsigned counter(const std::string& line, const char* name) {
   return v.empty() ? ~0u : static_cast<unsigned>(std::stoul(v));
 }
 
-class Libmodbus : public ::testing::Test {
+class Libmodbus : public RtuPeerTest<NodeProcess> {
  protected:
-  void SetUp() override {
-    ASSERT_TRUE(node_.start({"--can", "none", "--pty", dir_.path("node.pty")})) << node_.error();
-    ASSERT_EQ(node_.device(), dir_.path("node.pty")) << "the ready line names the link";
-    ASSERT_TRUE(master_.open(node_.device())) << master_.error();
-    ctx_ = master_.ctx();
-    fd_ = master_.fd();
-  }
-  void TearDown() override {
-    master_.close();
-    EXPECT_EQ(node_.stop(), 0) << "exit status after SIGTERM";
-  }
-
   void write_raw(const Bytes& adu) {
     ASSERT_EQ(write(fd_, adu.data(), adu.size()), static_cast<ssize_t>(adu.size()));
-  }
-  /// A request PDU to slave 1 sent by libmodbus; the response without CRC.
-  Bytes raw_transaction(const Bytes& pdu) {
-    Bytes rsp = master_.raw_transaction(pdu);
-    EXPECT_FALSE(rsp.empty()) << "no response to FC " << int(pdu[0]);
-    return rsp;
-  }
-  uint16_t diag_counter(uint8_t sub) {
-    const uint16_t v = master_.diag_counter(sub);
-    EXPECT_NE(v, 0xFFFF) << "08/" << int(sub);
-    return v;
   }
   /// The exception code of the answer to `pdu`, -1 when it is no exception.
   int raw_exception(const Bytes& pdu) {
@@ -68,11 +46,7 @@ class Libmodbus : public ::testing::Test {
   /// errno of a libmodbus call that must fail (0 when it succeeded).
   static int failure(int rc) { return rc == -1 ? errno : 0; }
 
-  TempDir dir_;
-  NodeProcess node_;
-  ModbusMaster master_;
-  modbus_t* ctx_ = nullptr;
-  int fd_ = -1;
+  NodeProcess& node_ = peer_;
 };
 
 TEST_F(Libmodbus, ReadsEveryTable) {
@@ -260,7 +234,7 @@ TEST_F(Libmodbus, ButtonsAndLedsThroughTheControlChannel) {
   EXPECT_EQ(node_.ask("jump", "error"), "error unknown command 'jump'");
   EXPECT_EQ(node_.ask("quit", "bye"), "bye");
   EXPECT_EQ(node_.child.wait_exit(10s), 0) << "quit ends the node";
-  EXPECT_NE(access(dir_.path("node.pty").c_str(), F_OK), 0) << "pty link removed";
+  EXPECT_NE(access(dir_.path("peer.pty").c_str(), F_OK), 0) << "pty link removed";
 }
 
 }  // namespace

@@ -8,11 +8,11 @@
 // (tests/support/rtu_frames.h).
 #include <errno.h>
 #include <gtest/gtest.h>
-#include <poll.h>
 #include <unistd.h>
 
 #include "node_harness.h"
 #include "rtu_frames.h"
+#include "rtu_peer_test.h"
 #include "uno_harness.h"
 
 namespace mb2co {
@@ -26,44 +26,14 @@ constexpr int kHrRunCommand = 0, kHrNodeId = 2, kHrBitrate = 3, kHrStations = 5,
 constexpr int kIrInputs = 0, kIrRunState = 1, kIrStop2Count = 2, kIrStopCause = 3, kIrLeds = 11, kIrPrevId = 20,
               kIrNextId = 21, kIrNmt = 22;
 
-class UnoModbus : public ::testing::Test {
+class UnoModbus : public RtuPeerTest<UnoProcess> {
  protected:
   void SetUp() override {
-    ASSERT_TRUE(uno_.start({"--can", "none", "--pty", dir_.path("uno.pty")})) << uno_.error();
+    RtuPeerTest::SetUp();
     ASSERT_EQ(uno_.node_id(), 1) << "node id of an erased EEPROM";
-    ASSERT_EQ(uno_.device(), dir_.path("uno.pty")) << "the ready line names the link";
-    ASSERT_TRUE(master_.open(uno_.device())) << master_.error();
-    ctx_ = master_.ctx();
-    fd_ = master_.fd();
-  }
-  void TearDown() override {
-    master_.close();
-    EXPECT_EQ(uno_.stop(), 0) << "exit status after SIGTERM";
   }
 
-  /// A request PDU to slave 1 sent by libmodbus; the response without CRC.
-  Bytes raw_transaction(const Bytes& pdu) {
-    Bytes rsp = master_.raw_transaction(pdu);
-    EXPECT_FALSE(rsp.empty()) << "no response to FC " << int(pdu[0]);
-    return rsp;
-  }
-  uint16_t diag_counter(uint8_t sub) {
-    const uint16_t v = master_.diag_counter(sub);
-    EXPECT_NE(v, 0xFFFF) << "08/" << int(sub);
-    return v;
-  }
-  /// True when nothing arrives on the port within `window` (the absence of
-  /// an answer can only be shown with a bound).
-  bool silent_for(std::chrono::milliseconds window) {
-    pollfd p{fd_, POLLIN, 0};
-    return poll(&p, 1, static_cast<int>(window.count())) == 0;
-  }
-
-  TempDir dir_;
-  UnoProcess uno_;
-  ModbusMaster master_;
-  modbus_t* ctx_ = nullptr;
-  int fd_ = -1;
+  UnoProcess& uno_ = peer_;
 };
 
 TEST_F(UnoModbus, ReadsTheInputAndHoldingMaps) {

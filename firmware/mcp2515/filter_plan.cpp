@@ -6,78 +6,39 @@ namespace {
 
 constexpr uint8_t kFiltersRxB0 = 2;
 constexpr uint8_t kFiltersRxB1 = 4;
+constexpr uint16_t kNoCost = 0xFFFF;
+/// Work charged for a candidate merge besides its comparisons (its mask's
+/// width, bookkeeping), and for the end of a group search.
+constexpr uint16_t kPairWork = 8;
 
-/// How many different values ids[i] & mask takes over i in [0, n). O(n^2).
-uint8_t distinct_values(const uint16_t* ids, uint8_t n, uint16_t mask) {
-  uint8_t count = 0;
-  for (uint8_t i = 0; i < n; ++i) {
-    bool seen = false;
-    for (uint8_t j = 0; j < i && !seen; ++j) seen = ((ids[i] ^ ids[j]) & mask) == 0;
-    if (!seen) ++count;
-  }
-  return count;
-}
-
-/// Ids that a group with `mask` and `values` filters accepts: values * 2^(cleared bits).
-uint16_t accepted_by(uint8_t values, uint16_t mask) {
-  uint16_t accepted = values;
+/// Ids one filter value with `mask` accepts: 2^(bits the mask clears).
+__attribute__((noinline)) uint16_t ids_per_value(uint16_t mask) {
+  uint16_t ids = 1;
   for (uint16_t bit = 1; bit <= kMaxStandardId; bit = static_cast<uint16_t>(bit << 1)) {
-    if ((mask & bit) == 0) accepted = static_cast<uint16_t>(accepted << 1);
+    if ((mask & bit) == 0) ids = static_cast<uint16_t>(ids << 1);
   }
-  return accepted;
+  return ids;
 }
 
-/// Keeps the first of each group of values equal under `mask`; returns how
-/// many remain in values[0..).
-uint8_t compact(uint16_t* values, uint8_t n, uint16_t mask) {
-  uint8_t kept = 0;
-  for (uint8_t i = 0; i < n; ++i) {
-    bool seen = false;
-    for (uint8_t j = 0; j < kept && !seen; ++j) seen = ((values[i] ^ values[j]) & mask) == 0;
-    if (!seen) values[kept++] = values[i];
-  }
-  return kept;
-}
-
-/// Widest-fitting mask for one buffer: starts exact and, while more distinct
-/// values remain than the buffer has filters, merges the pair of values whose
-/// merge (clearing the bits they differ in) lets the fewest ids through. Works
-/// on one representative per distinct value: ids equal under a mask stay
-/// equal under any narrower one, so the counts are the same.
-uint16_t group_mask(const uint16_t* ids, uint8_t n, uint8_t filters) {
-  uint16_t mask = kMaxStandardId;
-  uint16_t values[kMaxSubscribedIds];
-  for (uint8_t i = 0; i < n; ++i) values[i] = ids[i];
-  uint8_t d = compact(values, n, mask);
-  while (d > filters) {
-    uint16_t best_mask = 0;
-    uint16_t best_cost = 0xFFFF;
-    for (uint8_t i = 0; i < d; ++i) {
-      for (uint8_t j = 0; j < i; ++j) {
-        const uint16_t candidate = static_cast<uint16_t>(mask & ~(values[i] ^ values[j]));
-        const uint16_t cost = accepted_by(distinct_values(values, d, candidate), candidate);
-        if (cost < best_cost) {
-          best_cost = cost;
-          best_mask = candidate;
-        }
-      }
-    }
-    mask = best_mask;
-    d = compact(values, d, mask);  // at least the merged pair became one: the loop ends
-  }
-  return mask;
+/// Bits first..last-1 set.
+__attribute__((noinline)) uint16_t span(uint8_t first, uint8_t last) {
+  uint16_t bits = 0;
+  for (uint8_t k = first; k < last; ++k) bits = static_cast<uint16_t>(bits | (1u << k));
+  return bits;
 }
 
 /// Fills `out[0..filters)` with the distinct masked values (first one repeated
-/// into unused slots, so unused filters accept nothing new).
-void group_filters(const uint16_t* ids, uint8_t n, uint16_t mask, uint16_t* out, uint8_t filters) {
+/// into unused slots, so unused filters accept nothing new); returns how many
+/// are distinct.
+uint8_t group_filters(const uint16_t* ids, uint8_t n, uint16_t mask, uint16_t* out, uint8_t filters) {
   uint8_t used = 0;
   for (uint8_t i = 0; i < n; ++i) {
     bool seen = false;
     for (uint8_t j = 0; j < used && !seen; ++j) seen = ((out[j] ^ ids[i]) & mask) == 0;
-    if (!seen) out[used++] = ids[i];  // group_mask guarantees used <= filters
+    if (!seen) out[used++] = ids[i];  // the search guarantees used <= filters
   }
   for (uint8_t j = used; j < filters; ++j) out[j] = out[0];
+  return used;
 }
 
 }  // namespace
@@ -88,6 +49,185 @@ bool plan_accepts(const FilterPlan& plan, uint16_t id) {
     if (((id ^ plan.filter[f]) & mask) == 0) return true;
   }
   return false;
+}
+
+// The search, as the one-shot version did it (its results are kept exactly):
+// RXB0 takes a run ids_[a, b) of the sorted ids, RXB1 the ids before and after
+// it; every run is tried, in the order (0,1), (0,2) .. (0,n), (1,2) .. (n-1,n).
+// The split letting the fewest ids through wins; on a tie the longer run,
+// since RXB0's ids roll over into RXB1 (two buffers of depth, RXB1's own one),
+// and then the first. For each buffer a greedy mask search: start exact and,
+// while more distinct values remain than the buffer has filters, merge the
+// pair of values whose merge (clearing the bits they differ in) lets the
+// fewest ids through (the first such pair, in the order (1,0), (2,0), (2,1),
+// (3,0) ..). It works on one member per distinct value: ids equal under a mask
+// stay equal under any narrower one, so the counts are the same.
+
+bool FilterPlanner::start(const uint16_t* ids, uint8_t count) {
+  phase_ = kIdle;
+  if (count == 0 || count > kMaxSubscribedIds || ids[count - 1] > kMaxStandardId) return false;
+  for (uint8_t k = 1; k < count; ++k) {
+    if (ids[k - 1] >= ids[k]) return false;
+  }
+  ids_ = ids;
+  n_ = count;
+  a_ = 0;
+  b_ = 1;
+  best_cost_ = kNoCost;
+  best_a_ = 0;
+  best_b_ = 0;
+  begin_group(kRun, span(0, 1));
+  return true;
+}
+
+uint8_t FilterPlanner::gather(uint16_t members, uint16_t* values) const {
+  uint8_t d = 0;
+  uint16_t bit = 1;
+  for (uint8_t k = 0; k < n_; ++k, bit = static_cast<uint16_t>(bit << 1)) {
+    if (members & bit) values[d++] = ids_[k];
+  }
+  return d;
+}
+
+uint16_t FilterPlanner::compact(uint16_t members, uint16_t mask) const {
+  uint16_t kept = 0;
+  uint16_t bit = 1;
+  for (uint8_t k = 0; k < n_; ++k, bit = static_cast<uint16_t>(bit << 1)) {
+    if ((members & bit) == 0) continue;
+    bool seen = false;
+    uint16_t earlier = 1;
+    for (uint8_t e = 0; e < k && !seen; ++e, earlier = static_cast<uint16_t>(earlier << 1)) {
+      seen = (kept & earlier) != 0 && ((ids_[k] ^ ids_[e]) & mask) == 0;
+    }
+    if (!seen) kept = static_cast<uint16_t>(kept | bit);
+  }
+  return kept;
+}
+
+void FilterPlanner::begin_group(Phase phase, uint16_t members) {
+  phase_ = phase;
+  members_ = members;  // distinct ids: one member per value already
+  mask_ = kMaxStandardId;
+  i_ = 1;
+  j_ = 0;
+  round_cost_ = kNoCost;
+}
+
+bool FilterPlanner::loses(uint16_t cost) const {
+  const uint8_t len = static_cast<uint8_t>(b_ - a_);
+  return cost > best_cost_ || (cost == best_cost_ && len <= best_b_ - best_a_);
+}
+
+void FilterPlanner::consider(uint16_t cost, uint16_t mask1) {
+  if (loses(cost)) return;
+  best_cost_ = cost;
+  best_a_ = a_;
+  best_b_ = b_;
+  best_m0_ = m0_;
+  best_m1_ = mask1;
+}
+
+void FilterPlanner::next_split() {
+  if (++b_ > n_) {
+    ++a_;
+    b_ = static_cast<uint8_t>(a_ + 1);
+  }
+  if (a_ >= n_) {
+    phase_ = kDone;
+    return;
+  }
+  begin_group(kRun, span(a_, b_));
+}
+
+void FilterPlanner::finish_group(uint8_t distinct) {
+  const uint16_t cost = static_cast<uint16_t>(distinct * ids_per_value(mask_));
+  if (phase_ == kRest) {
+    consider(static_cast<uint16_t>(cost0_ + cost), mask_);
+  } else {
+    m0_ = mask_;
+    cost0_ = cost;
+    const uint8_t rest = static_cast<uint8_t>(n_ - (b_ - a_));
+    if (rest == 0) {
+      consider(cost, kMaxStandardId);
+    } else if (!loses(static_cast<uint16_t>(cost + rest))) {
+      // RXB1 lets at least its own ids through: its (costly) search only
+      // when even that could beat the best split so far.
+      begin_group(kRest, static_cast<uint16_t>(span(0, n_) & ~span(a_, b_)));
+      return;
+    }
+  }
+  next_split();
+}
+
+bool FilterPlanner::step() {
+  uint16_t values[kMaxSubscribedIds];
+  uint8_t d = gather(members_, values);
+  uint16_t work = 0;
+  while (busy() && work < kStepWork) {
+    if (d <= (phase_ == kRun ? kFiltersRxB0 : kFiltersRxB1)) {
+      finish_group(d);
+      d = gather(members_, values);
+      work = static_cast<uint16_t>(work + kPairWork);
+      continue;
+    }
+    // One candidate: merge values i_ and j_. Counting the distinct values
+    // under it stops once the count shows it cannot beat the round's best.
+    const uint16_t candidate = static_cast<uint16_t>(mask_ & ~(values[i_] ^ values[j_]));
+    const uint16_t per_value = ids_per_value(candidate);
+    uint16_t cost = 0;
+    for (uint8_t k = 0; k < d && cost < round_cost_; ++k) {
+      bool seen = false;
+      for (uint8_t e = 0; e < k && !seen; ++e) seen = ((values[k] ^ values[e]) & candidate) == 0;
+      work = static_cast<uint16_t>(work + k);
+      if (!seen) cost = static_cast<uint16_t>(cost + per_value);
+    }
+    work = static_cast<uint16_t>(work + kPairWork);
+    if (cost < round_cost_) {
+      round_cost_ = cost;
+      round_mask_ = candidate;
+    }
+    if (++j_ < i_) continue;
+    j_ = 0;
+    if (++i_ < d) continue;
+    // Round over: take its best merge (at least the merged pair became one
+    // value, so the search ends).
+    mask_ = round_mask_;
+    members_ = compact(members_, mask_);
+    d = gather(members_, values);
+    i_ = 1;
+    round_cost_ = kNoCost;
+    work = static_cast<uint16_t>(work + n_);
+  }
+  return !busy();
+}
+
+void FilterPlanner::plan(FilterPlan& out) const {
+  uint16_t values[kMaxSubscribedIds];
+  const uint16_t run = span(best_a_, best_b_);
+  const uint16_t m0 = best_m0_;
+  const uint16_t m1 = best_m1_;
+  out.mask[0] = m0;
+  out.mask[1] = m1;
+  const uint8_t d0 = group_filters(values, gather(run, values), m0, out.filter, kFiltersRxB0);
+  uint8_t r = gather(static_cast<uint16_t>(span(0, n_) & ~run), values);
+  if (r == 0) {  // RXB1 repeats RXF0 exactly (m1 is exact then)
+    values[0] = out.filter[0];
+    r = 1;
+  }
+  const uint8_t d1 = group_filters(values, r, m1, out.filter + kFiltersRxB0, kFiltersRxB1);
+  // Standard ids passing, counted without trying all 2048: the values of one
+  // buffer accept disjoint sets, so |RXB0 u RXB1| = |RXB0| + |RXB1| minus
+  // the ids both pass; a value of each has those in common when they agree on
+  // the bits both masks keep: 2^(bits neither keeps) ids.
+  uint16_t accepted = static_cast<uint16_t>(d0 * ids_per_value(m0) + d1 * ids_per_value(m1));
+  const uint16_t common = ids_per_value(m0 | m1);
+  for (uint8_t p = 0; p < d0; ++p) {
+    for (uint8_t q = kFiltersRxB0; q < kFiltersRxB0 + d1; ++q) {
+      if (((out.filter[p] ^ out.filter[q]) & m0 & m1) == 0) accepted = static_cast<uint16_t>(accepted - common);
+    }
+  }
+  out.accepted_ids = accepted;
+  out.exact = accepted == n_;
 }
 
 bool plan_filters(const uint16_t* ids, uint8_t count, FilterPlan& plan) {
@@ -106,48 +246,11 @@ bool plan_filters(const uint16_t* ids, uint8_t count, FilterPlan& plan) {
     sorted[at] = id;
     ++n;
   }
-
-  // RXB0 takes a run sorted[a, b), RXB1 the ids before and after it. Keep the
-  // split letting the fewest ids through; on a tie the longer run, since
-  // RXB0's ids roll over into RXB1 (two buffers of depth, RXB1's own one).
-  uint16_t rest[kMaxSubscribedIds];
-  uint16_t best_cost = 0xFFFF;
-  uint8_t best_len = 0;
-  for (uint8_t a = 0; a < n; ++a) {
-    for (uint8_t b = static_cast<uint8_t>(a + 1); b <= n; ++b) {
-      const uint8_t len = static_cast<uint8_t>(b - a);
-      uint8_t r = 0;
-      for (uint8_t i = 0; i < n; ++i) {
-        if (i < a || i >= b) rest[r++] = sorted[i];
-      }
-      const uint16_t m0 = group_mask(sorted + a, len, kFiltersRxB0);
-      const uint16_t cost0 = accepted_by(distinct_values(sorted + a, len, m0), m0);
-      // RXB1 lets at least its r ids through: skip its (costly) search when
-      // even that cannot beat the best split so far.
-      const uint16_t bound = static_cast<uint16_t>(cost0 + r);
-      if (bound > best_cost || (bound == best_cost && len <= best_len)) continue;
-      const uint16_t m1 = r ? group_mask(rest, r, kFiltersRxB1) : kMaxStandardId;
-      const uint16_t cost = static_cast<uint16_t>(cost0 + (r ? accepted_by(distinct_values(rest, r, m1), m1) : 0u));
-      if (cost > best_cost || (cost == best_cost && len <= best_len)) continue;
-      best_cost = cost;
-      best_len = len;
-      plan.mask[0] = m0;
-      plan.mask[1] = m1;
-      group_filters(sorted + a, len, m0, plan.filter, kFiltersRxB0);
-      if (r) {
-        group_filters(rest, r, m1, plan.filter + kFiltersRxB0, kFiltersRxB1);
-      } else {
-        for (uint8_t f = kFiltersRxB0; f < 6; ++f) plan.filter[f] = plan.filter[0];
-      }
-    }
+  FilterPlanner planner;
+  planner.start(sorted, n);
+  while (!planner.step()) {
   }
-
-  uint16_t accepted = 0;
-  for (uint16_t id = 0; id <= kMaxStandardId; ++id) {
-    if (plan_accepts(plan, id)) ++accepted;
-  }
-  plan.accepted_ids = accepted;
-  plan.exact = accepted == n;
+  planner.plan(plan);
   return true;
 }
 

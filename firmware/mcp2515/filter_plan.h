@@ -13,12 +13,12 @@
 namespace mb2co {
 namespace mcp2515 {
 
-/// Most ids plan_filters takes. It tries every run of sorted ids for RXB0 and
-/// a greedy mask search for each buffer: time grows steeply with the count.
-/// Measured on the ATmega328P at 16 MHz (simavr, cycle count; lines
-/// filter_plan_ids_* of firmware/avr/measure-pass-time.sh): 6 ids 30 ms,
-/// 9 ids (a gateway in a ring) 102 ms, 12 ids 369 ms. Plan at start-up, not
-/// in the middle of Modbus traffic. Stack: ~100 bytes.
+/// Most ids a plan takes. The search tries every run of sorted ids for RXB0
+/// and a greedy mask search for each buffer: time grows steeply with the
+/// count. Measured on the ATmega328P at 16 MHz (simavr, cycle count; lines
+/// filter_plan_* of firmware/avr/measure-pass-time.sh), the whole plan:
+/// 6 ids 4.7 ms, 9 ids (a gateway in a ring) 58 ms, 12 ids 215 ms. In a loop
+/// that must keep going, plan with FilterPlanner (at most ~1.1 ms a step).
 constexpr uint8_t kMaxSubscribedIds = 12;
 constexpr uint16_t kMaxStandardId = 0x7FF;
 
@@ -29,9 +29,73 @@ struct FilterPlan {
   uint16_t accepted_ids;  ///< how many of the 2048 standard ids pass (>= distinct ids given)
 };
 
-/// Computes a plan accepting at least every id in ids[0..count). Duplicates
-/// are allowed. Returns false (plan untouched) when count is 0 or above
-/// kMaxSubscribedIds, or an id exceeds kMaxStandardId.
+/// The plan search in bounded steps, so that a main loop keeps serving its
+/// peers while it plans: start(), then step() once per loop pass until it
+/// returns true, then plan(). The result is the one plan_filters gives.
+///
+/// All zero (value-initialised) it is idle. No heap; 28 B on the AVR: it
+/// keeps a pointer to the caller's id list, not a copy.
+class FilterPlanner {
+ public:
+  /// Comparisons of masked ids one step() does before it stops (it finishes
+  /// the candidate merge in progress: at most 66 more). The longest step,
+  /// the last one (it also builds the plan) included, takes 0.97 ms for 9
+  /// ids, 1.07 ms for 12 on the ATmega328P at 16 MHz (69 and 262 steps).
+  static const uint16_t kStepWork = 320;
+
+  /// Begins a plan for ids[0..count): strictly ascending (sorted, no
+  /// duplicates), each <= kMaxStandardId, 1 <= count <= kMaxSubscribedIds.
+  /// The planner reads ids[] at every step: they must stay valid and
+  /// unchanged until step() returned true or stop(). False (idle then) on a
+  /// list breaking these rules.
+  bool start(const uint16_t* ids, uint8_t count);
+  /// Does a bounded piece of the search (kStepWork). True when no work is
+  /// left: done() (a plan is ready) or idle.
+  bool step();
+  /// Back to idle; a plan in progress is dropped.
+  void stop() { phase_ = kIdle; }
+  bool busy() const { return phase_ == kRun || phase_ == kRest; }
+  bool done() const { return phase_ == kDone; }
+  /// The plan, when done(): masks, filters, exact, accepted_ids.
+  void plan(FilterPlan& out) const;
+
+ private:
+  enum Phase : uint8_t {
+    kIdle = 0,  ///< zero: a value-initialised planner is idle
+    kRun,       ///< mask search for RXB0's run ids_[a_, b_)
+    kRest,      ///< mask search for RXB1's ids (the others)
+    kDone,
+  };
+  uint8_t gather(uint16_t members, uint16_t* values) const;
+  uint16_t compact(uint16_t members, uint16_t mask) const;
+  void begin_group(Phase phase, uint16_t members);
+  void finish_group(uint8_t distinct);
+  void consider(uint16_t cost, uint16_t mask1);
+  bool loses(uint16_t cost) const;
+  void next_split();
+
+  // Sets of ids are bit masks over ids_ (bit k: ids_[k]). A group search
+  // keeps, in ids_ order, one member per distinct value under mask_, and
+  // evaluates merging members i_ and j_ (positions among them, j_ < i_).
+  const uint16_t* ids_;
+  uint8_t n_;
+  Phase phase_;
+  uint8_t a_, b_;             ///< current split: RXB0 takes ids_[a_, b_)
+  uint8_t i_, j_;             ///< next candidate pair of the current round
+  uint8_t best_a_, best_b_;   ///< best split so far
+  uint16_t members_;          ///< group being searched, one per distinct value
+  uint16_t mask_;             ///< its mask so far
+  uint16_t round_mask_;       ///< best merge of this round (valid after its first pair)
+  uint16_t round_cost_;       ///< ids that merge lets through; 0xFFFF: none yet
+  uint16_t m0_, cost0_;       ///< RXB0's mask and accepted ids for the current split
+  uint16_t best_cost_;        ///< accepted ids of the best split; 0xFFFF: none yet
+  uint16_t best_m0_, best_m1_;
+};
+
+/// Computes a plan accepting at least every id in ids[0..count) in one go
+/// (FilterPlanner to the end). Duplicates are allowed. Returns false (plan
+/// untouched) when count is 0 or above kMaxSubscribedIds, or an id exceeds
+/// kMaxStandardId.
 /// Out of line: inlined into its caller's loop, its arrays would enlarge
 /// that frame beyond what the AVR reaches with short offsets (-200 B on
 /// the Uno).

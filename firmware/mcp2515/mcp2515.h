@@ -97,6 +97,10 @@ class Driver {
   /// given, tells whether the filters are exact.
   bool set_filters(const uint16_t* ids, uint8_t count, FilterPlan* plan_out = nullptr);
 
+  /// Programs `plan` as set_filters does, for a plan computed beforehand
+  /// (FilterPlanner: planning in steps keeps the main loop going).
+  bool set_filters(const FilterPlan& plan) { return configure_filters(&plan); }
+
   /// Turns filters off: every valid frame, standard and extended, is received.
   bool accept_all();
 

@@ -54,7 +54,10 @@ bool CanPort::begin(uint16_t kbit, uint32_t now_us) {
   ready_ = driver_.begin(bitrate_of(kbit), can::Mode::kNormal);
   // The chip accepts everything now; the next period plans the filters (not
   // here: begin() may run inside a send, e.g. the boot-up after a reset).
+  open_ = ready_;
+  exact_ = false;
   id_count_ = 0;
+  planner_.stop();
   return ready_;
 }
 
@@ -77,6 +80,7 @@ void CanPort::poll(uint32_t now_us) {
   }
   CanFrame frame;
   while (driver_.receive(frame)) node_.receive(frame, now_us);
+  if (planner_.busy() && planner_.step()) program_plan();
 }
 
 void CanPort::service(uint32_t now_us) {
@@ -143,21 +147,33 @@ void CanPort::update_filters() {
     while (i < count && i < can::kMaxSubscribedIds && ids[i] == ids_[i]) ++i;
     if (i == count || i == can::kMaxSubscribedIds) return;  // unchanged
   }
-  can::FilterPlan plan;
-  bool ok;
-  if (count <= can::kMaxSubscribedIds) {
-    ok = driver_.set_filters(ids, count, &plan);
-    exact_ = ok && plan.exact;
-  } else {
-    ok = driver_.accept_all();
-    exact_ = false;
-  }
-  if (!ok) {
-    id_count_ = 0;  // try again next period
-    return;
+  // Changed: open the filters at once, plan in steps (poll()).
+  planner_.stop();
+  exact_ = false;
+  if (!open_) {
+    open_ = driver_.accept_all();
+    if (!open_) {
+      id_count_ = 0;  // try again next period
+      return;
+    }
   }
   id_count_ = count;
   for (uint8_t i = 0; i < count && i < can::kMaxSubscribedIds; ++i) ids_[i] = ids[i];
+  if (count <= can::kMaxSubscribedIds) planner_.start(ids_, count);
+}
+
+void CanPort::program_plan() {
+  can::FilterPlan plan;
+  planner_.plan(plan);
+  planner_.stop();
+  // On failure the chip's filters are unknown: the next period opens them
+  // and plans again.
+  open_ = false;
+  if (driver_.set_filters(plan)) {
+    exact_ = plan.exact;
+  } else {
+    id_count_ = 0;
+  }
 }
 
 }  // namespace avr

@@ -8,9 +8,12 @@
 // SDO 600h+id, node guarding 700h+id, the valid standard RPDO COB-IDs
 // (1400h-1403h/1) and 700h+n for every heartbeat consumer 1016h/1-4. The list
 // is re-derived every kServicePeriodUs and the filters re-planned when it
-// changed (reset communication, new node id, an SDO write to a COB-ID or to
-// 1016h). Planning takes 30-120 ms (filter_plan.h): the loop stalls that long
-// then. More than mcp2515::kMaxSubscribedIds ids: filters open (accept all).
+// changed (boot, reset communication, new node id, an SDO write to a COB-ID
+// or to 1016h). A plan takes tens of ms (filter_plan.h), so it is computed a
+// step (~1 ms) per poll() while the filters stay open (accept all: no
+// consumed frame is missed, the node ignores the rest), then programmed; a
+// change meanwhile starts it again. More than mcp2515::kMaxSubscribedIds
+// ids: filters open.
 // Remote requests for TPDOs are filtered out (RTR is deprecated, CiA AN 802).
 //
 // EMCY (error register bit "communication"):
@@ -29,9 +32,11 @@ namespace avr {
 /// The port's state, all zero at the start: CanPort value-initialises it as
 /// one block (one zero-fill instead of a store per member: -74 B on the Uno).
 struct CanPortState {
-  uint16_t ids_[mcp2515::kMaxSubscribedIds];  ///< sorted, as programmed
-  /// Ids programmed; 0: nothing programmed (a programmed list always holds
-  /// at least NMT 000h).
+  /// The consumed ids, sorted: what the filters admit or are being planned
+  /// for (planner_ reads them: they change only when it is restarted).
+  uint16_t ids_[mcp2515::kMaxSubscribedIds];
+  /// Ids in ids_ (above kMaxSubscribedIds: too many, the first ones kept);
+  /// 0: none yet (a list always holds at least NMT 000h).
   uint8_t id_count_;
   uint16_t kbit_;
   uint32_t last_service_us_;
@@ -39,6 +44,8 @@ struct CanPortState {
   uint32_t recovered_us_;  ///< last bus-off recovery (8140h likewise)
   bool ready_;
   bool exact_;
+  bool open_;  ///< the chip accepts every frame (begin(), accept_all())
+  mcp2515::FilterPlanner planner_;  ///< busy: planning for ids_
 };
 
 class CanPort : private CanPortState {
@@ -60,7 +67,7 @@ class CanPort : private CanPortState {
   void set_bitrate(uint16_t kbit, uint32_t now_us);
   /// Queues `frame` (false: chip not ready, or its 3 buffers are busy).
   bool send(const CanFrame& frame) { return ready_ && driver_.send(frame); }
-  /// Call every loop pass.
+  /// Call every loop pass. A pass plans at most one step (FilterPlanner).
   void poll(uint32_t now_us);
 
   bool ready() const { return ready_; }
@@ -71,6 +78,7 @@ class CanPort : private CanPortState {
   void service(uint32_t now_us);
   void on_events(uint8_t events, uint32_t now_us);
   void update_filters();
+  void program_plan();
   uint8_t collect_ids(uint16_t* ids) const;
 
   mcp2515::Driver& driver_;

@@ -136,15 +136,19 @@ void blocks(gateway::Gateway& g) {
 // MCP2515 acceptance-filter planning (firmware/mcp2515/filter_plan.h) for
 // the ids a gateway consumes: node 2 of a 4-station ring (NMT, SYNC, SDO,
 // guarding RTR, RPDO1-3, the neighbours' heartbeats: 9 ids), its first 6,
-// and 12 (the planner's limit: 3 more heartbeat consumers). Timer1 at clk/256
-// here (16 µs ticks, 1 s before it wraps): a plan takes longer than a pass.
+// and 12 (the planner's limit: 3 more heartbeat consumers).
+// "filter_plan_ids_<n> <µs> <accepted ids>": the whole plan in one go
+// (plan_filters), Timer1 at clk/256 (16 µs ticks, 1 s before it wraps).
+// "filter_plan_step_ids_<n> <µs> <steps>": the longest FilterPlanner step,
+// i.e. what planning adds to a loop pass (CanPort plans a step per pass),
+// the last step included (it also builds the plan), Timer1 at clk/64.
 void filter_plans() {
   static const uint16_t kIds[12] = {0x000, 0x080, 0x181, 0x183, 0x281, 0x602,
                                     0x701, 0x702, 0x703, 0x704, 0x705, 0x706};
   static const uint8_t kCounts[3] = {6, 9, 12};
-  TCCR1B = _BV(CS12);
   for (uint8_t k = 0; k < 3; ++k) {
     mcp2515::FilterPlan plan;
+    TCCR1B = _BV(CS12);
     TCNT1 = 0;
     const bool ok = mcp2515::plan_filters(kIds, kCounts[k], plan);
     const uint32_t us = static_cast<uint32_t>(TCNT1) * 16u;
@@ -155,8 +159,29 @@ void filter_plans() {
     put(' ');
     put_number(ok ? plan.accepted_ids : 0);
     put('\n');
+
+    TCCR1B = _BV(CS11) | _BV(CS10);
+    mcp2515::FilterPlanner planner{};
+    planner.start(kIds, kCounts[k]);
+    uint32_t longest_us = 0;
+    uint16_t steps = 0;
+    bool last = false;
+    while (!last) {
+      timer_start();
+      last = planner.step();
+      if (last) planner.plan(plan);
+      const uint32_t step_us = timer_us();
+      if (step_us > longest_us) longest_us = step_us;
+      ++steps;
+    }
+    put_P(PSTR("filter_plan_step_ids_"));
+    put_number(kCounts[k]);
+    put(' ');
+    put_number(longest_us);
+    put(' ');
+    put_number(steps);
+    put('\n');
   }
-  TCCR1B = _BV(CS11) | _BV(CS10);
 }
 
 }  // namespace

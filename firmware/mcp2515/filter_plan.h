@@ -96,10 +96,7 @@ class FilterPlanner {
 /// (FilterPlanner to the end). Duplicates are allowed. Returns false (plan
 /// untouched) when count is 0 or above kMaxSubscribedIds, or an id exceeds
 /// kMaxStandardId.
-/// Out of line: inlined into its caller's loop, its arrays would enlarge
-/// that frame beyond what the AVR reaches with short offsets (-200 B on
-/// the Uno).
-__attribute__((noinline)) bool plan_filters(const uint16_t* ids, uint8_t count, FilterPlan& plan);
+bool plan_filters(const uint16_t* ids, uint8_t count, FilterPlan& plan);
 
 /// True when standard id `id` passes the plan (the chip's acceptance rule).
 bool plan_accepts(const FilterPlan& plan, uint16_t id);

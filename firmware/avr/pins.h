@@ -11,9 +11,9 @@ namespace pins {
 // Taken by the Uno itself: D0/D1 = USB serial (Modbus/RTU), D11/D12/D13 = SPI.
 
 // SparkFun CAN-BUS shield.
-constexpr uint8_t kCanCs = 10;   ///< MCP2515 chip select (PB2, the AVR's SS)
-constexpr uint8_t kCanInt = 2;   ///< MCP2515 INT, active low (INT0)
-constexpr uint8_t kSdCs = 9;     ///< microSD chip select on the shield (slot kept empty)
+constexpr uint8_t kCanCs = 10;      ///< MCP2515 chip select (PB2, the AVR's SS)
+constexpr uint8_t kCanInt = 2;      ///< MCP2515 INT, active low (INT0)
+constexpr uint8_t kSdCs = 9;        ///< microSD chip select on the shield (slot kept empty)
 constexpr uint8_t kShieldLed1 = 7;  ///< shield LED "D7", active high
 constexpr uint8_t kShieldLed2 = 8;  ///< shield LED "D8", active high
 // Joystick: each direction shorts its pin to GND (INPUT_PULLUP, low = pressed).

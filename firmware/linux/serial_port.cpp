@@ -24,10 +24,9 @@ bool baud_constant(uint32_t baud, speed_t& out) {
     speed_t constant;
   };
   static const Rate kRates[] = {
-      {1200, B1200},     {2400, B2400},     {4800, B4800},     {9600, B9600},
-      {19200, B19200},   {38400, B38400},   {57600, B57600},   {115200, B115200},
-      {230400, B230400}, {460800, B460800}, {500000, B500000}, {921600, B921600},
-      {1000000, B1000000},
+      {1200, B1200},     {2400, B2400},     {4800, B4800},       {9600, B9600},     {19200, B19200},
+      {38400, B38400},   {57600, B57600},   {115200, B115200},   {230400, B230400}, {460800, B460800},
+      {500000, B500000}, {921600, B921600}, {1000000, B1000000},
   };
   for (const Rate& r : kRates) {
     if (r.baud == baud) {
@@ -53,20 +52,21 @@ bool make_raw(int fd) {
 uint32_t monotonic_us() {
   timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
-  const uint64_t us = static_cast<uint64_t>(ts.tv_sec) * 1000000u +
-                      static_cast<uint64_t>(ts.tv_nsec) / 1000u;
+  const uint64_t us = static_cast<uint64_t>(ts.tv_sec) * 1000000u + static_cast<uint64_t>(ts.tv_nsec) / 1000u;
   return static_cast<uint32_t>(us);
 }
 
-SerialPort::~SerialPort() { close(); }
-
-bool SerialPort::fail(const std::string& what) {
-  error_ = what + ": " + strerror(errno);
+SerialPort::~SerialPort() {
   close();
-  return false;
 }
 
-bool SerialPort::create_pty(const std::string& link_path) {
+Status SerialPort::fail(const std::string& what) {
+  Status failed = Status::failure(what + ": " + strerror(errno));
+  close();
+  return failed;
+}
+
+Status SerialPort::create_pty(const std::string& link_path) {
   close();
   fd_ = posix_openpt(O_RDWR | O_NOCTTY);
   if (fd_ < 0) return fail("posix_openpt");
@@ -91,11 +91,10 @@ bool SerialPort::create_pty(const std::string& link_path) {
     if (symlink(name, link_path.c_str()) != 0) return fail("symlink " + link_path);
     link_ = link_path;
   }
-  return true;
+  return Status::ok();
 }
 
-bool SerialPort::open_tty(const std::string& path, uint32_t baud, Parity parity,
-                          unsigned stop_bits) {
+Status SerialPort::open_tty(const std::string& path, uint32_t baud, Parity parity, unsigned stop_bits) {
   close();
   speed_t speed;
   if (!baud_constant(baud, speed)) {
@@ -119,12 +118,11 @@ bool SerialPort::open_tty(const std::string& path, uint32_t baud, Parity parity,
   if (stop_bits == 2) t.c_cflag |= CSTOPB;
   t.c_cc[VMIN] = 0;
   t.c_cc[VTIME] = 0;
-  if (cfsetispeed(&t, speed) != 0 || cfsetospeed(&t, speed) != 0 ||
-      tcsetattr(fd_, TCSANOW, &t) != 0) {
+  if (cfsetispeed(&t, speed) != 0 || cfsetospeed(&t, speed) != 0 || tcsetattr(fd_, TCSANOW, &t) != 0) {
     return fail("configure " + path);
   }
   tcflush(fd_, TCIOFLUSH);
-  return true;
+  return Status::ok();
 }
 
 void SerialPort::close() {
@@ -142,24 +140,24 @@ void SerialPort::close() {
   path_.clear();
 }
 
-long SerialPort::read(uint8_t* bytes, uint32_t* stamps_us, size_t capacity) {
+Status SerialPort::read(uint8_t* bytes, uint32_t* stamps_us, size_t capacity, size_t* count) {
+  *count = 0;
   if (fd_ < 0) {
     errno = EBADF;
-    error_ = "read: port not open";
-    return -1;
+    return Status::failure("read: port not open");
   }
   const uint32_t stamp = monotonic_us();
   const ssize_t n = ::read(fd_, bytes, capacity);
   if (n < 0) {
-    if (errno == EAGAIN || errno == EINTR) return 0;
-    error_ = std::string("read: ") + strerror(errno);
-    return -1;
+    if (errno == EAGAIN || errno == EINTR) return Status::ok();
+    return Status::failure(std::string("read: ") + strerror(errno));
   }
   for (ssize_t i = 0; i < n; ++i) stamps_us[i] = stamp;
-  return static_cast<long>(n);
+  *count = static_cast<size_t>(n);
+  return Status::ok();
 }
 
-bool SerialPort::write(const uint8_t* data, size_t length) {
+Status SerialPort::write(const uint8_t* data, size_t length) {
   size_t done = 0;
   while (done < length) {
     const ssize_t n = ::write(fd_, data + done, length - done);
@@ -168,17 +166,11 @@ bool SerialPort::write(const uint8_t* data, size_t length) {
       continue;
     }
     if (n < 0 && errno == EINTR) continue;
-    if (n < 0 && errno != EAGAIN) {
-      error_ = std::string("write: ") + strerror(errno);
-      return false;
-    }
+    if (n < 0 && errno != EAGAIN) return Status::failure(std::string("write: ") + strerror(errno));
     pollfd p{fd_, POLLOUT, 0};
-    if (poll(&p, 1, kWriteStallTimeoutMs) <= 0) {
-      error_ = "write: output queue stalled";
-      return false;
-    }
+    if (poll(&p, 1, kWriteStallTimeoutMs) <= 0) return Status::failure("write: output queue stalled");
   }
-  return true;
+  return Status::ok();
 }
 
 }  // namespace port

@@ -8,16 +8,20 @@
 
 #include <string>
 
+#include "modbus/parity.h"
+#include "status.h"
+
 namespace mb2co {
 namespace port {
 
-enum class Parity : uint8_t { kNone, kEven, kOdd };
+using Parity = modbus::Parity;
 
 /// Microseconds of CLOCK_MONOTONIC, truncated to 32 bits (wraps like micros()).
 uint32_t monotonic_us();
 
 /// Owns one file descriptor (and a symlink, if it made one). Not copyable.
-/// Every failing call returns false/-1 and leaves a one-line reason in error().
+/// Every call that can fail answers with a Status (its message: one line).
+/// A failed create_pty()/open_tty() leaves the port closed.
 class SerialPort {
  public:
   SerialPort() = default;
@@ -31,11 +35,11 @@ class SerialPort {
   /// other file is an error) and removed again by close(). The slave side is
   /// kept open in raw mode, so no echo happens and our reads never see a
   /// hang-up when a client closes it.
-  bool create_pty(const std::string& link_path = std::string());
+  Status create_pty(const std::string& link_path = std::string());
 
   /// Opens an existing tty raw at `baud` (a standard rate), 8 data bits,
   /// `parity`, `stop_bits` 1 or 2; input/output queues flushed.
-  bool open_tty(const std::string& path, uint32_t baud, Parity parity, unsigned stop_bits = 1);
+  Status open_tty(const std::string& path, uint32_t baud, Parity parity, unsigned stop_bits = 1);
 
   void close();
   bool is_open() const { return fd_ >= 0; }
@@ -44,25 +48,24 @@ class SerialPort {
   /// The device a peer opens: the pty's slave side, or the tty opened.
   const std::string& path() const { return path_; }
   const std::string& link_path() const { return link_; }
-  const std::string& error() const { return error_; }
 
   /// Reads what is waiting, up to `capacity` bytes, without blocking. Every
   /// byte of one read(2) gets the same stamp, taken just before it: a stamp is
   /// never earlier than the byte's arrival minus the read's own latency.
-  /// Returns the count (0: nothing waiting), -1 on error.
-  long read(uint8_t* bytes, uint32_t* stamps_us, size_t capacity);
+  /// *count = bytes read (0: nothing waiting, also on failure).
+  Status read(uint8_t* bytes, uint32_t* stamps_us, size_t capacity, size_t* count);
 
   /// Writes all of `data` (waits with poll() while the kernel queue is full).
-  bool write(const uint8_t* data, size_t length);
+  Status write(const uint8_t* data, size_t length);
 
  private:
-  bool fail(const std::string& what);
+  /// Closes the port; the failure `what` with errno's text.
+  Status fail(const std::string& what);
 
   int fd_ = -1;
   int pty_slave_fd_ = -1;  ///< held open for the reasons given at create_pty()
   std::string path_;
   std::string link_;
-  std::string error_;
 };
 
 }  // namespace port

@@ -27,9 +27,13 @@ uint64_t clock_us(clockid_t clock) {
   return static_cast<uint64_t>(ts.tv_sec) * 1000000u + static_cast<uint64_t>(ts.tv_nsec) / 1000u;
 }
 
-bool queue_full(int err) { return err == EAGAIN || err == EWOULDBLOCK || err == ENOBUFS; }
+bool queue_full(int err) {
+  return err == EAGAIN || err == EWOULDBLOCK || err == ENOBUFS;
+}
 
-bool id_fits(uint32_t id, bool extended) { return id <= (extended ? kExtIdMax : kStdIdMax); }
+bool id_fits(uint32_t id, bool extended) {
+  return id <= (extended ? kExtIdMax : kStdIdMax);
+}
 
 }  // namespace
 
@@ -62,7 +66,9 @@ bool from_kernel_frame(const struct ::can_frame& in, CanFrame& out) {
 SocketCanPort::SocketCanPort()
     : fd_(-1), rcvbuf_bytes_(0), last_rx_overflows_(0), counters_{}, ifname_{}, error_{} {}
 
-SocketCanPort::~SocketCanPort() { close(); }
+SocketCanPort::~SocketCanPort() {
+  close();
+}
 
 void SocketCanPort::close() {
   if (fd_ >= 0) ::close(fd_);
@@ -72,13 +78,22 @@ void SocketCanPort::close() {
   counters_ = SocketCanCounters{};
 }
 
-bool SocketCanPort::fail(const char* what, int err) {
-  snprintf(error_, sizeof error_, "socketcan %s: %s%s%s", ifname_, what, err != 0 ? ": " : "",
+void SocketCanPort::describe(char* line, size_t cap, const char* what, int err) const {
+  snprintf(line, cap, "socketcan %s: %s%s%s", ifname_, what, err != 0 ? ": " : "",
            err != 0 ? strerror(err) : "");
-  return false;
 }
 
-bool SocketCanPort::open(const char* ifname, int rcvbuf_bytes) {
+Status SocketCanPort::fail(const char* what, int err) const {
+  char line[sizeof error_];
+  describe(line, sizeof line, what, err);
+  return Status::failure(line);
+}
+
+void SocketCanPort::note(const char* what, int err) {
+  describe(error_, sizeof error_, what, err);
+}
+
+Status SocketCanPort::open(const char* ifname, int rcvbuf_bytes) {
   close();
   error_[0] = '\0';
   if (ifname == nullptr || ifname[0] == '\0' || strlen(ifname) >= sizeof ifname_) {
@@ -123,10 +138,10 @@ bool SocketCanPort::open(const char* ifname, int rcvbuf_bytes) {
   setsockopt(fd, SOL_SOCKET, SO_TIMESTAMP, &on, sizeof on);
   setsockopt(fd, SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof on);
   fd_ = fd;
-  return true;
+  return Status::ok();
 }
 
-bool SocketCanPort::set_filters(const CanAcceptance* filters, size_t count) {
+Status SocketCanPort::set_filters(const CanAcceptance* filters, size_t count) {
   if (fd_ < 0) return fail("not open", 0);
   if (count > kMaxFilters) return fail("more than 512 filters", 0);
   can_filter kernel[kMaxFilters];
@@ -143,12 +158,39 @@ bool SocketCanPort::set_filters(const CanAcceptance* filters, size_t count) {
   if (setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, count ? kernel : nullptr, bytes) != 0) {
     return fail("CAN_RAW_FILTER", errno);
   }
-  return true;
+  return Status::ok();
 }
 
-bool SocketCanPort::accept_all() {
+Status SocketCanPort::accept_all() {
   const CanAcceptance all[] = {{0, 0, false}, {0, 0, true}};
   return set_filters(all, 2);
+}
+
+Status SocketCanPort::set_consumed_ids(const uint16_t* ids, uint8_t count) {
+  if (fd_ < 0) return fail("not open", 0);
+  can_filter kernel[256 + 1];
+  for (uint8_t i = 0; i < count; ++i) {
+    kernel[i].can_id = ids[i] & CAN_SFF_MASK;
+    kernel[i].can_mask = CAN_SFF_MASK | CAN_EFF_FLAG;
+  }
+  // Every standard remote frame as well: the node answers RTRs for its
+  // TPDOs (transmission types 252/253), which consumed_ids leaves out (the
+  // MCP2515 port filters them, RTR being deprecated; here they stay).
+  kernel[count].can_id = CAN_RTR_FLAG;
+  kernel[count].can_mask = CAN_RTR_FLAG | CAN_EFF_FLAG;
+  const socklen_t bytes = static_cast<socklen_t>((count + 1u) * sizeof(can_filter));
+  if (setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, kernel, bytes) != 0) return fail("CAN_RAW_FILTER", errno);
+  return Status::ok();
+}
+
+const CanControl SocketCanPort::kControl = {nullptr, &SocketCanPort::set_filters_of};
+
+void SocketCanPort::set_filters_of(void* ctx, const uint16_t* ids, uint8_t count) {
+  // A refusal leaves the previous filters (last_io_error() tells); the node
+  // ignores frames it does not consume, so an open filter is safe.
+  SocketCanPort& port = *static_cast<SocketCanPort*>(ctx);
+  const Status done = port.set_consumed_ids(ids, count);
+  if (!done) snprintf(port.error_, sizeof port.error_, "%s", done.message().c_str());
 }
 
 size_t SocketCanPort::receive(TimedCanFrame* out, size_t capacity) {
@@ -172,7 +214,7 @@ size_t SocketCanPort::receive(TimedCanFrame* out, size_t capacity) {
   if (got <= 0) {
     if (got < 0 && !queue_full(errno) && errno != EINTR) {
       ++counters_.io_errors;
-      fail("receive", errno);
+      note("receive", errno);
     }
     return 0;
   }
@@ -217,17 +259,19 @@ void SocketCanPort::count_refused(int err, uint64_t frames) {
     counters_.tx_dropped += frames;
   } else {
     counters_.tx_errors += frames;
-    if (err != 0) fail("send", err);
+    if (err != 0) note("send", err);
   }
 }
 
-bool SocketCanPort::send(const CanFrame& frame) { return send(&frame, 1) == 1; }
+bool SocketCanPort::send(const CanFrame& frame) {
+  return send(&frame, 1) == 1;
+}
 
 size_t SocketCanPort::send(const CanFrame* frames, size_t count) {
   size_t sent = 0;
   while (sent < count) {
     if (fd_ < 0) {
-      fail("not open", 0);
+      note("not open", 0);
       count_refused(0, count - sent);
       return sent;
     }
@@ -244,7 +288,7 @@ size_t SocketCanPort::send(const CanFrame* frames, size_t count) {
       ++n;
     }
     if (n == 0) {  // frames[sent] is invalid
-      fail("invalid frame (dlc > 8 or id out of range)", 0);
+      note("invalid frame (dlc > 8 or id out of range)", 0);
       count_refused(0, count - sent);
       return sent;
     }

@@ -8,6 +8,7 @@
 #include <stdint.h>
 
 #include "canopen/can_frame.h"
+#include "status.h"
 
 struct can_frame;  // <linux/can.h>
 
@@ -38,12 +39,12 @@ struct CanAcceptance {
 
 /// Traffic and failure counters. They only grow (open() and close() reset them).
 struct SocketCanCounters {
-  uint64_t rx_frames;    ///< frames handed out by receive()
-  uint64_t rx_dropped;   ///< frames the kernel dropped for a full receive buffer (SO_RXQ_OVFL)
-  uint64_t tx_frames;    ///< frames the kernel accepted
-  uint64_t tx_dropped;   ///< sends refused because the queue was full (EAGAIN/ENOBUFS)
-  uint64_t tx_errors;    ///< sends refused for any other reason (invalid frame, interface down)
-  uint64_t io_errors;    ///< failed reads and unexpected records (not classic CAN frames)
+  uint64_t rx_frames;   ///< frames handed out by receive()
+  uint64_t rx_dropped;  ///< frames the kernel dropped for a full receive buffer (SO_RXQ_OVFL)
+  uint64_t tx_frames;   ///< frames the kernel accepted
+  uint64_t tx_dropped;  ///< sends refused because the queue was full (EAGAIN/ENOBUFS)
+  uint64_t tx_errors;   ///< sends refused for any other reason (invalid frame, interface down)
+  uint64_t io_errors;   ///< failed reads and unexpected records (not classic CAN frames)
 };
 
 /// Our frame as the kernel's: flags become CAN_EFF_FLAG/CAN_RTR_FLAG, bytes
@@ -69,24 +70,29 @@ class SocketCanPort {
   SocketCanPort& operator=(const SocketCanPort&) = delete;
 
   /// Opens and binds a socket to interface `ifname`, receiving every frame of
-  /// others (not our own). False with error() set when the kernel has no
-  /// AF_CAN, the interface does not exist or is not CAN. Closes a previous one.
-  bool open(const char* ifname, int rcvbuf_bytes = kDefaultRcvbufBytes);
+  /// others (not our own). Fails when the kernel has no AF_CAN, the interface
+  /// does not exist or is not CAN. Closes a previous one.
+  Status open(const char* ifname, int rcvbuf_bytes = kDefaultRcvbufBytes);
   void close();
   bool is_open() const { return fd_ >= 0; }
 
   /// For poll()/epoll (POLLIN: frames are waiting). -1 when closed.
   int fd() const { return fd_; }
 
-  /// Last failure as one line without newline ("" when none).
-  const char* error() const { return error_; }
+  /// The last failure of a call that has no caller to answer: send(),
+  /// receive() (each counted in counters()) and the core's filter callback
+  /// (kControl). One line without newline ("" when none since open()).
+  const char* last_io_error() const { return error_; }
 
   /// Replaces the kernel filters; only matching frames are received from now
-  /// on. count == 0 receives nothing; at most 512 entries. False (error() set)
-  /// for an id or mask out of range, or when the kernel refuses.
-  bool set_filters(const CanAcceptance* filters, size_t count);
+  /// on. count == 0 receives nothing; at most 512 entries. Fails for an id
+  /// or mask out of range, or when the kernel refuses.
+  Status set_filters(const CanAcceptance* filters, size_t count);
   /// Back to receiving every frame.
-  bool accept_all();
+  Status accept_all();
+  /// Receives the standard ids[0..count) (CanControl::set_filters) and every
+  /// standard remote frame (RTRs for TPDOs, not in Node::consumed_ids).
+  Status set_consumed_ids(const uint16_t* ids, uint8_t count);
 
   /// Takes up to `capacity` waiting frames without blocking; returns how many
   /// (0 when none are waiting or on a read error, counted in io_errors).
@@ -103,6 +109,10 @@ class SocketCanPort {
 
   /// The port as the core's frame sink; valid while this object lives.
   CanSink sink() { return CanSink{&SocketCanPort::send_to, this}; }
+  /// The core's controller settings (shared/platform/device_port.h), with sink()'s
+  /// ctx: kernel filters for the ids the node consumes; no bit rate (a raw
+  /// socket cannot set it: `ip link set can0 type can bitrate ...` does).
+  static const CanControl kControl;
 
   const SocketCanCounters& counters() const { return counters_; }
   /// Receive buffer the kernel granted (bytes, as getsockopt reports it).
@@ -110,7 +120,12 @@ class SocketCanPort {
 
  private:
   static bool send_to(void* ctx, const CanFrame& frame);
-  bool fail(const char* what, int err);
+  static void set_filters_of(void* ctx, const uint16_t* ids, uint8_t count);
+  /// "socketcan IFACE: what[: strerror(err)]" into `line` (err 0: no errno text).
+  void describe(char* line, size_t cap, const char* what, int err) const;
+  Status fail(const char* what, int err) const;
+  /// Keeps the failure of a call without a Status for last_io_error().
+  void note(const char* what, int err);
   void count_refused(int err, uint64_t frames);
 
   int fd_;

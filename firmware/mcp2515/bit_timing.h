@@ -45,10 +45,9 @@ constexpr uint16_t sample_point_permille(const BitTiming& t) {
   return static_cast<uint16_t>(1000u * (1u + t.prop_tq + t.ps1_tq) / total_tq(t));
 }
 constexpr bool valid(const BitTiming& t) {
-  return t.brp <= 63 && t.prop_tq >= 1 && t.prop_tq <= 8 && t.ps1_tq >= 1 && t.ps1_tq <= 8 &&
-         t.ps2_tq >= 2 && t.ps2_tq <= 8 && t.sjw_tq >= 1 && t.sjw_tq <= 4 &&
-         t.sjw_tq < t.ps2_tq && t.prop_tq + t.ps1_tq >= t.ps2_tq && total_tq(t) >= 8 &&
-         total_tq(t) <= 25;
+  return t.brp <= 63 && t.prop_tq >= 1 && t.prop_tq <= 8 && t.ps1_tq >= 1 && t.ps1_tq <= 8 && t.ps2_tq >= 2 &&
+         t.ps2_tq <= 8 && t.sjw_tq >= 1 && t.sjw_tq <= 4 && t.sjw_tq < t.ps2_tq &&
+         t.prop_tq + t.ps1_tq >= t.ps2_tq && total_tq(t) >= 8 && total_tq(t) <= 25;
 }
 
 /// CNF1: SJW-1 in bits 7:6, BRP in 5:0.
@@ -60,7 +59,9 @@ constexpr uint8_t cnf2(const BitTiming& t) {
   return static_cast<uint8_t>(0x80u | ((t.ps1_tq - 1u) << 3) | (t.prop_tq - 1u));
 }
 /// CNF3: SOF=0 (CLKOUT pin as clock, unused), WAKFIL=0, PS2-1 in 2:0.
-constexpr uint8_t cnf3(const BitTiming& t) { return static_cast<uint8_t>(t.ps2_tq - 1u); }
+constexpr uint8_t cnf3(const BitTiming& t) {
+  return static_cast<uint8_t>(t.ps2_tq - 1u);
+}
 
 constexpr BitTiming kTiming1000k{0, 3, 2, 2, 1};
 constexpr BitTiming kTiming500k{0, 5, 8, 2, 1};
@@ -96,7 +97,9 @@ constexpr BitTiming timing_for(Bitrate rate) {
 }
 
 /// Bits per second of `rate` (for bus-off recovery time, timing analysis).
-constexpr uint32_t bits_per_second(Bitrate rate) { return bitrate_bps(timing_for(rate)); }
+constexpr uint32_t bits_per_second(Bitrate rate) {
+  return bitrate_bps(timing_for(rate));
+}
 
 }  // namespace mcp2515
 }  // namespace mb2co

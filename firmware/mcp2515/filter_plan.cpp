@@ -223,7 +223,8 @@ void FilterPlanner::plan(FilterPlan& out) const {
   const uint16_t common = ids_per_value(m0 | m1);
   for (uint8_t p = 0; p < d0; ++p) {
     for (uint8_t q = kFiltersRxB0; q < kFiltersRxB0 + d1; ++q) {
-      if (((out.filter[p] ^ out.filter[q]) & m0 & m1) == 0) accepted = static_cast<uint16_t>(accepted - common);
+      if (((out.filter[p] ^ out.filter[q]) & m0 & m1) == 0)
+        accepted = static_cast<uint16_t>(accepted - common);
     }
   }
   out.accepted_ids = accepted;

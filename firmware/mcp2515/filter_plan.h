@@ -23,9 +23,9 @@ constexpr uint8_t kMaxSubscribedIds = 12;
 constexpr uint16_t kMaxStandardId = 0x7FF;
 
 struct FilterPlan {
-  uint16_t mask[2];    ///< RXM0 (RXB0), RXM1 (RXB1): 11-bit standard-id masks
-  uint16_t filter[6];  ///< RXF0..RXF5: RXF0-1 use mask[0], RXF2-5 mask[1]
-  bool exact;          ///< true when exactly the subscribed ids pass
+  uint16_t mask[2];       ///< RXM0 (RXB0), RXM1 (RXB1): 11-bit standard-id masks
+  uint16_t filter[6];     ///< RXF0..RXF5: RXF0-1 use mask[0], RXF2-5 mask[1]
+  bool exact;             ///< true when exactly the subscribed ids pass
   uint16_t accepted_ids;  ///< how many of the 2048 standard ids pass (>= distinct ids given)
 };
 
@@ -80,15 +80,15 @@ class FilterPlanner {
   const uint16_t* ids_;
   uint8_t n_;
   Phase phase_;
-  uint8_t a_, b_;             ///< current split: RXB0 takes ids_[a_, b_)
-  uint8_t i_, j_;             ///< next candidate pair of the current round
-  uint8_t best_a_, best_b_;   ///< best split so far
-  uint16_t members_;          ///< group being searched, one per distinct value
-  uint16_t mask_;             ///< its mask so far
-  uint16_t round_mask_;       ///< best merge of this round (valid after its first pair)
-  uint16_t round_cost_;       ///< ids that merge lets through; 0xFFFF: none yet
-  uint16_t m0_, cost0_;       ///< RXB0's mask and accepted ids for the current split
-  uint16_t best_cost_;        ///< accepted ids of the best split; 0xFFFF: none yet
+  uint8_t a_, b_;            ///< current split: RXB0 takes ids_[a_, b_)
+  uint8_t i_, j_;            ///< next candidate pair of the current round
+  uint8_t best_a_, best_b_;  ///< best split so far
+  uint16_t members_;         ///< group being searched, one per distinct value
+  uint16_t mask_;            ///< its mask so far
+  uint16_t round_mask_;      ///< best merge of this round (valid after its first pair)
+  uint16_t round_cost_;      ///< ids that merge lets through; 0xFFFF: none yet
+  uint16_t m0_, cost0_;      ///< RXB0's mask and accepted ids for the current split
+  uint16_t best_cost_;       ///< accepted ids of the best split; 0xFFFF: none yet
   uint16_t best_m0_, best_m1_;
 };
 

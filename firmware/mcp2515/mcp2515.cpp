@@ -53,7 +53,7 @@ void encode_header(const CanFrame& frame, uint8_t* out) {
   if (frame.extended()) {
     const uint8_t b2 = static_cast<uint8_t>(frame.id >> 16);
     const uint8_t b3 = static_cast<uint8_t>(frame.id >> 24);
-    out[0] = static_cast<uint8_t>((b3 << 3) | (b2 >> 5));                                  // SID10:3
+    out[0] = static_cast<uint8_t>((b3 << 3) | (b2 >> 5));                               // SID10:3
     out[1] = static_cast<uint8_t>(((b2 << 3) & 0xE0) | reg::kSidlExide | (b2 & 0x03));  // SID2:0, EID17:16
     out[2] = b1;
     out[3] = b0;
@@ -117,7 +117,9 @@ void Driver::bit_modify(uint8_t address, uint8_t mask, uint8_t value) {
   transact(bytes, 4);
 }
 
-void Driver::command(uint8_t instruction) { transact(&instruction, 1); }
+void Driver::command(uint8_t instruction) {
+  transact(&instruction, 1);
+}
 
 uint8_t Driver::command_read(uint8_t instruction) {
   uint8_t bytes[2] = {instruction, 0};
@@ -205,10 +207,16 @@ bool Driver::set_filters(const uint16_t* ids, uint8_t count, FilterPlan* plan_ou
   return configure_filters(&plan);
 }
 
-bool Driver::accept_all() { return configure_filters(nullptr); }
+bool Driver::accept_all() {
+  return configure_filters(nullptr);
+}
 
-uint8_t Driver::tec() { return read(reg::kTec); }
-uint8_t Driver::rec() { return read(reg::kRec); }
+uint8_t Driver::tec() {
+  return read(reg::kTec);
+}
+uint8_t Driver::rec() {
+  return read(reg::kRec);
+}
 
 // --- transmit ---------------------------------------------------------------
 
@@ -226,10 +234,10 @@ bool Driver::send(const CanFrame& frame) {
   uint8_t buffer = 3;
   uint8_t buffer_bit = 0;  // 1 << buffer
   // Masks walk by shifting bytes: a shift by a variable count is a loop on
-  // the AVR (-30 B on the Uno).
-  static_assert(reg::status_txreq(1) == reg::status_txreq(0) << 2 &&
-                    reg::status_txreq(2) == reg::status_txreq(0) << 4,
-                "TXREQ bits of READ STATUS: every second bit");
+  // the AVR.
+  static_assert(
+      reg::status_txreq(1) == reg::status_txreq(0) << 2 && reg::status_txreq(2) == reg::status_txreq(0) << 4,
+      "TXREQ bits of READ STATUS: every second bit");
   uint8_t txreq = status;  // TXREQ of buffer n at status_txreq(0) after n steps
   for (uint8_t n = 0, bit = 1; n < 3;
        ++n, bit = static_cast<uint8_t>(bit << 1), txreq = static_cast<uint8_t>(txreq >> 2)) {
@@ -265,7 +273,7 @@ void Driver::rank_transmit_buffers(uint8_t queued) {
   // rank[n]: how many queued frames go before buffer n's. Target TXP: 3 for
   // the frame that wins arbitration first, then 2, 1.
   // Not queued: rank 3, which no pass below handles. Masks walk by shifting
-  // a byte (a shift by a variable count is a loop on the AVR): -84 B on the Uno.
+  // a byte (a shift by a variable count is a loop on the AVR).
   uint8_t rank[3];
   for (uint8_t n = 0, bit_n = 1; n < 3; ++n, bit_n = static_cast<uint8_t>(bit_n << 1)) {
     rank[n] = 3;
@@ -364,9 +372,9 @@ uint8_t Driver::service() {
   const uint8_t overflow = static_cast<uint8_t>(eflg & (reg::kEflgRx0Ovr | reg::kEflgRx1Ovr));
   if (overflow != 0) {
     bit_modify(reg::kEflg, overflow, 0);
-    counters_.rx_overflows = static_cast<uint16_t>(
-        counters_.rx_overflows + ((overflow & reg::kEflgRx0Ovr) ? 1u : 0u) +
-        ((overflow & reg::kEflgRx1Ovr) ? 1u : 0u));
+    counters_.rx_overflows =
+        static_cast<uint16_t>(counters_.rx_overflows + ((overflow & reg::kEflgRx0Ovr) ? 1u : 0u) +
+                              ((overflow & reg::kEflgRx1Ovr) ? 1u : 0u));
     events |= kEventRxOverflow;
   }
   const ErrorState state = (eflg & reg::kEflgTxBo)                      ? ErrorState::kBusOff

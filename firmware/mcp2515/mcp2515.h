@@ -48,10 +48,10 @@ enum class ErrorState : uint8_t {
 
 /// Bits returned by service().
 enum : uint8_t {
-  kEventRxOverflow = 0x01,      ///< frames were lost: both buffers were full (EMCY 8110h)
-  kEventStateChanged = 0x02,    ///< error_state() differs from the previous service()
-  kEventBusOff = 0x04,          ///< entered bus-off
-  kEventBusOffRecovered = 0x08, ///< back on the bus after bus-off (EMCY 8140h)
+  kEventRxOverflow = 0x01,       ///< frames were lost: both buffers were full (EMCY 8110h)
+  kEventStateChanged = 0x02,     ///< error_state() differs from the previous service()
+  kEventBusOff = 0x04,           ///< entered bus-off
+  kEventBusOffRecovered = 0x08,  ///< back on the bus after bus-off (EMCY 8140h)
 };
 
 struct Counters {
@@ -145,7 +145,7 @@ class Driver {
   Spi spi_;
   uint8_t mode_;  ///< REQOP bits of the mode to return to after configuration
   ErrorState state_;
-  uint8_t seq_;   ///< send sequence number: FIFO order among equal ids
+  uint8_t seq_;          ///< send sequence number: FIFO order among equal ids
   uint32_t tx_key_[3];   ///< arbitration key of the frame in each TX buffer (lower first)
   uint8_t tx_seq_[3];    ///< seq_ when that frame was queued
   uint8_t tx_prio_[3];   ///< TXP last written to a pending buffer, 0xFF: unknown

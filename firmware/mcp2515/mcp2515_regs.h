@@ -25,13 +25,17 @@ constexpr uint8_t kReadRxB0D0 = 0x02;
 constexpr uint8_t kReadRxB1Sidh = 0x04;
 constexpr uint8_t kReadRxB1D0 = 0x06;
 /// LOAD TX BUFFER start at TXBnSIDH for buffer n (0..2); +1 would start at D0.
-constexpr uint8_t load_tx_sidh(uint8_t n) { return static_cast<uint8_t>(n * 2u); }
+constexpr uint8_t load_tx_sidh(uint8_t n) {
+  return static_cast<uint8_t>(n * 2u);
+}
 
 // READ STATUS bits.
 constexpr uint8_t kStatusRx0If = 0x01;
 constexpr uint8_t kStatusRx1If = 0x02;
 /// TXREQ of buffer n (0..2) in the READ STATUS byte.
-constexpr uint8_t status_txreq(uint8_t n) { return static_cast<uint8_t>(0x04u << (2u * n)); }
+constexpr uint8_t status_txreq(uint8_t n) {
+  return static_cast<uint8_t>(0x04u << (2u * n));
+}
 
 // RX STATUS bits 7:6: which receive buffers hold a message.
 constexpr uint8_t kRxStatusRxB0 = 0x40;
@@ -54,10 +58,13 @@ constexpr uint8_t kCnf1 = 0x2A;
 constexpr uint8_t kCanIntE = 0x2B;
 constexpr uint8_t kCanIntF = 0x2C;
 constexpr uint8_t kEflg = 0x2D;
-constexpr uint8_t kTxB0Ctrl = 0x30;  ///< TXBn block at 0x30 + 0x10 * n: CTRL, SIDH, SIDL, EID8, EID0, DLC, D0..D7
+constexpr uint8_t kTxB0Ctrl =
+    0x30;  ///< TXBn block at 0x30 + 0x10 * n: CTRL, SIDH, SIDL, EID8, EID0, DLC, D0..D7
 constexpr uint8_t kRxB0Ctrl = 0x60;  ///< RXB0 block; RXB1 at 0x70, same layout as TX
 constexpr uint8_t kRxB1Ctrl = 0x70;
-constexpr uint8_t tx_ctrl(uint8_t n) { return static_cast<uint8_t>(kTxB0Ctrl + 0x10u * n); }
+constexpr uint8_t tx_ctrl(uint8_t n) {
+  return static_cast<uint8_t>(kTxB0Ctrl + 0x10u * n);
+}
 /// Filter n (0..5) SIDH address.
 constexpr uint8_t rxf_sidh(uint8_t n) {
   return static_cast<uint8_t>(n < 3u ? kRxF0Sidh + 4u * n : kRxF3Sidh + 4u * (n - 3u));

@@ -33,13 +33,17 @@ CanFrame frame(uint32_t id, std::initializer_list<uint8_t> bytes) {
   return f;
 }
 
-void say(const char* text) { std::printf("\n-- %s\n", text); }
+void say(const char* text) {
+  std::printf("\n-- %s\n", text);
+}
 
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc > 1 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
-    std::printf("usage: mb2co-demo\nRuns a scripted CANopen master against the I/O test node (id 3) and prints every frame.\n");
+    std::printf(
+        "usage: mb2co-demo\nRuns a scripted CANopen master against the I/O test node (id 3) and prints every "
+        "frame.\n");
     return 0;
   }
   if (argc > 1) {

@@ -70,7 +70,8 @@ int main(int argc, char** argv) {
     pc.step_ms = static_cast<uint32_t>(o.line.pc.cycle_ns / sim::kNsPerMs);
     plant::ConfigError ce;
     uint16_t keys = 0;
-    if (!plant::check_plant_config(pc, ce, keys)) error = std::string("plant with this PC cycle: ") + ce.message;
+    if (!plant::check_plant_config(pc, ce, keys))
+      error = std::string("plant with this PC cycle: ") + ce.message;
   }
   if (!error.empty()) {
     std::fprintf(stderr, "mb2co-lab: %s\n", error.c_str());
@@ -94,8 +95,8 @@ int main(int argc, char** argv) {
   const bool all = o.scenario == lab::Scenario::kDefault;
 
   if (o.scenario == lab::Scenario::kRun) {
-    const sim::RunResult r = sim::run_scenario(o.line, o.duration_s * sim::kNsPerS, &log,
-                                               [&](double f) { bar.show("run", f); });
+    const sim::RunResult r =
+        sim::run_scenario(o.line, o.duration_s * sim::kNsPerS, &log, [&](double f) { bar.show("run", f); });
     bar.clear();
     report += lab::run_section(r);
     files.push_back({"timeline-run.svg", lab::timeline_svg(r.line, o.line.stations, "run")});
@@ -115,7 +116,8 @@ int main(int argc, char** argv) {
     const size_t cases = o.bitrates.size() * 2;
     for (size_t i = 0; i < cases; ++i) {
       const sim::LatencyCase lc{o.bitrates[i / 2], i % 2 == 1};
-      const std::string stage = sim::strf("latency %uk %s", lc.bitrate_kbit, lc.remote ? "canopen" : "modbus");
+      const std::string stage =
+          sim::strf("latency %uk %s", lc.bitrate_kbit, lc.remote ? "canopen" : "modbus");
       results.push_back(sim::latency_scenario(o.line, lc, o.presses, &log, [&](double f) {
         bar.show(stage, (static_cast<double>(i) + f) / static_cast<double>(cases));
       }));
@@ -126,7 +128,8 @@ int main(int argc, char** argv) {
     for (const sim::LatencyResult& r : results) pass = pass && r.ok;
     files.push_back({"latency.csv", lab::latency_csv(results)});
     files.push_back({"latency-bounds.csv", lab::bound_terms_csv(results)});
-    for (uint32_t b : o.bitrates) files.push_back({sim::strf("latency-%uk.svg", b), lab::latency_svg(results, b)});
+    for (uint32_t b : o.bitrates)
+      files.push_back({sim::strf("latency-%uk.svg", b), lab::latency_svg(results, b)});
   }
   if (o.scenario == lab::Scenario::kFaults) {
     const sim::FaultsResult r = sim::faults_scenario(o.line, &log, [&](double f) { bar.show("faults", f); });
@@ -153,8 +156,8 @@ int main(int argc, char** argv) {
     }
   }
   if (!o.quiet) {
-    std::fprintf(stderr, "mb2co-lab: simulated %.1f s of line time in %.2f s of CPU: %.0fx real time\n", simulated_s,
-                 wall_s, wall_s > 0 ? simulated_s / wall_s : 0.0);
+    std::fprintf(stderr, "mb2co-lab: simulated %.1f s of line time in %.2f s of CPU: %.0fx real time\n",
+                 simulated_s, wall_s, wall_s > 0 ? simulated_s / wall_s : 0.0);
   }
   return pass ? 0 : 3;
 }

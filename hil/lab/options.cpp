@@ -24,7 +24,8 @@ bool parse_uint(const std::string& text, uint64_t min, uint64_t max, uint64_t* o
 /// "125", "125k", "1M", "1000" → kbit/s.
 bool parse_bitrate(std::string t, uint32_t* kbit) {
   uint64_t mult = 1;
-  if (!t.empty() && (t.back() == 'k' || t.back() == 'K')) t.pop_back();
+  if (!t.empty() && (t.back() == 'k' || t.back() == 'K'))
+    t.pop_back();
   else if (!t.empty() && (t.back() == 'M' || t.back() == 'm')) {
     t.pop_back();
     mult = 1000;
@@ -63,11 +64,16 @@ const char* usage() {
 
 const char* scenario_name(Scenario s) {
   switch (s) {
-    case Scenario::kRun: return "run";
-    case Scenario::kStop2: return "stop2";
-    case Scenario::kLatency: return "latency";
-    case Scenario::kFaults: return "faults";
-    default: return "default";
+    case Scenario::kRun:
+      return "run";
+    case Scenario::kStop2:
+      return "stop2";
+    case Scenario::kLatency:
+      return "latency";
+    case Scenario::kFaults:
+      return "faults";
+    default:
+      return "default";
   }
 }
 
@@ -95,11 +101,16 @@ bool parse_options(int argc, char** argv, Options* o, std::string* error) {
       o->line.ring = true;
     } else if (a == "--scenario") {
       if (!value(&v)) return false;
-      if (v == "run") o->scenario = Scenario::kRun;
-      else if (v == "stop2") o->scenario = Scenario::kStop2;
-      else if (v == "latency") o->scenario = Scenario::kLatency;
-      else if (v == "faults") o->scenario = Scenario::kFaults;
-      else if (v == "default") o->scenario = Scenario::kDefault;
+      if (v == "run")
+        o->scenario = Scenario::kRun;
+      else if (v == "stop2")
+        o->scenario = Scenario::kStop2;
+      else if (v == "latency")
+        o->scenario = Scenario::kLatency;
+      else if (v == "faults")
+        o->scenario = Scenario::kFaults;
+      else if (v == "default")
+        o->scenario = Scenario::kDefault;
       else {
         *error = "--scenario must be run, stop2, latency, faults or default, got \"" + v + "\"";
         return false;
@@ -124,7 +135,8 @@ bool parse_options(int argc, char** argv, Options* o, std::string* error) {
       size_t start = 0;
       while (start <= v.size()) {
         const size_t comma = v.find(',', start);
-        const std::string item = v.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        const std::string item =
+            v.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
         uint32_t kbit = 0;
         if (!parse_bitrate(item, &kbit)) {
           *error = "--bitrates: \"" + item + "\" is not 125, 250, 500 or 1000 (kbit/s)";

@@ -14,12 +14,12 @@ enum class Scenario { kDefault, kRun, kStop2, kLatency, kFaults };
 
 struct Options {
   Scenario scenario = Scenario::kDefault;
-  sim::LineConfig line;                   ///< stations, seed, timing
+  sim::LineConfig line;  ///< stations, seed, timing
   std::vector<uint32_t> bitrates = {125, 250, 500, 1000};
   uint32_t presses = 1000;
   std::string out_dir = "out";
-  uint32_t duration_s = 30;               ///< run scenario
-  std::string firmware = "uno";           ///< uno | fast
+  uint32_t duration_s = 30;      ///< run scenario
+  std::string firmware = "uno";  ///< uno | fast
   bool quiet = false;
   bool help = false;
 };

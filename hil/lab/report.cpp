@@ -11,30 +11,40 @@ using sim::strf;
 
 namespace {
 
-std::string ms(uint64_t ns) { return strf("%.2f", static_cast<double>(ns) / 1e6); }
-const char* yes(bool b) { return b ? "yes" : "NO"; }
-const char* path_name(bool remote) { return remote ? "modbus+canopen" : "modbus"; }
+std::string ms(uint64_t ns) {
+  return strf("%.2f", static_cast<double>(ns) / 1e6);
+}
+const char* yes(bool b) {
+  return b ? "yes" : "NO";
+}
+const char* path_name(bool remote) {
+  return remote ? "modbus+canopen" : "modbus";
+}
 
 std::string leds_text(uint8_t l) {
   return strf("%c%c%c%c", (l & 2) ? 'P' : '-', (l & 1) ? 'S' : '-', (l & 4) ? 'N' : '-', (l & 8) ? 'L' : '-');
 }
 
 std::string summary_lines(const sim::LineSummary& s) {
-  return strf("  CAN: %llu frames, %llu error frames, bus load %.1f %%, %llu receive overflows; "
-              "%.0f s simulated, %llu events\n",
-              static_cast<unsigned long long>(s.can_frames), static_cast<unsigned long long>(s.error_frames),
-              s.bus_load * 100.0, static_cast<unsigned long long>(s.rx_overflows),
-              static_cast<double>(s.duration_ns) / 1e9, static_cast<unsigned long long>(s.events));
+  return strf(
+      "  CAN: %llu frames, %llu error frames, bus load %.1f %%, %llu receive overflows; "
+      "%.0f s simulated, %llu events\n",
+      static_cast<unsigned long long>(s.can_frames), static_cast<unsigned long long>(s.error_frames),
+      s.bus_load * 100.0, static_cast<unsigned long long>(s.rx_overflows),
+      static_cast<double>(s.duration_ns) / 1e9, static_cast<unsigned long long>(s.events));
 }
 
 std::string stations_table(const sim::LineSummary& s) {
-  std::string out = "  station  RUN  LEDs  bottles filled  handed on  overfilled  spilled_ml  PC cycles  overruns  failures\n";
+  std::string out =
+      "  station  RUN  LEDs  bottles filled  handed on  overfilled  spilled_ml  PC cycles  overruns  "
+      "failures\n";
   for (size_t i = 0; i < s.stations.size(); ++i) {
     const sim::StationSummary& st = s.stations[i];
-    out += strf("  %7zu  %3s  %4s  %14u  %9u  %10u  %10.1f  %9llu  %8llu  %8llu\n", i + 1, st.running ? "on" : "off",
-                leds_text(st.leds).c_str(), st.bottles_filled, st.handed_off, st.overfilled,
-                static_cast<double>(st.spilled_ul) / 1000.0, static_cast<unsigned long long>(st.pc_cycles),
-                static_cast<unsigned long long>(st.pc_overruns), static_cast<unsigned long long>(st.pc_failures));
+    out += strf(
+        "  %7zu  %3s  %4s  %14u  %9u  %10u  %10.1f  %9llu  %8llu  %8llu\n", i + 1, st.running ? "on" : "off",
+        leds_text(st.leds).c_str(), st.bottles_filled, st.handed_off, st.overfilled,
+        static_cast<double>(st.spilled_ul) / 1000.0, static_cast<unsigned long long>(st.pc_cycles),
+        static_cast<unsigned long long>(st.pc_overruns), static_cast<unsigned long long>(st.pc_failures));
   }
   return out + "  (LEDs: P RUN-prev, S RUN-self, N RUN-next, L lab)\n";
 }
@@ -42,10 +52,14 @@ std::string stations_table(const sim::LineSummary& s) {
 std::string xml_escape(const std::string& s) {
   std::string o;
   for (char c : s) {
-    if (c == '<') o += "&lt;";
-    else if (c == '>') o += "&gt;";
-    else if (c == '&') o += "&amp;";
-    else o += c;
+    if (c == '<')
+      o += "&lt;";
+    else if (c == '>')
+      o += "&gt;";
+    else if (c == '&')
+      o += "&amp;";
+    else
+      o += c;
   }
   return o;
 }
@@ -65,10 +79,11 @@ std::string report_header(const Options& o) {
               static_cast<unsigned long long>(c.node.pass_ns / sim::kNsPerUs),
               static_cast<unsigned long long>((c.node.pass_ns + c.node.jitter_ns) / sim::kNsPerUs));
   } else {
-    h += strf("firmware: ATmega328P pass times (back-to-back loop, %llu us per pass + %llu us per CAN frame "
-              "+ Modbus request costs)\n",
-              static_cast<unsigned long long>(c.node.pass_ns / sim::kNsPerUs),
-              static_cast<unsigned long long>(c.node.frame_ns / sim::kNsPerUs));
+    h += strf(
+        "firmware: ATmega328P pass times (back-to-back loop, %llu us per pass + %llu us per CAN frame "
+        "+ Modbus request costs)\n",
+        static_cast<unsigned long long>(c.node.pass_ns / sim::kNsPerUs),
+        static_cast<unsigned long long>(c.node.frame_ns / sim::kNsPerUs));
   }
   h += strf("line: heartbeat %u ms (consumers 3x), TPDO1 inhibit %u.%u ms, debounce %u ms\n", c.heartbeat_ms,
             c.tpdo1_inhibit_100us / 10, c.tpdo1_inhibit_100us % 10, c.debounce_ms);
@@ -79,7 +94,8 @@ std::string run_section(const sim::RunResult& r) {
   std::string s = "\n== run: bottles flow, RUN LEDs\n";
   s += stations_table(r.line);
   s += summary_lines(r.line);
-  s += strf("  every station running: %s; LEDs show own and neighbour RUN: %s\n", yes(r.all_running), yes(r.leds_ok));
+  s += strf("  every station running: %s; LEDs show own and neighbour RUN: %s\n", yes(r.all_running),
+            yes(r.leds_ok));
   s += strf("verdict run: %s\n", r.ok ? "PASS" : "FAIL");
   return s;
 }
@@ -93,9 +109,9 @@ std::string stop2_section(const sim::Stop2Result& r) {
       for (int i : v) t += (t.empty() ? "" : ",") + std::to_string(i + 1);
       return t.empty() ? std::string("-") : t;
     };
-    s += strf("  %d  %-9s  %-9s  %-13s  %17s  %18s  %s\n", c.k + 1, list(c.stopped).c_str(), list(c.expected).c_str(),
-              c.leds_ok ? "ok" : "WRONG", ms(c.own_led_ns).c_str(), c.next_led_ns ? ms(c.next_led_ns).c_str() : "-",
-              yes(c.restarted));
+    s += strf("  %d  %-9s  %-9s  %-13s  %17s  %18s  %s\n", c.k + 1, list(c.stopped).c_str(),
+              list(c.expected).c_str(), c.leds_ok ? "ok" : "WRONG", ms(c.own_led_ns).c_str(),
+              c.next_led_ns ? ms(c.next_led_ns).c_str() : "-", yes(c.restarted));
     for (const std::string& e : c.led_errors) s += "     " + e + "\n";
   }
   s += summary_lines(r.line);
@@ -105,7 +121,8 @@ std::string stop2_section(const sim::Stop2Result& r) {
 
 std::string latency_section(const std::vector<sim::LatencyResult>& results) {
   std::string s = "\n== latency: button -> LED (seed 000 §11), presses at random phases, ms\n";
-  s += "  bitrate  path             n     min    mean     p99     max  | bound best   worst | inside  max/worst\n";
+  s += "  bitrate  path             n     min    mean     p99     max  | bound best   worst | inside  "
+       "max/worst\n";
   bool all = true;
   size_t total = 0;
   uint32_t lost = 0;
@@ -116,31 +133,37 @@ std::string latency_section(const std::vector<sim::LatencyResult>& results) {
     lab_frames += r.lab_frames_lost;
     all = all && r.ok;
     if (!r.bound.ok) {
-      s += strf("  %4uk    %-14s  no bound: %s\n", r.c.bitrate_kbit, path_name(r.c.remote), r.bound.error.c_str());
+      s += strf("  %4uk    %-14s  no bound: %s\n", r.c.bitrate_kbit, path_name(r.c.remote),
+                r.bound.error.c_str());
       continue;
     }
     const double ratio = static_cast<double>(r.max_ns) / static_cast<double>(r.bound.bound.worst_ns);
-    s += strf("  %4uk    %-14s %5zu %7s %7s %7s %7s  | %10s %7s | %6s  %8.1f%%\n", r.c.bitrate_kbit, path_name(r.c.remote),
-              r.samples_ns.size(), ms(r.min_ns).c_str(), strf("%.2f", r.mean_ns / 1e6).c_str(), ms(r.p99_ns).c_str(),
-              ms(r.max_ns).c_str(), ms(r.bound.bound.best_ns).c_str(), ms(r.bound.bound.worst_ns).c_str(),
+    s += strf("  %4uk    %-14s %5zu %7s %7s %7s %7s  | %10s %7s | %6s  %8.1f%%\n", r.c.bitrate_kbit,
+              path_name(r.c.remote), r.samples_ns.size(), ms(r.min_ns).c_str(),
+              strf("%.2f", r.mean_ns / 1e6).c_str(), ms(r.p99_ns).c_str(), ms(r.max_ns).c_str(),
+              ms(r.bound.bound.best_ns).c_str(), ms(r.bound.bound.worst_ns).c_str(),
               r.outside == 0 ? "all" : strf("%u out", r.outside).c_str(), ratio * 100.0);
   }
-  s += "  bound: shared/timing (modbus_only_latency / modbus_canopen_latency) for the simulated configuration:\n"
+  s += "  bound: shared/timing (modbus_only_latency / modbus_canopen_latency) for the simulated "
+       "configuration:\n"
        "  CAN hops by the revised response-time analysis of the commissioned message set (Davis stuffing),\n"
        "  firmware loop = longest pass in progress + longest handling pass, PC cycle = period + jitter.\n";
   for (const sim::LatencyResult& r : results) {
     if (!r.bound.ok || !r.c.remote) continue;
     const timing::LatencyParams& p = r.bound.params;
-    s += strf("  %4uk: fw_loop %u us, poll period %u us, CAN up %s..%s ms, down %s..%s ms; %llu overflows, "
-              "%llu t1.5 discards\n",
-              r.c.bitrate_kbit, p.fw_loop_us, p.pc_cycle_us, ms(p.can_up_best_ns).c_str(), ms(p.can_up_worst_ns).c_str(),
-              ms(p.can_down_best_ns).c_str(), ms(p.can_down_worst_ns).c_str(),
-              static_cast<unsigned long long>(r.rx_overflows), static_cast<unsigned long long>(r.t15_discards));
+    s += strf(
+        "  %4uk: fw_loop %u us, poll period %u us, CAN up %s..%s ms, down %s..%s ms; %llu overflows, "
+        "%llu t1.5 discards\n",
+        r.c.bitrate_kbit, p.fw_loop_us, p.pc_cycle_us, ms(p.can_up_best_ns).c_str(),
+        ms(p.can_up_worst_ns).c_str(), ms(p.can_down_best_ns).c_str(), ms(p.can_down_worst_ns).c_str(),
+        static_cast<unsigned long long>(r.rx_overflows), static_cast<unsigned long long>(r.t15_discards));
   }
-  s += strf("verdict latency: every one of %zu measurements inside its analytical bounds: %s\n", total, yes(all));
-  s += strf("presses lost: %u (their button or LED PDO was dropped in an MCP2515 receive overflow %llu time(s);\n"
-            "  the bound assumes no frame is lost; see docs/lab.md, --can-rx-buffers)\n",
-            lost, static_cast<unsigned long long>(lab_frames));
+  s += strf("verdict latency: every one of %zu measurements inside its analytical bounds: %s\n", total,
+            yes(all));
+  s += strf(
+      "presses lost: %u (their button or LED PDO was dropped in an MCP2515 receive overflow %llu time(s);\n"
+      "  the bound assumes no frame is lost; see docs/lab.md, --can-rx-buffers)\n",
+      lost, static_cast<unsigned long long>(lab_frames));
   return s;
 }
 
@@ -177,7 +200,8 @@ std::string bound_terms_csv(const std::vector<sim::LatencyResult>& results) {
     const timing::LatencyBound& b = r.bound.bound;
     for (size_t i = 0; i < b.count; ++i) {
       s += strf("%u,%s,%s,%llu,%llu\n", r.c.bitrate_kbit, path_name(r.c.remote), b.terms[i].name,
-                static_cast<unsigned long long>(b.terms[i].best_ns), static_cast<unsigned long long>(b.terms[i].worst_ns));
+                static_cast<unsigned long long>(b.terms[i].best_ns),
+                static_cast<unsigned long long>(b.terms[i].worst_ns));
     }
     s += strf("%u,%s,total,%llu,%llu\n", r.c.bitrate_kbit, path_name(r.c.remote),
               static_cast<unsigned long long>(b.best_ns), static_cast<unsigned long long>(b.worst_ns));
@@ -198,12 +222,14 @@ std::string latency_svg(const std::vector<sim::LatencyResult>& results, uint32_t
   const int W = 900, panel_h = 220, left = 60, right = 20, top = 40;
   const int H = top + static_cast<int>(cases.size()) * (panel_h + 40) + 20;
   const double pw = W - left - right;
-  std::string s = strf("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" font-family=\"sans-serif\" "
-                       "font-size=\"12\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n",
-                       W, H);
-  s += strf("<text x=\"%d\" y=\"22\" font-size=\"15\">Button to LED latency at %u kbit/s: measured histogram, "
-            "analytical bounds (red)</text>\n",
-            left, bitrate_kbit);
+  std::string s = strf(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" font-family=\"sans-serif\" "
+      "font-size=\"12\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n",
+      W, H);
+  s += strf(
+      "<text x=\"%d\" y=\"22\" font-size=\"15\">Button to LED latency at %u kbit/s: measured histogram, "
+      "analytical bounds (red)</text>\n",
+      left, bitrate_kbit);
   const double bin_ms = x_ms / 120.0;
   for (size_t k = 0; k < cases.size(); ++k) {
     const sim::LatencyResult& r = *cases[k];
@@ -214,10 +240,11 @@ std::string latency_svg(const std::vector<sim::LatencyResult>& results, uint32_t
       ++bins[std::min<size_t>(b, 120)];
     }
     const uint32_t peak = std::max<uint32_t>(1, *std::max_element(bins.begin(), bins.end()));
-    s += strf("<text x=\"%d\" y=\"%d\">%s: n=%zu, min %s, max %s ms</text>\n", left, y0 + 12, path_name(r.c.remote),
-              r.samples_ns.size(), ms(r.min_ns).c_str(), ms(r.max_ns).c_str());
+    s += strf("<text x=\"%d\" y=\"%d\">%s: n=%zu, min %s, max %s ms</text>\n", left, y0 + 12,
+              path_name(r.c.remote), r.samples_ns.size(), ms(r.min_ns).c_str(), ms(r.max_ns).c_str());
     const int base = y0 + panel_h;
-    s += strf("<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", left, base, W - right, base);
+    s += strf("<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", left, base, W - right,
+              base);
     for (size_t b = 0; b < bins.size(); ++b) {
       if (bins[b] == 0) continue;
       const double h = (panel_h - 30) * static_cast<double>(bins[b]) / peak;
@@ -229,14 +256,17 @@ std::string latency_svg(const std::vector<sim::LatencyResult>& results, uint32_t
       for (int side = 0; side < 2; ++side) {
         const uint64_t v = side ? r.bound.bound.worst_ns : r.bound.bound.best_ns;
         const double x = left + pw * (static_cast<double>(v) / 1e6) / x_ms;
-        s += strf("<line x1=\"%.1f\" y1=\"%d\" x2=\"%.1f\" y2=\"%d\" stroke=\"red\" stroke-width=\"2\"/>\n", x, y0 + 18, x, base);
-        s += strf("<text x=\"%.1f\" y=\"%d\" fill=\"red\" text-anchor=\"%s\">%s %s</text>\n", x + (side ? -4 : 4), y0 + 30,
-                  side ? "end" : "start", side ? "worst" : "best", ms(v).c_str());
+        s += strf("<line x1=\"%.1f\" y1=\"%d\" x2=\"%.1f\" y2=\"%d\" stroke=\"red\" stroke-width=\"2\"/>\n",
+                  x, y0 + 18, x, base);
+        s += strf("<text x=\"%.1f\" y=\"%d\" fill=\"red\" text-anchor=\"%s\">%s %s</text>\n",
+                  x + (side ? -4 : 4), y0 + 30, side ? "end" : "start", side ? "worst" : "best",
+                  ms(v).c_str());
       }
     }
     for (int t = 0; t <= 10; ++t) {
       const double x = left + pw * t / 10.0;
-      s += strf("<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%.0f</text>\n", x, base + 15, x_ms * t / 10.0);
+      s += strf("<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%.0f</text>\n", x, base + 15,
+                x_ms * t / 10.0);
     }
     s += strf("<text x=\"%d\" y=\"%d\" text-anchor=\"end\">ms</text>\n", W - right, base + 30);
   }
@@ -249,12 +279,14 @@ std::string timeline_svg(const sim::LineSummary& line, int stations, const std::
   const double t_max = std::max(1.0, static_cast<double>(line.duration_ns) / 1e9);
   const double pw = W - left - right;
   auto X = [&](uint64_t t) { return left + pw * (static_cast<double>(t) / 1e9) / t_max; };
-  std::string s = strf("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" font-family=\"sans-serif\" "
-                       "font-size=\"12\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n",
-                       W, H);
-  s += strf("<text x=\"%d\" y=\"22\" font-size=\"15\">%s: RUN (green) per station, STOP2 presses (red), START "
-            "presses (blue)</text>\n",
-            left, xml_escape(title).c_str());
+  std::string s = strf(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" font-family=\"sans-serif\" "
+      "font-size=\"12\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n",
+      W, H);
+  s += strf(
+      "<text x=\"%d\" y=\"22\" font-size=\"15\">%s: RUN (green) per station, STOP2 presses (red), START "
+      "presses (blue)</text>\n",
+      left, xml_escape(title).c_str());
   for (int st = 0; st < stations; ++st) {
     const int y = top + st * lane;
     s += strf("<text x=\"10\" y=\"%d\">station %d</text>\n", y + 22, st + 1);
@@ -268,13 +300,13 @@ std::string timeline_svg(const sim::LineSummary& line, int stations, const std::
         since = e.t_ns;
       } else if (e.kind == sim::TimelineEvent::kStop && running) {
         running = false;
-        s += strf("<rect x=\"%.1f\" y=\"%d\" width=\"%.1f\" height=\"20\" fill=\"#40a040\"/>\n", X(since), y + 8,
-                  std::max(0.5, X(e.t_ns) - X(since)));
+        s += strf("<rect x=\"%.1f\" y=\"%d\" width=\"%.1f\" height=\"20\" fill=\"#40a040\"/>\n", X(since),
+                  y + 8, std::max(0.5, X(e.t_ns) - X(since)));
       }
     }
     if (running) {
-      s += strf("<rect x=\"%.1f\" y=\"%d\" width=\"%.1f\" height=\"20\" fill=\"#40a040\"/>\n", X(since), y + 8,
-                std::max(0.5, X(line.duration_ns) - X(since)));
+      s += strf("<rect x=\"%.1f\" y=\"%d\" width=\"%.1f\" height=\"20\" fill=\"#40a040\"/>\n", X(since),
+                y + 8, std::max(0.5, X(line.duration_ns) - X(since)));
     }
     for (const sim::TimelineEvent& e : line.timeline) {
       if (e.station != st) continue;
@@ -288,7 +320,8 @@ std::string timeline_svg(const sim::LineSummary& line, int stations, const std::
   const int base = top + stations * lane + 5;
   for (int t = 0; t <= 10; ++t) {
     const double x = left + pw * t / 10.0;
-    s += strf("<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%.1f</text>\n", x, base + 12, t_max * t / 10.0);
+    s += strf("<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%.1f</text>\n", x, base + 12,
+              t_max * t / 10.0);
   }
   s += strf("<text x=\"%d\" y=\"%d\" text-anchor=\"end\">s</text>\n", W - right, base + 26);
   return s + "</svg>\n";

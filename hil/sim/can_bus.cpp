@@ -120,8 +120,8 @@ void CanController::update_state() {
     bus_.schedule_recovery(*this);
     return;
   }
-  state_ = (tec_ >= kErrorPassive || rec_ >= kErrorPassive) ? CanErrorState::kPassive
-                                                              : CanErrorState::kActive;
+  state_ =
+      (tec_ >= kErrorPassive || rec_ >= kErrorPassive) ? CanErrorState::kPassive : CanErrorState::kActive;
 }
 
 // ---- bus --------------------------------------------------------------------

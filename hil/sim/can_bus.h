@@ -38,21 +38,21 @@ enum class CanErrorState : uint8_t { kActive, kPassive, kBusOff };
 
 /// What happened to one transmission attempt, for observers.
 struct CanAttempt {
-  SimNs sof_ns;       ///< start of frame
-  SimNs end_ns;       ///< end of EOF (delivery), or the bit where the error was seen
-  SimNs free_ns;      ///< bus free again (after IFS or the error frame)
-  int sender;         ///< controller index
+  SimNs sof_ns;   ///< start of frame
+  SimNs end_ns;   ///< end of EOF (delivery), or the bit where the error was seen
+  SimNs free_ns;  ///< bus free again (after IFS or the error frame)
+  int sender;     ///< controller index
   CanFrame frame;
-  uint16_t bits;      ///< exact length SOF..IFS, stuff bits included
+  uint16_t bits;  ///< exact length SOF..IFS, stuff bits included
   uint16_t stuff_bits;
-  bool error;         ///< destroyed: error frame, the frame stays queued
-  int receivers;      ///< controllers that took the frame (0 on error)
+  bool error;     ///< destroyed: error frame, the frame stays queued
+  int receivers;  ///< controllers that took the frame (0 on error)
 };
 
 struct CanControllerCounters {
   uint64_t tx_ok = 0;
-  uint64_t tx_errors = 0;     ///< attempts destroyed by an error frame
-  uint64_t tx_refused = 0;    ///< send() with all 3 buffers busy (or off)
+  uint64_t tx_errors = 0;   ///< attempts destroyed by an error frame
+  uint64_t tx_refused = 0;  ///< send() with all 3 buffers busy (or off)
   uint64_t rx_ok = 0;
   uint64_t rx_overflows = 0;  ///< frames lost: both receive buffers full
   uint64_t rx_filtered = 0;   ///< frames the acceptance filters rejected

@@ -28,7 +28,8 @@ std::string strf(const char* format, ...) {
   va_start(ap, format);
   const int n = std::vsnprintf(buf, sizeof buf, format, ap);
   va_end(ap);
-  return std::string(buf, n < 0 ? 0 : (n >= static_cast<int>(sizeof buf) ? sizeof buf - 1 : static_cast<size_t>(n)));
+  return std::string(
+      buf, n < 0 ? 0 : (n >= static_cast<int>(sizeof buf) ? sizeof buf - 1 : static_cast<size_t>(n)));
 }
 
 }  // namespace sim

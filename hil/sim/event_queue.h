@@ -92,7 +92,7 @@ class EventQueue {
   SimNs now_ = 0;
   uint64_t seq_ = 0;
   uint64_t handled_ = 0;
-  bool again_ = false;   ///< again_at() was called by the handler running
+  bool again_ = false;  ///< again_at() was called by the handler running
   SimNs again_t_ = 0;
   uint64_t again_seq_ = 0;
 };

@@ -23,8 +23,8 @@ FaultsResult faults_scenario(const LineConfig& c, EventLog* log, const Progress&
   uint8_t req[8];
   const uint16_t n = modbus::build_read_request(req, sizeof req, 1, modbus::fc::kReadInputRegisters,
                                                 regs::kIrButtons, regs::kIrStationBlock);
-  const SimNs step_ns = firmware_step_ns(c.node, max_pass_ns(c.node, c.node.can_rx_buffers, 8,
-                                                             request_cost(c.node, req, n)));
+  const SimNs step_ns =
+      firmware_step_ns(c.node, max_pass_ns(c.node, c.node.can_rx_buffers, 8, request_cost(c.node, req, n)));
 
   // Observations: last heartbeat heard from each node, neighbour-unknown times.
   std::vector<SimNs> last_hb(static_cast<size_t>(c.stations), 0);
@@ -78,11 +78,12 @@ FaultsResult faults_scenario(const LineConfig& c, EventLog* log, const Progress&
       const SimNs delay = at == 0 ? 0 : at - last_hb[static_cast<size_t>(lost)];
       ok = ok && at != 0 && delay <= consumer_ns + step_ns;
       d += strf("%sstation %d: %s", seen++ ? ", " : "", nb + 1,
-                at == 0 ? "never" : strf("%.1f ms after the last heartbeat", static_cast<double>(delay) / 1e6).c_str());
+                at == 0 ? "never"
+                        : strf("%.1f ms after the last heartbeat", static_cast<double>(delay) / 1e6).c_str());
     }
-    return std::make_pair(ok, d + strf(" (consumer time %llu ms, +%.1f ms firmware step)",
-                                       static_cast<unsigned long long>(consumer_ns / kMs),
-                                       static_cast<double>(step_ns) / 1e6));
+    return std::make_pair(
+        ok, d + strf(" (consumer time %llu ms, +%.1f ms firmware step)",
+                     static_cast<unsigned long long>(consumer_ns / kMs), static_cast<double>(step_ns) / 1e6));
   };
   bool safe_during_outage[2] = {false, false};
   auto safe_now = [&](int s) {
@@ -137,7 +138,8 @@ FaultsResult faults_scenario(const LineConfig& c, EventLog* log, const Progress&
   {
     auto d = detection(1, b0);
     check("bus-off: station 2 went bus-off", line.node(1).can().counters().bus_offs > 0,
-          strf("%llu bus-off entries", static_cast<unsigned long long>(line.node(1).can().counters().bus_offs)));
+          strf("%llu bus-off entries",
+               static_cast<unsigned long long>(line.node(1).can().counters().bus_offs)));
     check("bus-off: neighbours show station 2 unknown within the consumer time", d.first, d.second);
     auto st = stopped({1});
     check("bus-off: STOP2 at station 2 stops it at once (station 3 not told yet)", st.first, st.second);
@@ -160,8 +162,10 @@ FaultsResult faults_scenario(const LineConfig& c, EventLog* log, const Progress&
   {
     auto d = detection(2, c0);
     check("reboot: neighbours show station 3 unknown within the consumer time", d.first, d.second);
-    check("reboot: PC 3 lost its link and kept its plant safe", safe_during_outage[0] && plant_of(line, 2).link_losses() > 0,
-          strf("link losses %llu, safe mid-outage: %s", static_cast<unsigned long long>(plant_of(line, 2).link_losses()),
+    check("reboot: PC 3 lost its link and kept its plant safe",
+          safe_during_outage[0] && plant_of(line, 2).link_losses() > 0,
+          strf("link losses %llu, safe mid-outage: %s",
+               static_cast<unsigned long long>(plant_of(line, 2).link_losses()),
                safe_during_outage[0] ? "yes" : "no"));
   }
   press(line, 13500 * kMs, 2, gateway::kStart);
@@ -169,7 +173,8 @@ FaultsResult faults_scenario(const LineConfig& c, EventLog* log, const Progress&
   {
     auto st = stopped({});
     check("reboot: station 3 back, neighbours see it alive, line running",
-          st.first && line.node(1).state().next_status == 1 && line.node(3).state().prev_status == 1, st.second);
+          st.first && line.node(1).state().next_status == 1 && line.node(3).state().prev_status == 1,
+          st.second);
   }
 
   // D. Serial unplug: PC 4's cable out for 2 s; STOP2 at station 3 meanwhile.
@@ -183,8 +188,10 @@ FaultsResult faults_scenario(const LineConfig& c, EventLog* log, const Progress&
     check("unplug: STOP2 at station 3 stops stations 3 and 4 (gateway latch)", st.first, st.second);
   }
   line.run_until(17500 * kMs);
-  check("unplug: PC 4 lost its link and kept its plant safe", safe_during_outage[1] && plant_of(line, 3).link_losses() > 0,
-        strf("link losses %llu, safe mid-outage: %s", static_cast<unsigned long long>(plant_of(line, 3).link_losses()),
+  check("unplug: PC 4 lost its link and kept its plant safe",
+        safe_during_outage[1] && plant_of(line, 3).link_losses() > 0,
+        strf("link losses %llu, safe mid-outage: %s",
+             static_cast<unsigned long long>(plant_of(line, 3).link_losses()),
              safe_during_outage[1] ? "yes" : "no"));
   press(line, 18000 * kMs, 2, gateway::kStart);
   press(line, 18050 * kMs, 3, gateway::kStart);
@@ -207,8 +214,11 @@ FaultsResult faults_scenario(const LineConfig& c, EventLog* log, const Progress&
     const uint32_t gw = line.node(k).state().stop2_count;
     ok = ok && own >= presses && next >= presses && gw == presses;
     d += strf("%sst%d %u/%u/%u/%u", k ? ", " : "", k + 1, presses, gw, own, next);
-    if (own > presses) extra += strf(" PC %d counted %u own STOP2 events for %u presses;", k + 1, own, presses);
-    if (next > presses) extra += strf(" PC %d counted %u STOP2 events of station %d for %u presses;", nx + 1, next, k + 1, presses);
+    if (own > presses)
+      extra += strf(" PC %d counted %u own STOP2 events for %u presses;", k + 1, own, presses);
+    if (next > presses)
+      extra +=
+          strf(" PC %d counted %u STOP2 events of station %d for %u presses;", nx + 1, next, k + 1, presses);
   }
   check("STOP2 never lost (presses/gateway counter/own PC/next PC)", ok, d);
   if (!extra.empty()) {

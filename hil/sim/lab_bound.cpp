@@ -10,7 +10,9 @@ namespace mb2co {
 namespace sim {
 namespace {
 
-uint32_t ceil_us(SimNs ns) { return static_cast<uint32_t>((ns + kNsPerUs - 1) / kNsPerUs); }
+uint32_t ceil_us(SimNs ns) {
+  return static_cast<uint32_t>((ns + kNsPerUs - 1) / kNsPerUs);
+}
 
 uint32_t od_get(canopen::ObjectDictionary& od, uint16_t index, uint8_t sub) {
   return od.get(od.find(index, sub));
@@ -89,12 +91,14 @@ LabBound lab_bound(Line& line, bool remote) {
       const uint8_t count = static_cast<uint8_t>(od_get(od, static_cast<uint16_t>(0x1A00 + n), 0));
       if ((cob & 0x80000000u) || count == 0) continue;
       uint32_t bits = 0;
-      for (uint8_t k = 1; k <= count; ++k) bits += canopen::map_bits(od_get(od, static_cast<uint16_t>(0x1A00 + n), k));
+      for (uint8_t k = 1; k <= count; ++k)
+        bits += canopen::map_bits(od_get(od, static_cast<uint16_t>(0x1A00 + n), k));
       const uint32_t inhibit_us = od_get(od, static_cast<uint16_t>(0x1800 + n), 3) * 100u;
       const uint32_t first = od_get(od, static_cast<uint16_t>(0x1A00 + n), 1);
       const uint32_t t_us = inhibit_us != 0 ? inhibit_us : application_interarrival_us(c, first);
       if (t_us == 0) {
-        out.error = strf("TPDO%u of node %d has neither an inhibit time nor a known event rate", n + 1, s + 1);
+        out.error =
+            strf("TPDO%u of node %d has neither an inhibit time nor a known event rate", n + 1, s + 1);
         return out;
       }
       timing::MessageSpec m{};
@@ -135,8 +139,8 @@ LabBound lab_bound(Line& line, bool remote) {
     std::vector<timing::RtaMessage> rta(set.size());
     std::vector<timing::RtaResult> res(set.size());
     size_t bad = 0;
-    if (timing::analyse_set(set.data(), set.size(), bitrate, timing::WorstCase::kDavis, rta.data(), res.data(),
-                            &bad) != timing::RtaStatus::kOk ||
+    if (timing::analyse_set(set.data(), set.size(), bitrate, timing::WorstCase::kDavis, rta.data(),
+                            res.data(), &bad) != timing::RtaStatus::kOk ||
         res[at].revised != timing::Bound::kBounded) {
       return false;
     }

@@ -17,12 +17,12 @@ namespace sim {
 
 struct LabBound {
   bool ok = false;
-  std::string error;            ///< why there is no bound (unbounded RTA, ...)
+  std::string error;  ///< why there is no bound (unbounded RTA, ...)
   timing::LatencyParams params;
   timing::LatencyBound bound = {};
   std::vector<timing::MessageSpec> messages;  ///< the line's CAN set, priority order
-  SimNs pass_max_ns = 0;        ///< longest pass of a lab station
-  SimNs step_ns = 0;            ///< event → end of the pass that handles it (fw_loop)
+  SimNs pass_max_ns = 0;                      ///< longest pass of a lab station
+  SimNs step_ns = 0;                          ///< event → end of the pass that handles it (fw_loop)
 };
 
 /// Longest time from an outside event to the end of the pass that handles

@@ -17,10 +17,10 @@ enum : uint64_t { kStreamBus = 1, kStreamLine = 2, kStreamNode = 100, kStreamPc 
 void write(canopen::ObjectDictionary& od, uint16_t index, uint8_t sub, uint32_t value, uint16_t size) {
   uint8_t b[4];
   canopen::put_le32(b, value);
-  const uint32_t abort = od.write(index, sub, b, size);
+  const canopen::SdoAbort abort = od.write(index, sub, b, size);
   if (abort != canopen::kSdoOk) {
-    throw std::logic_error(strf("commissioning: write %04Xh/%u = %u refused (abort %08X)", index, sub,
-                                value, abort));
+    throw std::logic_error(strf("commissioning: write %04Xh/%u = %u refused (abort %08X)", index, sub, value,
+                                static_cast<uint32_t>(abort)));
   }
 }
 
@@ -36,7 +36,9 @@ void map_pdo(canopen::ObjectDictionary& od, uint16_t comm_index, uint16_t map_in
   write(od, comm_index, 1, cob_id, 4);
 }
 
-const char* status_name(uint8_t s) { return s == 0 ? "unknown" : s == 1 ? "alive" : "none"; }
+const char* status_name(uint8_t s) {
+  return s == 0 ? "unknown" : s == 1 ? "alive" : "none";
+}
 
 std::string hex_bytes(const uint8_t* d, size_t n) {
   std::string s;
@@ -72,11 +74,11 @@ Line::Line(const LineConfig& config, EventLog* log)
   bus_.reset(new CanBus(q_, config.bitrate_kbit * 1000u, mix_seed(config.seed, kStreamBus)));
   for (int i = 0; i < config.stations; ++i) {
     const uint64_t k = static_cast<uint64_t>(i);
-    nodes_.emplace_back(new NodeStation(q_, *bus_, i, config.baud, config.node,
-                                        mix_seed(config.seed, kStreamNode + k)));
+    nodes_.emplace_back(
+        new NodeStation(q_, *bus_, i, config.baud, config.node, mix_seed(config.seed, kStreamNode + k)));
     links_.emplace_back(new SerialLink(q_, config.baud, modbus::kRtuCharBits));
-    pcs_.emplace_back(new PcStation(q_, i, links_.back()->to_node, config.pc,
-                                    mix_seed(config.seed, kStreamPc + k)));
+    pcs_.emplace_back(
+        new PcStation(q_, i, links_.back()->to_node, config.pc, mix_seed(config.seed, kStreamPc + k)));
     NodeStation& n = *nodes_.back();
     PcStation& p = *pcs_.back();
     SerialLink& l = *links_.back();
@@ -129,8 +131,8 @@ void Line::Script::on_event(uint32_t, uint64_t arg) {
 
 void Line::set_button(int station, uint8_t button, bool pressed) {
   NodeStation& n = node(station);
-  const uint8_t b = pressed ? static_cast<uint8_t>(n.buttons() | button)
-                            : static_cast<uint8_t>(n.buttons() & ~button);
+  const uint8_t b =
+      pressed ? static_cast<uint8_t>(n.buttons() | button) : static_cast<uint8_t>(n.buttons() & ~button);
   n.set_buttons(b);
   if (log_ && log_->enabled()) {
     const char* name = button == gateway::kStart ? "START" : button == gateway::kStop ? "STOP" : "STOP2";
@@ -141,8 +143,10 @@ void Line::set_button(int station, uint8_t button, bool pressed) {
 
 void Line::power(int station, bool on) {
   note(station, "power", on ? "on" : "off");
-  if (on) node(station).power_on();
-  else node(station).power_off();
+  if (on)
+    node(station).power_on();
+  else
+    node(station).power_off();
 }
 
 void Line::plug(int station, bool connected) {
@@ -189,7 +193,8 @@ void Line::wire_log() {
       node(i).can().on_overflow = [this, i](const CanFrame& f) {
         log_->add(q_.now(), i, "rx_overflow", strf("id=%03X", f.id));
       };
-      pc(i).on_transaction = [this](int s, const uint8_t* req, uint16_t len, bool ok, modbus::ParseStatus st) {
+      pc(i).on_transaction = [this](int s, const uint8_t* req, uint16_t len, bool ok,
+                                    modbus::ParseStatus st) {
         log_->add(q_.now(), s, "modbus",
                   strf("req=%s ok=%d status=%u", hex_bytes(req, len > 8 ? 8 : len).c_str(), ok ? 1 : 0,
                        static_cast<unsigned>(st)));

@@ -23,14 +23,14 @@ namespace mb2co {
 namespace sim {
 
 struct LineConfig {
-  int stations = 4;                 ///< node ids 1..N
-  bool ring = false;                ///< 2000h/3: chain (false) or ring
-  uint32_t bitrate_kbit = 500;      ///< 125, 250, 500 or 1000
-  uint32_t baud = 115200;           ///< Modbus RTU, 8E1 (11-bit characters)
+  int stations = 4;             ///< node ids 1..N
+  bool ring = false;            ///< 2000h/3: chain (false) or ring
+  uint32_t bitrate_kbit = 500;  ///< 125, 250, 500 or 1000
+  uint32_t baud = 115200;       ///< Modbus RTU, 8E1 (11-bit characters)
   NodeTiming node;
   PcTiming pc;
-  uint16_t debounce_ms = 20;        ///< 2000h/6
-  uint16_t heartbeat_ms = 100;      ///< 1017h (consumers watch for 3x this)
+  uint16_t debounce_ms = 20;           ///< 2000h/6
+  uint16_t heartbeat_ms = 100;         ///< 1017h (consumers watch for 3x this)
   uint16_t tpdo1_inhibit_100us = 100;  ///< 1800h/3 of TPDO1 (line state)
   /// Latency lab (seed 000 §11), 0-based stations; -1: not configured. The
   /// PC's Arduino watches the remote one's buttons (2130h/2, RPDO3 from its

@@ -1,5 +1,6 @@
 #include "sim/pc_programs.h"
 
+#include "gateway/line_app.h"
 #include "modbus/protocol.h"
 
 namespace mb2co {
@@ -8,9 +9,9 @@ namespace {
 
 plant::NeighbourState neighbour(uint16_t status, uint16_t run) {
   switch (status) {
-    case 1:
+    case gateway::kNeighbourAlive:
       return run != 0 ? plant::NeighbourState::running : plant::NeighbourState::stopped;
-    case 2:
+    case gateway::kNeighbourNone:
       return plant::NeighbourState::absent;
     default:
       return plant::NeighbourState::unknown;
@@ -19,8 +20,7 @@ plant::NeighbourState neighbour(uint16_t status, uint16_t run) {
 
 }  // namespace
 
-PlantProgram::PlantProgram(const plant::PlantConfig& config, uint8_t modbus_address,
-                           uint32_t lost_after)
+PlantProgram::PlantProgram(const plant::PlantConfig& config, uint8_t modbus_address, uint32_t lost_after)
     : plant_(config),
       controller_(plant::controller_config_for(config)),
       address_(modbus_address),
@@ -53,14 +53,16 @@ uint16_t PlantProgram::on_response(const modbus::Response* r, uint8_t* out, uint
   }
   failures_ = 0;
   plant::ControllerInputs in;
-  const uint16_t buttons = r->reg(0);
-  in.start_pressed = (buttons & 0x01) != 0;
-  in.stop_pressed = (buttons & 0x02) != 0;
-  in.stop2_pressed = (buttons & 0x04) != 0;
-  in.local_stop2_events = r->reg(2);
-  in.prev_stop2_events = r->reg(7);
-  in.prev_run = neighbour(r->reg(8), r->reg(6));
-  in.next_run = neighbour(r->reg(10), r->reg(9));
+  // Registers of the block read from kIrButtons on.
+  auto reg = [r](uint16_t address) { return r->reg(static_cast<uint16_t>(address - regs::kIrButtons)); };
+  const uint16_t buttons = reg(regs::kIrButtons);
+  in.start_pressed = (buttons & gateway::kStart) != 0;
+  in.stop_pressed = (buttons & gateway::kStop) != 0;
+  in.stop2_pressed = (buttons & gateway::kStop2) != 0;
+  in.local_stop2_events = reg(regs::kIrStop2Count);
+  in.prev_stop2_events = reg(regs::kIrPrevStop2);
+  in.prev_run = neighbour(reg(regs::kIrPrevStatus), reg(regs::kIrPrevRun));
+  in.next_run = neighbour(reg(regs::kIrNextStatus), reg(regs::kIrNextRun));
   in.plant = plant_.sensors();
   const plant::ControllerOutputs& o = controller_.step(in);
   plant_.step(o.plant);
@@ -74,8 +76,8 @@ uint16_t LabProgram::first_request(uint8_t* out, uint16_t capacity) {
     return modbus::build_read_request(out, capacity, address_, modbus::fc::kReadInputRegisters,
                                       regs::kIrRemoteButtons, 1);
   }
-  return modbus::build_read_request(out, capacity, address_, modbus::fc::kReadDiscreteInputs,
-                                    regs::kDiStart, 1);
+  return modbus::build_read_request(out, capacity, address_, modbus::fc::kReadDiscreteInputs, regs::kDiStart,
+                                    1);
 }
 
 uint16_t LabProgram::on_response(const modbus::Response* r, uint8_t* out, uint16_t capacity) {

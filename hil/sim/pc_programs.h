@@ -5,6 +5,7 @@
 #pragma once
 #include <stdint.h>
 
+#include "gateway/gateway_od.h"
 #include "plant/controller.h"
 #include "plant/latency_lab.h"
 #include "plant/plant.h"
@@ -13,14 +14,34 @@
 namespace mb2co {
 namespace sim {
 
-/// Register map addresses used by the PC programs.
+/// Register map addresses used by the PC programs: the gateway's default
+/// map, looked up by the entries' names at compile time.
 namespace regs {
-constexpr uint16_t kIrButtons = 0;        ///< 6000h/1: START, STOP, STOP2 bits
-constexpr uint16_t kIrStationBlock = 11;  ///< IR 0..10: buttons .. next status
-constexpr uint16_t kIrRemoteButtons = 18; ///< 2130h/1: the watched station's buttons
-constexpr uint16_t kHrRunCommand = 0;     ///< 2100h/1
-constexpr uint16_t kDiStart = 0;          ///< 2140h/1: START pressed
-constexpr uint16_t kCoilLabLed = 1;       ///< 6200h/1 bit 0
+namespace e = gateway::od::GatewayEntry;
+constexpr uint16_t ir(canopen::OdKey entry) {
+  return gateway::default_map_address(0x2401, entry);
+}
+constexpr uint16_t kIrButtons = ir(e::x6000_1_readInput8Bit1);  ///< START, STOP, STOP2 bits
+constexpr uint16_t kIrStop2Count = ir(e::x2100_3_stop2Count);
+constexpr uint16_t kIrPrevRun = ir(e::x2110_1_prevRunState);
+constexpr uint16_t kIrPrevStop2 = ir(e::x2110_2_prevStop2Count);
+constexpr uint16_t kIrPrevStatus = ir(e::x2110_3_prevStatus);
+constexpr uint16_t kIrNextRun = ir(e::x2120_1_nextRunState);
+constexpr uint16_t kIrNextStatus = ir(e::x2120_3_nextStatus);
+/// Input registers the plant program reads in one request: buttons .. next status.
+constexpr uint16_t kIrStationBlock = static_cast<uint16_t>(kIrNextStatus + 1u - kIrButtons);
+static_assert(kIrButtons < kIrStop2Count && kIrStop2Count < kIrPrevRun && kIrPrevRun < kIrPrevStop2 &&
+                  kIrPrevStop2 < kIrPrevStatus && kIrPrevStatus < kIrNextRun && kIrNextRun < kIrNextStatus &&
+                  kIrNextStatus != 0xFFFF,
+              "the station block is one read of the default input map");
+constexpr uint16_t kIrRemoteButtons = ir(e::x2130_1_remoteButtons);  ///< the watched station's buttons
+constexpr uint16_t kHrRunCommand = gateway::default_map_address(0x2400, e::x2100_1_runCommand);
+constexpr uint16_t kDiStart = gateway::default_map_address(0x2403, e::x2140_1_startPressed);
+constexpr uint16_t kCoilLabLed =
+    gateway::default_map_address(0x2402, e::x6200_1_writeOutput8Bit1);  ///< bit 0
+static_assert(kIrRemoteButtons != 0xFFFF && kHrRunCommand != 0xFFFF && kDiStart != 0xFFFF &&
+                  kCoilLabLed != 0xFFFF,
+              "entries of the default map");
 }  // namespace regs
 
 /// Per cycle: FC 04 reads IR 0..10, the controller steps, the plant steps

@@ -116,8 +116,10 @@ void PcStation::complete(bool timed_out) {
   if (on_transaction) on_transaction(index_, req_, req_len_, ok, status);
   req_len_ = program_->on_response(ok ? &r : nullptr, req_, sizeof req_);
   if (req_len_ != 0) {
-    if (timing_.compute_ns != 0) q_.at(q_.now() + timing_.compute_ns, this, kSend, generation_);
-    else send_request();
+    if (timing_.compute_ns != 0)
+      q_.at(q_.now() + timing_.compute_ns, this, kSend, generation_);
+    else
+      send_request();
     return;
   }
   busy_ = false;

@@ -22,10 +22,10 @@ namespace sim {
 
 struct PcTiming {
   SimNs cycle_ns = 20 * kNsPerMs;
-  SimNs jitter_ns = 1 * kNsPerMs;     ///< cycle start late by [0, jitter]
-  SimNs compute_ns = 0;               ///< from a response to the next request
-  SimNs timeout_ns = 50 * kNsPerMs;   ///< response timeout after the request
-  uint32_t split_ppm = 0;             ///< requests split by a gap, per million
+  SimNs jitter_ns = 1 * kNsPerMs;    ///< cycle start late by [0, jitter]
+  SimNs compute_ns = 0;              ///< from a response to the next request
+  SimNs timeout_ns = 50 * kNsPerMs;  ///< response timeout after the request
+  uint32_t split_ppm = 0;            ///< requests split by a gap, per million
   SimNs split_gap_min_ns = 1 * kNsPerMs;
   SimNs split_gap_max_ns = 3 * kNsPerMs;
 };
@@ -45,16 +45,15 @@ class PcProgram {
 
 struct PcCounters {
   uint64_t cycles = 0;
-  uint64_t overruns = 0;      ///< a cycle started late because the last was busy
+  uint64_t overruns = 0;  ///< a cycle started late because the last was busy
   uint64_t transactions = 0;
-  uint64_t failures = 0;      ///< timeouts and bad responses
-  uint64_t splits = 0;        ///< requests sent with a gap inside
+  uint64_t failures = 0;  ///< timeouts and bad responses
+  uint64_t splits = 0;    ///< requests sent with a gap inside
 };
 
 class PcStation : public Handler {
  public:
-  PcStation(EventQueue& queue, int index, UartChannel& to_node, const PcTiming& timing,
-            uint64_t seed);
+  PcStation(EventQueue& queue, int index, UartChannel& to_node, const PcTiming& timing, uint64_t seed);
 
   int index() const { return index_; }
   void set_program(std::unique_ptr<PcProgram> program) { program_ = std::move(program); }
@@ -69,8 +68,7 @@ class PcStation : public Handler {
   void attach_serial(UartChannel* rx);
 
   /// Every finished transaction: request, response (empty on failure).
-  std::function<void(int station, const uint8_t* req, uint16_t req_len, bool ok,
-                     modbus::ParseStatus status)>
+  std::function<void(int station, const uint8_t* req, uint16_t req_len, bool ok, modbus::ParseStatus status)>
       on_transaction;
 
   const PcCounters& counters() const { return counters_; }
@@ -98,7 +96,7 @@ class PcStation : public Handler {
   bool start_when_free_ = false;
   SimNs nominal_ns_ = 0;  ///< nominal start of the next cycle
   uint32_t generation_ = 0;
-  uint32_t txn_ = 0;       ///< transaction number (stale timeouts)
+  uint32_t txn_ = 0;  ///< transaction number (stale timeouts)
   bool awaiting_ = false;
   uint8_t req_[256];
   uint16_t req_len_ = 0;

@@ -24,7 +24,9 @@ inline plant::PlantConfig plant_config(const LineConfig& c) {
   return p;
 }
 
-inline PlantProgram& plant_of(Line& line, int i) { return *static_cast<PlantProgram*>(line.pc(i).program()); }
+inline PlantProgram& plant_of(Line& line, int i) {
+  return *static_cast<PlantProgram*>(line.pc(i).program());
+}
 
 inline void install_plants(Line& line) {
   for (int i = 0; i < line.size(); ++i) {
@@ -61,13 +63,18 @@ inline void run_to(Line& line, SimNs end, const Progress& progress, SimNs origin
     const SimNs next = std::min(end, line.now() + kS);
     line.run_until(next);
     if (progress && end > origin) {
-      progress(from + (to - from) * static_cast<double>(line.now() - origin) / static_cast<double>(end - origin));
+      progress(from +
+               (to - from) * static_cast<double>(line.now() - origin) / static_cast<double>(end - origin));
     }
   }
 }
 
-inline int prev_of(const LineConfig& c, int j) { return j > 0 ? j - 1 : (c.ring ? c.stations - 1 : -1); }
-inline int next_of(const LineConfig& c, int j) { return j + 1 < c.stations ? j + 1 : (c.ring ? 0 : -1); }
+inline int prev_of(const LineConfig& c, int j) {
+  return j > 0 ? j - 1 : (c.ring ? c.stations - 1 : -1);
+}
+inline int next_of(const LineConfig& c, int j) {
+  return j + 1 < c.stations ? j + 1 : (c.ring ? 0 : -1);
+}
 
 /// RUN-self, RUN-prev, RUN-next LED bits for `running` states.
 inline uint8_t expected_leds(const LineConfig& c, const std::vector<bool>& running, int j) {
@@ -95,7 +102,8 @@ inline bool leds_match(Line& line, const std::vector<bool>& running) {
 
 /// A line whose PCs run their plants, with an operator and a timeline.
 struct PlantLine {
-  PlantLine(const LineConfig& c, EventLog* log, const char* run) : line(c, log), rng(mix_seed(c.seed, kStreamOperator)) {
+  PlantLine(const LineConfig& c, EventLog* log, const char* run)
+      : line(c, log), rng(mix_seed(c.seed, kStreamOperator)) {
     if (log) log->set_run(run);
     install_plants(line);
     record_timeline(line, timeline);

@@ -34,7 +34,8 @@ LineSummary summarize(Line& line) {
   s.can_frames = line.bus().frames_ok();
   s.error_frames = line.bus().error_frames();
   s.duration_ns = line.now();
-  s.bus_load = line.now() == 0 ? 0 : static_cast<double>(line.bus().busy_ns()) / static_cast<double>(line.now());
+  s.bus_load =
+      line.now() == 0 ? 0 : static_cast<double>(line.bus().busy_ns()) / static_cast<double>(line.now());
   s.events = line.queue().handled();
   return s;
 }
@@ -55,7 +56,8 @@ RunResult run_scenario(const LineConfig& c, SimNs duration_ns, EventLog* log, co
   r.line = summarize(line);
   r.line.timeline = tl;
   r.ok = r.all_running && r.leds_ok;
-  for (const StationSummary& s : r.line.stations) r.ok = r.ok && s.bottles_filled > 0 && s.overfilled == 0 && s.spilled_ul == 0;
+  for (const StationSummary& s : r.line.stations)
+    r.ok = r.ok && s.bottles_filled > 0 && s.overfilled == 0 && s.spilled_ul == 0;
   return r;
 }
 
@@ -230,7 +232,6 @@ LatencyResult latency_scenario(LineConfig c, const LatencyCase& lc, uint32_t pre
   r.ok = r.bound.ok && r.outside == 0 && !r.samples_ns.empty();
   return r;
 }
-
 
 }  // namespace sim
 }  // namespace mb2co

@@ -32,7 +32,7 @@ struct TimelineEvent {
 };
 
 struct StationSummary {
-  bool running = false;      ///< gateway RUN state at the end
+  bool running = false;  ///< gateway RUN state at the end
   uint8_t leds = 0;
   uint32_t bottles_filled = 0;
   uint32_t handed_off = 0;
@@ -70,14 +70,14 @@ RunResult run_scenario(const LineConfig& c, SimNs duration_ns, EventLog* log, co
 
 // ---- stop2 -----------------------------------------------------------------
 struct Stop2Case {
-  int k = 0;                             ///< station pressed (0-based)
-  std::vector<int> stopped;              ///< stations whose RUN went 0
-  std::vector<int> expected;             ///< k and k+1 (if any)
-  bool leds_ok = false;                  ///< LEDs of k-1..k+2 as expected
+  int k = 0;                  ///< station pressed (0-based)
+  std::vector<int> stopped;   ///< stations whose RUN went 0
+  std::vector<int> expected;  ///< k and k+1 (if any)
+  bool leds_ok = false;       ///< LEDs of k-1..k+2 as expected
   std::vector<std::string> led_errors;
-  SimNs own_led_ns = 0;                  ///< press → own RUN LED off
-  SimNs next_led_ns = 0;                 ///< press → next station's RUN LED off (0: none)
-  bool restarted = false;                ///< START brought every station back
+  SimNs own_led_ns = 0;    ///< press → own RUN LED off
+  SimNs next_led_ns = 0;   ///< press → next station's RUN LED off (0: none)
+  bool restarted = false;  ///< START brought every station back
   bool ok = false;
 };
 struct Stop2Result {

@@ -60,8 +60,8 @@ class CanWire {
   uint32_t cpu_hz_;
   std::deque<CanFrame> inbound_;  ///< from outside, waiting for the wire
   std::vector<Sent> sent_;
-  uint64_t busy_until_ = kIdle;   ///< end of the frame on the wire
-  bool on_wire_outbound_ = false; ///< the frame on the wire is the chip's
+  uint64_t busy_until_ = kIdle;    ///< end of the frame on the wire
+  bool on_wire_outbound_ = false;  ///< the frame on the wire is the chip's
   CanFrame on_wire_{};
   uint64_t rx_dropped_ = 0;
 };

@@ -17,7 +17,7 @@ bool EepromImage::load(std::string* error) {
     *error = "eeprom " + path_ + ": " + strerror(errno);
     return false;
   }
-  struct stat st{};
+  struct stat st {};
   const bool sized = fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size == static_cast<off_t>(kBytes);
   const bool read_ok = sized && read(fd, bytes_, kBytes) == static_cast<ssize_t>(kBytes);
   close(fd);

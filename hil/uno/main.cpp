@@ -58,7 +58,8 @@ std::string can_text(const CanFrame& f) {
   if (f.rtr()) {
     snprintf(text + n, sizeof text - static_cast<size_t>(n), "R");
   } else {
-    for (uint8_t i = 0; i < f.dlc && i < 8; ++i) n += snprintf(text + n, sizeof text - static_cast<size_t>(n), "%02X", f.data[i]);
+    for (uint8_t i = 0; i < f.dlc && i < 8; ++i)
+      n += snprintf(text + n, sizeof text - static_cast<size_t>(n), "%02X", f.data[i]);
   }
   return text;
 }
@@ -99,9 +100,14 @@ int main(int argc, char** argv) {
   }
   linux_port::SocketCanPort can;
   const bool with_can = opt.can != "none";
-  if (with_can && (!can.open(opt.can.c_str()) || !can.accept_all())) return fail(can.error());
+  if (with_can) {
+    Status bound = can.open(opt.can.c_str());
+    if (bound) bound = can.accept_all();
+    if (!bound) return fail(bound.message());
+  }
   port::SerialPort serial;
-  if (!serial.create_pty(opt.pty_link)) return fail(serial.error());
+  const Status opened = serial.create_pty(opt.pty_link);
+  if (!opened) return fail(opened.message());
 
   const uint64_t wall_start = wall_us();
   uno::Pacer pacer(!opt.unpaced, wall_start, 0);
@@ -135,8 +141,10 @@ int main(int argc, char** argv) {
     }
     // Out: serial bytes, CAN frames, panel lines.
     const std::string out = rig.take_serial_out();
-    if (!out.empty() && !serial.write(reinterpret_cast<const uint8_t*>(out.data()), out.size())) {
-      exit_code = fail(serial.error());
+    const Status written =
+        out.empty() ? Status::ok() : serial.write(reinterpret_cast<const uint8_t*>(out.data()), out.size());
+    if (!written) {
+      exit_code = fail(written.message());
       break;
     }
     for (const uno::CanWire::Sent& s : rig.take_can_out()) {
@@ -159,7 +167,9 @@ int main(int argc, char** argv) {
     if (rig.now_us() >= end_us) break;
 
     // Wait for input or for the wall clock to catch up.
-    pollfd fds[4] = {{serial.fd(), POLLIN, 0}, {g_signal_pipe[0], POLLIN, 0}, {stdin_open ? 0 : -1, POLLIN, 0},
+    pollfd fds[4] = {{serial.fd(), POLLIN, 0},
+                     {g_signal_pipe[0], POLLIN, 0},
+                     {stdin_open ? 0 : -1, POLLIN, 0},
                      {with_can ? can.fd() : -1, POLLIN, 0}};
     const uint64_t wait = pacer.wait_us(rig.now_us(), wall_us());
     const timespec timeout{static_cast<time_t>(wait / 1000000u), static_cast<long>(wait % 1000000u) * 1000};
@@ -171,12 +181,13 @@ int main(int argc, char** argv) {
     if (fds[0].revents & (POLLIN | POLLERR | POLLHUP)) {
       uint8_t bytes[256];
       uint32_t stamps[256];
-      const long n = serial.read(bytes, stamps, sizeof bytes);
-      if (n < 0) {
-        exit_code = fail(serial.error());
+      size_t n = 0;
+      const Status got = serial.read(bytes, stamps, sizeof bytes, &n);
+      if (!got) {
+        exit_code = fail(got.message());
         break;
       }
-      rig.serial_in(bytes, static_cast<size_t>(n));
+      rig.serial_in(bytes, n);
     }
     if (fds[3].revents & POLLIN) {
       linux_port::TimedCanFrame frames[linux_port::SocketCanPort::kBatch];
@@ -195,11 +206,12 @@ int main(int argc, char** argv) {
         for (size_t nl; (nl = input.find('\n')) != std::string::npos;) {
           const std::string line = input.substr(0, nl);
           // The stack's high-water mark is the board's, not the panel's.
-          const std::string reply =
-              line == "stack?" ? "stack used=" + std::to_string(rig.board().stack_used()) +
-                                     " room=" + std::to_string(rig.board().stack_room()) +
-                                     " at_us=" + std::to_string(at_us(rig.now_us()))
-                               : rig.panel().handle(line, rig.now_us(), at_us(rig.now_us()));
+          const std::string reply = line == "stack?"
+                                        ? "stack used=" + std::to_string(rig.board().stack_used()) +
+                                              " room=" + std::to_string(rig.board().stack_room()) +
+                                              " at_us=" + std::to_string(at_us(rig.now_us())) +
+                                              " sim_us=" + std::to_string(static_cast<uint32_t>(rig.now_us()))
+                                        : rig.panel().handle(line, rig.now_us(), at_us(rig.now_us()));
           input.erase(0, nl + 1);
           if (!reply.empty()) say(reply);
         }

@@ -74,7 +74,8 @@ uint8_t Mcp2515Model::transfer(uint8_t mosi) {
       }
     } else if ((mosi & 0xF9) == reg::kReadRxBuffer) {
       const uint8_t nm = (mosi >> 1) & 0x03;
-      address_ = static_cast<uint8_t>(((nm & 2) ? reg::kRxB1Ctrl : reg::kRxB0Ctrl) + ((nm & 1) ? reg::kOffD0 : reg::kOffSidh));
+      address_ = static_cast<uint8_t>(((nm & 2) ? reg::kRxB1Ctrl : reg::kRxB0Ctrl) +
+                                      ((nm & 1) ? reg::kOffD0 : reg::kOffSidh));
       read_rx_clear_ = (nm & 2) ? reg::kIntRx1 : reg::kIntRx0;
     } else if ((mosi & 0xF8) == reg::kLoadTxBuffer && (mosi & 0x07) <= 5) {
       const uint8_t abc = mosi & 0x07;
@@ -116,9 +117,11 @@ uint8_t Mcp2515Model::transfer(uint8_t mosi) {
       const uint8_t base = (f & reg::kIntRx0) ? reg::kRxB0Ctrl : reg::kRxB1Ctrl;
       if (f & (reg::kIntRx0 | reg::kIntRx1)) {
         const bool ext = regs_[base + reg::kOffSidl] & reg::kSidlExide;
-        const bool rtr = ext ? (regs_[base + reg::kOffDlc] & reg::kDlcRtr) : (regs_[base + reg::kOffSidl] & reg::kSidlSrr);
+        const bool rtr =
+            ext ? (regs_[base + reg::kOffDlc] & reg::kDlcRtr) : (regs_[base + reg::kOffSidl] & reg::kSidlSrr);
         s |= static_cast<uint8_t>((ext ? 0x10 : 0) | (rtr ? 0x08 : 0));
-        const uint8_t hit = base == reg::kRxB0Ctrl ? (regs_[base] & reg::kRxB0FilHit) : (regs_[base] & reg::kRxB1FilHit);
+        const uint8_t hit =
+            base == reg::kRxB0Ctrl ? (regs_[base] & reg::kRxB0FilHit) : (regs_[base] & reg::kRxB1FilHit);
         s |= static_cast<uint8_t>(base == reg::kRxB1Ctrl && hit < 2 ? 6 + hit : hit);
       }
       return s;
@@ -146,10 +149,12 @@ void Mcp2515Model::write_reg(uint8_t address, uint8_t value, uint8_t mask) {
   uint8_t writable = 0xFF;
   if (a == kStat || a == reg::kTec || a == reg::kRec) return;  // read-only
   if (a < 0x20 || (a >= reg::kRxM0Sidh && a <= reg::kCnf1)) {
-    if (a != reg::kBfpCtrl && a != reg::kTxRtsCtrl && a != kCtrl && !config) return;  // filters, masks, CNF: config mode only
+    if (a != reg::kBfpCtrl && a != reg::kTxRtsCtrl && a != kCtrl && !config)
+      return;  // filters, masks, CNF: config mode only
   }
   if (a == kEflg) writable = reg::kEflgRx0Ovr | reg::kEflgRx1Ovr;
-  if ((a & 0x8F) == 0x00 && a >= reg::kTxB0Ctrl && a <= reg::tx_ctrl(2)) writable = reg::kTxCtrlTxReq | reg::kTxCtrlTxp;
+  if ((a & 0x8F) == 0x00 && a >= reg::kTxB0Ctrl && a <= reg::tx_ctrl(2))
+    writable = reg::kTxCtrlTxReq | reg::kTxCtrlTxp;
   if (a > reg::kTxB0Ctrl && a < reg::kRxB0Ctrl && (a & 0x0F) != 0) {
     if (regs_[a & 0xF0] & reg::kTxCtrlTxReq) return;  // buffer locked while its frame is pending
   }
@@ -161,14 +166,17 @@ void Mcp2515Model::write_reg(uint8_t address, uint8_t value, uint8_t mask) {
   const uint8_t wanted = static_cast<uint8_t>((old & ~mask) | (value & mask));
   regs_[a] = static_cast<uint8_t>((old & ~writable) | (wanted & writable));
   if (a == reg::kRxB0Ctrl) {
-    regs_[a] = static_cast<uint8_t>((regs_[a] & ~reg::kRxCtrlBukt1) | ((regs_[a] & reg::kRxCtrlBukt) ? reg::kRxCtrlBukt1 : 0));
+    regs_[a] = static_cast<uint8_t>((regs_[a] & ~reg::kRxCtrlBukt1) |
+                                    ((regs_[a] & reg::kRxCtrlBukt) ? reg::kRxCtrlBukt1 : 0));
   }
   if (a == kCtrl) {
-    if ((regs_[kCtrl] & 0xE0) != (old & 0xE0) || (regs_[kStat] & 0xE0) != (regs_[kCtrl] & 0xE0)) mode_requested();
+    if ((regs_[kCtrl] & 0xE0) != (old & 0xE0) || (regs_[kStat] & 0xE0) != (regs_[kCtrl] & 0xE0))
+      mode_requested();
     if (regs_[kCtrl] & reg::kCanCtrlAbat) {
       for (uint8_t n = 0; n < 3; ++n) {
         uint8_t& ctrl = regs_[reg::tx_ctrl(n)];
-        if (ctrl & reg::kTxCtrlTxReq) ctrl = static_cast<uint8_t>((ctrl & ~reg::kTxCtrlTxReq) | reg::kTxCtrlAbtf);
+        if (ctrl & reg::kTxCtrlTxReq)
+          ctrl = static_cast<uint8_t>((ctrl & ~reg::kTxCtrlTxReq) | reg::kTxCtrlAbtf);
       }
     }
   }
@@ -205,7 +213,8 @@ CanFrame Mcp2515Model::buffer_frame(int n) const {
   const bool ext = b[reg::kOffSidl] & reg::kSidlExide;
   const uint32_t raw = id29(b + reg::kOffSidh);
   f.id = ext ? raw : raw >> 18;
-  f.flags = static_cast<uint8_t>((ext ? CanFrame::kExtended : 0) | ((b[reg::kOffDlc] & reg::kDlcRtr) ? CanFrame::kRtr : 0));
+  f.flags = static_cast<uint8_t>((ext ? CanFrame::kExtended : 0) |
+                                 ((b[reg::kOffDlc] & reg::kDlcRtr) ? CanFrame::kRtr : 0));
   f.dlc = static_cast<uint8_t>(std::min(b[reg::kOffDlc] & reg::kDlcMask, 8));
   if (!f.rtr()) std::copy(b + reg::kOffD0, b + reg::kOffD0 + f.dlc, f.data);
   return f;
@@ -275,7 +284,8 @@ void Mcp2515Model::store(uint8_t buffer, const CanFrame& frame, uint8_t filhit) 
   uint8_t* b = &regs_[buffer ? reg::kRxB1Ctrl : reg::kRxB0Ctrl];
   if (frame.extended()) {
     b[reg::kOffSidh] = static_cast<uint8_t>(frame.id >> 21);
-    b[reg::kOffSidl] = static_cast<uint8_t>((((frame.id >> 18) & 7) << 5) | reg::kSidlExide | ((frame.id >> 16) & 3));
+    b[reg::kOffSidl] =
+        static_cast<uint8_t>((((frame.id >> 18) & 7) << 5) | reg::kSidlExide | ((frame.id >> 16) & 3));
     b[reg::kOffEid8] = static_cast<uint8_t>(frame.id >> 8);
     b[reg::kOffEid0] = static_cast<uint8_t>(frame.id);
     b[reg::kOffDlc] = static_cast<uint8_t>(frame.dlc | (frame.rtr() ? reg::kDlcRtr : 0));

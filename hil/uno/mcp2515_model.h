@@ -54,7 +54,10 @@ class Mcp2515Model {
   /// Every mode request takes this many CANSTAT reads before it shows.
   void set_mode_delay(int reads) { mode_delay_ = reads; }
   /// Chip absent: MISO reads this constant and nothing is stored.
-  void set_absent(bool absent, uint8_t miso = 0xFF) { absent_ = absent; absent_miso_ = miso; }
+  void set_absent(bool absent, uint8_t miso = 0xFF) {
+    absent_ = absent;
+    absent_miso_ = miso;
+  }
 
   // --- inspection ---
   uint8_t reg(uint8_t address) const { return regs_[map(address)]; }

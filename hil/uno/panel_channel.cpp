@@ -63,7 +63,9 @@ void PanelChannel::process(uint64_t now_us) {
   }
 }
 
-void PanelChannel::set_led(Led led, bool on) { leds_[led] = on; }
+void PanelChannel::set_led(Led led, bool on) {
+  leds_[led] = on;
+}
 
 std::string PanelChannel::leds_line(uint32_t at_us) const {
   std::ostringstream out;

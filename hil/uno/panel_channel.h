@@ -35,7 +35,7 @@ class PanelChannel {
 
  private:
   uint8_t buttons_ = 0;
-  uint8_t clicked_ = 0;              ///< buttons a click will release
+  uint8_t clicked_ = 0;  ///< buttons a click will release
   uint64_t release_at_us_[3] = {0, 0, 0};
   bool leds_[kLedCount] = {};
   bool quit_ = false;

@@ -53,7 +53,12 @@ bool is_avr_elf(const std::string& path) {
   FILE* f = fopen(path.c_str(), "rb");
   const bool read_all = f != nullptr && fread(h, 1, sizeof h, f) == sizeof h;
   if (f != nullptr) fclose(f);
-  return read_all && memcmp(h, "\x7f" "ELF", 4) == 0 && h[4] == 1 && h[5] == 1 && h[18] == 83 && h[19] == 0;
+  return read_all &&
+         memcmp(h,
+                "\x7f"
+                "ELF",
+                4) == 0 &&
+         h[4] == 1 && h[5] == 1 && h[18] == 83 && h[19] == 0;
 }
 
 avr_spi_t* find_spi(avr_t* avr) {
@@ -72,7 +77,7 @@ UnoBoard::~UnoBoard() {
 }
 
 bool UnoBoard::load(const std::string& elf_path, Wiring wiring, std::string* error) {
-  struct stat st{};
+  struct stat st {};
   if (stat(elf_path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) {
     *error = "elf " + elf_path + ": no such file";
     return false;
@@ -96,7 +101,8 @@ bool UnoBoard::load(const std::string& elf_path, Wiring wiring, std::string* err
     return false;
   }
   if (fw->flashsize > 32768) {
-    *error = "elf " + elf_path + ": " + std::to_string(fw->flashsize) + " B of flash, the ATmega328P has 32768";
+    *error =
+        "elf " + elf_path + ": " + std::to_string(fw->flashsize) + " B of flash, the ATmega328P has 32768";
     return false;
   }
   avr_ = avr_make_mcu_by_name("atmega328p");
@@ -120,9 +126,12 @@ bool UnoBoard::load(const std::string& elf_path, Wiring wiring, std::string* err
   uint32_t flags = 0;
   avr_ioctl(avr_, AVR_IOCTL_UART_SET_FLAGS('0'), &flags);
   uart_input_ = avr_io_getirq(avr_, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT);
-  avr_irq_register_notify(avr_io_getirq(avr_, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUTPUT), &on_uart_out, this);
-  avr_irq_register_notify(avr_io_getirq(avr_, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUT_XON), &on_uart_xon, this);
-  avr_irq_register_notify(avr_io_getirq(avr_, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUT_XOFF), &on_uart_xoff, this);
+  avr_irq_register_notify(avr_io_getirq(avr_, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUTPUT), &on_uart_out,
+                          this);
+  avr_irq_register_notify(avr_io_getirq(avr_, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUT_XON), &on_uart_xon,
+                          this);
+  avr_irq_register_notify(avr_io_getirq(avr_, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUT_XOFF), &on_uart_xoff,
+                          this);
 
   // SPI: our SPDR write handler (header comment), CS on D10.
   // (The ATmega328P's SPI unit has no name in simavr 1.6: no GETIRQ('0').)
@@ -159,7 +168,9 @@ bool UnoBoard::run_until(uint64_t cycle) {
   return true;
 }
 
-uint64_t UnoBoard::cycle() const { return avr_->cycle; }
+uint64_t UnoBoard::cycle() const {
+  return avr_->cycle;
+}
 
 avr_irq_t* UnoBoard::pin_irq(uint8_t pin) const {
   const PortBit pb = port_bit(pin);

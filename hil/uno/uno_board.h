@@ -34,10 +34,10 @@ class UnoBoard {
 
   /// What the board does with the outside world. Unset callbacks ignore the event.
   struct Wiring {
-    std::function<void(uint8_t byte)> uart_tx;             ///< the image sent a byte on USART0
-    std::function<void(uint8_t pin, bool high)> pin_out;   ///< a watched pin's output level changed
-    std::function<uint8_t(uint8_t mosi)> spi_byte;         ///< one SPI byte: returns MISO
-    std::function<void(bool selected)> spi_select;         ///< chip select (D10 = PB2) edge: low = selected
+    std::function<void(uint8_t byte)> uart_tx;            ///< the image sent a byte on USART0
+    std::function<void(uint8_t pin, bool high)> pin_out;  ///< a watched pin's output level changed
+    std::function<uint8_t(uint8_t mosi)> spi_byte;        ///< one SPI byte: returns MISO
+    std::function<void(bool selected)> spi_select;        ///< chip select (D10 = PB2) edge: low = selected
   };
 
   UnoBoard();

@@ -44,7 +44,9 @@ bool UnoRig::load(const std::string& elf_path, std::string* error) {
   return true;
 }
 
-bool UnoRig::run_until_us(uint64_t until_us) { return board_.run_until(UnoBoard::cycles_from_us(until_us)); }
+bool UnoRig::run_until_us(uint64_t until_us) {
+  return board_.run_until(UnoBoard::cycles_from_us(until_us));
+}
 
 // --- pins ----------------------------------------------------------------------------
 

@@ -15,7 +15,8 @@ std::vector<Field> LatencyCycle::required_reads() const {
 
 void LatencyCycle::step(const RegisterImage& in, RegisterImage& out) {
   ++cycle_;
-  const uint8_t buttons = static_cast<uint8_t>(in.get(layout_, remote_ ? Field::remote_buttons : Field::inputs));
+  const uint8_t buttons =
+      static_cast<uint8_t>(in.get(layout_, remote_ ? Field::remote_buttons : Field::inputs));
   const uint32_t edge_us = in.get(layout_, remote_ ? Field::remote_us : Field::edge_us);
   const uint32_t led_us = in.get(layout_, Field::led_us);
   const bool lab_on = (in.get(layout_, Field::leds) & gateway::kLedLab) != 0;
@@ -55,7 +56,9 @@ void LatencyCycle::link_lost() {
   lab_ = plant::ButtonToLed();
 }
 
-void LatencyCycle::safe_outputs(RegisterImage& out) const { out.put(layout_, Field::lab_led, 0); }
+void LatencyCycle::safe_outputs(RegisterImage& out) const {
+  out.put(layout_, Field::lab_led, 0);
+}
 
 std::string LatencyCycle::take_event() {
   std::string e;
@@ -64,8 +67,8 @@ std::string LatencyCycle::take_event() {
 }
 
 std::string LatencyCycle::status() const {
-  std::string s = std::string("latency ") + (remote_ ? "remote" : "local") + " button " + (level_ ? "down" : "up") +
-                  " | presses " + std::to_string(records_.size());
+  std::string s = std::string("latency ") + (remote_ ? "remote" : "local") + " button " +
+                  (level_ ? "down" : "up") + " | presses " + std::to_string(records_.size());
   if (!records_.empty()) {
     s += " last " + std::to_string(records_.back().delay_us) + " us min " + std::to_string(stats_.min_us()) +
          " max " + std::to_string(stats_.max_us());
@@ -73,7 +76,9 @@ std::string LatencyCycle::status() const {
   return s;
 }
 
-std::vector<const char*> LatencyCycle::column_names() const { return {"button", "led", "pending", "presses"}; }
+std::vector<const char*> LatencyCycle::column_names() const {
+  return {"button", "led", "pending", "presses"};
+}
 
 void LatencyCycle::columns(std::vector<LogValue>& out) const {
   out.push_back(LogValue{level_ ? 1 : 0, nullptr});

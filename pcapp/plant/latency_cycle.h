@@ -20,11 +20,11 @@ namespace mb2co {
 namespace pcapp {
 
 struct PressRecord {
-  uint32_t press = 0;    ///< 1, 2, ...
-  uint64_t cycle = 0;    ///< cycle in which the LED change was seen
-  uint32_t edge_us = 0;  ///< button edge (remote: PDO arrival), firmware clock
-  uint32_t led_us = 0;   ///< LED change, firmware clock
-  uint32_t delay_us = 0; ///< led_us - edge_us, wrap-safe
+  uint32_t press = 0;     ///< 1, 2, ...
+  uint64_t cycle = 0;     ///< cycle in which the LED change was seen
+  uint32_t edge_us = 0;   ///< button edge (remote: PDO arrival), firmware clock
+  uint32_t led_us = 0;    ///< LED change, firmware clock
+  uint32_t delay_us = 0;  ///< led_us - edge_us, wrap-safe
 };
 
 class LatencyCycle : public CycleMode {

@@ -6,8 +6,12 @@
 namespace mb2co {
 namespace pcapp {
 
-uint32_t LatencyStats::min_us() const { return *std::min_element(samples_.begin(), samples_.end()); }
-uint32_t LatencyStats::max_us() const { return *std::max_element(samples_.begin(), samples_.end()); }
+uint32_t LatencyStats::min_us() const {
+  return *std::min_element(samples_.begin(), samples_.end());
+}
+uint32_t LatencyStats::max_us() const {
+  return *std::max_element(samples_.begin(), samples_.end());
+}
 
 uint64_t LatencyStats::mean_us() const {
   uint64_t sum = 0;

@@ -8,7 +8,8 @@ namespace pcapp {
 LinkSupervisor::LinkSupervisor(const SupervisorConfig& config, QObject* parent)
     : QObject(parent),
       config_(config),
-      backoff_(static_cast<uint32_t>(config.reconnect_first_ms), static_cast<uint32_t>(config.reconnect_max_ms)) {
+      backoff_(static_cast<uint32_t>(config.reconnect_first_ms),
+               static_cast<uint32_t>(config.reconnect_max_ms)) {
   timer_.setSingleShot(true);
 }
 
@@ -29,7 +30,8 @@ void LinkSupervisor::attempt() {
   std::string error;
   if (!link_.open(settings, error)) return failed(QString::fromStdString(error));
   int wait_ms = config_.boot_wait_ms;
-  if (wait_ms < 0) wait_ms = is_arduino_port(ports, QString::fromStdString(settings.path)) ? kArduinoBootWaitMs : 0;
+  if (wait_ms < 0)
+    wait_ms = is_arduino_port(ports, QString::fromStdString(settings.path)) ? kArduinoBootWaitMs : 0;
   // Opening the port pulsed DTR: an Uno is in its boot loader now. Wait on
   // the event loop (signals are still served), then verify.
   timer_.disconnect();
@@ -48,8 +50,8 @@ void LinkSupervisor::verify() {
   up_ = true;
   first_ = false;
   backoff_.reset();
-  emit connected(QString::fromStdString(link_.settings().path + " slave " + std::to_string(link_.settings().slave) +
-                                        ": " + identity));
+  emit connected(QString::fromStdString(link_.settings().path + " slave " +
+                                        std::to_string(link_.settings().slave) + ": " + identity));
 }
 
 void LinkSupervisor::failed(const QString& reason) {

@@ -15,8 +15,8 @@ namespace mb2co {
 namespace pcapp {
 
 struct SupervisorConfig {
-  LinkSettings link;       ///< link.path empty: auto-detect an Arduino
-  int boot_wait_ms = -1;   ///< -1: 2000 for an Arduino port, 0 otherwise
+  LinkSettings link;      ///< link.path empty: auto-detect an Arduino
+  int boot_wait_ms = -1;  ///< -1: 2000 for an Arduino port, 0 otherwise
   int reconnect_first_ms = 100;
   int reconnect_max_ms = 5000;
 };

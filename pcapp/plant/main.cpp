@@ -41,9 +41,8 @@ int main(int argc, char** argv) {
   }
   PlantApp plant(options);
   if (const int rc = plant.prepare()) return rc;
-  QObject::connect(&signals_in, &SignalPipe::received, &plant, [&plant](int signo) {
-    plant.shutdown(0, signo == SIGINT ? "SIGINT" : "SIGTERM");
-  });
+  QObject::connect(&signals_in, &SignalPipe::received, &plant,
+                   [&plant](int signo) { plant.shutdown(0, signo == SIGINT ? "SIGINT" : "SIGTERM"); });
   QObject::connect(&plant, &PlantApp::finished, &app, &QCoreApplication::exit, Qt::QueuedConnection);
   QTimer::singleShot(0, &plant, &PlantApp::start);
   return app.exec();

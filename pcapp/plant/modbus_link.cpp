@@ -14,7 +14,9 @@ namespace mb2co {
 namespace pcapp {
 
 namespace {
-bool is_exception(int err) { return err >= EMBXILFUN && err <= EMBXGTAR; }
+bool is_exception(int err) {
+  return err >= EMBXILFUN && err <= EMBXGTAR;
+}
 
 int64_t now_ms() {
   timespec ts;
@@ -32,7 +34,8 @@ bool ModbusLink::open(const LinkSettings& settings, std::string& error) {
     return false;
   }
   const uint32_t us = static_cast<uint32_t>(settings.timeout_ms) * 1000u;
-  if (modbus_set_slave(ctx_, settings.slave) != 0 || modbus_set_response_timeout(ctx_, us / 1000000u, us % 1000000u) != 0 ||
+  if (modbus_set_slave(ctx_, settings.slave) != 0 ||
+      modbus_set_response_timeout(ctx_, us / 1000000u, us % 1000000u) != 0 ||
       modbus_set_byte_timeout(ctx_, us / 1000000u, us % 1000000u) != 0) {
     error = std::string("libmodbus refused the settings: ") + modbus_strerror(errno);
     close();
@@ -77,17 +80,23 @@ LinkStatus ModbusLink::read(const TransactionPlan& plan, const RegisterImage& ou
     const Block& r = plan.reads[0];
     const uint16_t* values = out.regs[0].data() + w.start;
     uint16_t* dest = in.block(r);
-    return attempt("FC 17", [&] {
-      return modbus_write_and_read_registers(ctx_, w.start, w.count, values, r.start, r.count, dest);
-    }, error);
+    return attempt(
+        "FC 17",
+        [&] {
+          return modbus_write_and_read_registers(ctx_, w.start, w.count, values, r.start, r.count, dest);
+        },
+        error);
   }
   for (const Block& b : plan.reads) {
     uint16_t* dest = in.block(b);
     const bool input = b.table == RegTable::input;
-    const LinkStatus s = attempt(input ? "FC 04" : "FC 03", [&] {
-      return input ? modbus_read_input_registers(ctx_, b.start, b.count, dest)
-                   : modbus_read_registers(ctx_, b.start, b.count, dest);
-    }, error);
+    const LinkStatus s = attempt(
+        input ? "FC 04" : "FC 03",
+        [&] {
+          return input ? modbus_read_input_registers(ctx_, b.start, b.count, dest)
+                       : modbus_read_registers(ctx_, b.start, b.count, dest);
+        },
+        error);
     if (s != LinkStatus::ok) return s;
   }
   return LinkStatus::ok;
@@ -96,9 +105,12 @@ LinkStatus ModbusLink::read(const TransactionPlan& plan, const RegisterImage& ou
 LinkStatus ModbusLink::write(const TransactionPlan& plan, const RegisterImage& out, std::string& error) {
   for (const Block& b : plan.writes) {
     const uint16_t* values = out.regs[0].data() + b.start;
-    const LinkStatus s = b.count == 1
-        ? attempt("FC 06", [&] { return modbus_write_register(ctx_, b.start, values[0]); }, error)
-        : attempt("FC 10", [&] { return modbus_write_registers(ctx_, b.start, b.count, values); }, error);
+    const LinkStatus s =
+        b.count == 1
+            ? attempt(
+                  "FC 06", [&] { return modbus_write_register(ctx_, b.start, values[0]); }, error)
+            : attempt(
+                  "FC 10", [&] { return modbus_write_registers(ctx_, b.start, b.count, values); }, error);
     if (s != LinkStatus::ok) return s;
   }
   return LinkStatus::ok;
@@ -164,7 +176,8 @@ LinkStatus ModbusLink::identify(std::string& identity, std::string& error) {
     }
     identity = parts[0] + " " + parts[1] + " " + parts[2];
     if (parts[0] != "mb2co") {
-      error = "slave " + std::to_string(settings_.slave) + " is not an mb2co gateway (vendor '" + parts[0] + "')";
+      error =
+          "slave " + std::to_string(settings_.slave) + " is not an mb2co gateway (vendor '" + parts[0] + "')";
       return LinkStatus::exception;
     }
     return LinkStatus::ok;
@@ -176,8 +189,10 @@ LinkStatus ModbusLink::identify(std::string& identity, std::string& error) {
   // No FC 2B: an echo (FC 08/00) at least shows a live slave at this address.
   n = modbus::build_diagnostics(request, sizeof request, slave, 0x0000, 0xA55A);
   s = raw(request, n, response, sizeof response, got, error);
-  if (s == LinkStatus::ok) identity = "unidentified slave (FC 08/00 echo)";
-  else error = "FC 08/00: " + error;
+  if (s == LinkStatus::ok)
+    identity = "unidentified slave (FC 08/00 echo)";
+  else
+    error = "FC 08/00: " + error;
   return s;
 }
 

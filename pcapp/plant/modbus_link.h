@@ -29,10 +29,10 @@ namespace pcapp {
 struct LinkSettings {
   std::string path;
   int baud = 115200;
-  char parity = 'N';     ///< N, E or O
-  int slave = 1;         ///< Modbus address 1..247
-  int timeout_ms = 25;   ///< response timeout (and inter-byte timeout)
-  int retries = 2;       ///< extra attempts after a timeout / CRC error
+  char parity = 'N';    ///< N, E or O
+  int slave = 1;        ///< Modbus address 1..247
+  int timeout_ms = 25;  ///< response timeout (and inter-byte timeout)
+  int retries = 2;      ///< extra attempts after a timeout / CRC error
 };
 
 enum class LinkStatus : uint8_t {
@@ -62,7 +62,8 @@ class ModbusLink {
 
   /// The plan's reads into `in` (FC 03/04), or with plan.read_write one
   /// FC 17h that writes `out`'s write block first.
-  LinkStatus read(const TransactionPlan& plan, const RegisterImage& out, RegisterImage& in, std::string& error);
+  LinkStatus read(const TransactionPlan& plan, const RegisterImage& out, RegisterImage& in,
+                  std::string& error);
   /// The plan's write blocks from `out` (FC 06 / FC 10h), also for a
   /// read_write plan (used at shutdown).
   LinkStatus write(const TransactionPlan& plan, const RegisterImage& out, std::string& error);
@@ -75,8 +76,8 @@ class ModbusLink {
   LinkStatus attempt(const char* what, F request, std::string& error);
   /// One raw request/response on the device (for FC 2B and 08, which
   /// libmodbus 3.1 cannot receive); response parsed by the shared codec.
-  LinkStatus raw(const uint8_t* request, uint16_t length, uint8_t* response, uint16_t capacity,
-                 uint16_t& got, std::string& error);
+  LinkStatus raw(const uint8_t* request, uint16_t length, uint8_t* response, uint16_t capacity, uint16_t& got,
+                 std::string& error);
 
   modbus_t* ctx_ = nullptr;
   LinkSettings settings_;

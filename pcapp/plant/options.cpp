@@ -37,30 +37,41 @@ ParseOutcome parse_options(const QStringList& args, AppOptions& o, QString& mess
   const QCommandLineOption help = p.addHelpOption();
   const QCommandLineOption version = p.addVersionOption();
   p.addPositionalArgument("mode", "station (default) or latency", "[station|latency]");
-  const QCommandLineOption port("port", "Serial device of the gateway (default: the one Arduino on USB).", "PATH");
+  const QCommandLineOption port("port", "Serial device of the gateway (default: the one Arduino on USB).",
+                                "PATH");
   const QCommandLineOption list("list-ports", "List serial ports (Arduinos marked) and exit.");
   const QCommandLineOption baud("baud", "Baud rate (default 115200).", "N", "115200");
   const QCommandLineOption parity("parity", "Parity N, E or O (default N).", "P", "N");
   const QCommandLineOption slave("slave", "Modbus address of the gateway 1..247 (default 1).", "N", "1");
-  const QCommandLineOption cycle("cycle-ms", "Control cycle = plant step in ms, 1..1000 (default: the config's "
-                                 "step_ms, else 20).", "MS");
+  const QCommandLineOption cycle("cycle-ms",
+                                 "Control cycle = plant step in ms, 1..1000 (default: the config's "
+                                 "step_ms, else 20).",
+                                 "MS");
   const QCommandLineOption config("config", "Plant config file (docs/plant.md).", "FILE");
-  const QCommandLineOption timeout("timeout-ms", "Modbus response timeout 1..10000 ms (default 25).", "MS", "25");
-  const QCommandLineOption retries("retries", "Retries after a timeout or bad frame 0..10 (default 2).", "N", "2");
-  const QCommandLineOption boot("boot-wait-ms", "Wait after opening the port for the Uno's boot loader, "
-                                "0..60000 (default 2000 for an Arduino port, 0 otherwise).", "MS");
-  const QCommandLineOption no_reset("no-reset-wait", "Do not wait for a boot loader (same as --boot-wait-ms 0).");
-  const QCommandLineOption reconnect("reconnect-max-ms", "Longest pause between reconnection attempts, "
-                                     "100..600000 (default 5000).", "MS", "5000");
+  const QCommandLineOption timeout("timeout-ms", "Modbus response timeout 1..10000 ms (default 25).", "MS",
+                                   "25");
+  const QCommandLineOption retries("retries", "Retries after a timeout or bad frame 0..10 (default 2).", "N",
+                                   "2");
+  const QCommandLineOption boot("boot-wait-ms",
+                                "Wait after opening the port for the Uno's boot loader, "
+                                "0..60000 (default 2000 for an Arduino port, 0 otherwise).",
+                                "MS");
+  const QCommandLineOption no_reset("no-reset-wait",
+                                    "Do not wait for a boot loader (same as --boot-wait-ms 0).");
+  const QCommandLineOption reconnect("reconnect-max-ms",
+                                     "Longest pause between reconnection attempts, "
+                                     "100..600000 (default 5000).",
+                                     "MS", "5000");
   const QCommandLineOption log("log", "Every cycle's I/O to FILE.csv or FILE.jsonl.", "FILE");
   const QCommandLineOption plain("plain", "Log lines even on a terminal (no live status line).");
   const QCommandLineOption cycles("cycles", "Stop after N cycles (default: run until SIGINT/SIGTERM).", "N");
   const QCommandLineOption remote("remote", "latency: the button is on the watched remote station (by PDO).");
-  const QCommandLineOption button("button", "latency: START, STOP or STOP2 (default START).", "NAME", "START");
+  const QCommandLineOption button("button", "latency: START, STOP or STOP2 (default START).", "NAME",
+                                  "START");
   const QCommandLineOption presses("presses", "latency: stop after N measured presses.", "N");
   const QCommandLineOption csv("csv", "latency: CSV of every press.", "FILE");
-  p.addOptions({port, list, baud, parity, slave, cycle, config, timeout, retries, boot, no_reset, reconnect, log, plain,
-                cycles, remote, button, presses, csv});
+  p.addOptions({port, list, baud, parity, slave, cycle, config, timeout, retries, boot, no_reset, reconnect,
+                log, plain, cycles, remote, button, presses, csv});
 
   if (!p.parse(args)) {
     message = p.errorText() + " (try --help)";
@@ -92,17 +103,18 @@ ParseOutcome parse_options(const QStringList& args, AppOptions& o, QString& mess
   auto number = [&](const QCommandLineOption& opt, long lo, long hi, auto& field) {
     if (!p.isSet(opt) && opt.defaultValues().isEmpty()) return true;
     if (!to_int(p.value(opt), lo, hi, v)) {
-      message = "bad --" + opt.names().front() + " '" + p.value(opt) + "' (want " + QString::number(lo) + ".." +
-                QString::number(hi) + ")";
+      message = "bad --" + opt.names().front() + " '" + p.value(opt) + "' (want " + QString::number(lo) +
+                ".." + QString::number(hi) + ")";
       return false;
     }
     field = static_cast<std::remove_reference_t<decltype(field)>>(v);
     return true;
   };
-  if (!number(baud, 1200, 4000000, o.baud) || !number(slave, 1, 247, o.slave) || !number(cycle, 1, 1000, o.cycle_ms) ||
-      !number(timeout, 1, 10000, o.timeout_ms) || !number(retries, 0, 10, o.retries) ||
-      !number(boot, 0, 60000, o.boot_wait_ms) || !number(reconnect, 100, 600000, o.reconnect_max_ms) ||
-      !number(cycles, 1, 4000000000L, o.cycles) || !number(presses, 1, 1000000, o.presses)) {
+  if (!number(baud, 1200, 4000000, o.baud) || !number(slave, 1, 247, o.slave) ||
+      !number(cycle, 1, 1000, o.cycle_ms) || !number(timeout, 1, 10000, o.timeout_ms) ||
+      !number(retries, 0, 10, o.retries) || !number(boot, 0, 60000, o.boot_wait_ms) ||
+      !number(reconnect, 100, 600000, o.reconnect_max_ms) || !number(cycles, 1, 4000000000L, o.cycles) ||
+      !number(presses, 1, 1000000, o.presses)) {
     return ParseOutcome::error;
   }
   if (!standard_baud(o.baud)) {

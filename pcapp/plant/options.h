@@ -10,25 +10,25 @@ namespace mb2co {
 namespace pcapp {
 
 struct AppOptions {
-  bool latency = false;     ///< mode: the latency lab instead of the station
+  bool latency = false;  ///< mode: the latency lab instead of the station
   bool list_ports = false;
-  QString port;             ///< empty: auto-detect an Arduino
+  QString port;  ///< empty: auto-detect an Arduino
   int baud = 115200;
   char parity = 'N';
   int slave = 1;
-  int cycle_ms = -1;        ///< -1: the config's step_ms if it sets one, else 20
-  QString config;           ///< plant config file (station mode)
+  int cycle_ms = -1;  ///< -1: the config's step_ms if it sets one, else 20
+  QString config;     ///< plant config file (station mode)
   int timeout_ms = 25;
   int retries = 2;
-  int boot_wait_ms = -1;    ///< -1: 2000 for an Arduino port, 0 otherwise
+  int boot_wait_ms = -1;  ///< -1: 2000 for an Arduino port, 0 otherwise
   int reconnect_max_ms = 5000;
-  QString log;              ///< FILE.csv or FILE.jsonl
-  bool plain = false;       ///< log lines even on a terminal
-  uint64_t cycles = 0;      ///< stop after this many cycles (0: run until a signal)
-  bool remote = false;      ///< latency: the button is on the watched remote station
-  uint8_t button = 1;       ///< latency: gateway::Button bit (default START)
-  uint32_t presses = 0;     ///< latency: stop after this many measured presses
-  QString csv;              ///< latency: CSV of every press
+  QString log;           ///< FILE.csv or FILE.jsonl
+  bool plain = false;    ///< log lines even on a terminal
+  uint64_t cycles = 0;   ///< stop after this many cycles (0: run until a signal)
+  bool remote = false;   ///< latency: the button is on the watched remote station
+  uint8_t button = 1;    ///< latency: gateway::Button bit (default START)
+  uint32_t presses = 0;  ///< latency: stop after this many measured presses
+  QString csv;           ///< latency: CSV of every press
 };
 
 enum class ParseOutcome { run, exit_ok, error };

@@ -23,7 +23,9 @@ void say_error(const QString& line) {
 timing::SerialFormat serial_format(const AppOptions& o) {
   timing::SerialFormat f;
   f.baud = static_cast<uint32_t>(o.baud);
-  f.parity = o.parity == 'E' ? timing::Parity::kEven : o.parity == 'O' ? timing::Parity::kOdd : timing::Parity::kNone;
+  f.parity = o.parity == 'E'   ? timing::Parity::kEven
+             : o.parity == 'O' ? timing::Parity::kOdd
+                               : timing::Parity::kNone;
   return f;
 }
 
@@ -40,7 +42,8 @@ bool load_config(const AppOptions& o, plant::PlantConfig& config, int& cycle_ms)
     }
     const QByteArray text = file.readAll();
     if (!plant::parse_plant_config(text.constData(), static_cast<size_t>(text.size()), config, error)) {
-      say_error(QStringLiteral("%1:%2:%3: %4").arg(o.config).arg(error.line).arg(error.column).arg(error.message));
+      say_error(
+          QStringLiteral("%1:%2:%3: %4").arg(o.config).arg(error.line).arg(error.column).arg(error.message));
       return false;
     }
   } else {
@@ -74,7 +77,8 @@ int PlantApp::prepare() {
     mode_.reset(new StationCycle(layout_, config));
   }
   std::string error;
-  if (!plan_transactions(layout_, mode_->required_reads(), mode_->optional_reads(), mode_->writes(), plan_, error)) {
+  if (!plan_transactions(layout_, mode_->required_reads(), mode_->optional_reads(), mode_->writes(), plan_,
+                         error)) {
     say_error(QString::fromStdString(error));
     return 2;
   }
@@ -99,10 +103,13 @@ int PlantApp::prepare() {
   sc.reconnect_max_ms = options_.reconnect_max_ms;
   supervisor_ = new LinkSupervisor(sc, this);
   connect(supervisor_, &LinkSupervisor::connected, this, [this](const QString& d) {
+    link_was_up_ = true;
     const timing::SerialFormat f = serial_format(options_);
-    event("link up " + d + " | cycle " + QString::number(cycle_ms_) + " ms: " + QString::fromStdString(describe(plan_)) +
-          ", frames " + QString::number(plan_frame_time_ns(plan_, f) / 1000) + " us + t3.5 = " +
-          QString::number(plan_wire_time_ns(plan_, f) / 1000) + " us at " + QString::number(options_.baud) + " baud");
+    event("link up " + d + " | cycle " + QString::number(cycle_ms_) +
+          " ms: " + QString::fromStdString(describe(plan_)) + ", frames " +
+          QString::number(plan_frame_time_ns(plan_, f) / 1000) +
+          " us + t3.5 = " + QString::number(plan_wire_time_ns(plan_, f) / 1000) + " us at " +
+          QString::number(options_.baud) + " baud");
   });
   connect(supervisor_, &LinkSupervisor::disconnected, this,
           [this](const QString& why) { event("link lost: " + why + " | plant safe, reconnecting"); });
@@ -127,7 +134,9 @@ void PlantApp::start() {
   if (!shutting_down_) timer_.start();
 }
 
-void PlantApp::event(const QString& text) { view_.event(seconds(), text.toStdString()); }
+void PlantApp::event(const QString& text) {
+  view_.event(seconds(), text.toStdString());
+}
 
 void PlantApp::tick() {
   const int64_t now_ns = clock_.nsecsElapsed();
@@ -178,12 +187,15 @@ void PlantApp::tick() {
   if (view_.terminal() && now_ns - last_status_ns_ >= kStatusPeriodNs) {
     last_status_ns_ = now_ns;
     char tail[96];
-    std::snprintf(tail, sizeof tail, " | %s %.1f ms | errors %llu", supervisor_->up() ? "modbus" : "LINK DOWN",
-                  modbus_us / 1000.0, static_cast<unsigned long long>(link_losses_ + exceptions_));
+    std::snprintf(tail, sizeof tail, " | %s %.1f ms | errors %llu",
+                  supervisor_->up() ? "modbus" : "LINK DOWN", modbus_us / 1000.0,
+                  static_cast<unsigned long long>(link_losses_ + exceptions_));
     view_.status(mode_->status() + tail);
   }
-  if (mode_->done()) shutdown(0, "done");
-  else if (options_.cycles != 0 && cycles_ >= options_.cycles) shutdown(0, "cycles done");
+  if (mode_->done())
+    shutdown(0, "done");
+  else if (options_.cycles != 0 && cycles_ >= options_.cycles)
+    shutdown(0, "cycles done");
 }
 
 void PlantApp::log_cycle(bool link_up, uint32_t modbus_us) {
@@ -205,11 +217,13 @@ void PlantApp::lose_link(const std::string& reason) {
 
 std::string PlantApp::cycle_summary() const {
   std::string s = "summary cycles=" + std::to_string(cycles_) + " late=" + std::to_string(late_cycles_) +
-                  " link_losses=" + std::to_string(link_losses_) + " exceptions=" + std::to_string(exceptions_) +
+                  " link_losses=" + std::to_string(link_losses_) +
+                  " exceptions=" + std::to_string(exceptions_) +
                   " retries=" + std::to_string(supervisor_->link().retries_used());
   if (modbus_us_.count() > 0) {
-    s += " modbus_us_per_cycle min=" + std::to_string(modbus_us_.min_us()) + " mean=" +
-         std::to_string(modbus_us_.mean_us()) + " p99=" + std::to_string(modbus_us_.percentile_us(99)) +
+    s += " modbus_us_per_cycle min=" + std::to_string(modbus_us_.min_us()) +
+         " mean=" + std::to_string(modbus_us_.mean_us()) +
+         " p99=" + std::to_string(modbus_us_.percentile_us(99)) +
          " max=" + std::to_string(modbus_us_.max_us());
   }
   s += " wire_us=" + std::to_string(plan_wire_time_ns(plan_, serial_format(options_)) / 1000);
@@ -221,13 +235,21 @@ void PlantApp::shutdown(int code, const QString& why) {
   shutting_down_ = true;
   timer_.stop();
   QString done = why;
+  const QString safe_value = options_.latency ? "lab LED 0" : "RUN=0";
+  // The gateway is known safe only when it took the safe outputs; otherwise
+  // its watchdog (2000h/9) stops the station later, and a script that
+  // stopped the app must hear that this stop was not confirmed.
+  bool confirmed = false;
   if (supervisor_->up()) {
     mode_->safe_outputs(out_);
     std::string error;
-    const bool ok = supervisor_->link().write(plan_, out_, error) == LinkStatus::ok;
-    done += ok ? (options_.latency ? ": lab LED 0 written" : ": RUN=0 written")
-               : QString::fromStdString(": safe write failed (" + error + ")");
+    confirmed = supervisor_->link().write(plan_, out_, error) == LinkStatus::ok;
+    done += confirmed ? ": " + safe_value + " written"
+                      : QString::fromStdString(": safe write failed (" + error + ")");
+  } else if (link_was_up_) {
+    done += ": " + safe_value + " not written (no link)";
   }
+  if (!confirmed && link_was_up_ && code == 0) code = kExitNotConfirmed;
   supervisor_->stop();
   event(done + ", port closed");
   event(QString::fromStdString(cycle_summary()));

@@ -1,7 +1,9 @@
 // The application object: owns the mode (station or latency), the link
 // supervisor, the cycle timer, the log and the status view, and runs one
 // control cycle per timer tick. Exit codes: 0 after a signal, --cycles or
-// --presses; 1 when the first connection fails; 2 for a bad config or log.
+// --presses; 1 when the first connection fails; 2 for a bad config or log;
+// 3 (kExitNotConfirmed) when it stops without the gateway having taken the
+// safe outputs (link down, or the last write failed).
 #pragma once
 #include <QElapsedTimer>
 #include <QObject>
@@ -24,6 +26,10 @@ class LatencyCycle;
 class PlantApp : public QObject {
   Q_OBJECT
  public:
+  /// Stopped, but the gateway did not confirm RUN=0 / lab LED 0: its Modbus
+  /// watchdog (2000h/9) stops the station instead.
+  static constexpr int kExitNotConfirmed = 3;
+
   explicit PlantApp(const AppOptions& options, QObject* parent = nullptr);
   ~PlantApp() override;
 
@@ -62,15 +68,16 @@ class PlantApp : public QObject {
   CycleLog log_;
   std::vector<LogValue> row_;
   uint64_t cycles_ = 0;
-  uint64_t late_cycles_ = 0;    ///< ticks that came more than half a period late
+  uint64_t late_cycles_ = 0;  ///< ticks that came more than half a period late
   int64_t last_tick_ns_ = -1;
   int64_t last_status_ns_ = 0;
   uint64_t link_losses_ = 0;
   uint64_t exceptions_ = 0;
-  LatencyStats modbus_us_;      ///< Modbus time per cycle (all its transactions)
+  LatencyStats modbus_us_;  ///< Modbus time per cycle (all its transactions)
   uint32_t last_modbus_us_ = 0;
   std::string last_exception_;  ///< reported once until the next good cycle
   bool shutting_down_ = false;
+  bool link_was_up_ = false;  ///< the gateway was reached: its outputs are ours to make safe
 };
 
 }  // namespace pcapp

@@ -26,12 +26,15 @@ std::vector<PortInfo> list_ports() {
 }
 
 QString format_ports(const std::vector<PortInfo>& ports) {
-  if (ports.empty()) return QStringLiteral("no serial ports found (a pty is not listed: give it with --port)\n");
+  if (ports.empty())
+    return QStringLiteral("no serial ports found (a pty is not listed: give it with --port)\n");
   QString s;
   for (const PortInfo& p : ports) {
     s += p.path;
     if (p.has_ids) {
-      s += QStringLiteral("  %1:%2").arg(p.vendor_id, 4, 16, QLatin1Char('0')).arg(p.product_id, 4, 16, QLatin1Char('0'));
+      s += QStringLiteral("  %1:%2")
+               .arg(p.vendor_id, 4, 16, QLatin1Char('0'))
+               .arg(p.product_id, 4, 16, QLatin1Char('0'));
     }
     if (!p.description.isEmpty()) s += QStringLiteral("  ") + p.description;
     if (p.arduino) s += QStringLiteral("  [Arduino]");
@@ -46,8 +49,9 @@ QString pick_arduino(const std::vector<PortInfo>& ports, QString& error) {
     if (p.arduino) found << p.path;
   }
   if (found.size() == 1) return found.front();
-  error = found.isEmpty() ? QStringLiteral("no Arduino found on USB (see --list-ports; give the port with --port)")
-                          : QStringLiteral("several Arduinos found (%1): choose one with --port").arg(found.join(", "));
+  error = found.isEmpty()
+              ? QStringLiteral("no Arduino found on USB (see --list-ports; give the port with --port)")
+              : QStringLiteral("several Arduinos found (%1): choose one with --port").arg(found.join(", "));
   return QString();
 }
 

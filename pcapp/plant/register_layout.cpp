@@ -7,17 +7,27 @@ namespace mb2co {
 namespace pcapp {
 
 namespace {
+// Index, sub-index and width come from the OD's own entry keys (the names
+// the firmware uses for the same entries); the names are the log's columns.
+constexpr FieldSpec spec(canopen::OdKey key, const char* name) {
+  return {key.index, key.sub, key.bits, name};
+}
+namespace e = gateway::od::GatewayEntry;
 const FieldSpec kSpecs[kFieldCount] = {
-    {0x6000, 1, 8, "inputs"},        {0x2100, 2, 8, "run_state"},     {0x2100, 3, 16, "stop2_count"},
-    {0x2100, 4, 8, "stop_cause"},    {0x2100, 5, 16, "start_count"},  {0x2100, 6, 16, "stop_count"},
-    {0x2110, 1, 8, "prev_run"},      {0x2110, 2, 16, "prev_stop2"},   {0x2110, 3, 8, "prev_status"},
-    {0x2120, 1, 8, "next_run"},      {0x2120, 3, 8, "next_status"},   {0x2200, 0, 8, "leds"},
-    {0x2300, 1, 32, "edge_us"},      {0x2300, 2, 32, "led_us"},       {0x2300, 3, 32, "remote_us"},
-    {0x2130, 1, 8, "remote_buttons"}, {0x1001, 0, 8, "error_register"}, {0x2002, 0, 8, "nmt_state"},
-    {0x2100, 1, 8, "run_command"},   {0x6200, 1, 8, "lab_led"},
+    spec(e::x6000_1_readInput8Bit1, "inputs"),        spec(e::x2100_2_runState, "run_state"),
+    spec(e::x2100_3_stop2Count, "stop2_count"),       spec(e::x2100_4_stopCause, "stop_cause"),
+    spec(e::x2100_5_startCount, "start_count"),       spec(e::x2100_6_stopCount, "stop_count"),
+    spec(e::x2110_1_prevRunState, "prev_run"),        spec(e::x2110_2_prevStop2Count, "prev_stop2"),
+    spec(e::x2110_3_prevStatus, "prev_status"),       spec(e::x2120_1_nextRunState, "next_run"),
+    spec(e::x2120_3_nextStatus, "next_status"),       spec(e::x2200_0_leds, "leds"),
+    spec(e::x2300_1_buttonEdgeUs, "edge_us"),         spec(e::x2300_2_labLedUs, "led_us"),
+    spec(e::x2300_3_remoteButtonsUs, "remote_us"),    spec(e::x2130_1_remoteButtons, "remote_buttons"),
+    spec(e::x1001_0_errorRegister, "error_register"), spec(e::x2002_0_nmtState, "nmt_state"),
+    spec(e::x2100_1_runCommand, "run_command"),       spec(e::x6200_1_writeOutput8Bit1, "lab_led"),
 };
 
-void scan_map(const canopen::ObjectDictionary& od, uint16_t map_index, RegTable table, RegisterLayout& layout) {
+void scan_map(const canopen::ObjectDictionary& od, uint16_t map_index, RegTable table,
+              RegisterLayout& layout) {
   const uint16_t row0 = od.find(map_index, 0);
   if (row0 == canopen::ObjectDictionary::kNoRow) return;
   const uint32_t count = od.get(row0);
@@ -39,8 +49,10 @@ void scan_map(const canopen::ObjectDictionary& od, uint16_t map_index, RegTable 
     for (int f = 0; f < kFieldCount; ++f) {
       const FieldSpec& s = kSpecs[f];
       Location& at = layout.at[f];
-      const bool better = at.table == RegTable::none || (table == RegTable::holding && at.table != RegTable::holding);
-      if (entry != 0 && s.index == index && s.sub == sub && s.bits == bits && better) at = {table, address, width};
+      const bool better =
+          at.table == RegTable::none || (table == RegTable::holding && at.table != RegTable::holding);
+      if (entry != 0 && s.index == index && s.sub == sub && s.bits == bits && better)
+        at = {table, address, width};
     }
     for (uint8_t w = 0; w < width; ++w) {
       mapped.push_back(entry != 0);
@@ -51,12 +63,14 @@ void scan_map(const canopen::ObjectDictionary& od, uint16_t map_index, RegTable 
 }
 }  // namespace
 
-const FieldSpec& field_spec(Field field) { return kSpecs[static_cast<int>(field)]; }
+const FieldSpec& field_spec(Field field) {
+  return kSpecs[static_cast<int>(field)];
+}
 
 RegisterLayout layout_from_od(const canopen::ObjectDictionary& od) {
   RegisterLayout layout;
-  scan_map(od, 0x2400, RegTable::holding, layout);
-  scan_map(od, 0x2401, RegTable::input, layout);
+  scan_map(od, e::x2400_0_holdingMapCount.index, RegTable::holding, layout);
+  scan_map(od, e::x2401_0_inputMapCount.index, RegTable::input, layout);
   return layout;
 }
 

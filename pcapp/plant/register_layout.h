@@ -16,29 +16,30 @@ class ObjectDictionary;
 
 namespace pcapp {
 
-/// The OD entries the app uses. Values of 8/16-bit entries fit one register;
-/// the latency timestamps are 32-bit (two registers, high word first).
+/// The OD entries the app uses, each by its gateway::od::GatewayEntry key
+/// (the firmware's name of the entry, in the comment). Values of 8/16-bit entries fit one register; the
+/// latency timestamps are 32-bit (two registers, high word first).
 enum class Field : uint8_t {
-  inputs,          ///< 6000h/1: START, STOP, STOP2 levels (gateway::Button bits)
-  run_state,       ///< 2100h/2: RUN state as the firmware decided it
-  stop2_count,     ///< 2100h/3: this panel's STOP2 event counter
-  stop_cause,      ///< 2100h/4: gateway::StopCause of the latched stop
-  start_count,     ///< 2100h/5
-  stop_count,      ///< 2100h/6
-  prev_run,        ///< 2110h/1
-  prev_stop2,      ///< 2110h/2
-  prev_status,     ///< 2110h/3: gateway::NeighbourStatus
-  next_run,        ///< 2120h/1
-  next_status,     ///< 2120h/3
-  leds,            ///< 2200h/0: gateway::Led bits as driven
-  edge_us,         ///< 2300h/1: last button edge, firmware µs
-  led_us,          ///< 2300h/2: last lab LED change, firmware µs
-  remote_us,       ///< 2300h/3: last remote buttons arrival, firmware µs
-  remote_buttons,  ///< 2130h/1: button levels of the watched station (by PDO)
-  error_register,  ///< 1001h/0
-  nmt_state,       ///< 2002h/0
-  run_command,     ///< 2100h/1 (written): the PC's RUN command
-  lab_led,         ///< 6200h/1 (written): bit 0 = lab LED
+  inputs,          ///< x6000_1_readInput8Bit1: START, STOP, STOP2 levels (gateway::Button bits)
+  run_state,       ///< x2100_2_runState: RUN state as the firmware decided it
+  stop2_count,     ///< x2100_3_stop2Count: this panel's STOP2 event counter
+  stop_cause,      ///< x2100_4_stopCause: gateway::StopCause of the latched stop
+  start_count,     ///< x2100_5_startCount
+  stop_count,      ///< x2100_6_stopCount
+  prev_run,        ///< x2110_1_prevRunState
+  prev_stop2,      ///< x2110_2_prevStop2Count
+  prev_status,     ///< x2110_3_prevStatus: gateway::NeighbourStatus
+  next_run,        ///< x2120_1_nextRunState
+  next_status,     ///< x2120_3_nextStatus
+  leds,            ///< x2200_0_leds: gateway::Led bits as driven
+  edge_us,         ///< x2300_1_buttonEdgeUs: last button edge, firmware µs
+  led_us,          ///< x2300_2_labLedUs: last lab LED change, firmware µs
+  remote_us,       ///< x2300_3_remoteButtonsUs: last remote buttons arrival, firmware µs
+  remote_buttons,  ///< x2130_1_remoteButtons: button levels of the watched station (by PDO)
+  error_register,  ///< x1001_0_errorRegister
+  nmt_state,       ///< x2002_0_nmtState
+  run_command,     ///< x2100_1_runCommand (written): the PC's RUN command
+  lab_led,         ///< x6200_1_writeOutput8Bit1 (written): bit 0 = lab LED
 };
 constexpr int kFieldCount = 20;
 

@@ -10,22 +10,32 @@ using plant::StopCause;
 
 const char* state_name(State state) {
   switch (state) {
-    case State::stopped: return "stopped";
-    case State::fault: return "fault";
-    case State::moving: return "moving";
-    case State::approach: return "approach";
-    case State::filling: return "filling";
+    case State::stopped:
+      return "stopped";
+    case State::fault:
+      return "fault";
+    case State::moving:
+      return "moving";
+    case State::approach:
+      return "approach";
+    case State::filling:
+      return "filling";
   }
   return "?";
 }
 
 const char* stop_cause_name(StopCause cause) {
   switch (cause) {
-    case StopCause::stop_button: return "stop_button";
-    case StopCause::local_stop2: return "local_stop2";
-    case StopCause::prev_stop2: return "prev_stop2";
-    case StopCause::link_lost: return "link_lost";
-    case StopCause::fault: return "fault";
+    case StopCause::stop_button:
+      return "stop_button";
+    case StopCause::local_stop2:
+      return "local_stop2";
+    case StopCause::prev_stop2:
+      return "prev_stop2";
+    case StopCause::link_lost:
+      return "link_lost";
+    case StopCause::fault:
+      return "fault";
   }
   return "?";
 }
@@ -33,10 +43,14 @@ const char* stop_cause_name(StopCause cause) {
 namespace {
 const char* fault_name(plant::Fault f) {
   switch (f) {
-    case plant::Fault::none: return "none";
-    case plant::Fault::fill_timeout: return "fill_timeout";
-    case plant::Fault::bottle_lost: return "bottle_lost";
-    case plant::Fault::overfill: return "overfill";
+    case plant::Fault::none:
+      return "none";
+    case plant::Fault::fill_timeout:
+      return "fill_timeout";
+    case plant::Fault::bottle_lost:
+      return "bottle_lost";
+    case plant::Fault::overfill:
+      return "overfill";
   }
   return "?";
 }
@@ -53,10 +67,14 @@ std::string buttons_text(uint8_t buttons) {
 
 const char* neighbour_name(plant::NeighbourState s) {
   switch (s) {
-    case plant::NeighbourState::absent: return "none";
-    case plant::NeighbourState::unknown: return "unknown";
-    case plant::NeighbourState::stopped: return "stopped";
-    case plant::NeighbourState::running: return "running";
+    case plant::NeighbourState::absent:
+      return "none";
+    case plant::NeighbourState::unknown:
+      return "unknown";
+    case plant::NeighbourState::stopped:
+      return "stopped";
+    case plant::NeighbourState::running:
+      return "running";
   }
   return "?";
 }
@@ -66,8 +84,8 @@ StationCycle::StationCycle(const RegisterLayout& layout, const plant::PlantConfi
     : layout_(layout), plant_(config), controller_(plant::controller_config_for(config)) {}
 
 std::vector<Field> StationCycle::required_reads() const {
-  return {Field::inputs,   Field::run_state,   Field::stop2_count, Field::stop_cause,  Field::prev_run,
-          Field::prev_stop2, Field::prev_status, Field::next_run,  Field::next_status};
+  return {Field::inputs,     Field::run_state,   Field::stop2_count, Field::stop_cause, Field::prev_run,
+          Field::prev_stop2, Field::prev_status, Field::next_run,    Field::next_status};
 }
 
 std::vector<Field> StationCycle::optional_reads() const {
@@ -92,7 +110,9 @@ void StationCycle::step(const RegisterImage& in, RegisterImage& out) {
   note_changes(before, state_before);
 }
 
-void StationCycle::step_offline() { plant_.step(controller_.outputs().plant); }
+void StationCycle::step_offline() {
+  plant_.step(controller_.outputs().plant);
+}
 
 void StationCycle::link_lost() {
   const plant::ControllerCounters before = controller_.counters();
@@ -103,7 +123,9 @@ void StationCycle::link_lost() {
   note_changes(before, state_before);
 }
 
-void StationCycle::safe_outputs(RegisterImage& out) const { out.put(layout_, Field::run_command, 0); }
+void StationCycle::safe_outputs(RegisterImage& out) const {
+  out.put(layout_, Field::run_command, 0);
+}
 
 void StationCycle::note_changes(const plant::ControllerCounters& before, State state_before) {
   const State now = controller_.state();
@@ -137,9 +159,9 @@ std::string StationCycle::status() const {
 }
 
 std::vector<const char*> StationCycle::column_names() const {
-  return {"buttons", "run_state",  "stop_cause", "stop2_count", "prev_stop2", "prev",      "next",
-          "leds",    "run_command", "state",     "motor",       "valve",      "bottle",    "level_ml",
-          "filled",  "handed_off",  "spilled_ul"};
+  return {"buttons", "run_state", "stop_cause",  "stop2_count", "prev_stop2", "prev",
+          "next",    "leds",      "run_command", "state",       "motor",      "valve",
+          "bottle",  "level_ml",  "filled",      "handed_off",  "spilled_ul"};
 }
 
 void StationCycle::columns(std::vector<LogValue>& out) const {
@@ -170,7 +192,8 @@ std::string StationCycle::summary() const {
   const plant::ControllerCounters& c = controller_.counters();
   const plant::PlantCounters& p = plant_.counters();
   std::string s = "starts=" + std::to_string(c.starts) + " filled=" + std::to_string(c.bottles_filled) +
-                  " handed_off=" + std::to_string(p.handed_off) + " overfilled=" + std::to_string(p.overfilled) +
+                  " handed_off=" + std::to_string(p.handed_off) +
+                  " overfilled=" + std::to_string(p.overfilled) +
                   " spilled_ul=" + std::to_string(p.spilled_ul) + " stops:";
   for (uint8_t k = 0; k < plant::kStopCauseCount; ++k) {
     s += std::string(" ") + stop_cause_name(static_cast<StopCause>(k)) + "=" + std::to_string(c.stops[k]);

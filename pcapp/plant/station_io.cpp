@@ -6,7 +6,9 @@ namespace mb2co {
 namespace pcapp {
 
 namespace {
-int slot(RegTable t) { return t == RegTable::holding ? 0 : 1; }
+int slot(RegTable t) {
+  return t == RegTable::holding ? 0 : 1;
+}
 }  // namespace
 
 void RegisterImage::resize(const TransactionPlan& plan) {
@@ -14,7 +16,9 @@ void RegisterImage::resize(const TransactionPlan& plan) {
   regs[1].assign(plan.read_registers[1], 0);
 }
 
-uint16_t* RegisterImage::block(const Block& b) { return regs[slot(b.table)].data() + b.start; }
+uint16_t* RegisterImage::block(const Block& b) {
+  return regs[slot(b.table)].data() + b.start;
+}
 
 uint32_t RegisterImage::get(const RegisterLayout& layout, Field field) const {
   const Location& l = layout[field];
@@ -63,10 +67,12 @@ plant::NeighbourState neighbour_state(uint8_t status, uint8_t run) {
   }
 }
 
-plant::ControllerInputs controller_inputs(const Panel& panel, bool run_confirmed, const plant::Sensors& sensors) {
+plant::ControllerInputs controller_inputs(const Panel& panel, bool run_confirmed,
+                                          const plant::Sensors& sensors) {
   plant::ControllerInputs in;
   in.start_pressed = (panel.buttons & gateway::kStart) != 0;
-  const bool latched_stop = run_confirmed && panel.run_state == 0 && panel.stop_cause == gateway::kCauseStopButton;
+  const bool latched_stop = run_confirmed && panel.run_state == 0 &&
+                            panel.stop_cause == plant::reported_cause(plant::StopCause::stop_button);
   in.stop_pressed = (panel.buttons & gateway::kStop) != 0 || latched_stop;
   in.stop2_pressed = (panel.buttons & gateway::kStop2) != 0;
   in.local_stop2_events = panel.stop2_count;

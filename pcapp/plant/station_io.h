@@ -45,7 +45,8 @@ plant::NeighbourState neighbour_state(uint8_t status, uint8_t run);
 /// before the previous read already, so a firmware RUN state 0 with stop
 /// cause "STOP button" is a latched STOP press; it counts as STOP held, and
 /// a click shorter than one cycle (never seen as a level) still stops.
-plant::ControllerInputs controller_inputs(const Panel& panel, bool run_confirmed, const plant::Sensors& sensors);
+plant::ControllerInputs controller_inputs(const Panel& panel, bool run_confirmed,
+                                          const plant::Sensors& sensors);
 
 }  // namespace pcapp
 }  // namespace mb2co

@@ -10,7 +10,9 @@ namespace {
 constexpr uint16_t kMaxReadRegisters = 125;       // FC 03/04/17h read quantity
 constexpr uint16_t kMaxReadWriteRegisters = 121;  // FC 17h write quantity
 
-int table_slot(RegTable t) { return t == RegTable::holding ? 0 : 1; }
+int table_slot(RegTable t) {
+  return t == RegTable::holding ? 0 : 1;
+}
 
 bool mapped_between(const RegisterLayout& layout, RegTable table, uint16_t from, uint16_t to) {
   const std::vector<bool>& m = layout.mapped[table_slot(table)];
@@ -49,7 +51,8 @@ std::vector<timing::RtuExchange> exchanges(const TransactionPlan& plan) {
     // response byte count + values. Address, function and CRC: 4 bytes.
     const uint16_t w = plan.writes[0].count;
     const uint16_t r = plan.reads[0].count;
-    x.push_back(timing::RtuExchange{static_cast<uint16_t>(4 + 9 + 2 * w), static_cast<uint16_t>(4 + 1 + 2 * r)});
+    x.push_back(
+        timing::RtuExchange{static_cast<uint16_t>(4 + 9 + 2 * w), static_cast<uint16_t>(4 + 1 + 2 * r)});
     return x;
   }
   for (const Block& b : plan.reads) x.push_back(timing::read_registers_exchange(b.count));
@@ -82,7 +85,8 @@ bool plan_transactions(const RegisterLayout& layout, const std::vector<Field>& r
     const Location& l = layout[f];
     if (l.table != RegTable::holding || l.width != 1 || l.address >= layout.writable.size() ||
         !layout.writable[l.address]) {
-      error = std::string("the gateway's register map has no writable holding register for ") + field_spec(f).name;
+      error = std::string("the gateway's register map has no writable holding register for ") +
+              field_spec(f).name;
       return false;
     }
     out.push_back(l);
@@ -110,7 +114,8 @@ std::string describe(const TransactionPlan& plan) {
   if (plan.read_write) return "FC 17 write " + range(plan.writes[0]) + " read " + range(plan.reads[0]);
   std::string s;
   for (const Block& b : plan.reads) {
-    s += (s.empty() ? "" : " + ") + std::string(b.table == RegTable::holding ? "FC 03 " : "FC 04 ") + range(b);
+    s +=
+        (s.empty() ? "" : " + ") + std::string(b.table == RegTable::holding ? "FC 03 " : "FC 04 ") + range(b);
   }
   for (const Block& b : plan.writes) {
     s += (s.empty() ? "" : " + ") + std::string(b.count == 1 ? "FC 06 " : "FC 10 ") + range(b);
@@ -130,7 +135,9 @@ uint64_t plan_wire_time_ns(const TransactionPlan& plan, const timing::SerialForm
   return plan_frame_time_ns(plan, format) + transaction_count(plan) * timing::t35_ns(format);
 }
 
-size_t transaction_count(const TransactionPlan& plan) { return exchanges(plan).size(); }
+size_t transaction_count(const TransactionPlan& plan) {
+  return exchanges(plan).size();
+}
 
 }  // namespace pcapp
 }  // namespace mb2co

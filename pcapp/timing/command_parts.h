@@ -18,8 +18,8 @@ int latency_command(const Options& o, std::ostream& out, std::string& error);
 
 /// The message set of load/rta: FILE.csv (needs --bitrate) or --line N.
 /// Sorted into priority order; *bitrate_bps set.
-bool message_set_option(const Options& o, std::vector<timing::MessageSpec>& set,
-                        uint32_t* bitrate_bps, std::string& error);
+bool message_set_option(const Options& o, std::vector<timing::MessageSpec>& set, uint32_t* bitrate_bps,
+                        std::string& error);
 
 }  // namespace timing_cli
 }  // namespace mb2co

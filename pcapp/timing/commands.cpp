@@ -10,15 +10,15 @@ namespace mb2co {
 namespace timing_cli {
 namespace {
 
-const char* const kLineOptions[] = {
-    "--no-tpdo1",   "--tpdo-dlc",   "--tpdo-inhibit-100us", "--tpdo-event-ms",
-    "--tpdo-deadline-us", "--heartbeat-ms", "--sync-us", "--sync-tpdos",
-    "--sync-dlc",   "--sync-type",  "--jitter-us"};
+const char* const kLineOptions[] = {"--no-tpdo1",      "--tpdo-dlc",         "--tpdo-inhibit-100us",
+                                    "--tpdo-event-ms", "--tpdo-deadline-us", "--heartbeat-ms",
+                                    "--sync-us",       "--sync-tpdos",       "--sync-dlc",
+                                    "--sync-type",     "--jitter-us"};
 
 }  // namespace
 
-bool message_set_option(const Options& o, std::vector<timing::MessageSpec>& set,
-                        uint32_t* bitrate_bps, std::string& error) {
+bool message_set_option(const Options& o, std::vector<timing::MessageSpec>& set, uint32_t* bitrate_bps,
+                        std::string& error) {
   if (o.has("--line")) {
     if (!o.positional.empty()) {
       error = "give FILE.csv or --line N, not both";
@@ -28,8 +28,7 @@ bool message_set_option(const Options& o, std::vector<timing::MessageSpec>& set,
     if (!line_config_option(o, &cfg, error)) return false;
     set.resize(timing::line_message_count(cfg));
     size_t count = 0;
-    const timing::LineStatus status =
-        timing::build_line_messages(cfg, set.data(), set.size(), &count);
+    const timing::LineStatus status = timing::build_line_messages(cfg, set.data(), set.size(), &count);
     if (status != timing::LineStatus::kOk) {
       error = line_status_text(status);
       return false;
@@ -83,10 +82,18 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
   int status = 1;
   if (parse_options(argc, argv, options, error)) {
     switch (options.command) {
-      case kFrame: status = frame_command(options, out, error); break;
-      case kLoad: status = load_command(options, out, error); break;
-      case kRta: status = rta_command(options, out, error); break;
-      case kLatency: status = latency_command(options, out, error); break;
+      case kFrame:
+        status = frame_command(options, out, error);
+        break;
+      case kLoad:
+        status = load_command(options, out, error);
+        break;
+      case kRta:
+        status = rta_command(options, out, error);
+        break;
+      case kLatency:
+        status = latency_command(options, out, error);
+        break;
     }
   }
   if (status == 1) err << program << ": " << error << '\n';

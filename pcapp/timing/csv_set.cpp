@@ -1,5 +1,7 @@
 #include "csv_set.h"
 
+#include <sys/stat.h>
+
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
@@ -15,9 +17,8 @@ namespace {
 using timing::MessageSpec;
 
 enum Column { kName, kId, kExt, kDlc, kPeriod, kDeadline, kJitter, kCUs, kBits, kColumnCount };
-const char* const kColumnNames[kColumnCount] = {"name",        "id",        "ext",
-                                                "dlc",         "period_us", "deadline_us",
-                                                "jitter_us",   "c_us",      "bits"};
+const char* const kColumnNames[kColumnCount] = {"name",        "id",        "ext",  "dlc", "period_us",
+                                                "deadline_us", "jitter_us", "c_us", "bits"};
 constexpr int kRequiredColumns = kPeriod + 1;  // name .. period_us
 
 struct Field {
@@ -82,6 +83,83 @@ bool parse_uint(const std::string& text, bool allow_hex, uint64_t max, uint64_t*
   return true;
 }
 
+// A decimal number of µs ("1040", "1040.0", "1040.125") as µs x 10^decimals,
+// when it has no significant digit beyond `decimals` and a whole part of at
+// most `max_whole`.
+bool parse_decimal(const std::string& text, unsigned decimals, uint64_t max_whole, uint64_t* scaled) {
+  const size_t dot = text.find('.');
+  uint64_t whole = 0;
+  if (!parse_uint(text.substr(0, dot), false, max_whole, &whole)) return false;
+  uint64_t frac = 0;
+  unsigned digits = 0;
+  if (dot != std::string::npos) {
+    if (dot + 1 == text.size()) return false;
+    for (size_t i = dot + 1; i < text.size(); ++i) {
+      if (text[i] < '0' || text[i] > '9') return false;
+      const unsigned d = static_cast<unsigned>(text[i] - '0');
+      if (digits < decimals) {
+        frac = frac * 10u + d;
+        ++digits;
+      } else if (d != 0) {
+        return false;  // not exact at this resolution
+      }
+    }
+  }
+  uint64_t scale = 1;
+  for (unsigned i = 0; i < decimals; ++i) scale *= 10u;
+  for (; digits < decimals; ++digits) frac *= 10u;
+  *scaled = whole * scale + frac;
+  return true;
+}
+
+// Length of the UTF-8 sequence at text[i] (1..4), 0 when it is not one
+// (overlong forms, surrogates and code points above U+10FFFF included).
+size_t utf8_length(const std::string& text, size_t i) {
+  const unsigned char c = static_cast<unsigned char>(text[i]);
+  if (c < 0x80) return 1;
+  size_t n = 0;
+  unsigned cp = 0;
+  if (c >= 0xC2 && c <= 0xDF) {
+    n = 2;
+    cp = c & 0x1Fu;
+  } else if (c >= 0xE0 && c <= 0xEF) {
+    n = 3;
+    cp = c & 0x0Fu;
+  } else if (c >= 0xF0 && c <= 0xF4) {
+    n = 4;
+    cp = c & 0x07u;
+  } else {
+    return 0;
+  }
+  if (i + n > text.size()) return 0;
+  for (size_t k = 1; k < n; ++k) {
+    const unsigned char t = static_cast<unsigned char>(text[i + k]);
+    if ((t & 0xC0u) != 0x80u) return 0;
+    cp = (cp << 6) | (t & 0x3Fu);
+  }
+  const unsigned min[5] = {0, 0, 0x80, 0x800, 0x10000};
+  if (cp < min[n] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return 0;
+  return n;
+}
+
+/// 0 when `line` is UTF-8 without NUL, else the 1-based column of the first
+/// offending byte; *what says which.
+size_t bad_byte(const std::string& line, const char** what) {
+  for (size_t i = 0; i < line.size();) {
+    if (line[i] == '\0') {
+      *what = "NUL byte (the file must be text)";
+      return i + 1;
+    }
+    const size_t n = utf8_length(line, i);
+    if (n == 0) {
+      *what = "not valid UTF-8 (save the file as UTF-8)";
+      return i + 1;
+    }
+    i += n;
+  }
+  return 0;
+}
+
 class Parser {
  public:
   Parser(const std::string& source, std::string& error) : fail_(source, error) {}
@@ -117,9 +195,9 @@ class Parser {
            std::vector<MessageSpec>& out) {
     if (fields.size() != width_) {
       const size_t col = fields.size() > width_ ? fields[width_].col : text.size() + 1;
-      return fail_.at(line, col,
-                      "expected " + std::to_string(width_) + " fields, found " +
-                          std::to_string(fields.size()));
+      return fail_.at(
+          line, col,
+          "expected " + std::to_string(width_) + " fields, found " + std::to_string(fields.size()));
     }
     line_ = line;
     fields_ = &fields;
@@ -130,8 +208,7 @@ class Parser {
     if (name.text.empty()) return fail_.at(line, name.col, "empty name");
     if (name.text.size() >= timing::kNameCapacity) {
       return fail_.at(line, name.col,
-                      "name longer than " + std::to_string(timing::kNameCapacity - 1) +
-                          " characters");
+                      "name longer than " + std::to_string(timing::kNameCapacity - 1) + " characters");
     }
     if (!names_.insert(name.text).second) {
       return fail_.at(line, name.col, "name \"" + name.text + "\" used twice");
@@ -154,12 +231,13 @@ class Parser {
     m.deadline_us = m.period_us;
     if (present(kDeadline) && !positive(kDeadline, &m.deadline_us)) return false;
     if (present(kJitter)) {
-      if (!number(kJitter, false, UINT32_MAX, "jitter_us must be an integer 0..4294967295", &v)) {
-        return false;
+      if (!parse_decimal(cell(kJitter).text, 0, UINT32_MAX, &v)) {
+        return fail_.at(line, cell(kJitter).col,
+                        "jitter_us must be an integer 0..4294967295, got \"" + cell(kJitter).text + "\"");
       }
       m.jitter_us = static_cast<uint32_t>(v);
     }
-    if (present(kCUs) && !positive(kCUs, &m.c_us)) return false;
+    if (present(kCUs) && !transmission_time(&m.c_ns)) return false;
     if (present(kBits)) {
       if (present(kCUs)) return fail_.at(line, cell(kBits).col, "give c_us or bits, not both");
       if (!number(kBits, false, UINT16_MAX, "bits must be 1..65535", &v)) return false;
@@ -171,8 +249,8 @@ class Parser {
     const auto seen = ids_.emplace(key, line);
     if (!seen.second) {
       return fail_.at(line, cell(kId).col,
-                      "id " + cell(kId).text + " already used on line " +
-                          std::to_string(seen.first->second) + " (CAN ids must be unique)");
+                      "id " + cell(kId).text + " already used on line " + std::to_string(seen.first->second) +
+                          " (CAN ids must be unique)");
     }
     out.push_back(m);
     return true;
@@ -194,11 +272,23 @@ class Parser {
 
   bool positive(Column c, uint32_t* out) {
     uint64_t v = 0;
-    const std::string what =
-        std::string(kColumnNames[c]) + " must be a whole number of µs 1..4294967295";
-    if (!number(c, false, UINT32_MAX, what.c_str(), &v)) return false;
-    if (v == 0) return fail_.at(line_, cell(c).col, what + ", got \"0\"");
+    const std::string what = std::string(kColumnNames[c]) + " must be a whole number of µs 1..4294967295";
+    const Field& f = cell(c);
+    if (!parse_decimal(f.text, 0, UINT32_MAX, &v)) {
+      return fail_.at(line_, f.col, what + ", got \"" + f.text + "\"");
+    }
+    if (v == 0) return fail_.at(line_, f.col, what + ", got \"" + f.text + "\"");
     *out = static_cast<uint32_t>(v);
+    return true;
+  }
+
+  // c_us: µs with up to three decimals, kept in ns.
+  bool transmission_time(uint64_t* ns) {
+    const Field& f = cell(kCUs);
+    const std::string what = "c_us must be µs 0.001..4294967295 with at most 3 decimals";
+    if (!parse_decimal(f.text, 3, UINT32_MAX, ns) || *ns == 0) {
+      return fail_.at(line_, f.col, what + ", got \"" + f.text + "\"");
+    }
     return true;
   }
 
@@ -220,11 +310,16 @@ bool parse_message_csv(const std::string& text, const std::string& source,
   Failure fail(source, error);
   bool have_header = false;
   size_t line_no = 0;
-  std::istringstream in(text);
+  // A UTF-8 byte order mark (Windows editors write one) is no column name.
+  const size_t bom = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
+  std::istringstream in(text.substr(bom));
   std::string line;
   while (std::getline(in, line)) {
     ++line_no;
     if (!line.empty() && line.back() == '\r') line.pop_back();
+    const char* what = "";
+    const size_t bad = bad_byte(line, &what);
+    if (bad != 0) return fail.at(line_no, bad, what);  // columns as an editor shows them (no BOM)
     const size_t first = line.find_first_not_of(" \t");
     if (first == std::string::npos || line[first] == '#') continue;
     const size_t quote = line.find('"');
@@ -244,15 +339,23 @@ bool parse_message_csv(const std::string& text, const std::string& source,
   return true;
 }
 
-bool read_message_csv(const std::string& path, std::vector<timing::MessageSpec>& out,
-                      std::string& error) {
+bool read_message_csv(const std::string& path, std::vector<timing::MessageSpec>& out, std::string& error) {
   std::ifstream file(path, std::ios::binary);
   if (!file) {
     error = path + ": cannot open: " + std::strerror(errno);
     return false;
   }
+  struct stat st;
+  if (stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) {
+    error = path + ": is a directory, not a CSV file";
+    return false;
+  }
   std::ostringstream text;
   text << file.rdbuf();
+  if (file.bad()) {
+    error = path + ": cannot read: " + std::strerror(errno);
+    return false;
+  }
   return parse_message_csv(text.str(), path, out, error);
 }
 

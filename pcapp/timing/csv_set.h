@@ -4,7 +4,10 @@
 // comment line; blank lines are skipped. id is decimal or 0x-hex; ext 0/1;
 // deadline_us defaults to period_us, jitter_us to 0; c_us (transmission
 // time) or bits (frame length) overrides what the DLC gives, for textbook
-// sets that state C directly. Every error names FILE:LINE:COL.
+// sets that state C directly. Times are decimal µs: c_us with up to three
+// decimals (ns), the others whole ("1040.0" is 1040). The file is UTF-8 (a
+// byte order mark is skipped): bytes that are not, and NUL, are errors, so
+// names reach JSON output intact. Every error names FILE:LINE:COL.
 #pragma once
 #include <string>
 #include <vector>
@@ -21,8 +24,7 @@ bool parse_message_csv(const std::string& text, const std::string& source,
                        std::vector<timing::MessageSpec>& out, std::string& error);
 
 /// Reads the file at `path` and parses it.
-bool read_message_csv(const std::string& path, std::vector<timing::MessageSpec>& out,
-                      std::string& error);
+bool read_message_csv(const std::string& path, std::vector<timing::MessageSpec>& out, std::string& error);
 
 }  // namespace timing_cli
 }  // namespace mb2co

@@ -57,8 +57,8 @@ bool parse_id(const std::string& text, bool extended, uint32_t* id, std::string&
   return true;
 }
 
-int exact_frame(const Options& o, uint32_t bitrate, timing::WorstCase convention,
-                std::ostream& out, Format format, std::string& error) {
+int exact_frame(const Options& o, uint32_t bitrate, timing::WorstCase convention, std::ostream& out,
+                Format format, std::string& error) {
   if (!o.has("--id")) {
     error = "option --data/--rtr needs --id";
     return 1;
@@ -88,17 +88,16 @@ int exact_frame(const Options& o, uint32_t bitrate, timing::WorstCase convention
   }
   Report r;
   r.rows_key = "frames";
-  r.columns = {"id", "ext", "rtr", "dlc", "data", "bits_unstuffed", "stuff_bits", "bits",
-               "crc15", "c_us", "bits_worst"};
-  r.rows.push_back({Cell::id(frame.id, frame.extended()), Cell::boolean(frame.extended()),
-                    Cell::boolean(frame.rtr()), Cell::integer(frame.dlc), Cell::str(data),
-                    Cell::integer(static_cast<uint64_t>(exact.total_bits - exact.stuff_bits)),
-                    Cell::integer(exact.stuff_bits), Cell::integer(exact.total_bits),
-                    Cell::str(crc), Cell::us(timing::bits_to_ns_ceil(exact.total_bits, bitrate)),
-                    Cell::integer(timing::frame_bits_worst(frame.extended(), frame.rtr() ? 0 : frame.dlc,
-                                                          convention))});
-  r.totals = {{"bitrate", Cell::integer(bitrate)},
-              {"frame_bits", Cell::str(frame_bits_name(convention))}};
+  r.columns = {"id",         "ext",  "rtr",   "dlc",  "data",      "bits_unstuffed",
+               "stuff_bits", "bits", "crc15", "c_us", "bits_worst"};
+  r.rows.push_back(
+      {Cell::id(frame.id, frame.extended()), Cell::boolean(frame.extended()), Cell::boolean(frame.rtr()),
+       Cell::integer(frame.dlc), Cell::str(data),
+       Cell::integer(static_cast<uint64_t>(exact.total_bits - exact.stuff_bits)),
+       Cell::integer(exact.stuff_bits), Cell::integer(exact.total_bits), Cell::str(crc),
+       Cell::us(timing::bits_to_ns_ceil(exact.total_bits, bitrate)),
+       Cell::integer(timing::frame_bits_worst(frame.extended(), frame.rtr() ? 0 : frame.dlc, convention))});
+  r.totals = {{"bitrate", Cell::integer(bitrate)}, {"frame_bits", Cell::str(frame_bits_name(convention))}};
   print_report(r, format, out);
   return 0;
 }
@@ -129,19 +128,18 @@ int frame_command(const Options& o, std::ostream& out, std::string& error) {
   }
   const bool ext = o.has("--ext");
   Report r;
-  r.columns = {"dlc",        "bits_unstuffed", "stuffable_bits", "stuff_course", "bits_course",
-               "stuff_davis", "bits_davis",    "bits",           "c_us"};
+  r.columns = {"dlc",         "bits_unstuffed", "stuffable_bits", "stuff_course", "bits_course",
+               "stuff_davis", "bits_davis",     "bits",           "c_us"};
   for (uint64_t d = dlc_first; d <= dlc_last; ++d) {
     const uint8_t dlc = static_cast<uint8_t>(d);
     const uint16_t bits = timing::frame_bits_worst(ext, dlc, convention);
-    r.rows.push_back(
-        {Cell::integer(dlc), Cell::integer(timing::frame_bits_unstuffed(ext, dlc)),
-         Cell::integer(timing::stuffable_bits(ext, dlc)),
-         Cell::integer(timing::worst_stuff_bits(ext, dlc, timing::WorstCase::kCourse)),
-         Cell::integer(timing::frame_bits_worst(ext, dlc, timing::WorstCase::kCourse)),
-         Cell::integer(timing::worst_stuff_bits(ext, dlc, timing::WorstCase::kDavis)),
-         Cell::integer(timing::frame_bits_worst(ext, dlc, timing::WorstCase::kDavis)),
-         Cell::integer(bits), Cell::us(timing::bits_to_ns_ceil(bits, rate))});
+    r.rows.push_back({Cell::integer(dlc), Cell::integer(timing::frame_bits_unstuffed(ext, dlc)),
+                      Cell::integer(timing::stuffable_bits(ext, dlc)),
+                      Cell::integer(timing::worst_stuff_bits(ext, dlc, timing::WorstCase::kCourse)),
+                      Cell::integer(timing::frame_bits_worst(ext, dlc, timing::WorstCase::kCourse)),
+                      Cell::integer(timing::worst_stuff_bits(ext, dlc, timing::WorstCase::kDavis)),
+                      Cell::integer(timing::frame_bits_worst(ext, dlc, timing::WorstCase::kDavis)),
+                      Cell::integer(bits), Cell::us(timing::bits_to_ns_ceil(bits, rate))});
   }
   r.totals = {{"bitrate", Cell::integer(rate)},
               {"frame_bits", Cell::str(frame_bits_name(convention))},

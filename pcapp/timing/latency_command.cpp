@@ -37,8 +37,10 @@ bool time_options(const Options& o, timing::LatencyParams& p, std::string& error
   struct {
     const char* name;
     uint32_t* field;
-  } const fields[] = {{"--debounce-us", &p.debounce_us},   {"--fw-loop-us", &p.fw_loop_us},
-                      {"--pc-cycle-us", &p.pc_cycle_us},   {"--pc-compute-us", &p.pc_compute_us},
+  } const fields[] = {{"--debounce-us", &p.debounce_us},
+                      {"--fw-loop-us", &p.fw_loop_us},
+                      {"--pc-cycle-us", &p.pc_cycle_us},
+                      {"--pc-compute-us", &p.pc_compute_us},
                       {"--master-end-us", &p.master_end_us}};
   for (const auto& f : fields) {
     uint64_t v = 0;
@@ -65,8 +67,7 @@ int latency_command(const Options& o, std::ostream& out, std::string& error) {
   uint64_t button_node = 0;
   uint64_t pc_node = 0;
   if (!frame_bits_option(o, &convention, error) || !format_option(o, &format, error) ||
-      !line_config_option(o, &line, error) || !serial_options(o, p, error) ||
-      !time_options(o, p, error) ||
+      !line_config_option(o, &line, error) || !serial_options(o, p, error) || !time_options(o, p, error) ||
       !uint_option(o, "--button-node", 1, timing::kMaxStations, 2, false, &button_node, error) ||
       !uint_option(o, "--pc-node", 1, timing::kMaxStations, 1, false, &pc_node, error)) {
     return 1;
@@ -85,9 +86,14 @@ int latency_command(const Options& o, std::ostream& out, std::string& error) {
   timing::LineStatus line_status = timing::LineStatus::kOk;
   switch (timing::fill_can_hops(line, convention, static_cast<uint8_t>(button_node),
                                 static_cast<uint8_t>(pc_node), scratch, &p, &line_status)) {
-    case timing::HopStatus::kOk: break;
-    case timing::HopStatus::kLine: error = line_status_text(line_status); return 1;
-    case timing::HopStatus::kNoTpdo1: error = "the latency path needs TPDO1 (drop --no-tpdo1)"; return 1;
+    case timing::HopStatus::kOk:
+      break;
+    case timing::HopStatus::kLine:
+      error = line_status_text(line_status);
+      return 1;
+    case timing::HopStatus::kNoTpdo1:
+      error = "the latency path needs TPDO1 (drop --no-tpdo1)";
+      return 1;
     case timing::HopStatus::kNode:
       error = "--button-node and --pc-node must be different nodes within 1..--line";
       return 1;
@@ -116,25 +122,24 @@ int latency_command(const Options& o, std::ostream& out, std::string& error) {
   }
   r.rows.push_back({Cell::str("total"), Cell::us(modbus.best_ns), Cell::us(modbus.worst_ns),
                     Cell::us(canopen.best_ns), Cell::us(canopen.worst_ns)});
-  r.totals = {
-      {"modbus_best_us", Cell::us(modbus.best_ns)},
-      {"modbus_worst_us", Cell::us(modbus.worst_ns)},
-      {"canopen_best_us", Cell::us(canopen.best_ns)},
-      {"canopen_worst_us", Cell::us(canopen.worst_ns)},
-      {"baud", Cell::integer(p.serial.baud)},
-      {"char_bits", Cell::integer(timing::char_bits(p.serial))},
-      {"t35_us", Cell::us(timing::t35_ns(p.serial))},
-      {"read_request_us", Cell::us(cycle.read.request_ns)},
-      {"read_response_us", Cell::us(cycle.read.response_ns)},
-      {"write_request_us", Cell::us(cycle.write.request_ns)},
-      {"write_response_us", Cell::us(cycle.write.response_ns)},
-      {"poll_busy_best_us", Cell::us(cycle.busy_best_ns)},
-      {"poll_busy_worst_us", Cell::us(cycle.busy_worst_ns)},
-      {"poll_period_us", Cell::us(cycle.period_ns)},
-      {"can_bitrate", Cell::integer(line.bitrate_bps)},
-      {"frame_bits", Cell::str(frame_bits_name(convention))},
-      {"can_up_worst_us", Cell::us(p.can_up_worst_ns)},
-      {"can_down_worst_us", Cell::us(p.can_down_worst_ns)}};
+  r.totals = {{"modbus_best_us", Cell::us(modbus.best_ns)},
+              {"modbus_worst_us", Cell::us(modbus.worst_ns)},
+              {"canopen_best_us", Cell::us(canopen.best_ns)},
+              {"canopen_worst_us", Cell::us(canopen.worst_ns)},
+              {"baud", Cell::integer(p.serial.baud)},
+              {"char_bits", Cell::integer(timing::char_bits(p.serial))},
+              {"t35_us", Cell::us(timing::t35_ns(p.serial))},
+              {"read_request_us", Cell::us(cycle.read.request_ns)},
+              {"read_response_us", Cell::us(cycle.read.response_ns)},
+              {"write_request_us", Cell::us(cycle.write.request_ns)},
+              {"write_response_us", Cell::us(cycle.write.response_ns)},
+              {"poll_busy_best_us", Cell::us(cycle.busy_best_ns)},
+              {"poll_busy_worst_us", Cell::us(cycle.busy_worst_ns)},
+              {"poll_period_us", Cell::us(cycle.period_ns)},
+              {"can_bitrate", Cell::integer(line.bitrate_bps)},
+              {"frame_bits", Cell::str(frame_bits_name(convention))},
+              {"can_up_worst_us", Cell::us(p.can_up_worst_ns)},
+              {"can_down_worst_us", Cell::us(p.can_down_worst_ns)}};
   print_report(r, format, out);
   return 0;
 }

@@ -114,8 +114,8 @@ bool parse_options(int argc, char** argv, Options& out, std::string& error) {
   return true;
 }
 
-bool uint_option(const Options& o, const std::string& name, uint64_t min, uint64_t max,
-                 uint64_t fallback, bool scaled, uint64_t* value, std::string& error) {
+bool uint_option(const Options& o, const std::string& name, uint64_t min, uint64_t max, uint64_t fallback,
+                 bool scaled, uint64_t* value, std::string& error) {
   if (!o.has(name)) {
     *value = fallback;
     return true;
@@ -135,8 +135,8 @@ bool uint_option(const Options& o, const std::string& name, uint64_t min, uint64
     v *= scale;
   }
   if (!ok || v < min || v > max) {
-    error = "option " + name + " must be a whole number " + std::to_string(min) + ".." +
-            std::to_string(max) + ", got \"" + text + "\"";
+    error = "option " + name + " must be a whole number " + std::to_string(min) + ".." + std::to_string(max) +
+            ", got \"" + text + "\"";
     return false;
   }
   *value = v;
@@ -209,19 +209,25 @@ bool line_config_option(const Options& o, timing::LineCanConfig* cfg, std::strin
 std::string line_status_text(timing::LineStatus status) {
   using timing::LineStatus;
   switch (status) {
-    case LineStatus::kOk: return "ok";
-    case LineStatus::kStations: return "--line must be 1..127 stations";
-    case LineStatus::kBitrate: return "--bitrate must be 1..1000000 bit/s";
+    case LineStatus::kOk:
+      return "ok";
+    case LineStatus::kStations:
+      return "--line must be 1..127 stations";
+    case LineStatus::kBitrate:
+      return "--bitrate must be 1..1000000 bit/s";
     case LineStatus::kNoInterArrival:
       return "event-driven TPDO1 needs --tpdo-inhibit-100us > 0 (its minimum inter-arrival "
              "time)";
     case LineStatus::kEventTimer:
       return "--tpdo-event-ms must be 0 or at least the inhibit time";
-    case LineStatus::kSyncTpdos: return "--sync-tpdos needs --sync-us > 0";
+    case LineStatus::kSyncTpdos:
+      return "--sync-tpdos needs --sync-us > 0";
     case LineStatus::kTransmissionType:
       return "--sync-type times --sync-us exceeds 4294967295 us";
-    case LineStatus::kDlc: return "a DLC above 8";
-    case LineStatus::kCapacity: return "too many messages";
+    case LineStatus::kDlc:
+      return "a DLC above 8";
+    case LineStatus::kCapacity:
+      return "too many messages";
   }
   return "invalid line configuration";
 }

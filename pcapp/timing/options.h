@@ -32,8 +32,8 @@ bool parse_options(int argc, char** argv, Options& out, std::string& error);
 
 /// An unsigned option within [min, max]; `fallback` when absent. Accepts a
 /// k/M suffix when `scaled` (125k, 1M).
-bool uint_option(const Options& o, const std::string& name, uint64_t min, uint64_t max,
-                 uint64_t fallback, bool scaled, uint64_t* value, std::string& error);
+bool uint_option(const Options& o, const std::string& name, uint64_t min, uint64_t max, uint64_t fallback,
+                 bool scaled, uint64_t* value, std::string& error);
 
 bool format_option(const Options& o, Format* format, std::string& error);
 bool frame_bits_option(const Options& o, timing::WorstCase* convention, std::string& error);

@@ -5,16 +5,22 @@
 namespace mb2co {
 namespace timing_cli {
 
-Cell Cell::str(const std::string& s) { return Cell{s, json_string(s)}; }
+Cell Cell::str(const std::string& s) {
+  return Cell{s, json_string(s)};
+}
 
 Cell Cell::integer(uint64_t v) {
   const std::string s = std::to_string(v);
   return Cell{s, s};
 }
 
-Cell Cell::boolean(bool v) { return Cell{v ? "yes" : "no", v ? "true" : "false"}; }
+Cell Cell::boolean(bool v) {
+  return Cell{v ? "yes" : "no", v ? "true" : "false"};
+}
 
-Cell Cell::null() { return Cell{"-", "null"}; }
+Cell Cell::null() {
+  return Cell{"-", "null"};
+}
 
 Cell Cell::id(uint32_t id, bool extended) {
   char text[16];
@@ -33,7 +39,9 @@ Cell Cell::real(double v, int decimals) {
   return Cell{text, text};
 }
 
-Cell Cell::raw_json(const std::string& text, const std::string& json) { return Cell{text, json}; }
+Cell Cell::raw_json(const std::string& text, const std::string& json) {
+  return Cell{text, json};
+}
 
 std::string format_us(uint64_t ns) {
   std::string s = std::to_string(ns / 1000u);
@@ -121,9 +129,15 @@ void print_csv(const Report& r, std::ostream& out) {
 
 void print_report(const Report& report, Format format, std::ostream& out) {
   switch (format) {
-    case Format::kTable: print_table(report, out); break;
-    case Format::kJson: print_json(report, out); break;
-    case Format::kCsv: print_csv(report, out); break;
+    case Format::kTable:
+      print_table(report, out);
+      break;
+    case Format::kJson:
+      print_json(report, out);
+      break;
+    case Format::kCsv:
+      print_csv(report, out);
+      break;
   }
 }
 

@@ -18,8 +18,8 @@ struct Cell {
 
   static Cell str(const std::string& s);
   static Cell integer(uint64_t v);
-  static Cell boolean(bool v);  ///< "yes"/"no", true/false
-  static Cell null();           ///< "-", null
+  static Cell boolean(bool v);                 ///< "yes"/"no", true/false
+  static Cell null();                          ///< "-", null
   static Cell id(uint32_t id, bool extended);  ///< "0x181", 385
   /// A time given in ns, shown in µs with up to 3 decimals ("3500", "8.334").
   static Cell us(uint64_t ns);

@@ -32,9 +32,12 @@ Cell time_cell(bool valid, uint64_t ticks, uint32_t bitrate) {
 
 Cell reason_cell(timing::Bound b) {
   switch (b) {
-    case timing::Bound::kBounded: return Cell::null();
-    case timing::Bound::kUtilisation: return Cell::str("utilisation");
-    case timing::Bound::kHorizon: return Cell::str("horizon");
+    case timing::Bound::kBounded:
+      return Cell::null();
+    case timing::Bound::kUtilisation:
+      return Cell::str("utilisation");
+    case timing::Bound::kHorizon:
+      return Cell::str("horizon");
   }
   return Cell::null();
 }
@@ -53,10 +56,8 @@ int load_command(const Options& o, std::ostream& out, std::string& error) {
                       Cell::integer(timing::message_bits(m, a.bitrate, a.convention)),
                       Cell::integer(m.period_us), Cell::real(to_double(bps.lower()), 3)});
   }
-  const timing::Utilisation load =
-      timing::bus_load_bps(a.set.data(), a.set.size(), a.bitrate, a.convention);
-  const timing::Utilisation u =
-      timing::set_utilisation(a.set.data(), a.set.size(), a.bitrate, a.convention);
+  const timing::Utilisation load = timing::bus_load_bps(a.set.data(), a.set.size(), a.bitrate, a.convention);
+  const timing::Utilisation u = timing::set_utilisation(a.set.data(), a.set.size(), a.bitrate, a.convention);
   r.totals = {{"bitrate", Cell::integer(a.bitrate)},
               {"frame_bits", Cell::str(frame_bits_name(a.convention))},
               {"message_count", Cell::integer(a.set.size())},
@@ -89,18 +90,19 @@ int rta_command(const Options& o, std::ostream& out, std::string& error) {
   std::vector<timing::RtaMessage> rta(n);
   std::vector<timing::RtaResult> results(n);
   size_t bad = 0;
-  if (timing::analyse_set(a.set.data(), n, a.bitrate, a.convention, rta.data(), results.data(),
-                          &bad) != timing::RtaStatus::kOk) {
+  if (timing::analyse_set(a.set.data(), n, a.bitrate, a.convention, rta.data(), results.data(), &bad) !=
+      timing::RtaStatus::kOk) {
     error = std::string("message \"") + a.set[bad].name + "\" is out of range for the analysis";
     return 1;
   }
 
   Report r;
   r.rows_key = "messages";
-  r.columns = {"name",      "id",          "ext",        "dlc",       "bits",
-               "c_us",      "period_us",   "deadline_us", "jitter_us", "blocking_us",
-               "busy_us",   "instances",   "r_first_us", "r_us",      "schedulable",
-               "first_optimistic", "unbounded"};
+  r.columns = {"name",       "id",          "ext",         "dlc",
+               "bits",       "c_us",        "period_us",   "deadline_us",
+               "jitter_us",  "blocking_us", "busy_us",     "instances",
+               "r_first_us", "r_us",        "schedulable", "first_optimistic",
+               "unbounded"};
   bool all_ok = true;
   size_t optimistic = 0;
   std::string optimistic_names;
@@ -117,15 +119,13 @@ int rta_command(const Options& o, std::ostream& out, std::string& error) {
                       Cell::integer(m.dlc), Cell::integer(timing::ticks_to_bits_ceil(rta[i].c)),
                       time_cell(true, rta[i].c, a.bitrate), Cell::integer(m.period_us),
                       Cell::integer(m.deadline_us), Cell::integer(m.jitter_us),
-                      time_cell(true, res.blocking, a.bitrate),
-                      time_cell(bounded, res.busy, a.bitrate),
+                      time_cell(true, res.blocking, a.bitrate), time_cell(bounded, res.busy, a.bitrate),
                       bounded ? Cell::integer(res.instances) : Cell::null(),
                       time_cell(res.first == timing::Bound::kBounded, res.r_first, a.bitrate),
                       time_cell(bounded, res.r, a.bitrate), Cell::boolean(res.schedulable),
                       Cell::boolean(res.first_optimistic), reason_cell(res.revised)});
   }
-  const timing::Utilisation u =
-      timing::set_utilisation(a.set.data(), n, a.bitrate, a.convention);
+  const timing::Utilisation u = timing::set_utilisation(a.set.data(), n, a.bitrate, a.convention);
   r.totals = {{"bitrate", Cell::integer(a.bitrate)},
               {"frame_bits", Cell::str(frame_bits_name(a.convention))},
               {"tau_bit_us", Cell::us(timing::bits_to_ns_ceil(1, a.bitrate))},

@@ -20,11 +20,16 @@ constexpr double kRowHeight = 22.0;
 std::string escape(const std::string& s) {
   std::string out;
   for (const char c : s) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else if (c == '"') out += "&quot;";
-    else out += c;
+    if (c == '<')
+      out += "&lt;";
+    else if (c == '>')
+      out += "&gt;";
+    else if (c == '&')
+      out += "&amp;";
+    else if (c == '"')
+      out += "&quot;";
+    else
+      out += c;
   }
   return out;
 }
@@ -52,9 +57,8 @@ std::string busy_period_svg(const std::vector<timing::MessageSpec>& set,
   std::vector<timing::BusSegment> segments(kMaxSegments);
   std::vector<uint64_t> sent(target + 1);
   bool truncated = false;
-  const size_t count = timing::trace_busy_period(rta.data(), rta.size(), target,
-                                                 timing::bits_to_ticks(1), sent.data(),
-                                                 segments.data(), segments.size(), &truncated);
+  const size_t count = timing::trace_busy_period(rta.data(), rta.size(), target, timing::bits_to_ticks(1),
+                                                 sent.data(), segments.data(), segments.size(), &truncated);
   segments.resize(count);
 
   // Rows: the blocker (if any) first, then priorities 0..target.
@@ -72,13 +76,13 @@ std::string busy_period_svg(const std::vector<timing::MessageSpec>& set,
                 "font-family=\"sans-serif\" font-size=\"12\">\n",
                 kLeft + kPlotWidth + 120.0, height);
   svg << buf << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-  const std::string r_text = result.revised == timing::Bound::kBounded
-                                 ? us_text(result.r, bitrate_bps) + " (instance " +
-                                       std::to_string(result.critical_instance) + ")"
-                                 : "unbounded";
-  svg << "<text x=\"10\" y=\"20\" font-size=\"14\">Worst-case busy period of "
-      << escape(set[target].name) << ": L = " << us_text(end, bitrate_bps)
-      << ", R = " << escape(r_text) << (truncated ? " [truncated]" : "") << "</text>\n";
+  const std::string r_text =
+      result.revised == timing::Bound::kBounded
+          ? us_text(result.r, bitrate_bps) + " (instance " + std::to_string(result.critical_instance) + ")"
+          : "unbounded";
+  svg << "<text x=\"10\" y=\"20\" font-size=\"14\">Worst-case busy period of " << escape(set[target].name)
+      << ": L = " << us_text(end, bitrate_bps) << ", R = " << escape(r_text)
+      << (truncated ? " [truncated]" : "") << "</text>\n";
 
   // Row labels and guide lines.
   for (size_t r = 0; r < rows; ++r) {
@@ -101,30 +105,27 @@ std::string busy_period_svg(const std::vector<timing::MessageSpec>& set,
     svg << buf;
     if (s.message <= target) {
       const double ax = x(timing::worst_case_arrival(rta[s.message], s.instance));
-      std::snprintf(buf, sizeof buf,
-                    "<path d=\"M%.2f %.1f l-4 -6 h8 z\" fill=\"black\"/>\n", ax, y + 3);
+      std::snprintf(buf, sizeof buf, "<path d=\"M%.2f %.1f l-4 -6 h8 z\" fill=\"black\"/>\n", ax, y + 3);
       svg << buf;
     }
     if (s.message == target) {
       // Response time of this instance, from its event q T - J (eq. 6.13).
       const uint64_t event_plus_j = s.instance * rta[target].t;
       const uint64_t response = s.end + rta[target].j - event_plus_j;
-      std::snprintf(buf, sizeof buf, "<text x=\"%.2f\" y=\"%.1f\" font-size=\"10\">", x(s.end) + 2,
-                    y + 14);
-      svg << buf << "R" << s.instance << " = " << escape(us_text(response, bitrate_bps))
-          << "</text>\n";
+      std::snprintf(buf, sizeof buf, "<text x=\"%.2f\" y=\"%.1f\" font-size=\"10\">", x(s.end) + 2, y + 14);
+      svg << buf << "R" << s.instance << " = " << escape(us_text(response, bitrate_bps)) << "</text>\n";
     }
   }
   // Time axis in µs.
   const double axis_y = kTop + kRowHeight * static_cast<double>(rows) + 10.0;
-  svg << "<line x1=\"" << kLeft << "\" x2=\"" << kLeft + kPlotWidth << "\" y1=\"" << axis_y
-      << "\" y2=\"" << axis_y << "\" stroke=\"black\"/>\n";
+  svg << "<line x1=\"" << kLeft << "\" x2=\"" << kLeft + kPlotWidth << "\" y1=\"" << axis_y << "\" y2=\""
+      << axis_y << "\" stroke=\"black\"/>\n";
   const uint64_t span_us = end / bitrate_bps + 1u;
   const uint64_t step = axis_step_us(span_us);
   for (uint64_t t_us = 0; timing::us_to_ticks(t_us, bitrate_bps) <= end; t_us += step) {
     const double tx = x(timing::us_to_ticks(t_us, bitrate_bps));
-    svg << "<line x1=\"" << tx << "\" x2=\"" << tx << "\" y1=\"" << axis_y << "\" y2=\""
-        << axis_y + 5 << "\" stroke=\"black\"/>\n";
+    svg << "<line x1=\"" << tx << "\" x2=\"" << tx << "\" y1=\"" << axis_y << "\" y2=\"" << axis_y + 5
+        << "\" stroke=\"black\"/>\n";
     svg << "<text x=\"" << tx << "\" y=\"" << axis_y + 18 << "\" text-anchor=\"middle\">" << t_us
         << "</text>\n";
   }

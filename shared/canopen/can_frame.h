@@ -1,7 +1,9 @@
-// One classic CAN frame and the sink frames leave through: the whole contract
-// between the portable core and a CAN port (MCP2515, SocketCAN, simulator).
+// One classic CAN frame, the unit handed between the core and a CAN port.
+// The contract with the port (CanSink, CanControl) is platform/device_port.h.
 #pragma once
 #include <stdint.h>
+
+#include "platform/device_port.h"
 
 namespace mb2co {
 
@@ -15,14 +17,6 @@ struct CanFrame {
 
   bool rtr() const { return (flags & kRtr) != 0; }
   bool extended() const { return (flags & kExtended) != 0; }
-};
-
-/// Where frames to transmit go. Owned by the caller; `send` must not block.
-/// Returns false when the port's transmit queue is full: the frame is dropped
-/// and the caller decides whether to retry (services count such drops).
-struct CanSink {
-  bool (*send)(void* ctx, const CanFrame& frame);
-  void* ctx;
 };
 
 }  // namespace mb2co

@@ -40,10 +40,10 @@ void EmcyProducer::push_history(uint16_t code, const uint8_t* info) {
   // Newest at sub 1 (CiA 301 §7.5.2.3); the manufacturer field's first two
   // bytes go into the upper half of the entry.
   uint32_t entry = code;
-  if (info != nullptr) entry |= (static_cast<uint32_t>(info[0]) | (static_cast<uint32_t>(info[1]) << 8)) << 16;
+  if (info != nullptr)
+    entry |= (static_cast<uint32_t>(info[0]) | (static_cast<uint32_t>(info[1]) << 8)) << 16;
   for (uint8_t s = kErrorHistoryLength; s > 1; --s) {
-    od_->set(static_cast<uint16_t>(row_[k1003] + s),
-             od_->get(static_cast<uint16_t>(row_[k1003] + s - 1)));
+    od_->set(static_cast<uint16_t>(row_[k1003] + s), od_->get(static_cast<uint16_t>(row_[k1003] + s - 1)));
   }
   od_->set(static_cast<uint16_t>(row_[k1003] + 1), entry);
   const uint32_t n = od_->get(row_[k1003]);
@@ -100,6 +100,14 @@ void EmcyProducer::clear(uint16_t code) {
   }
 }
 
+void EmcyProducer::next_deadline(NextDeadline& d, bool allowed) const {
+  if (inhibit_running_) {
+    d.at(inhibit_until_us_);
+  } else if (allowed && queue_count_ != 0) {
+    d.now();
+  }
+}
+
 void EmcyProducer::process(uint32_t now_us, bool allowed, const CanSink& sink) {
   if (inhibit_running_ && time_reached(now_us, inhibit_until_us_)) inhibit_running_ = false;
   if (!allowed || queue_count_ == 0 || inhibit_running_) return;
@@ -120,11 +128,11 @@ void EmcyProducer::process(uint32_t now_us, bool allowed, const CanSink& sink) {
   }
 }
 
-uint32_t EmcyProducer::on_write(uint16_t index, uint8_t sub, const uint8_t* data) {
+SdoAbort EmcyProducer::on_write(uint16_t index, uint8_t sub, const uint8_t* data, bool apply) {
   if (index == 0x1003) {
     // Only sub 0 is writable, and only with 0: clears the history.
     if (sub != 0 || data[0] != 0) return kAbortInvalidValue;
-    for (uint8_t s = 1; s <= kErrorHistoryLength; ++s) {
+    for (uint8_t s = 1; apply && s <= kErrorHistoryLength; ++s) {
       od_->set(static_cast<uint16_t>(row_[k1003] + s), 0);
     }
     return kSdoOk;

@@ -6,6 +6,7 @@
 #include <stdint.h>
 
 #include "canopen/can_frame.h"
+#include "canopen/clock.h"
 #include "canopen/od.h"
 
 namespace mb2co {
@@ -15,14 +16,15 @@ namespace canopen {
 enum EmcyCode : uint16_t {
   kEmcyErrorReset = 0x0000,
   kEmcyGeneric = 0x1000,
-  kEmcyCanOverrun = 0x8110,       ///< CAN overrun (objects lost)
-  kEmcyCanPassive = 0x8120,       ///< CAN in error passive mode
-  kEmcyLifeGuard = 0x8130,        ///< life guard error or heartbeat error
-  kEmcyBusOffRecovered = 0x8140,  ///< recovered from bus-off
-  kEmcyPdoLength = 0x8210,        ///< PDO not processed due to length error
-  kEmcyPdoLengthExceeded = 0x8220,///< PDO length exceeded
-  kEmcySyncLength = 0x8240,       ///< unexpected SYNC data length
-  kEmcyRpdoTimeout = 0x8250,      ///< RPDO timeout
+  kEmcyStorage = 0x5530,            ///< data storage (saved parameters damaged)
+  kEmcyCanOverrun = 0x8110,         ///< CAN overrun (objects lost)
+  kEmcyCanPassive = 0x8120,         ///< CAN in error passive mode
+  kEmcyLifeGuard = 0x8130,          ///< life guard error or heartbeat error
+  kEmcyBusOffRecovered = 0x8140,    ///< recovered from bus-off
+  kEmcyPdoLength = 0x8210,          ///< PDO not processed due to length error
+  kEmcyPdoLengthExceeded = 0x8220,  ///< PDO length exceeded
+  kEmcySyncLength = 0x8240,         ///< unexpected SYNC data length
+  kEmcyRpdoTimeout = 0x8250,        ///< RPDO timeout
 };
 
 /// Error register 1001h bits.
@@ -50,13 +52,16 @@ class EmcyProducer {
   /// The error condition is gone; the last one to go sends "error reset".
   void clear(uint16_t code);
   /// raise() when `on`, else clear(): for conditions re-evaluated as a whole
-  /// (one call site instead of two: -20 B on the Uno).
+  /// (one call site instead of two).
   void report(uint16_t code, bool on, uint8_t register_bits);
   bool active(uint16_t code) const;
   /// Sends queued EMCY frames when allowed and the inhibit time has passed.
   void process(uint32_t now_us, bool allowed, const CanSink& sink);
+  /// Lowers `d` to when process(..., allowed, ...) must run next: the end
+  /// of the inhibit time, or now for a queued EMCY that may leave.
+  void next_deadline(NextDeadline& d, bool allowed) const;
   /// Validates writes to 1003h, 1014h, 1015h (OD hook).
-  uint32_t on_write(uint16_t index, uint8_t sub, const uint8_t* data);
+  SdoAbort on_write(uint16_t index, uint8_t sub, const uint8_t* data, bool apply);
   /// Messages dropped because the queue was full (never decrements).
   uint16_t overflows() const { return overflows_; }
 

@@ -18,7 +18,7 @@ void ErrorControl::init(uint8_t node_id) {
 // kMaxLifeMs. 100Ch x 100Dh reaches 65535 x 255 ms: in us that overflows 32
 // bits, and a deadline 2^31 us or more ahead reads as passed to time_reached()
 // (life guarding then failed at the first guard request). Out of line: two
-// callers (-40 B on the Uno).
+// callers.
 static const uint32_t kMaxLifeMs = 0x7FFFFFFFu / 1000u;  // 35.8 min
 __attribute__((noinline)) static uint32_t life_time_us(uint16_t guard_ms, uint8_t life_factor) {
   const uint32_t ms = static_cast<uint32_t>(guard_ms) * life_factor;
@@ -30,8 +30,7 @@ static bool send_state(const CanSink& sink, uint8_t node_id, uint8_t byte) {
 }
 
 void ErrorControl::on_guard_request(uint32_t now_us, NmtState state, const CanSink& sink,
-                                    uint16_t producer_ms, uint16_t guard_ms,
-                                    uint8_t life_factor) {
+                                    uint16_t producer_ms, uint16_t guard_ms, uint8_t life_factor) {
   if (producer_ms != 0) return;
   send_state(sink, node_id_, static_cast<uint8_t>((toggle_ ? 0x80 : 0x00) | state));
   toggle_ = !toggle_;
@@ -40,8 +39,7 @@ void ErrorControl::on_guard_request(uint32_t now_us, NmtState state, const CanSi
 }
 
 ErrorControl::Event ErrorControl::process(uint32_t now_us, NmtState state, const CanSink& sink,
-                                          uint16_t producer_ms, uint16_t guard_ms,
-                                          uint8_t life_factor) {
+                                          uint16_t producer_ms, uint16_t guard_ms, uint8_t life_factor) {
   const uint32_t period_us = static_cast<uint32_t>(producer_ms) * 1000u;
   if (restart_) {
     restart_ = false;
@@ -50,8 +48,7 @@ ErrorControl::Event ErrorControl::process(uint32_t now_us, NmtState state, const
   }
   // A heartbeat the port refused (transmit queue full) is tried again at the
   // next call: consumers must not see a gap that is only ours.
-  if (producer_ms != 0 && time_reached(now_us, next_heartbeat_us_) &&
-      send_state(sink, node_id_, state)) {
+  if (producer_ms != 0 && time_reached(now_us, next_heartbeat_us_) && send_state(sink, node_id_, state)) {
     next_heartbeat_us_ += period_us;
     // After a long pause (e.g. the caller was blocked) do not send a burst.
     if (time_reached(now_us, next_heartbeat_us_)) next_heartbeat_us_ = now_us + period_us;
@@ -67,6 +64,21 @@ ErrorControl::Event ErrorControl::process(uint32_t now_us, NmtState state, const
     return kLifeGuardResumed;
   }
   return kNoEvent;
+}
+
+void ErrorControl::next_deadline(NextDeadline& d, uint16_t producer_ms, uint16_t guard_ms,
+                                 uint8_t life_factor) const {
+  if (restart_) return d.now();
+  if (producer_ms != 0) d.at(next_heartbeat_us_);
+  const bool guarding = producer_ms == 0 && guard_ms != 0 && life_factor != 0 && guarded_;
+  if (!life_lost_) {
+    if (guarding) d.at(life_deadline_us_);
+    return;
+  }
+  if (!guarding || !time_reached(d.now_us(), life_deadline_us_)) return d.now();  // resumed
+  // Lost until a guard request; process() also reports "resumed" once the
+  // deadline lies 2^31 us behind (time_reached() wraps): that is a deadline too.
+  d.at(life_deadline_us_ + 0x80000000u);
 }
 
 }  // namespace canopen

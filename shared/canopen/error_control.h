@@ -5,6 +5,7 @@
 #include <stdint.h>
 
 #include "canopen/can_frame.h"
+#include "canopen/clock.h"
 #include "canopen/nmt_slave.h"
 
 namespace mb2co {
@@ -21,11 +22,15 @@ class ErrorControl {
   void restart() { restart_ = true; }
   /// Node guarding request (RTR on 700h+id). Answered only while the node
   /// produces no heartbeat (one error-control protocol at a time).
-  void on_guard_request(uint32_t now_us, NmtState state, const CanSink& sink,
-                        uint16_t producer_ms, uint16_t guard_ms, uint8_t life_factor);
+  void on_guard_request(uint32_t now_us, NmtState state, const CanSink& sink, uint16_t producer_ms,
+                        uint16_t guard_ms, uint8_t life_factor);
   /// Sends due heartbeats; returns a life-guarding event when one happened.
-  Event process(uint32_t now_us, NmtState state, const CanSink& sink, uint16_t producer_ms,
-                uint16_t guard_ms, uint8_t life_factor);
+  Event process(uint32_t now_us, NmtState state, const CanSink& sink, uint16_t producer_ms, uint16_t guard_ms,
+                uint8_t life_factor);
+  /// Lowers `d` to when process() with the same settings must run next
+  /// (Node::next_deadline): a restart, the next heartbeat (also one the port
+  /// refused: now), the life guarding deadline, a pending life event.
+  void next_deadline(NextDeadline& d, uint16_t producer_ms, uint16_t guard_ms, uint8_t life_factor) const;
 
  private:
   uint32_t next_heartbeat_us_;
@@ -33,8 +38,8 @@ class ErrorControl {
   uint8_t node_id_;
   bool restart_ = true;
   bool toggle_;
-  bool guarded_;     ///< a guarding request arrived since (re)start
-  bool life_lost_;   ///< life guarding event raised, not yet resumed
+  bool guarded_;    ///< a guarding request arrived since (re)start
+  bool life_lost_;  ///< life guarding event raised, not yet resumed
 };
 
 }  // namespace canopen

@@ -20,12 +20,20 @@ inline T flash_read(const T* p) {
   memcpy_P(&v, p, sizeof(T));
   return v;
 }
-inline uint8_t flash_byte(const char* p) { return pgm_read_byte(p); }
+inline uint8_t flash_byte(const char* p) {
+  return pgm_read_byte(p);
+}
 // Single fields: one lpm per byte in place, no call and no copy (the OD reads
 // one field of a row on every value access).
-inline uint8_t flash_read(const uint8_t* p) { return pgm_read_byte(p); }
-inline uint16_t flash_read(const uint16_t* p) { return pgm_read_word(p); }
-inline uint32_t flash_read(const uint32_t* p) { return pgm_read_dword(p); }
+inline uint8_t flash_read(const uint8_t* p) {
+  return pgm_read_byte(p);
+}
+inline uint16_t flash_read(const uint16_t* p) {
+  return pgm_read_word(p);
+}
+inline uint32_t flash_read(const uint32_t* p) {
+  return pgm_read_dword(p);
+}
 }  // namespace mb2co
 #else
 #define MB2CO_FLASH
@@ -34,6 +42,8 @@ template <class T>
 inline T flash_read(const T* p) {
   return *p;
 }
-inline uint8_t flash_byte(const char* p) { return static_cast<uint8_t>(*p); }
+inline uint8_t flash_byte(const char* p) {
+  return static_cast<uint8_t>(*p);
+}
 }  // namespace mb2co
 #endif

@@ -54,6 +54,12 @@ uint8_t HeartbeatConsumer::process(uint32_t now_us) {
   return lost;
 }
 
+void HeartbeatConsumer::next_deadline(NextDeadline& d) const {
+  for (const Monitor& m : mon_) {
+    if (m.state == kHbActive) d.at(m.deadline_us);
+  }
+}
+
 void HeartbeatConsumer::reset_all() {
   for (Monitor& m : mon_) {
     if (m.state != kHbUnconfigured) m.state = kHbUnknown;

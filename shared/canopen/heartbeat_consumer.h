@@ -5,23 +5,24 @@
 #include <stdint.h>
 
 #include "canopen/can_frame.h"
+#include "canopen/clock.h"
 #include "canopen/od_comm.h"
 
 namespace mb2co {
 namespace canopen {
 
 enum HbEvent : uint8_t {
-  kHbStarted = 1,      ///< first heartbeat after configuration, boot-up or loss
-  kHbLost = 2,         ///< consumer time elapsed without a heartbeat
-  kHbStateChanged = 3, ///< the remote node reported another NMT state
-  kHbBootUp = 4,       ///< the remote node sent its boot-up message (it was reset)
+  kHbStarted = 1,       ///< first heartbeat after configuration, boot-up or loss
+  kHbLost = 2,          ///< consumer time elapsed without a heartbeat
+  kHbStateChanged = 3,  ///< the remote node reported another NMT state
+  kHbBootUp = 4,        ///< the remote node sent its boot-up message (it was reset)
 };
 
 enum HbRemoteState : uint8_t {
   kHbUnconfigured = 0,
-  kHbUnknown,   ///< configured, nothing heard yet (or heard a boot-up)
-  kHbActive,    ///< heartbeats arrive in time
-  kHbTimeout,   ///< lost: show as unknown, never as running
+  kHbUnknown,  ///< configured, nothing heard yet (or heard a boot-up)
+  kHbActive,   ///< heartbeats arrive in time
+  kHbTimeout,  ///< lost: show as unknown, never as running
 };
 
 /// Called for every event; `nmt_state` is the remote's last reported state.
@@ -41,6 +42,8 @@ class HeartbeatConsumer {
   bool on_frame(const CanFrame& f, uint32_t now_us);
   /// Detects timeouts; returns how many consumers are in kHbTimeout.
   uint8_t process(uint32_t now_us);
+  /// Lowers `d` to the earliest consumer time running out.
+  void next_deadline(NextDeadline& d) const;
   /// All monitors back to "unknown" (NMT stopped, reset communication).
   void reset_all();
 

@@ -11,6 +11,43 @@ Node::Node(ObjectDictionary& od, const CanSink& sink) : NodeState(), od_(od), si
 
 static const uint16_t kIndices[] MB2CO_FLASH = {0x1016, 0x1017, 0x100C, 0x100D};
 
+namespace {
+
+// Adds `id` to the sorted, duplicate-free ids[0..count) (room for it is
+// guaranteed by kMaxConsumedIds).
+void add_id(uint16_t* ids, uint8_t& count, uint16_t id) {
+  uint8_t at = 0;
+  while (at < count && ids[at] < id) ++at;
+  if (at < count && ids[at] == id) return;
+  for (uint8_t i = count; i > at; --i) ids[i] = ids[i - 1];
+  ids[at] = id;
+  ++count;
+}
+
+}  // namespace
+
+uint8_t Node::consumed_ids(uint16_t* ids) const {
+  uint8_t count = 0;
+  add_id(ids, count, 0x000);                                     // NMT
+  add_id(ids, count, static_cast<uint16_t>(sync_.cob_id()));     // SYNC (1005h)
+  add_id(ids, count, static_cast<uint16_t>(0x600u + node_id_));  // SDO request
+  add_id(ids, count, static_cast<uint16_t>(0x700u + node_id_));  // node guarding (RTR)
+  for (uint8_t n = 0; n < kPdoCount; ++n) {
+    const uint32_t cob = rpdos_.cob_id(n);
+    // Valid (bit 31 clear) and a standard id (bit 29 clear).
+    if ((cob & 0xA0000000u) == 0) add_id(ids, count, static_cast<uint16_t>(cob & 0x7FFu));
+  }
+  for (uint8_t sub = 1; sub <= kHbConsumers; ++sub) {
+    const uint32_t entry = od_.get(static_cast<uint16_t>(row_[k1016] + sub));
+    const uint8_t remote = static_cast<uint8_t>(entry >> 16);
+    // Node id 1..127 and a consumer time: a heartbeat to watch.
+    if (remote >= 1 && remote <= 127 && (entry & 0xFFFFu) != 0) {
+      add_id(ids, count, static_cast<uint16_t>(0x700u + remote));
+    }
+  }
+  return count;
+}
+
 void Node::start(uint8_t node_id, uint32_t now_us) {
   next_node_id_ = node_id;
   reset(kResetNode, now_us);
@@ -24,7 +61,9 @@ void Node::reset(NmtReset kind, uint32_t now_us) {
   const uint16_t from = kind == kResetNode ? 0x0000 : 0x1000;
   const uint16_t to = kind == kResetNode ? 0xFFFF : 0x1FFF;
   od_.restore_defaults(from, to);
-  params_loaded_ = storage_ != nullptr && params_load(od_, *storage_, from, to);
+  // A damaged set is refused whole (params_load restores what it began).
+  const ParamLoad loaded = storage_ != nullptr ? params_load(od_, *storage_, from, to) : ParamLoad::kNone;
+  params_loaded_ = param_set_loaded(loaded);
   // The application adjusts what it derives from the configuration (e.g. its
   // device type, the line's PDO COB-IDs) before the services read the OD.
   if (reset_cb_ != nullptr) reset_cb_(reset_ctx_, kind);
@@ -35,6 +74,12 @@ void Node::reset(NmtReset kind, uint32_t now_us) {
   nmt_.init(node_id_);
   error_control_.init(node_id_);
   emcy_.init(&od_);
+  if (param_damage_found(loaded)) {
+    // Sent after the boot-up (EMCY waits for pre-operational): the operator
+    // learns that a saved set was lost or that an older one is in force.
+    emcy_.raise(kEmcyStorage, kErrGeneric);
+    if (storage_damage_count_ != 0xFF) ++storage_damage_count_;
+  }
   sync_.init(&od_);
   tpdos_.init(&od_);
   rpdos_.init(&od_, &emcy_);
@@ -45,6 +90,9 @@ void Node::reset(NmtReset kind, uint32_t now_us) {
   }
   hb_lost_ = false;
   life_lost_ = false;
+  // The port opens its filters for what the reset configured, before the
+  // boot-up message (a reply to it must not be filtered out).
+  update_filters();
   // Boot-up, then pre-operational autonomously (CiA 301 §7.3.2.2).
   send_frame(sink_, static_cast<uint16_t>(0x700u + node_id_), 1, nullptr);
   enter(kNmtPreOperational);
@@ -94,10 +142,9 @@ void Node::receive(const CanFrame& f, uint32_t now_us) {
   }
   if (f.id == 0x700u + node_id_) {
     if (f.rtr()) {
-      error_control_.on_guard_request(now_us, nmt_.state(), sink_,
-                                      static_cast<uint16_t>(od_.get(row_[k1017])),
-                                      static_cast<uint16_t>(od_.get(row_[k100C])),
-                                      static_cast<uint8_t>(od_.get(row_[k100D])));
+      error_control_.on_guard_request(
+          now_us, nmt_.state(), sink_, static_cast<uint16_t>(od_.get(row_[k1017])),
+          static_cast<uint16_t>(od_.get(row_[k100C])), static_cast<uint8_t>(od_.get(row_[k100D])));
     }
     return;
   }
@@ -126,6 +173,65 @@ void Node::update_guard_emcy() {
   emcy_.report(kEmcyLifeGuard, hb_lost_ || life_lost_, kErrCommunication);
 }
 
+void Node::update_filters() {
+  filters_stale_ = false;
+  if (can_control_ == nullptr) return;
+  const CanControl control = flash_read(can_control_);
+  if (control.set_filters == nullptr) return;
+  uint16_t ids[kMaxConsumedIds];
+  const uint8_t count = consumed_ids(ids);
+  control.set_filters(sink_.ctx, ids, count);
+}
+
+void Node::on_controller_state(uint8_t events, bool passive, uint32_t now_us) {
+  if (events & kControllerRxOverflow) {
+    overflow_us_ = now_us;
+    emcy_.raise(kEmcyCanOverrun, kErrCommunication);
+  }
+  if (events & kControllerBusOffRecovered) {
+    recovered_us_ = now_us;
+    emcy_.raise(kEmcyBusOffRecovered, kErrCommunication);
+  }
+  if (events & kControllerStateChanged) emcy_.report(kEmcyCanPassive, passive, kErrCommunication);
+}
+
+void Node::expire_controller_emcy(uint32_t now_us) {
+  if (emcy_.active(kEmcyCanOverrun) && now_us - overflow_us_ >= kControllerEventHoldUs) {
+    emcy_.clear(kEmcyCanOverrun);
+  }
+  if (emcy_.active(kEmcyBusOffRecovered) && now_us - recovered_us_ >= kControllerEventHoldUs) {
+    emcy_.clear(kEmcyBusOffRecovered);
+  }
+}
+
+bool Node::next_deadline(uint32_t now_us, uint32_t* at_us) const {
+  NextDeadline d(now_us);
+  next_deadline(d);
+  return d.result(at_us);
+}
+
+// Mirrors process(): the same services under the same NMT conditions.
+void Node::next_deadline(NextDeadline& d) const {
+  if (pending_reset_ != kResetNone) return d.now();
+  if (nmt_.state() == kNmtInitialising) return;
+  if (filters_stale_) return d.now();
+  if (emcy_.active(kEmcyCanOverrun)) d.at(overflow_us_ + kControllerEventHoldUs);
+  if (emcy_.active(kEmcyBusOffRecovered)) d.at(recovered_us_ + kControllerEventHoldUs);
+  error_control_.next_deadline(d, static_cast<uint16_t>(od_.get(row_[k1017])),
+                               static_cast<uint16_t>(od_.get(row_[k100C])),
+                               static_cast<uint8_t>(od_.get(row_[k100D])));
+  if (nmt_.sdo_allowed()) {
+    hb_consumer_.next_deadline(d);
+    sync_.next_deadline(d);
+    sdo_.next_deadline(d);
+  }
+  if (nmt_.pdo_allowed()) {
+    rpdos_.next_deadline(d);
+    tpdos_.next_deadline(d);
+  }
+  emcy_.next_deadline(d, nmt_.emcy_allowed());
+}
+
 void Node::process(uint32_t now_us) {
   if (pending_reset_ != kResetNone) {
     const NmtReset kind = pending_reset_;
@@ -133,6 +239,8 @@ void Node::process(uint32_t now_us) {
     reset(kind, now_us);
   }
   if (nmt_.state() == kNmtInitialising) return;
+  if (filters_stale_) update_filters();
+  expire_controller_emcy(now_us);
   const ErrorControl::Event ev = error_control_.process(
       now_us, nmt_.state(), sink_, static_cast<uint16_t>(od_.get(row_[k1017])),
       static_cast<uint16_t>(od_.get(row_[k100C])), static_cast<uint8_t>(od_.get(row_[k100D])));
@@ -157,7 +265,7 @@ void Node::process(uint32_t now_us) {
   emcy_.process(now_us, nmt_.emcy_allowed(), sink_);
 }
 
-uint32_t Node::on_hb_consumer_write(uint8_t sub, uint32_t value) {
+SdoAbort Node::on_hb_consumer_write(uint8_t sub, uint32_t value, bool apply) {
   const uint8_t id = static_cast<uint8_t>(value >> 16);
   const uint16_t time_ms = static_cast<uint16_t>(value);
   if (value >> 24) return kAbortInvalidValue;  // reserved bits
@@ -172,44 +280,47 @@ uint32_t Node::on_hb_consumer_write(uint8_t sub, uint32_t value) {
       }
     }
   }
-  hb_consumer_.configure(sub, value);
+  if (apply) hb_consumer_.configure(sub, value);
   return kSdoOk;
 }
 
-uint32_t Node::on_store_write(uint16_t index, uint32_t value) {
-  if (index == 0x1010) {
-    if (value != kSaveSignature) return kAbortStore;  // CiA 301 §7.5.2.13
-    if (storage_ == nullptr) return kAbortStore;
-    return params_save(od_, *storage_) ? kHookHandled : kAbortGeneral;
-  }
-  if (value != kLoadSignature) return kAbortStore;
-  if (storage_ == nullptr) return kAbortStore;
-  return params_erase(*storage_) ? kHookHandled : kAbortGeneral;
+HookResult Node::on_store_write(uint16_t index, uint32_t value, bool apply) {
+  const bool save = index == 0x1010;
+  // CiA 301 §7.5.2.13/14: the signature "save" or "load", and a storage.
+  if (value != (save ? kSaveSignature : kLoadSignature) || storage_ == nullptr) return kAbortStore;
+  if (!apply) return HookResult::handled();
+  const bool done = save ? params_save(od_, *storage_) : params_erase(*storage_);
+  if (done && save) emcy_.clear(kEmcyStorage);  // a good set is stored again
+  return done ? HookResult::handled() : HookResult(kAbortGeneral);
 }
 
-uint32_t Node::od_hook(void* ctx, uint8_t hook, uint16_t index, uint8_t sub, const uint8_t* data,
-                       uint16_t len) {
+HookResult Node::od_hook(void* ctx, uint8_t hook, uint16_t index, uint8_t sub, const uint8_t* data,
+                         uint16_t len, bool apply) {
   Node& n = *static_cast<Node*>(ctx);
+  // What the node consumes may change (1016h, 1005h, 1400h-1403h; 1003h and
+  // 1014h/1015h lie between them: the same ids again, which the port drops).
+  static_assert(kHookHbConsumer < kHookSync && kHookSync < kHookRpdoComm, "hooks in this order");
+  if (apply && hook >= kHookHbConsumer && hook <= kHookRpdoComm) n.filters_stale_ = true;
   switch (hook) {
     case kHookNmt:
-      n.error_control_.restart();
+      if (apply) n.error_control_.restart();
       return kSdoOk;
     case kHookHbConsumer:
-      return n.on_hb_consumer_write(sub, le32(data));
+      return n.on_hb_consumer_write(sub, le32(data), apply);
     case kHookEmcy:
-      return n.emcy_.on_write(index, sub, data);
+      return n.emcy_.on_write(index, sub, data, apply);
     case kHookSync:
-      return n.sync_.on_write(index, data);
+      return n.sync_.on_write(index, data, apply);
     case kHookRpdoComm:
     case kHookRpdoMap:
-      return n.rpdos_.on_write(index, sub, data);
+      return n.rpdos_.on_write(index, sub, data, apply);
     case kHookTpdoComm:
     case kHookTpdoMap:
-      return n.tpdos_.on_write(index, sub, data);
+      return n.tpdos_.on_write(index, sub, data, apply);
     case kHookStore:
-      return n.on_store_write(index, le32(data));
+      return n.on_store_write(index, le32(data), apply);
     case kHookApp:
-      return n.app_hook_ != nullptr ? n.app_hook_(n.app_ctx_, hook, index, sub, data, len) : kSdoOk;
+      return n.app_hook_ != nullptr ? n.app_hook_(n.app_ctx_, hook, index, sub, data, len, apply) : kSdoOk;
     default:
       return kSdoOk;
   }

@@ -26,6 +26,10 @@ namespace canopen {
 /// message: the application re-applies what it owns (e.g. 1000h).
 typedef void (*ResetCallback)(void* ctx, NmtReset kind);
 
+/// Most standard CAN ids a node consumes: NMT, SYNC, SDO request, node
+/// guarding, one per RPDO, one per heartbeat consumer.
+const uint8_t kMaxConsumedIds = 4 + kPdoCount + kHbConsumers;
+
 /// The state of a Node that starts at zero: one block, value-initialised by
 /// the Node's constructor (a zero-fill, then the services' few non-zero
 /// defaults) instead of a store per member.
@@ -43,6 +47,9 @@ struct NodeState {
   Tpdos tpdos_;
   Rpdos rpdos_;
   SdoServer sdo_;
+  const CanControl* can_control_;  ///< MB2CO_FLASH; null: no bit rate, no filters
+  uint32_t overflow_us_;           ///< last CAN overrun (8110h held until + kControllerEventHoldUs)
+  uint32_t recovered_us_;          ///< last bus-off recovery (8140h likewise)
   /// Rows of 1016h, 1017h, 100Ch, 100Dh (sub 0), in this order.
   enum : uint8_t { k1016, k1017, k100C, k100D, kRows };
   uint16_t row_[kRows];
@@ -51,8 +58,14 @@ struct NodeState {
   uint8_t next_node_id_;
   NmtReset pending_reset_;
   bool params_loaded_;
+  /// Resets that found a damaged saved-parameter slot (CRC, limits; never
+  /// decrements, saturates at 255).
+  uint8_t storage_damage_count_;
   bool hb_lost_;
   bool life_lost_;
+  /// A write changed what the node consumes: the next process() hands
+  /// consumed_ids() to CanControl::set_filters.
+  bool filters_stale_;
 };
 
 class Node : private NodeState {
@@ -61,6 +74,7 @@ class Node : private NodeState {
 
   /// Optional; without storage 1010h reads 0 and "save" is refused.
   void set_storage(const ParamStorage* storage) { storage_ = storage; }
+  const ParamStorage* storage() const { return storage_; }
   /// Writes to entries with kHookApp go to the application.
   void set_app_hook(OdWriteHook hook, void* ctx) {
     app_hook_ = hook;
@@ -70,6 +84,12 @@ class Node : private NodeState {
     reset_cb_ = cb;
     reset_ctx_ = ctx;
   }
+  /// The port's controller settings (platform/device_port.h: a MB2CO_FLASH table,
+  /// called with the sink's ctx). Set before start(): the filters follow from
+  /// the first reset on.
+  void set_can_control(const CanControl* control) { can_control_ = control; }
+  const CanControl* can_control() const { return can_control_; }
+  CanSink sink() const { return sink_; }
   /// Node id used from the next reset communication on (1..127).
   void set_node_id_for_next_reset(uint8_t node_id) { next_node_id_ = node_id; }
 
@@ -81,11 +101,51 @@ class Node : private NodeState {
   void local_nmt(NmtCommand command, uint32_t now_us);
   /// True when the last reset found a valid saved-parameter image.
   bool params_loaded() const { return params_loaded_; }
+  /// Resets that found a damaged saved-parameter slot (EMCY 5530h each time,
+  /// active with 1001h bit 0 until a save succeeds). Never decrements.
+  uint8_t storage_damage_count() const { return storage_damage_count_; }
 
   /// Power-on: defaults and saved parameters, boot-up, pre-operational.
   void start(uint8_t node_id, uint32_t now_us);
   void receive(const CanFrame& f, uint32_t now_us);
   void process(uint32_t now_us);
+  /// When process() must run next: false when nothing is pending (only a
+  /// frame handed in, or another input, makes work); else *at_us, the
+  /// earliest time (wrap-safe, time_reached(); at most 2^31 us ahead) at
+  /// which a timer of any service falls due, or now_us when work is waiting
+  /// (a pending reset, filters to set, a refused send to retry, an OD change
+  /// the TPDOs have not seen). Invariant, for a caller that sleeps: process()
+  /// called at *at_us, or after any later input (receive(), an OD write, a
+  /// reset request, on_controller_state()), does everything due; called
+  /// earlier than that it changes nothing observable. Valid after start()
+  /// and after a process() at now_us or before; inputs since void it. Every
+  /// timer service contributes (heartbeat producer, node/life guarding,
+  /// heartbeat consumers, SYNC producer, TPDO inhibit and event timers,
+  /// RPDO timeouts, EMCY inhibit, the controller EMCY hold times, the SDO
+  /// server timeout). Not used on the AVR (its loop runs every pass).
+  bool next_deadline(uint32_t now_us, uint32_t* at_us) const;
+  /// The same, lowering `d` (for an owner that has timers of its own).
+  void next_deadline(NextDeadline& d) const;
+  /// How long 8110h and 8140h stay active after their event.
+  static const uint32_t kControllerEventHoldUs = 1000000;
+  /// The CAN port reports its controller (ControllerEvent bits; `passive`:
+  /// error passive or bus-off now). EMCY (error register "communication"):
+  /// 8110h on an overrun and 8140h on a recovery from bus-off, each cleared
+  /// kControllerEventHoldUs later by process(); 8120h while passive. Same
+  /// context as receive().
+  void on_controller_state(uint8_t events, bool passive, uint32_t now_us);
+
+  /// The one derivation of the standard CAN ids this node consumes, as the
+  /// OD configures them now (valid after start()): NMT 000h, SYNC (1005h),
+  /// SDO request 600h+id, node guarding 700h+id, every valid standard RPDO
+  /// COB-ID (1400h-1403h/1) and 700h+n for each heartbeat consumer (1016h,
+  /// node 1..127 with a time). Writes them sorted ascending, without
+  /// duplicates, to ids[0..n) and returns n (1..kMaxConsumedIds): `ids` holds
+  /// kMaxConsumedIds. Frames with other ids the node ignores, so a port may
+  /// filter them out in hardware (the CAN ports, the simulator), except
+  /// remote requests for its TPDOs (RTR, deprecated by CiA: the MCP2515
+  /// port drops them, the SocketCAN port lets remote frames through).
+  uint8_t consumed_ids(uint16_t* ids) const;
 
   NmtState nmt_state() const { return nmt_.state(); }
   uint8_t node_id() const { return node_id_; }
@@ -96,16 +156,18 @@ class Node : private NodeState {
   Rpdos& rpdos() { return rpdos_; }
 
  private:
-  static uint32_t od_hook(void* ctx, uint8_t hook, uint16_t index, uint8_t sub,
-                          const uint8_t* data, uint16_t len);
-  uint32_t on_hb_consumer_write(uint8_t sub, uint32_t value);
-  uint32_t on_store_write(uint16_t index, uint32_t value);
+  static HookResult od_hook(void* ctx, uint8_t hook, uint16_t index, uint8_t sub, const uint8_t* data,
+                            uint16_t len, bool apply);
+  SdoAbort on_hb_consumer_write(uint8_t sub, uint32_t value, bool apply);
+  HookResult on_store_write(uint16_t index, uint32_t value, bool apply);
   void reset(NmtReset kind, uint32_t now_us);
   void enter(NmtState state);
   /// Side effects of a state change that already happened.
   void on_transition(NmtState before);
   void on_sync_event(uint8_t counter, uint32_t now_us);
   void update_guard_emcy();
+  void update_filters();
+  void expire_controller_emcy(uint32_t now_us);
 
   ObjectDictionary& od_;
   CanSink sink_;

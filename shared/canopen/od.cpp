@@ -53,7 +53,9 @@ uint16_t ObjectDictionary::first_row(uint16_t index) const {
   return kNoRow;
 }
 
-bool ObjectDictionary::has_index(uint16_t index) const { return first_row(index) != kNoRow; }
+bool ObjectDictionary::has_index(uint16_t index) const {
+  return first_row(index) != kNoRow;
+}
 
 uint8_t ObjectDictionary::type_bits(uint8_t type) const {
   const uint16_t r = type == 0 || type > kUnsigned32 ? kNoRow : find(type, 0);
@@ -176,12 +178,12 @@ void ObjectDictionary::restore_defaults(uint16_t from_index, uint16_t to_index) 
       for (; i < cap && flash_byte(src + i) != 0; ++i) dst[i] = flash_byte(src + i);
       for (; i < cap; ++i) dst[i] = 0;
     } else {
-      set(r, default_of(e));  // the numeric store of set(): -24 B on the Uno
+      set(r, default_of(e));  // the numeric store of set()
     }
   }
 }
 
-uint32_t ObjectDictionary::check_read(uint16_t index, uint8_t sub, uint16_t* row) const {
+SdoAbort ObjectDictionary::check_read(uint16_t index, uint8_t sub, uint16_t* row) const {
   const uint16_t r = find(index, sub);
   if (r == kNoRow) return has_index(index) ? kAbortNoSubindex : kAbortNoObject;
   if (!(attr(r) & kAttrRead)) return kAbortWriteOnly;
@@ -189,17 +191,17 @@ uint32_t ObjectDictionary::check_read(uint16_t index, uint8_t sub, uint16_t* row
   return kSdoOk;
 }
 
-uint32_t ObjectDictionary::read(uint16_t index, uint8_t sub, uint8_t* buf, uint16_t cap,
+SdoAbort ObjectDictionary::read(uint16_t index, uint8_t sub, uint8_t* buf, uint16_t cap,
                                 uint16_t* len) const {
   uint16_t r = kNoRow;
-  const uint32_t abort = check_read(index, sub, &r);
+  const SdoAbort abort = check_read(index, sub, &r);
   if (abort != kSdoOk) return abort;
   if (size_of(r) > cap) return kAbortTooLong;
   *len = copy_out(r, buf, cap);
   return kSdoOk;
 }
 
-uint32_t ObjectDictionary::check_write(uint16_t index, uint8_t sub, uint16_t* row) const {
+SdoAbort ObjectDictionary::check_write(uint16_t index, uint8_t sub, uint16_t* row) const {
   const uint16_t r = find(index, sub);
   if (r == kNoRow) return has_index(index) ? kAbortNoSubindex : kAbortNoObject;
   if (!(attr(r) & kAttrWrite)) return kAbortReadOnly;
@@ -207,8 +209,7 @@ uint32_t ObjectDictionary::check_write(uint16_t index, uint8_t sub, uint16_t* ro
   return kSdoOk;
 }
 
-uint32_t ObjectDictionary::check_limits(const OdEntry& e, const uint8_t* data,
-                                        uint16_t len) const {
+SdoAbort ObjectDictionary::check_limits(const OdEntry& e, const uint8_t* data, uint16_t len) const {
   if (e.type == kBoolean && data[0] > 1) return kAbortInvalidValue;
   for (uint8_t i = 0; i < def_.limit_count; ++i) {
     // Single fields from flash: most limits are not this entry's.
@@ -219,7 +220,7 @@ uint32_t ObjectDictionary::check_limits(const OdEntry& e, const uint8_t* data,
     // is above every maximum (32-bit arithmetic: no 64-bit code on the AVR).
     const bool is_signed = e.type == kInteger8 || e.type == kInteger16 || e.type == kInteger32;
     // Extension by a fill byte, then the value over it (little-endian, like
-    // both targets); with the single-field reads above -38 B on the Uno.
+    // both targets), with the single-field reads above.
     uint8_t bytes[4];
     memset(bytes, is_signed && len > 0 && len < 4 && (data[len - 1] & 0x80) ? 0xFF : 0x00, 4);
     memcpy(bytes, data, len < 4 ? len : 4);
@@ -237,8 +238,8 @@ uint32_t ObjectDictionary::check_limits(const OdEntry& e, const uint8_t* data,
   return kSdoOk;
 }
 
-void ObjectDictionary::store(const OdEntry& e, const uint8_t* data, uint16_t len) {
-  touch();
+void ObjectDictionary::store(const OdEntry& e, const uint8_t* data, uint16_t len, bool tracked) {
+  if (tracked) touch();
   uint8_t* p = values_ + e.loc;
   memcpy(p, data, len);
   if (e.attr & kAttrString) {
@@ -247,30 +248,34 @@ void ObjectDictionary::store(const OdEntry& e, const uint8_t* data, uint16_t len
   }
 }
 
-uint32_t ObjectDictionary::write(uint16_t index, uint8_t sub, const uint8_t* data, uint16_t len) {
+SdoAbort ObjectDictionary::write(uint16_t index, uint8_t sub, const uint8_t* data, uint16_t len) {
   uint16_t r = kNoRow;
-  const uint32_t abort = check_write(index, sub, &r);
+  const SdoAbort abort = check_write(index, sub, &r);
   if (abort != kSdoOk) return abort;
   return write_row(r, data, len);
 }
 
-uint32_t ObjectDictionary::write_row(uint16_t r, const uint8_t* data, uint16_t len) {
-  uint32_t abort = kSdoOk;
+SdoAbort ObjectDictionary::write_row(uint16_t r, const uint8_t* data, uint16_t len, bool apply) {
   const OdEntry e = entry(r);
   const uint16_t cap = capacity_of(r);
   if (len > cap) return kAbortTooLong;
   if (!(e.attr & kAttrString) && len < cap) return kAbortTooShort;
   if (!(e.attr & kAttrString)) {
-    abort = check_limits(e, data, len);
+    const SdoAbort abort = check_limits(e, data, len);
     if (abort != kSdoOk) return abort;
   }
   if (e.hook != kHookNone && hook_ != nullptr) {
-    abort = hook_(hook_ctx_, e.hook, e.index, e.sub, data, len);
-    if (abort == kHookHandled) return kSdoOk;
-    if (abort != kSdoOk) return abort;
+    const HookResult verdict = hook_(hook_ctx_, e.hook, e.index, e.sub, data, len, apply);
+    if (!verdict.store()) return verdict.abort();
   }
-  store(e, data, len);
+  store(e, data, len, apply);
   return kSdoOk;
+}
+
+void ObjectDictionary::put_value(PdoMapped<uint8_t>& entry, uint8_t value) {
+  if (entry.value_ == value) return;
+  entry.value_ = value;
+  touch();
 }
 
 }  // namespace canopen

@@ -2,7 +2,7 @@
 // value block. Lookup is a binary search over the sorted rows: O(log n).
 // Every access from the network goes through read()/write(), which apply
 // access rights, sizes, limits and the owning service's write hook, and
-// answer with a CiA 301 SDO abort code (0 = done).
+// answer with a CiA 301 SDO abort code (kSdoOk = done).
 #pragma once
 #include <stdint.h>
 
@@ -13,15 +13,44 @@
 namespace mb2co {
 namespace canopen {
 
+/// A write hook's decision (OdWriteHook): store the value, take it as done
+/// without storing it, or refuse it with an SDO abort code.
+/// "Done, not stored" is no abort code and no bus value: write_row() answers
+/// it with abort() = kSdoOk, so it never leaves the OD. It is held in the
+/// 32 bits of the code (0xFFFFFFFF: not in any CiA 301 abort class) rather
+/// than in a flag beside it: one 32-bit value, like the services' SdoAbort
+/// results that Node::od_hook passes on unchanged (a flag made it a 5-byte
+/// result and grew the Uno image: docs/performance.md). Nothing outside this
+/// class sees that value.
+class HookResult {
+ public:
+  /// kSdoOk: accept, the OD stores the value; an abort code: refuse, nothing
+  /// is stored. Implicit: a hook answers with the services' SdoAbort results.
+  HookResult(SdoAbort abort) : code_(abort) {}  // NOLINT(google-explicit-constructor)
+  /// Accepted, and the hook has done all there is to do: the value is not
+  /// stored (e.g. the "save" signature of 1010h reads back as before).
+  static HookResult handled() { return HookResult(static_cast<SdoAbort>(kHandled)); }
+
+  /// True when the OD is to store the written value (accepted, not handled).
+  bool store() const { return code_ == kSdoOk; }
+  /// What the write answers: kSdoOk for a handled write.
+  SdoAbort abort() const { return code_ == static_cast<SdoAbort>(kHandled) ? kSdoOk : code_; }
+
+ private:
+  static const uint32_t kHandled = 0xFFFFFFFFu;
+  SdoAbort code_;
+};
+
 /// Validates (and lets the owning service take note of) a write before it is
 /// stored. `data`/`len` are the new value, little-endian as on the bus.
-/// Returns 0 to accept, kHookHandled when the hook has done all there is to do
-/// (the written value is not stored, e.g. the "save" signature of 1010h), or an
-/// SDO abort code to refuse (nothing is stored).
-typedef uint32_t (*OdWriteHook)(void* ctx, uint8_t hook, uint16_t index, uint8_t sub,
-                                const uint8_t* data, uint16_t len);
-
-const uint32_t kHookHandled = 0xFFFFFFFFu;
+/// Returns kSdoOk to accept, HookResult::handled() when the hook has done all
+/// there is to do, or an SDO abort code to refuse (nothing is stored).
+/// `apply` false: the check step of a request of several entries (Modbus FC
+/// 0Fh/10h/17h): decide exactly as with `apply` true, but carry out nothing
+/// (no save, no reset, no latch cleared, no service state changed), so that a
+/// request refused at its last entry leaves every observable state as it was.
+typedef HookResult (*OdWriteHook)(void* ctx, uint8_t hook, uint16_t index, uint8_t sub, const uint8_t* data,
+                                  uint16_t len, bool apply);
 
 class ObjectDictionary {
  public:
@@ -44,10 +73,12 @@ class ObjectDictionary {
   // ---- lookup ---------------------------------------------------------------
   /// Row number of (index, sub), or kNoRow.
   uint16_t find(uint16_t index, uint8_t sub) const;
+  /// Row of a generated entry key (`Name##Entry::x2100_2_runState`), or kNoRow.
+  uint16_t find(OdKey key) const { return find(key.index, key.sub); }
   /// True when some sub-entry of `index` exists.
   bool has_index(uint16_t index) const;
   /// rows[i] = find(indices[i], 0) for `count` indices from a MB2CO_FLASH
-  /// table: the services' start-up lookups as one loop (-92 B on the Uno).
+  /// table: the services' start-up lookups as one loop.
   void find_rows(const uint16_t* indices, uint8_t count, uint16_t* rows) const;
   /// First row of `index` (kNoRow if absent); rows of one index are contiguous.
   uint16_t first_row(uint16_t index) const;
@@ -74,17 +105,27 @@ class ObjectDictionary {
   uint16_t capacity_of(uint16_t row) const;
 
   // ---- network access (rights, sizes, limits, hooks) ------------------------
-  /// Reads (index, sub) into buf (cap bytes); *len = bytes. 0 or abort code.
-  uint32_t read(uint16_t index, uint8_t sub, uint8_t* buf, uint16_t cap, uint16_t* len) const;
+  /// Reads (index, sub) into buf (cap bytes); *len = bytes.
+  SdoAbort read(uint16_t index, uint8_t sub, uint8_t* buf, uint16_t cap, uint16_t* len) const;
   /// Checks what a read would answer without copying; *row = the row.
-  uint32_t check_read(uint16_t index, uint8_t sub, uint16_t* row) const;
+  SdoAbort check_read(uint16_t index, uint8_t sub, uint16_t* row) const;
   /// Checks rights of a write before data arrives (segmented download).
-  uint32_t check_write(uint16_t index, uint8_t sub, uint16_t* row) const;
+  SdoAbort check_write(uint16_t index, uint8_t sub, uint16_t* row) const;
   /// Writes (index, sub) from data/len: rights, size, limits, hook, then store.
-  uint32_t write(uint16_t index, uint8_t sub, const uint8_t* data, uint16_t len);
+  SdoAbort write(uint16_t index, uint8_t sub, const uint8_t* data, uint16_t len);
   /// write() of a row whose access rights the caller has checked (a mapped
-  /// RPDO entry): size, limits, hook, then store.
-  uint32_t write_row(uint16_t row, const uint8_t* data, uint16_t len);
+  /// RPDO entry): size, limits, hook, then store. With `apply` false only
+  /// the decision (the hook checks, OdWriteHook): the value is stored without
+  /// a revision change, for the caller to check later entries of the same
+  /// request against and then put back (ram_untracked).
+  SdoAbort write_row(uint16_t row, const uint8_t* data, uint16_t len, bool apply = true);
+
+  /// True when `len` bytes of `data` are a value the row's data type and
+  /// limits allow (what write_row() checks before hooks): for values that
+  /// enter without the write path, e.g. loaded parameters.
+  bool value_allowed(uint16_t row, const uint8_t* data, uint16_t len) const {
+    return check_limits(entry(row), data, len) == kSdoOk;
+  }
 
   // ---- local access by the device itself (no rights, no hooks) -------------
   /// Numeric value of a row, zero-extended (sign bits kept as stored).
@@ -95,6 +136,19 @@ class ObjectDictionary {
   /// Raw bytes of a RAM row (nullptr for const rows).
   uint8_t* ram(uint16_t row);
   const uint8_t* ram(uint16_t row) const;
+  /// ram() without a revision change: for an undo log that puts back exactly
+  /// the bytes it saved (nothing observable changes), and for saved
+  /// parameters loaded at a reset (restore_defaults() has just changed it).
+  uint8_t* ram_untracked(uint16_t row) {
+    return const_cast<uint8_t*>(static_cast<const ObjectDictionary*>(this)->ram(row));
+  }
+  /// Stores `value` into a PDO-mappable entry of a value block (the only way
+  /// to: PdoMapped, od_define.h) and, when the entry changed, tells the TPDOs
+  /// (touch()): a change of a mappable value cannot miss them.
+  template <class T, class V>
+  void put(PdoMapped<T>& entry, V value) {
+    put_value(entry, static_cast<T>(value));
+  }
   /// Restores defaults of every RAM row with from <= index <= to.
   void restore_defaults(uint16_t from_index, uint16_t to_index);
 
@@ -104,15 +158,24 @@ class ObjectDictionary {
   // ---- change tracking --------------------------------------------------------
   /// Changes with every modification made through the OD: set() that changed
   /// a value, write(), restore_defaults(), a new node id, and every writable
-  /// ram() pointer handed out (its holder may write). Code that writes the
-  /// value block directly calls touch() at least when it changed an entry a
-  /// PDO may map (kAttrPdo). So while the revision stays the same, every PDO
+  /// ram() pointer handed out (its holder may write), and put(): an entry a
+  /// PDO may map (kAttrPdo) is a PdoMapped member of the value block, which
+  /// only put() can store into. So while the revision stays the same, every PDO
   /// configuration and every mappable value reads as before: TPDOs skip
   /// rebuilding their payload then. Wraps at 2^16.
   uint16_t revision() const { return revision_; }
   void touch() { ++revision_; }
 
  private:
+  /// put() after the conversion. Bytes, the most frequent, share one
+  /// out-of-line copy (the Uno's flash); wider entries are stored inline.
+  __attribute__((noinline)) void put_value(PdoMapped<uint8_t>& entry, uint8_t value);
+  template <class T>
+  void put_value(PdoMapped<T>& entry, T value) {
+    if (entry.value_ == value) return;
+    entry.value_ = value;
+    touch();
+  }
   uint32_t default_of(const OdEntry& e) const;
   /// Current text length of a string row (RAM or flash), at most its capacity.
   uint16_t string_length(uint16_t row) const;
@@ -122,8 +185,10 @@ class ObjectDictionary {
     return type <= kUnsigned32 ? type_bytes_[type] : static_cast<uint8_t>(0);
   }
   MB2CO_INLINE uint8_t* value_at(const OdEntry* e) const { return values_ + flash_read(&e->loc); }
-  uint32_t check_limits(const OdEntry& e, const uint8_t* data, uint16_t len) const;
-  void store(const OdEntry& e, const uint8_t* data, uint16_t len);
+  SdoAbort check_limits(const OdEntry& e, const uint8_t* data, uint16_t len) const;
+  /// Copies a value into its row; `tracked` false: no revision change (a
+  /// check step's value, put back before anything reads it).
+  void store(const OdEntry& e, const uint8_t* data, uint16_t len, bool tracked);
 
   const OdDefinition& def_;
   uint8_t* values_;
@@ -138,7 +203,9 @@ class ObjectDictionary {
 };
 
 /// Little-endian helpers (the bus byte order).
-inline uint16_t le16(const uint8_t* p) { return static_cast<uint16_t>(p[0] | (p[1] << 8)); }
+inline uint16_t le16(const uint8_t* p) {
+  return static_cast<uint16_t>(p[0] | (p[1] << 8));
+}
 inline uint32_t le32(const uint8_t* p) {
   return static_cast<uint32_t>(p[0]) | (static_cast<uint32_t>(p[1]) << 8) |
          (static_cast<uint32_t>(p[2]) << 16) | (static_cast<uint32_t>(p[3]) << 24);

@@ -4,14 +4,28 @@
 // that the EDS and docs/od.md generators print. One definition, no drift.
 //
 // A list is a macro taking two macros, N for numeric entries and S for strings:
-//   N(index, sub, type, access, flags, hook, default, "name")
+//   N(index, sub, id, type, access, flags, hook, default, "name")
+//       id:     the entry's identifier, x<index>_<sub>_<what it holds> in the
+//               style of CANopenNode (x2100_2_runState); a static_assert
+//               checks that it begins with this row's index and sub-index
 //       type:   BOOL U8 U16 U32 I8 I16 I32
 //       access: CONST (value in the row, no RAM), RO, WO, RW
-//       flags:  0 or OdAttr bits (kAttrPdo, kAttrNodeId, kAttrPersist)
-//   S(index, sub, access, hook, capacity, "default text", "name")
+//       flags:  0 or OdAttr bits (kAttrPdo, kAttrNodeId, kAttrCommand)
+//   S(index, sub, id, access, hook, capacity, "default text", "name")
 // Limits are a second list: L(index, sub, min, max).
 // Rows must be written in ascending (index, sub) order: a static_assert checks.
+//
+// The identifier names, for every OD `Name` (MB2CO_OD_DECLARE):
+//  - the entry's member of the RAM value block `Name##Values` (the device's
+//    own code reads and writes its entries there, no lookup);
+//  - a constant `Name##Entry::id` (OdKey: index, sub, bits) for code that
+//    reaches the entry through the OD or a map (PC app, simulator, tests).
+// So one name stands for one entry in firmware, PC app and simulator. Both
+// cost nothing on the AVR: member names and constexpr keys leave no trace in
+// the image (the printable "name" column is host-only, see OdDefinition).
 #pragma once
+// The OD lists and their macros are tables, one row a line: not reflowed.
+// clang-format off
 #include <stddef.h>
 #include <stdint.h>
 
@@ -31,6 +45,80 @@ struct OdDefinition {
   uint16_t values_size;       ///< bytes of the RAM value block
   const char* const* names;   ///< one per row; nullptr on AVR (names cost flash)
 };
+
+/// Where one OD entry is, generated for every row (`Name##Entry::id`).
+/// `bits` is the value's length as a PDO or Modbus map entry names it
+/// (BOOLEAN 1, others their type's width; 0 for a string).
+struct OdKey {
+  uint16_t index;
+  uint8_t sub;
+  uint8_t bits;
+  /// The entry in the mapping format of 16xxh/1Axxh and 2400h-2403h.
+  constexpr uint32_t map_entry() const {
+    return (static_cast<uint32_t>(index) << 16) | (static_cast<uint32_t>(sub) << 8) | bits;
+  }
+};
+
+/// A numeric row's index, sub-index and default (MB2CO_OD_DEFAULTS), for
+/// compile-time questions about an OD's defaults on the host.
+struct OdDefault {
+  uint16_t index;
+  uint8_t sub;
+  uint32_t value;
+};
+
+class ObjectDictionary;
+
+/// The value of a RAM entry a PDO may map (kAttrPdo) in a value block: reads
+/// as a T, but only ObjectDictionary::put() stores into it, and put() tells
+/// the OD of a change (ObjectDictionary::touch), so the TPDOs see it. A plain
+/// assignment does not compile: a change no TPDO notices cannot be written.
+/// Same size and layout as T (the OD reaches it by byte offset); no
+/// constructor, so a value block stays zero-initialised without code.
+template <class T>
+class PdoMapped {
+ public:
+  operator T() const { return value_; }
+
+ private:
+  friend class ObjectDictionary;
+  T value_;
+};
+
+/// Member type of a value-block entry: PdoMapped<T> for a PDO-mappable one.
+template <class T, bool kPdo>
+struct OdValueOf {
+  typedef T type;
+};
+template <class T>
+struct OdValueOf<T, true> {
+  typedef PdoMapped<T> type;
+};
+
+/// Value of a hex digit, or 16 for none.
+constexpr uint8_t od_hex_digit(char c) {
+  return c >= '0' && c <= '9'   ? static_cast<uint8_t>(c - '0')
+         : c >= 'A' && c <= 'F' ? static_cast<uint8_t>(c - 'A' + 10)
+         : c >= 'a' && c <= 'f' ? static_cast<uint8_t>(c - 'a' + 10)
+                                : static_cast<uint8_t>(16);
+}
+
+/// True when `id` reads x<index, 4 hex digits>_<sub, decimal>_<something>:
+/// an identifier always says which entry it is (compile time only).
+constexpr bool od_id_matches(const char* id, uint16_t index, uint8_t sub) {
+  if (id[0] != 'x') return false;
+  uint32_t i = 0;
+  for (uint8_t k = 1; k <= 4; ++k) {
+    const uint8_t d = od_hex_digit(id[k]);
+    if (d > 15) return false;
+    i = i * 16u + d;
+  }
+  if (i != index || id[5] != '_') return false;
+  uint32_t s = 0;
+  uint8_t k = 6;
+  for (; id[k] >= '0' && id[k] <= '9'; ++k) s = s * 10u + static_cast<uint32_t>(id[k] - '0');
+  return k > 6 && s == sub && id[k] == '_' && id[k + 1] != '\0';
+}
 
 constexpr bool od_rows_sorted(const OdEntry* rows, uint16_t count) {
   for (uint16_t i = 1; i < count; ++i) {
@@ -63,32 +151,52 @@ constexpr bool od_rows_sorted(const OdEntry* rows, uint16_t count) {
 #define MB2CO_OD_ACC_WO (::mb2co::canopen::kAttrWrite | ::mb2co::canopen::kAttrRam)
 #define MB2CO_OD_ACC_RW \
   (::mb2co::canopen::kAttrRead | ::mb2co::canopen::kAttrWrite | ::mb2co::canopen::kAttrRam)
-#define MB2CO_OD_MEMBER(index, sub) v_##index##_##sub
-#define MB2CO_OD_STRMEMBER(index, sub) s_##index##_##sub
+#define MB2CO_OD_BITS_BOOL 1
+#define MB2CO_OD_BITS_U8 8
+#define MB2CO_OD_BITS_U16 16
+#define MB2CO_OD_BITS_U32 32
+#define MB2CO_OD_BITS_I8 8
+#define MB2CO_OD_BITS_I16 16
+#define MB2CO_OD_BITS_I32 32
 
-// RAM value block members: nothing for CONST rows.
-#define MB2CO_OD_VAL_CONST(type, index, sub)
-#define MB2CO_OD_VAL_RO(type, index, sub) MB2CO_OD_CTYPE_##type MB2CO_OD_MEMBER(index, sub);
+// RAM value block members, named by the identifier column: nothing for
+// CONST rows; PdoMapped<T> for the PDO-mappable ones.
+#define MB2CO_OD_VAL_CONST(t, flags, id)
+#define MB2CO_OD_VAL_RO(t, flags, id)                           \
+  ::mb2co::canopen::OdValueOf<MB2CO_OD_CTYPE_##t,               \
+                              (((flags) & ::mb2co::canopen::kAttrPdo) != 0)>::type id;
 #define MB2CO_OD_VAL_WO MB2CO_OD_VAL_RO
 #define MB2CO_OD_VAL_RW MB2CO_OD_VAL_RO
-#define MB2CO_OD_N_VALUE(index, sub, type, access, flags, hook, def, name) \
-  MB2CO_OD_VAL_##access(type, index, sub)
-#define MB2CO_OD_SVAL_CONST(index, sub, cap)
-#define MB2CO_OD_SVAL_RO(index, sub, cap) char MB2CO_OD_MEMBER(index, sub)[cap];
+#define MB2CO_OD_N_VALUE(index, sub, id, type, access, flags, hook, def, name) \
+  MB2CO_OD_VAL_##access(type, flags, id)
+#define MB2CO_OD_SVAL_CONST(id, cap)
+#define MB2CO_OD_SVAL_RO(id, cap) char id[cap];
 #define MB2CO_OD_SVAL_WO MB2CO_OD_SVAL_RO
 #define MB2CO_OD_SVAL_RW MB2CO_OD_SVAL_RO
-#define MB2CO_OD_S_VALUE(index, sub, access, hook, cap, text, name) \
-  MB2CO_OD_SVAL_##access(index, sub, cap)
+#define MB2CO_OD_S_VALUE(index, sub, id, access, hook, cap, text, name) \
+  MB2CO_OD_SVAL_##access(id, cap)
+
+// Entry keys (OdKey), each with the check of its identifier.
+#define MB2CO_OD_KEY(index, sub, id, bits)                                  \
+  constexpr ::mb2co::canopen::OdKey id = {index, sub, bits};                \
+  static_assert(::mb2co::canopen::od_id_matches(#id, index, sub),           \
+                #id ": an identifier begins with x<index>_<sub>_ of its row");
+#define MB2CO_OD_N_KEY(index, sub, id, type, access, flags, hook, def, name) \
+  MB2CO_OD_KEY(index, sub, id, MB2CO_OD_BITS_##type)
+#define MB2CO_OD_S_KEY(index, sub, id, access, hook, cap, text, name) MB2CO_OD_KEY(index, sub, id, 0)
+
+// Default table rows (numeric rows only).
+#define MB2CO_OD_N_DEF(index, sub, id, type, access, flags, hook, def, name) {index, sub, static_cast<uint32_t>(def)},
+#define MB2CO_OD_S_DEF(index, sub, id, access, hook, cap, text, name)
 
 // String pool members and initialisers.
-#define MB2CO_OD_N_NONE(index, sub, type, access, flags, hook, def, name)
-#define MB2CO_OD_S_POOL(index, sub, access, hook, cap, text, name) \
-  char MB2CO_OD_STRMEMBER(index, sub)[sizeof(text)];
-#define MB2CO_OD_S_POOLINIT(index, sub, access, hook, cap, text, name) text,
+#define MB2CO_OD_N_NONE(index, sub, id, type, access, flags, hook, def, name)
+#define MB2CO_OD_S_POOL(index, sub, id, access, hook, cap, text, name) char id[sizeof(text)];
+#define MB2CO_OD_S_POOLINIT(index, sub, id, access, hook, cap, text, name) text,
 
 // Row offsets in the value block (0 for CONST rows).
-#define MB2CO_OD_LOC_CONST(V, index, sub) 0
-#define MB2CO_OD_LOC_RO(V, index, sub) offsetof(V, MB2CO_OD_MEMBER(index, sub))
+#define MB2CO_OD_LOC_CONST(V, id) 0
+#define MB2CO_OD_LOC_RO(V, id) offsetof(V, id)
 #define MB2CO_OD_LOC_WO MB2CO_OD_LOC_RO
 #define MB2CO_OD_LOC_RW MB2CO_OD_LOC_RO
 // Strings: CONST capacity is the default's length.
@@ -97,17 +205,17 @@ constexpr bool od_rows_sorted(const OdEntry* rows, uint16_t count) {
 #define MB2CO_OD_SCAP_WO MB2CO_OD_SCAP_RO
 #define MB2CO_OD_SCAP_RW MB2CO_OD_SCAP_RO
 
-#define MB2CO_OD_N_ROW(V, P, index, sub, type, access, flags, hook, def, name)                \
+#define MB2CO_OD_N_ROW(V, P, index, sub, id, type, access, flags, hook, def, name)            \
   {index, sub, MB2CO_OD_DT_##type, hook, static_cast<uint8_t>(MB2CO_OD_ACC_##access | (flags)), \
-   static_cast<uint16_t>(MB2CO_OD_LOC_##access(V, index, sub)), static_cast<uint32_t>(def)},
-#define MB2CO_OD_S_ROW(V, P, index, sub, access, hook, cap, text, name)                        \
+   static_cast<uint16_t>(MB2CO_OD_LOC_##access(V, id)), static_cast<uint32_t>(def)},
+#define MB2CO_OD_S_ROW(V, P, index, sub, id, access, hook, cap, text, name)                    \
   {index, sub, ::mb2co::canopen::kVisibleString, hook,                                         \
    static_cast<uint8_t>(MB2CO_OD_ACC_##access | ::mb2co::canopen::kAttrString),                \
-   static_cast<uint16_t>(MB2CO_OD_LOC_##access(V, index, sub)),                                \
+   static_cast<uint16_t>(MB2CO_OD_LOC_##access(V, id)),                                        \
    (static_cast<uint32_t>(MB2CO_OD_SCAP_##access(cap, text)) << 16) |                          \
-       static_cast<uint32_t>(offsetof(P, MB2CO_OD_STRMEMBER(index, sub)))},
-#define MB2CO_OD_N_NAME(index, sub, type, access, flags, hook, def, name) name,
-#define MB2CO_OD_S_NAME(index, sub, access, hook, cap, text, name) name,
+       static_cast<uint32_t>(offsetof(P, id))},
+#define MB2CO_OD_N_NAME(index, sub, id, type, access, flags, hook, def, name) name,
+#define MB2CO_OD_S_NAME(index, sub, id, access, hook, cap, text, name) name,
 #define MB2CO_OD_L_ROW(index, sub, lo, hi) {index, sub, lo, hi},
 
 // Rows refer to the value struct and string pool of the OD being defined: the
@@ -115,12 +223,22 @@ constexpr bool od_rows_sorted(const OdEntry* rows, uint16_t count) {
 #define MB2CO_OD_ROW_N(...) MB2CO_OD_N_ROW(MB2CO_OD_CUR_V, MB2CO_OD_CUR_P, __VA_ARGS__)
 #define MB2CO_OD_ROW_S(...) MB2CO_OD_S_ROW(MB2CO_OD_CUR_V, MB2CO_OD_CUR_P, __VA_ARGS__)
 
-/// In a header: the value block type `Name##Values` and the definition object.
+/// In a header: the value block type `Name##Values`, the entry keys
+/// `Name##Entry::<id>` and the definition object.
 #define MB2CO_OD_DECLARE(Name, LIST)                            \
   struct Name##Values {                                         \
     LIST(MB2CO_OD_N_VALUE, MB2CO_OD_S_VALUE)                    \
   };                                                            \
+  namespace Name##Entry {                                       \
+  LIST(MB2CO_OD_N_KEY, MB2CO_OD_S_KEY)                          \
+  }                                                             \
   extern const ::mb2co::canopen::OdDefinition Name##Definition;
+
+/// In a header, where wanted: `Name##Defaults`, the numeric rows' defaults as
+/// a constexpr table (for constants derived from them at compile time; a
+/// table nothing reads at run time is not in any image).
+#define MB2CO_OD_DEFAULTS(Name, LIST) \
+  constexpr ::mb2co::canopen::OdDefault Name##Defaults[] = {LIST(MB2CO_OD_N_DEF, MB2CO_OD_S_DEF)};
 
 /// In exactly one .cpp: the tables. LIMITS is a list macro taking L.
 /// Define MB2CO_OD_CUR_V to Name##Values and MB2CO_OD_CUR_P to Name##Strings first.
@@ -157,3 +275,4 @@ constexpr bool od_rows_sorted(const OdEntry* rows, uint16_t count) {
       static_cast<uint8_t>(sizeof(Name##Limits) / sizeof(Name##Limits[0]) - 1),                 \
       static_cast<uint16_t>(sizeof(Name##Values)),                                              \
       MB2CO_OD_NAMES_PTR(Name)};
+// clang-format on

@@ -33,20 +33,25 @@ uint16_t lab_size(uint16_t row) {
   return (g_od->entry(row).attr & kAttrString) ? g_od->capacity_of(row) : g_od->size_of(row);
 }
 
-int write_row(uint16_t row, const uint8_t* data) {
+// `apply` false: only decide (ObjectDictionary::write_row), the value stored
+// untracked for the caller to put back; the device's own read-only entries
+// are not touched then.
+int write_row(uint16_t row, const uint8_t* data, bool apply = true) {
   const OdEntry e = g_od->entry(row);
   if (!(e.attr & kAttrRam)) return kOdLabReadOnly;
   uint16_t n = lab_size(row);
   if (e.attr & kAttrString) n = static_cast<uint16_t>(strnlen(reinterpret_cast<const char*>(data), n));
   if (e.attr & kAttrWrite) {
-    return g_od->write(e.index, e.sub, data, n) == kSdoOk ? 0 : kOdLabRefused;
+    return g_od->write_row(row, data, n, apply) == kSdoOk ? 0 : kOdLabRefused;
   }
-  memcpy(g_od->ram(row), data, n);  // the device's own read-only entry (inputs)
+  if (apply) memcpy(g_od->ram(row), data, n);  // the device's own read-only entry (inputs)
   return 0;
 }
 }  // namespace
 
-void od_bind(ObjectDictionary* od) { g_od = od; }
+void od_bind(ObjectDictionary* od) {
+  g_od = od;
+}
 
 int od_getsize_subentry(uint16_t index, uint8_t sub, uint8_t* size) {
   uint16_t row = 0;
@@ -109,32 +114,36 @@ int od_write_object(uint16_t index, const uint8_t* data) {
   uint8_t total = 0;
   rc = od_getsize_object(index, &total);
   if (rc != 0) return rc;
-  // Keep the old values to put back if a later sub-entry is refused (255 B
-  // of stack: call it from the main loop, not from deep inside). Const
-  // sub-entries (e.g. sub 0 counts) are skipped: their bytes are ignored.
+  // Like a Modbus write of several registers: every sub-entry is decided
+  // first (each on the ones before it, stored untracked), all put back, and
+  // only when all are accepted written for real, hooks acting. A refused
+  // object leaves every value and the services' state as they were. The old
+  // values: 255 B of stack (call it from the main loop, not from deep
+  // inside). Const sub-entries (e.g. sub 0 counts) are skipped: their bytes
+  // are ignored.
   uint8_t old[255];
   uint16_t at = 0;
   for (uint16_t r = first; r < end; ++r) {
     const uint16_t n = lab_size(r);
-    if (g_od->entry(r).attr & kAttrRam) memcpy(old + at, g_od->ram(r), n);
+    if (g_od->entry(r).attr & kAttrRam) memcpy(old + at, g_od->ram_untracked(r), n);
     at = static_cast<uint16_t>(at + n);
   }
-  at = 0;
-  for (uint16_t r = first; r < end; ++r) {
-    const uint16_t n = lab_size(r);
-    if (g_od->entry(r).attr & kAttrRam) {
-      rc = write_row(r, data + at);
-      if (rc != 0) {
-        uint16_t back = 0;
-        for (uint16_t k = first; k < r; ++k) {
-          const uint16_t m = lab_size(k);
-          if (g_od->entry(k).attr & kAttrRam) memcpy(g_od->ram(k), old + back, m);
-          back = static_cast<uint16_t>(back + m);
-        }
-        return rc;
+  for (int apply = 0; apply < 2; ++apply) {
+    at = 0;
+    rc = 0;
+    for (uint16_t r = first; r < end && rc == 0; ++r) {
+      if (g_od->entry(r).attr & kAttrRam) rc = write_row(r, data + at, apply != 0);
+      at = static_cast<uint16_t>(at + lab_size(r));
+    }
+    if (apply == 0) {  // the check step's values go back, untracked
+      uint16_t back = 0;
+      for (uint16_t k = first; k < end; ++k) {
+        const uint16_t m = lab_size(k);
+        if (g_od->entry(k).attr & kAttrRam) memcpy(g_od->ram_untracked(k), old + back, m);
+        back = static_cast<uint16_t>(back + m);
       }
     }
-    at = static_cast<uint16_t>(at + n);
+    if (rc != 0) return rc;
   }
   return 0;
 }

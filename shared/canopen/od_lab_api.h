@@ -33,7 +33,8 @@ int od_getsize_object(uint16_t object_index, uint8_t* size);
 int od_getsize_subentry(uint16_t object_index, uint8_t subentry_index, uint8_t* size);
 int od_read_object(uint16_t object_index, uint8_t* data, uint8_t* size);
 int od_read_subentry(uint16_t object_index, uint8_t subentry_index, uint8_t* data, uint8_t* size);
-/// All or nothing: when one sub-entry is refused, none changes.
+/// All or nothing: when one sub-entry is refused, none changes and no
+/// write hook acts (every sub-entry is decided before any is written).
 int od_write_object(uint16_t object_index, const uint8_t* data);
 int od_write_subentry(uint16_t object_index, uint8_t subentry_index, const uint8_t* data);
 

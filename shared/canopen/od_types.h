@@ -23,29 +23,31 @@ enum DataType : uint8_t {
 
 /// Row attributes (bit set).
 enum OdAttr : uint8_t {
-  kAttrRead = 0x01,      ///< readable by SDO
-  kAttrWrite = 0x02,     ///< writable by SDO
-  kAttrConst = 0x04,     ///< never changes (EDS AccessType=const); value is in the row
-  kAttrPdo = 0x08,       ///< may be mapped into a PDO
-  kAttrNodeId = 0x10,    ///< default is relative to the node id (EDS $NODEID+...)
-  kAttrPersist = 0x20,   ///< saved by 1010h, restored at reset (node id, bit rate, ...)
-  kAttrRam = 0x40,       ///< value lives in RAM at `loc`
-  kAttrString = 0x80,    ///< VISIBLE_STRING; `def` low 16 bits: offset in the string pool
+  kAttrRead = 0x01,     ///< readable by SDO
+  kAttrWrite = 0x02,    ///< writable by SDO
+  kAttrConst = 0x04,    ///< never changes (EDS AccessType=const); value is in the row
+  kAttrPdo = 0x08,      ///< may be mapped into a PDO
+  kAttrNodeId = 0x10,   ///< default is relative to the node id (EDS $NODEID+...)
+  kAttrCommand = 0x20,  ///< a command or process value, never a stored parameter:
+                        ///< 1010h "save" leaves it out, every start has its default
+                        ///< (RUN command, outputs, values received by RPDO)
+  kAttrRam = 0x40,      ///< value lives in RAM at `loc`
+  kAttrString = 0x80,   ///< VISIBLE_STRING; `def` low 16 bits: offset in the string pool
 };
 
 /// Which service validates and applies a write to this entry (OD write hook).
 enum OdHook : uint8_t {
   kHookNone = 0,
-  kHookNmt,           ///< 1017h producer heartbeat, 100Ch/100Dh guarding
-  kHookHbConsumer,    ///< 1016h
-  kHookEmcy,          ///< 1003h, 1014h, 1015h
-  kHookSync,          ///< 1005h, 1006h, 1019h
-  kHookRpdoComm,      ///< 1400h–1403h
-  kHookRpdoMap,       ///< 1600h–1603h
-  kHookTpdoComm,      ///< 1800h–1803h
-  kHookTpdoMap,       ///< 1A00h–1A03h
-  kHookStore,         ///< 1010h, 1011h
-  kHookApp,           ///< application area: the application decides
+  kHookNmt,         ///< 1017h producer heartbeat, 100Ch/100Dh guarding
+  kHookHbConsumer,  ///< 1016h
+  kHookEmcy,        ///< 1003h, 1014h, 1015h
+  kHookSync,        ///< 1005h, 1006h, 1019h
+  kHookRpdoComm,    ///< 1400h–1403h
+  kHookRpdoMap,     ///< 1600h–1603h
+  kHookTpdoComm,    ///< 1800h–1803h
+  kHookTpdoMap,     ///< 1A00h–1A03h
+  kHookStore,       ///< 1010h, 1011h
+  kHookApp,         ///< application area: the application decides
 };
 
 /// One sub-entry's metadata, constant, in flash on AVR: 11 bytes there (a row

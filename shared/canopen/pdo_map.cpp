@@ -7,7 +7,7 @@
 namespace mb2co {
 namespace canopen {
 
-uint32_t pdo_check_entry(const ObjectDictionary& od, uint32_t entry, bool receive) {
+SdoAbort pdo_check_entry(const ObjectDictionary& od, uint32_t entry, bool receive) {
   const uint16_t index = map_index(entry);
   const uint8_t bits = map_bits(entry);
   const uint16_t row = od.find(index, map_sub(entry));
@@ -25,13 +25,13 @@ uint32_t pdo_check_entry(const ObjectDictionary& od, uint32_t entry, bool receiv
   return kSdoOk;
 }
 
-uint32_t pdo_check_mapping(const ObjectDictionary& od, uint16_t row0, uint8_t count,
-                           uint8_t max_count, bool receive, uint16_t* bits) {
+SdoAbort pdo_check_mapping(const ObjectDictionary& od, uint16_t row0, uint8_t count, uint8_t max_count,
+                           bool receive, uint16_t* bits) {
   if (count > max_count || count > kPdoMaxMapped) return kAbortMapLength;
   uint16_t total = 0;
   for (uint8_t s = 1; s <= count; ++s) {
     const uint32_t entry = od.get(static_cast<uint16_t>(row0 + s));
-    const uint32_t abort = pdo_check_entry(od, entry, receive);
+    const SdoAbort abort = pdo_check_entry(od, entry, receive);
     if (abort != kSdoOk) return abort;
     total = static_cast<uint16_t>(total + map_bits(entry));
   }
@@ -40,8 +40,8 @@ uint32_t pdo_check_mapping(const ObjectDictionary& od, uint16_t row0, uint8_t co
   return kSdoOk;
 }
 
-uint32_t pdo_check_map_write(const ObjectDictionary& od, uint32_t cob, uint16_t row0,
-                             uint8_t stride, uint8_t sub, const uint8_t* data, bool receive) {
+SdoAbort pdo_check_map_write(const ObjectDictionary& od, uint32_t cob, uint16_t row0, uint8_t stride,
+                             uint8_t sub, const uint8_t* data, bool receive) {
   if (!(cob & 0x80000000u)) return kAbortUnsupported;  // CiA 301: disable the PDO first
   if (sub == 0) {
     uint16_t bits = 0;
@@ -63,12 +63,11 @@ uint8_t pdo_mapped_bytes(const ObjectDictionary& od, uint16_t row0) {
 
 // Copies `bits` bits from src starting at bit `src_at` to dst starting at bit
 // `dst_at`; dst's other bits are kept. One copy for transmit and receive
-// (-60 B on the Uno).
+// (smaller on the Uno: docs/performance.md).
 // Whole bytes at byte boundaries (every mapping but BOOLEANs and bit fields)
 // are copied as bytes; otherwise bit by bit with running masks (an AVR shifts
 // by a variable count one bit per cycle).
-static void copy_bits(uint8_t* dst, uint16_t dst_at, const uint8_t* src, uint16_t src_at,
-                      uint8_t bits) {
+static void copy_bits(uint8_t* dst, uint16_t dst_at, const uint8_t* src, uint16_t src_at, uint8_t bits) {
   dst += dst_at / 8;
   src += src_at / 8;
   if ((dst_at % 8) == 0 && (src_at % 8) == 0 && (bits % 8) == 0) {
@@ -97,12 +96,12 @@ static void copy_bits(uint8_t* dst, uint16_t dst_at, const uint8_t* src, uint16_
 }
 
 // One walk over the mapping at `row0` for both directions (one copy of the
-// loop in the image: -110 B on the Uno): transmit (rx_od == nullptr) copies the mapped values
+// loop in the image): transmit (rx_od == nullptr) copies the mapped values
 // into tx_data (zeroed by the caller); receive writes the values in rx_data
 // to the mapped objects of *rx_od (the same OD as `od`). Dummy entries and
 // objects that vanished are skipped. Returns the total mapped bits.
-static uint16_t transfer(const ObjectDictionary& od, uint16_t row0, uint8_t* tx_data,
-                         ObjectDictionary* rx_od, const uint8_t* rx_data) {
+static uint16_t transfer(const ObjectDictionary& od, uint16_t row0, uint8_t* tx_data, ObjectDictionary* rx_od,
+                         const uint8_t* rx_data) {
   const uint8_t count = static_cast<uint8_t>(od.get(row0));
   uint16_t at = 0;
   for (uint8_t s = 1; s <= count && s <= kPdoMaxMapped; ++s) {
@@ -149,13 +148,13 @@ uint8_t pdo_map_stride(const ObjectDictionary& od, uint16_t first_index) {
 
 bool can_id_restricted(uint32_t can_id) {
   if (can_id > 0x7FFu) return false;
-  // 16-bit compares (callers pass 11-bit ids): -60 B on the Uno.
+  // 16-bit compares (callers pass 11-bit ids).
   const uint16_t id = static_cast<uint16_t>(can_id);
   return id <= 0x07F || (id >= 0x101 && id <= 0x180) || (id >= 0x581 && id <= 0x5FF) ||
          (id >= 0x601 && id <= 0x67F) || (id >= 0x6E0 && id <= 0x6FF) || id >= 0x701;
 }
 
-uint32_t pdo_check_cob_id(uint32_t cur, uint32_t v) {
+SdoAbort pdo_check_cob_id(uint32_t cur, uint32_t v) {
   if (v & 0x20000000u) return kAbortInvalidValue;  // 29-bit ids not supported
   const bool cur_valid = !(cur & 0x80000000u);
   const bool new_valid = !(v & 0x80000000u);

@@ -10,24 +10,30 @@
 namespace mb2co {
 namespace canopen {
 
-inline uint16_t map_index(uint32_t entry) { return static_cast<uint16_t>(entry >> 16); }
-inline uint8_t map_sub(uint32_t entry) { return static_cast<uint8_t>(entry >> 8); }
-inline uint8_t map_bits(uint32_t entry) { return static_cast<uint8_t>(entry); }
+inline uint16_t map_index(uint32_t entry) {
+  return static_cast<uint16_t>(entry >> 16);
+}
+inline uint8_t map_sub(uint32_t entry) {
+  return static_cast<uint8_t>(entry >> 8);
+}
+inline uint8_t map_bits(uint32_t entry) {
+  return static_cast<uint8_t>(entry);
+}
 inline bool map_is_dummy(uint32_t entry) {
   return map_index(entry) >= 0x0002 && map_index(entry) <= 0x0007;
 }
 
 /// Can `entry` be mapped (receive: written by an RPDO; else read by a TPDO)?
-uint32_t pdo_check_entry(const ObjectDictionary& od, uint32_t entry, bool receive);
+SdoAbort pdo_check_entry(const ObjectDictionary& od, uint32_t entry, bool receive);
 /// Validates the first `count` entries of the mapping record whose sub 0 is at
 /// `row0`; *bits = their total length. 0 or the abort code of the first fault.
-uint32_t pdo_check_mapping(const ObjectDictionary& od, uint16_t row0, uint8_t count,
-                           uint8_t max_count, bool receive, uint16_t* bits);
+SdoAbort pdo_check_mapping(const ObjectDictionary& od, uint16_t row0, uint8_t count, uint8_t max_count,
+                           bool receive, uint16_t* bits);
 /// Validates a write to sub `sub` of the mapping record whose sub 0 is at
 /// `row0` (stride rows long) of a PDO whose COB-ID is `cob` (CiA 301
 /// procedure: the PDO disabled, then sub 0 = 0, entries, sub 0 = count).
-uint32_t pdo_check_map_write(const ObjectDictionary& od, uint32_t cob, uint16_t row0,
-                             uint8_t stride, uint8_t sub, const uint8_t* data, bool receive);
+SdoAbort pdo_check_map_write(const ObjectDictionary& od, uint32_t cob, uint16_t row0, uint8_t stride,
+                             uint8_t sub, const uint8_t* data, bool receive);
 /// Rows of one mapping record (1 + entries) in this OD, from the distance
 /// between the first two records starting at `first_index`.
 uint8_t pdo_map_stride(const ObjectDictionary& od, uint16_t first_index);
@@ -43,7 +49,7 @@ uint8_t pdo_mapped_bytes(const ObjectDictionary& od, uint16_t row0);
 bool can_id_restricted(uint32_t can_id);
 /// Shared validation of a PDO COB-ID write (sub 1), also of the EMCY COB-ID
 /// 1014h (same rules): `cur` is the stored value.
-uint32_t pdo_check_cob_id(uint32_t cur, uint32_t v);
+SdoAbort pdo_check_cob_id(uint32_t cur, uint32_t v);
 
 }  // namespace canopen
 }  // namespace mb2co

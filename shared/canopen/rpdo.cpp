@@ -105,11 +105,17 @@ void Rpdos::process(uint32_t now_us) {
   }
 }
 
+void Rpdos::next_deadline(NextDeadline& d) const {
+  for (const State& s : st_) {
+    if ((s.flags & kMonitoring) && !(s.flags & kTimedOut)) d.at(s.deadline_us);
+  }
+}
+
 void Rpdos::stop() {
   for (State& s : st_) s.flags = static_cast<uint8_t>(s.flags & (kTimedOut | kShort | kLong));
 }
 
-uint32_t Rpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data) {
+SdoAbort Rpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data, bool apply) {
   if (index >= 0x1600) {  // mapping
     const uint8_t n = static_cast<uint8_t>(index - 0x1600);
     return pdo_check_map_write(*od_, comm(n, kCob), map_row(n), map_stride_, sub, data, true);
@@ -119,8 +125,8 @@ uint32_t Rpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data) {
   switch (sub) {
     case 1: {
       const uint32_t v = le32(data);
-      const uint32_t abort = pdo_check_cob_id(cur, v);
-      if (abort == kSdoOk && (v & 0x80000000u)) st_[n].flags = 0;  // disabled: forget state
+      const SdoAbort abort = pdo_check_cob_id(cur, v);
+      if (apply && abort == kSdoOk && (v & 0x80000000u)) st_[n].flags = 0;  // disabled: forget state
       return abort;
     }
     case 2:

@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "canopen/can_frame.h"
+#include "canopen/clock.h"
 #include "canopen/emcy_producer.h"
 #include "canopen/od.h"
 #include "canopen/od_comm.h"
@@ -32,10 +33,14 @@ class Rpdos {
   void on_sync();
   /// RPDO event-timer monitoring.
   void process(uint32_t now_us);
+  /// Lowers `d` to the earliest event timer (timeout) running out.
+  void next_deadline(NextDeadline& d) const;
   /// Leaving operational: timeouts stop, buffers are dropped.
   void stop();
+  /// 140xh/1 of RPDO n (0..kPdoCount-1) as the OD holds it now.
+  uint32_t cob_id(uint8_t n) const { return comm(n, 1); }  // row 1: sub 1
   /// Validates writes to 1400h–1403h and 1600h–1603h (OD hook).
-  uint32_t on_write(uint16_t index, uint8_t sub, const uint8_t* data);
+  SdoAbort on_write(uint16_t index, uint8_t sub, const uint8_t* data, bool apply);
 
  private:
   struct State {
@@ -53,8 +58,8 @@ class Rpdos {
 
   ObjectDictionary* od_;
   EmcyProducer* emcy_;
-  uint16_t comm0_;  ///< row of 1400h sub 0; records are 5 rows apart
-  uint16_t map0_;   ///< row of 1600h sub 0; records are map_stride_ rows apart
+  uint16_t comm0_;          ///< row of 1400h sub 0; records are 5 rows apart
+  uint16_t map0_;           ///< row of 1600h sub 0; records are map_stride_ rows apart
   uint8_t map_stride_ = 9;  ///< 1 + mapping entries per record in this OD
   State st_[kPdoCount];
   RpdoCallback cb_;

@@ -25,16 +25,14 @@ void SdoServer::init(ObjectDictionary* od, uint8_t node_id) {
 
 // Every answer: 580h+id, 8 bytes, command byte then `n` bytes of `bytes`,
 // the rest 0 (reserved bytes are sent as 0, CiA 301 §7.2.4.3).
-static void reply(const CanSink& sink, uint8_t node_id, uint8_t cmd, const uint8_t* bytes,
-                  uint8_t n) {
+static void reply(const CanSink& sink, uint8_t node_id, uint8_t cmd, const uint8_t* bytes, uint8_t n) {
   uint8_t data[8] = {cmd, 0, 0, 0, 0, 0, 0, 0};
   if (n != 0) memcpy(&data[1], bytes, n);
   send_frame(sink, static_cast<uint16_t>(0x580u + node_id), 8, data);
 }
 
 void SdoServer::respond(const CanSink& sink, uint8_t cmd, const uint8_t* payload4) {
-  uint8_t mux_data[7] = {static_cast<uint8_t>(index_), static_cast<uint8_t>(index_ >> 8), sub_,
-                         0, 0, 0, 0};
+  uint8_t mux_data[7] = {static_cast<uint8_t>(index_), static_cast<uint8_t>(index_ >> 8), sub_, 0, 0, 0, 0};
   if (payload4 != nullptr) memcpy(&mux_data[3], payload4, 4);
   reply(sink, node_id_, cmd, mux_data, 7);
 }
@@ -45,7 +43,7 @@ static void segment_ack(const CanSink& sink, uint8_t node_id, uint8_t cmd) {
   reply(sink, node_id, cmd, nullptr, 0);
 }
 
-void SdoServer::abort(const CanSink& sink, uint32_t code) {
+void SdoServer::abort(const CanSink& sink, SdoAbort code) {
   uint8_t payload[4];
   put_le32(payload, code);
   respond(sink, 0x80, payload);
@@ -61,7 +59,7 @@ void SdoServer::on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink
   if (f.rtr() || f.dlc != 8) return;
   const uint8_t ccs = static_cast<uint8_t>(f.data[0] >> 5);
   deadline_us_ = now_us + timeout_us_;
-  uint32_t code = kSdoOk;
+  SdoAbort code = kSdoOk;
   switch (ccs) {
     case kCcsInitiateDownload:
       code = initiate_download(f, sink);
@@ -92,11 +90,11 @@ void SdoServer::process(uint32_t now_us, const CanSink& sink) {
 
 // The initiate requests name the object: index_/sub_ take it at once (the
 // state is idle, so nothing else reads them before the answer).
-uint32_t SdoServer::initiate_download(const CanFrame& f, const CanSink& sink) {
+SdoAbort SdoServer::initiate_download(const CanFrame& f, const CanSink& sink) {
   state_ = kIdle;  // a new initiate replaces any transfer in progress
   take_multiplexer(f);
   uint16_t row = 0;
-  uint32_t code = od_->check_write(index_, sub_, &row);
+  SdoAbort code = od_->check_write(index_, sub_, &row);
   if (code != kSdoOk) return code;
   const bool expedited = f.data[0] & 0x02;
   const bool indicated = f.data[0] & 0x01;
@@ -125,7 +123,7 @@ uint32_t SdoServer::initiate_download(const CanFrame& f, const CanSink& sink) {
   return kSdoOk;
 }
 
-uint32_t SdoServer::download_segment(const CanFrame& f, const CanSink& sink) {
+SdoAbort SdoServer::download_segment(const CanFrame& f, const CanSink& sink) {
   if (state_ != kDownloading) return kAbortCommand;
   if ((f.data[0] & 0x10) != toggle_) return kAbortToggle;
   const uint8_t count = static_cast<uint8_t>(7 - ((f.data[0] >> 1) & 0x07));
@@ -137,7 +135,7 @@ uint32_t SdoServer::download_segment(const CanFrame& f, const CanSink& sink) {
   if (f.data[0] & 0x01) {
     // Last segment: the data reaches the OD in one piece or not at all.
     if (size_indicated_ && announced_ != length_) return kAbortTypeMismatch;
-    const uint32_t code = od_->write(index_, sub_, buffer_, length_);
+    const SdoAbort code = od_->write(index_, sub_, buffer_, length_);
     if (code != kSdoOk) return code;
     state_ = kIdle;
   }
@@ -145,12 +143,12 @@ uint32_t SdoServer::download_segment(const CanFrame& f, const CanSink& sink) {
   return kSdoOk;
 }
 
-uint32_t SdoServer::initiate_upload(const CanFrame& f, const CanSink& sink) {
+SdoAbort SdoServer::initiate_upload(const CanFrame& f, const CanSink& sink) {
   state_ = kIdle;
   take_multiplexer(f);
   uint16_t len = 0;
   // A snapshot: the client reads consistent data even if the value changes.
-  const uint32_t code = od_->read(index_, sub_, buffer_, kBufferSize, &len);
+  const SdoAbort code = od_->read(index_, sub_, buffer_, kBufferSize, &len);
   if (code != kSdoOk) return code;
   if (len >= 1 && len <= 4) {
     // Expedited. Four bytes go without size indication (0x42), as in the
@@ -171,7 +169,7 @@ uint32_t SdoServer::initiate_upload(const CanFrame& f, const CanSink& sink) {
   return kSdoOk;
 }
 
-uint32_t SdoServer::upload_segment(const CanFrame& f, const CanSink& sink) {
+SdoAbort SdoServer::upload_segment(const CanFrame& f, const CanSink& sink) {
   if (state_ != kUploading) return kAbortCommand;
   if ((f.data[0] & 0x10) != toggle_) return kAbortToggle;
   uint8_t count = static_cast<uint8_t>(length_ - offset_);

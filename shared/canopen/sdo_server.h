@@ -6,6 +6,7 @@
 #include <stdint.h>
 
 #include "canopen/can_frame.h"
+#include "canopen/clock.h"
 #include "canopen/od.h"
 
 namespace mb2co {
@@ -27,6 +28,10 @@ class SdoServer {
   void on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink);
   /// Aborts a segmented transfer whose client went silent (05040000h).
   void process(uint32_t now_us, const CanSink& sink);
+  /// Lowers `d` to the server timeout of a transfer in progress.
+  void next_deadline(NextDeadline& d) const {
+    if (state_ != kIdle) d.at(deadline_us_);
+  }
   /// Drops a transfer in progress without a word (NMT stop or reset).
   void cancel() { state_ = kIdle; }
   bool busy() const { return state_ != kIdle; }
@@ -35,13 +40,13 @@ class SdoServer {
   enum State : uint8_t { kIdle, kDownloading, kUploading };
   void respond(const CanSink& sink, uint8_t cmd, const uint8_t* payload4);
   /// Aborts the transfer of index_/sub_ with `code` and goes idle.
-  void abort(const CanSink& sink, uint32_t code);
+  void abort(const CanSink& sink, SdoAbort code);
   // The request handlers answer themselves and return 0, or return the abort
-  // code for on_frame() to send (one abort call site: -38 B on the Uno).
-  uint32_t initiate_download(const CanFrame& f, const CanSink& sink);
-  uint32_t download_segment(const CanFrame& f, const CanSink& sink);
-  uint32_t initiate_upload(const CanFrame& f, const CanSink& sink);
-  uint32_t upload_segment(const CanFrame& f, const CanSink& sink);
+  // code for on_frame() to send (one abort call site).
+  SdoAbort initiate_download(const CanFrame& f, const CanSink& sink);
+  SdoAbort download_segment(const CanFrame& f, const CanSink& sink);
+  SdoAbort initiate_upload(const CanFrame& f, const CanSink& sink);
+  SdoAbort upload_segment(const CanFrame& f, const CanSink& sink);
   /// Takes index and sub-index of a request (bytes 1..3) as index_/sub_.
   void take_multiplexer(const CanFrame& f);
 
@@ -53,9 +58,9 @@ class SdoServer {
   uint8_t sub_;
   uint8_t node_id_;
   State state_;
-  uint8_t toggle_;      ///< expected toggle bit (0x00 or 0x10)
-  uint8_t length_;      ///< bytes in buffer_
-  uint8_t offset_;      ///< upload: bytes already sent
+  uint8_t toggle_;  ///< expected toggle bit (0x00 or 0x10)
+  uint8_t length_;  ///< bytes in buffer_
+  uint8_t offset_;  ///< upload: bytes already sent
   bool size_indicated_;
   uint8_t buffer_[kBufferSize];
 };

@@ -24,6 +24,21 @@ Sync::Result Sync::on_frame(const CanFrame& f, uint8_t* counter) {
   return kSyncEvent;
 }
 
+void Sync::next_deadline(NextDeadline& d) const {
+  const uint32_t cob = od_->get(row_[k1005]);
+  const uint32_t period_us = od_->get(row_[k1006]);
+  // Not producing: process() only re-arms the restart (already armed by the
+  // write or reset that stopped it).
+  if (!(cob & 0x40000000u) || period_us == 0) {
+    if (!restart_) d.now();
+    return;
+  }
+  if (restart_) return d.now();
+  // Elapsed time, as process() counts it (1006h may exceed 2^31 us).
+  const uint32_t elapsed_us = d.now_us() - period_start_us_;
+  d.in(elapsed_us < period_us ? period_us - elapsed_us : 0);
+}
+
 bool Sync::process(uint32_t now_us, bool allowed, const CanSink& sink, uint8_t* counter) {
   const uint32_t cob = od_->get(row_[k1005]);
   const uint32_t period_us = od_->get(row_[k1006]);
@@ -50,19 +65,19 @@ bool Sync::process(uint32_t now_us, bool allowed, const CanSink& sink, uint8_t* 
   return true;
 }
 
-uint32_t Sync::on_write(uint16_t index, const uint8_t* data) {
+SdoAbort Sync::on_write(uint16_t index, const uint8_t* data, bool apply) {
   if (index == 0x1005) {
     const uint32_t v = le32(data);
     const uint32_t cur = od_->get(row_[k1005]);
-    if (v & 0x20000000u) return kAbortInvalidValue;  // 29-bit ids not supported
+    if (v & 0x20000000u) return kAbortInvalidValue;                // 29-bit ids not supported
     if (can_id_restricted(v & 0x7FFu)) return kAbortInvalidValue;  // CiA 301 §7.3.5
     // The CAN-ID may not change while this node produces SYNC.
     if ((cur & 0x40000000u) && (v & 0x40000000u) && (v & 0x7FFu) != (cur & 0x7FFu)) {
       return kAbortInvalidValue;
     }
-    restart_ = true;
+    if (apply) restart_ = true;
   } else if (index == 0x1006) {
-    restart_ = true;
+    if (apply) restart_ = true;
   } else if (index == 0x1019) {
     // CiA 301 §7.5.2.41: only while no communication cycle period is set.
     if (od_->get(row_[k1006]) != 0) return kAbortDeviceState;

@@ -5,6 +5,7 @@
 #include <stdint.h>
 
 #include "canopen/can_frame.h"
+#include "canopen/clock.h"
 #include "canopen/od.h"
 
 namespace mb2co {
@@ -23,8 +24,10 @@ class Sync {
   Result on_frame(const CanFrame& f, uint8_t* counter);
   /// Producer: true when a SYNC was sent now (*counter as for on_frame).
   bool process(uint32_t now_us, bool allowed, const CanSink& sink, uint8_t* counter);
+  /// Lowers `d` to the producer's next SYNC (or its restart: now).
+  void next_deadline(NextDeadline& d) const;
   /// Validates writes to 1005h, 1006h, 1019h (OD hook).
-  uint32_t on_write(uint16_t index, const uint8_t* data);
+  SdoAbort on_write(uint16_t index, const uint8_t* data, bool apply);
   uint32_t cob_id() const { return od_->get(row_[k1005]) & 0x7FFu; }
   /// The producer's period starts afresh (e.g. back from NMT stopped, where
   /// process() was not called and the old deadline went stale).

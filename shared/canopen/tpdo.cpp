@@ -112,6 +112,25 @@ void Tpdos::process(uint32_t now_us, const CanSink& sink) {
   }
 }
 
+void Tpdos::next_deadline(NextDeadline& d) const {
+  if (od_->revision() != seen_revision_) return d.now();
+  // The OD is as process() last saw it: kEventType is exact, and PDOs
+  // without it (other types, not valid) only repeat what they did then.
+  for (const State& s : st_) {
+    if (!(s.flags & kEventType)) continue;
+    const bool inhibiting = (s.flags & kInhibiting) && !time_reached(d.now_us(), s.inhibit_until_us);
+    if ((s.flags & (kPending | kSent)) != kSent) {  // to send (a new one is pending)
+      if (!inhibiting) return d.now();
+      d.at(s.inhibit_until_us);
+      continue;
+    }
+    if (s.flags & kEventTimer) d.at(s.event_deadline_us);
+    // Ending the inhibit time is a change too: left to a later call, a
+    // deadline 2^31 us old would read as ahead again.
+    if (s.flags & kInhibiting) d.at(s.inhibit_until_us);
+  }
+}
+
 void Tpdos::on_sync(uint8_t counter, const CanSink& sink, uint32_t now_us) {
   for (uint8_t n = 0; n < kPdoCount; ++n) {
     uint32_t cob = 0;
@@ -156,7 +175,7 @@ bool Tpdos::on_rtr(const CanFrame& f, const CanSink& sink, uint32_t now_us) {
   return false;
 }
 
-uint32_t Tpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data) {
+SdoAbort Tpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data, bool apply) {
   if (index >= 0x1A00) {  // mapping
     const uint8_t n = static_cast<uint8_t>(index - 0x1A00);
     return pdo_check_map_write(*od_, comm(n, kCob), map_row(n), map_stride_, sub, data, false);
@@ -167,9 +186,9 @@ uint32_t Tpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data) {
   switch (sub) {
     case 1: {
       const uint32_t v = le32(data);
-      const uint32_t abort = pdo_check_cob_id(cur, v);
+      const SdoAbort abort = pdo_check_cob_id(cur, v);
       if (abort != kSdoOk) return abort;
-      if (!(v & 0x80000000u) && !enabled) {  // being enabled: start afresh
+      if (apply && !(v & 0x80000000u) && !enabled) {  // being enabled: start afresh
         st_[n].flags = kPending;
         st_[n].sync_count = 0;
       }
@@ -177,12 +196,11 @@ uint32_t Tpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data) {
     }
     case 2:
       if (data[0] >= 241 && data[0] <= 251) return kAbortInvalidValue;
-      st_[n].flags = static_cast<uint8_t>(st_[n].flags & ~kSyncStarted);
+      if (apply) st_[n].flags = static_cast<uint8_t>(st_[n].flags & ~kSyncStarted);
       return kSdoOk;
     case 3:  // inhibit time: not changed while the PDO exists
     case 6:  // SYNC start value: likewise (rewriting the same value is no change)
-      if (enabled && comm(n, sub == 3 ? kInhibit : kSyncStart) !=
-                         (sub == 3 ? le16(data) : data[0])) {
+      if (enabled && comm(n, sub == 3 ? kInhibit : kSyncStart) != (sub == 3 ? le16(data) : data[0])) {
         return kAbortInvalidValue;
       }
       if (sub == 6 && data[0] > 240) return kAbortInvalidValue;

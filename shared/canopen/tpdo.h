@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "canopen/can_frame.h"
+#include "canopen/clock.h"
 #include "canopen/od.h"
 #include "canopen/od_comm.h"
 
@@ -28,8 +29,12 @@ class Tpdos {
   bool on_rtr(const CanFrame& f, const CanSink& sink, uint32_t now_us);
   /// Event-driven transmissions (change of data, event timer, inhibit).
   void process(uint32_t now_us, const CanSink& sink);
+  /// Lowers `d` to when process() does something again: now after an OD
+  /// change or for a pending event PDO the inhibit time lets go (a refused
+  /// send is retried), else its inhibit and event timers.
+  void next_deadline(NextDeadline& d) const;
   /// Validates writes to 1800h–1803h and 1A00h–1A03h (OD hook).
-  uint32_t on_write(uint16_t index, uint8_t sub, const uint8_t* data);
+  SdoAbort on_write(uint16_t index, uint8_t sub, const uint8_t* data, bool apply);
   /// Frames the port refused (never decrements).
   uint16_t send_failures() const { return send_failures_; }
 
@@ -37,24 +42,23 @@ class Tpdos {
   struct State {
     uint32_t inhibit_until_us;
     uint32_t event_deadline_us;
-    uint8_t last[8];     ///< last sent (254/255, 0) or sampled (252) payload
+    uint8_t last[8];  ///< last sent (254/255, 0) or sampled (252) payload
     uint8_t last_len;
     uint8_t sync_count;  ///< SYNCs since the last cyclic transmission
     uint8_t flags;
   };
   enum : uint8_t {
-    kPending = 0x01,       ///< send when inhibit time allows
+    kPending = 0x01,  ///< send when inhibit time allows
     kInhibiting = 0x02,
-    kEventTimer = 0x04,    ///< event timer armed
-    kSyncStarted = 0x08,   ///< SYNC start value reached (1–240); 252: a sample is held
-    kSent = 0x10,          ///< `last` holds a transmitted payload
-    kEventType = 0x20,     ///< valid with type 254/255 at the last full look (process)
+    kEventTimer = 0x04,   ///< event timer armed
+    kSyncStarted = 0x08,  ///< SYNC start value reached (1–240); 252: a sample is held
+    kSent = 0x10,         ///< `last` holds a transmitted payload
+    kEventType = 0x20,    ///< valid with type 254/255 at the last full look (process)
   };
   bool valid(uint8_t n, uint32_t* cob) const;
-  bool send(uint8_t n, uint32_t cob, const uint8_t* data, uint8_t len, const CanSink& sink,
-            uint32_t now_us);
+  bool send(uint8_t n, uint32_t cob, const uint8_t* data, uint8_t len, const CanSink& sink, uint32_t now_us);
   /// Builds PDO n's payload from the OD and sends it (one copy for SYNC and
-  /// RTR: -70 B on the Uno).
+  /// RTR).
   void build_and_send(uint8_t n, uint32_t cob, const CanSink& sink, uint32_t now_us);
   uint16_t comm_row(uint8_t n) const { return static_cast<uint16_t>(comm0_ + n * 6u); }
   /// Value of row `k` of PDO n's communication record (out of line: many callers).
@@ -62,8 +66,8 @@ class Tpdos {
   uint16_t map_row(uint8_t n) const { return static_cast<uint16_t>(map0_ + n * map_stride_); }
 
   ObjectDictionary* od_;
-  uint16_t comm0_;  ///< row of 1800h sub 0; records are 6 rows apart
-  uint16_t map0_;   ///< row of 1A00h sub 0; records are map_stride_ rows apart
+  uint16_t comm0_;          ///< row of 1800h sub 0; records are 6 rows apart
+  uint16_t map0_;           ///< row of 1A00h sub 0; records are map_stride_ rows apart
   uint8_t map_stride_ = 9;  ///< 1 + mapping entries per record in this OD
   State st_[kPdoCount];
   uint16_t send_failures_;

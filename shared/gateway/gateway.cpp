@@ -13,8 +13,8 @@ Gateway::Gateway(const GatewayPorts& ports)
       identity_(od_),
       slave_(bank_, &identity_, ports.serial, 1, modbus::rtu_timing(ports.serial_baud)),
       line_() {
-  ports_storage_ = ports.storage;
   node_.set_storage(ports.storage);
+  node_.set_can_control(ports.can_control);
   node_.set_app_hook(&Gateway::app_write, this);
   node_.set_reset_callback(&Gateway::on_reset, this);
   node_.heartbeat_consumer().set_callback(&Gateway::on_heartbeat, this);
@@ -29,29 +29,37 @@ void Gateway::start(uint32_t now_us, uint8_t default_node_id) {
   // boot-up, so the node never announces itself under another id.
   uint8_t id = default_node_id;
   od_.restore_defaults(0x2000, 0x2000);
-  if (ports_storage_ != nullptr && params_load(od_, *ports_storage_, 0x2000, 0x2000)) {
-    id = values_.v_0x2000_1;
+  const ParamStorage* storage = node_.storage();
+  if (storage != nullptr && param_set_loaded(params_load(od_, *storage, 0x2000, 0x2000))) {
+    id = values_.x2000_1_nodeId;
   }
   node_.start(id, now_us);
   slave_.begin(now_us);
+  line_.start(now_us);
 }
 
 void Gateway::on_reset(void* ctx, NmtReset kind) {
   Gateway& g = *static_cast<Gateway*>(ctx);
   od::GatewayValues& v = g.values_;
   // Without saved parameters the id given at power-on stays in force.
-  if (kind == kResetNode && !g.node_.params_loaded()) v.v_0x2000_1 = g.default_node_id_;
-  const uint8_t id = v.v_0x2000_1;
+  if (kind == kResetNode && !g.node_.params_loaded()) v.x2000_1_nodeId = g.default_node_id_;
+  const uint8_t id = v.x2000_1_nodeId;
   if (id != g.node_.node_id()) {
     // 2000h/1 was changed since: reset once more with it, so that every
     // node-id-relative default follows.
     g.node_.set_node_id_for_next_reset(id);
     g.node_.request_reset(kResetCommunication);
   }
-  g.bitrate_kbit_ = v.v_0x2000_2;
-  g.slave_.set_address(v.v_0x2000_5);
+  // The one place the bit rate reaches the controller (platform/device_port.h): at
+  // every reset, before the boot-up message leaves.
+  const CanControl* can = g.node_.can_control();
+  if (can != nullptr) {
+    const CanControl control = flash_read(can);
+    if (control.set_bitrate != nullptr) control.set_bitrate(g.node_.sink().ctx, v.x2000_2_bitrateKbit);
+  }
+  g.slave_.set_address(v.x2000_5_modbusAddress);
   g.line_.on_reset(g.node_.node_id());
-  g.start_pending_ = v.v_0x2000_8 != 0;
+  g.start_pending_ = v.x2000_8_selfStarting != 0;
 }
 
 void Gateway::on_heartbeat(void* ctx, uint8_t node_id, HbEvent event, uint8_t) {
@@ -63,29 +71,28 @@ void Gateway::on_rpdo(void* ctx, uint8_t n) {
   g.line_.on_rpdo(n, g.now_us_);
 }
 
-uint32_t Gateway::app_write(void* ctx, uint8_t, uint16_t index, uint8_t sub, const uint8_t* data,
-                            uint16_t) {
+// Side effects only with `apply` (OdWriteHook): a refused Modbus request of
+// several registers must not clear a latched stop or request a reset.
+HookResult Gateway::app_write(void* ctx, uint8_t, uint16_t index, uint8_t sub, const uint8_t* data, uint16_t,
+                              bool apply) {
   Gateway& g = *static_cast<Gateway*>(ctx);
   switch (index) {
     case 0x2000:
-      if (sub == 1) g.node_.set_node_id_for_next_reset(data[0]);  // at reset communication
       if (sub == 2) {
         const uint16_t kbit = le16(data);
         if (kbit != 125 && kbit != 250 && kbit != 500 && kbit != 1000) return kAbortInvalidValue;
       }
+      if (apply && sub == 1) g.node_.set_node_id_for_next_reset(data[0]);  // at reset communication
       return kSdoOk;
     case 0x2001:
-      if (data[0] != 0) g.node_.request_reset(data[0] == 1 ? kResetCommunication : kResetNode);
-      return kHookHandled;  // a request, not a setting: reads back 0
+      if (apply && data[0] != 0) g.node_.request_reset(data[0] == 1 ? kResetCommunication : kResetNode);
+      return HookResult::handled();  // a request, not a setting: reads back 0
     case 0x2100:
-      return g.line_.on_run_command(data[0]);
-    case 0x2400:
-    case 0x2401:
-    case 0x2402:
-    case 0x2403:
-      return OdRegisterBank::check_map_write(g.od_, index, sub, data);
-    default:
+      if (apply) g.line_.on_run_command(data[0]);
       return kSdoOk;
+    default:
+      // The Modbus maps are the register bank's: it decides what they may name.
+      return OdRegisterBank::is_map_index(index) ? g.bank_.check_map_write(index, sub, data) : kSdoOk;
   }
 }
 
@@ -100,6 +107,17 @@ uint8_t Gateway::process(uint32_t now_us, uint8_t raw_buttons) {
     node_.local_nmt(kNmtStart, now_us);
   }
   return leds;
+}
+
+bool Gateway::next_deadline(uint32_t now_us, uint32_t* at_us) const {
+  NextDeadline d(now_us);
+  // A reset made the node pre-operational: process() starts it.
+  if (start_pending_ && node_.nmt_state() == kNmtPreOperational) d.now();
+  uint32_t frame_end_us = 0;
+  if (slave_.next_deadline(now_us, &frame_end_us)) d.at(frame_end_us);
+  line_.next_deadline(d, node_.nmt_state(), slave_.counters().server_messages);
+  node_.next_deadline(d);
+  return d.result(at_us);
 }
 
 }  // namespace gateway

@@ -12,6 +12,7 @@
 #include "gateway/line_app.h"
 #include "gateway/od_register_bank.h"
 #include "modbus/slave.h"
+#include "platform/device_port.h"  // GatewayPorts: the platform contract
 
 namespace mb2co {
 namespace gateway {
@@ -30,13 +31,6 @@ constexpr uint16_t kModbusFrameBytes = kMapFrameBytes;
 constexpr uint16_t kModbusFrameBytes = modbus::kMaxAduBytes;
 #endif
 
-struct GatewayPorts {
-  CanSink can;
-  modbus::ByteSink serial;
-  const canopen::ParamStorage* storage;  ///< may be null (nothing persists)
-  uint32_t serial_baud;                  ///< for the RTU t1.5/t3.5 timing
-};
-
 class Gateway {
  public:
   explicit Gateway(const GatewayPorts& ports);
@@ -44,22 +38,43 @@ class Gateway {
   /// Power-on. Node id, bit rate and Modbus address come from the saved
   /// parameters (2000h), or `default_node_id` when none are saved.
   void start(uint32_t now_us, uint8_t default_node_id = 1);
-  void on_can_frame(const CanFrame& f, uint32_t now_us) { node_.receive(f, now_us); }
+  void on_can_frame(const CanFrame& f, uint32_t now_us) {
+    // The time an RPDO callback stamps (2300h/3) is the frame's, not that of
+    // the last process(): a caller that skips idle passes stamps the same.
+    now_us_ = now_us;
+    node_.receive(f, now_us);
+  }
   void on_serial_byte(uint8_t byte, uint32_t byte_us) { slave_.on_byte(byte, byte_us); }
   /// Runs everything due at `now_us` with the raw button levels (Button bits,
   /// 1 = pressed); returns the LED levels to drive (Led bits).
   uint8_t process(uint32_t now_us, uint8_t raw_buttons);
+  /// When process() must run next, in the form and with the invariant of
+  /// canopen::Node::next_deadline (false: nothing pending; else *at_us, the
+  /// earliest deadline, now_us when work waits): process() called at *at_us,
+  /// or after any later input (a CAN frame, a serial byte, other button
+  /// levels), does everything due; called earlier it changes nothing
+  /// observable. Contributions: the node's timers, the Modbus slave's frame
+  /// end (t3.5), the line application's debounce (2000h/6), Modbus watchdog
+  /// (2000h/9, from power-on), blink of an unknown neighbour and outputs to
+  /// refresh, the self-start after a reset (2000h/8). It also holds right
+  /// after on_serial_byte(): characters that only feed the framer move the
+  /// frame end, and a request they complete (a late character closes the
+  /// previous frame) is counted by the slave, which makes the line
+  /// application's refresh due now. For a caller that sleeps or skips idle
+  /// passes (the line simulator); the Uno runs every pass.
+  bool next_deadline(uint32_t now_us, uint32_t* at_us) const;
 
   uint8_t node_id() const { return node_.node_id(); }
-  /// CAN bit rate in kbit/s in effect since the last reset (2000h/2 then).
-  uint16_t bitrate_kbit() const { return bitrate_kbit_; }
+  /// The CAN ids the gateway consumes (Node::consumed_ids: the gateway's
+  /// services all sit on its node).
+  uint8_t consumed_ids(uint16_t* ids) const { return node_.consumed_ids(ids); }
   canopen::Node& node() { return node_; }
   canopen::ObjectDictionary& od() { return od_; }
   modbus::SlaveCore& modbus_slave() { return slave_; }
 
  private:
-  static uint32_t app_write(void* ctx, uint8_t hook, uint16_t index, uint8_t sub,
-                            const uint8_t* data, uint16_t len);
+  static canopen::HookResult app_write(void* ctx, uint8_t hook, uint16_t index, uint8_t sub,
+                                       const uint8_t* data, uint16_t len, bool apply);
   static void on_reset(void* ctx, canopen::NmtReset kind);
   static void on_heartbeat(void* ctx, uint8_t node_id, canopen::HbEvent event, uint8_t nmt);
   static void on_rpdo(void* ctx, uint8_t n);
@@ -72,8 +87,6 @@ class Gateway {
   modbus::SlaveWithFrame<kModbusFrameBytes> slave_;
   LineApp line_;
   uint32_t now_us_ = 0;  ///< time of the frame or call being handled
-  uint16_t bitrate_kbit_ = 500;
-  const canopen::ParamStorage* ports_storage_ = nullptr;
   uint8_t default_node_id_ = 1;
   bool start_pending_ = false;  ///< self-starting (2000h/8): NMT start after boot-up
 };

@@ -4,6 +4,8 @@
 // every Modbus table to OD entries. docs/od-gateway.md and the EDS are printed
 // from this very list by mb2co-od.
 #pragma once
+// The OD lists and their macros are tables, one row a line: not reflowed.
+// clang-format off
 #include "canopen/od_comm.h"
 #include "canopen/od_define.h"
 
@@ -17,122 +19,122 @@ const uint8_t kCoilMapSize = 2;
 const uint8_t kDiscreteMapSize = 8;
 
 #define MB2CO_MAP MB2CO_PDO_MAP_ENTRY
-#define MB2CO_GW_MAP_ENTRY(N, INDEX, SUB, HOOK, DEF, NAME) N(INDEX, SUB, U32, RW, 0, HOOK, DEF, NAME)
+#define MB2CO_GW_MAP_ENTRY(N, INDEX, SUB, ID, HOOK, DEF, NAME) N(INDEX, SUB, ID, U32, RW, 0, HOOK, DEF, NAME)
 
 // Default Modbus map (docs/register-map.md is generated from it).
-#define MB2CO_GATEWAY_OD(N, S)                                                                          \
-  MB2CO_OD_DATA_TYPES(N, S)                                                                             \
-  MB2CO_OD_COMM_1000(N, S, 0x00030191, "mb2co gateway", "Uno+MCP2515", "0.1.0", 0, 0x0B2C, 1, 100)           \
-  MB2CO_OD_RPDO_COMM(N, 0x1400, 0x17F, kAttrNodeId, 254, 0, "RPDO1 previous station")                  \
-  MB2CO_OD_RPDO_COMM(N, 0x1401, 0x181, kAttrNodeId, 254, 0, "RPDO2 next station")                      \
-  MB2CO_OD_RPDO_COMM(N, 0x1402, 0x27F, kAttrNodeId, 254, 0, "RPDO3 remote buttons")                    \
-  MB2CO_OD_RPDO_COMM(N, 0x1403, 0x80000500, kAttrNodeId, 254, 0, "RPDO4")                              \
-  MB2CO_OD_PDO_MAP4(N, 0x1600, kHookRpdoMap, 2, MB2CO_MAP(0x2110, 1, 8), MB2CO_MAP(0x2110, 2, 16), 0,   \
-                    0, "RPDO1 mapping")                                                                 \
-  MB2CO_OD_PDO_MAP4(N, 0x1601, kHookRpdoMap, 2, MB2CO_MAP(0x2120, 1, 8), MB2CO_MAP(0x0006, 0, 16), 0,   \
-                    0, "RPDO2 mapping")                                                                 \
-  MB2CO_OD_PDO_MAP4(N, 0x1602, kHookRpdoMap, 1, MB2CO_MAP(0x2130, 1, 8), 0, 0, 0, "RPDO3 mapping")      \
-  MB2CO_OD_PDO_MAP4(N, 0x1603, kHookRpdoMap, 0, 0, 0, 0, 0, "RPDO4 mapping")                            \
-  MB2CO_OD_TPDO_COMM(N, 0x1800, 0x180, kAttrNodeId, 254, 100, 100, "TPDO1 line state")                  \
-  MB2CO_OD_TPDO_COMM(N, 0x1801, 0x280, kAttrNodeId, 254, 0, 0, "TPDO2 buttons")                        \
-  MB2CO_OD_TPDO_COMM(N, 0x1802, 0x80000380, kAttrNodeId, 254, 0, 0, "TPDO3")                           \
-  MB2CO_OD_TPDO_COMM(N, 0x1803, 0x80000480, kAttrNodeId, 254, 0, 0, "TPDO4")                           \
-  MB2CO_OD_PDO_MAP4(N, 0x1A00, kHookTpdoMap, 2, MB2CO_MAP(0x2100, 2, 8), MB2CO_MAP(0x2100, 3, 16), 0,   \
-                    0, "TPDO1 mapping")                                                                 \
-  MB2CO_OD_PDO_MAP4(N, 0x1A01, kHookTpdoMap, 1, MB2CO_MAP(0x6000, 1, 8), 0, 0, 0, "TPDO2 mapping")      \
-  MB2CO_OD_PDO_MAP4(N, 0x1A02, kHookTpdoMap, 0, 0, 0, 0, 0, "TPDO3 mapping")                            \
-  MB2CO_OD_PDO_MAP4(N, 0x1A03, kHookTpdoMap, 0, 0, 0, 0, 0, "TPDO4 mapping")                            \
-  N(0x2000, 0, U8, CONST, 0, kHookNone, 9, "Station configuration: highest sub-index")                 \
-  N(0x2000, 1, U8, RW, 0, kHookApp, 1, "Station configuration: node id (from next reset)")             \
-  N(0x2000, 2, U16, RW, 0, kHookApp, 500, "Station configuration: CAN bit rate kbit/s (from next reset)") \
-  N(0x2000, 3, U8, RW, 0, kHookNone, 1, "Station configuration: topology 0 chain, 1 ring")              \
-  N(0x2000, 4, U8, RW, 0, kHookNone, 4, "Station configuration: stations in the line")                 \
-  N(0x2000, 5, U8, RW, 0, kHookNone, 1, "Station configuration: Modbus address (from next reset)")     \
-  N(0x2000, 6, U16, RW, 0, kHookNone, 20, "Station configuration: button debounce ms")                 \
-  N(0x2000, 7, U8, RW, 0, kHookNone, 0, "Station configuration: PDOs and 1016h 0 derived, 1 as stored") \
-  N(0x2000, 8, U8, RW, 0, kHookNone, 1, "Station configuration: 1 enter operational by itself, 0 wait for NMT") \
-  N(0x2000, 9, U16, RW, 0, kHookNone, 2000, "Station configuration: Modbus watchdog ms (0 off)")     \
-  N(0x2001, 0, U8, RW, 0, kHookApp, 0, "Restart request: 1 reset communication, 2 reset node")         \
-  N(0x2002, 0, U8, RO, 0, kHookNone, 0, "NMT state of this node")                                      \
-  N(0x2100, 0, U8, CONST, 0, kHookNone, 6, "Own station: highest sub-index")                            \
-  N(0x2100, 1, U8, RW, 0, kHookApp, 0, "Own station: RUN command from the PC")                         \
-  N(0x2100, 2, U8, RO, kAttrPdo, kHookNone, 0, "Own station: RUN state")                               \
-  N(0x2100, 3, U16, RO, kAttrPdo, kHookNone, 0, "Own station: STOP2 event counter")                    \
-  N(0x2100, 4, U8, RO, 0, kHookNone, 0, "Own station: stop cause")                                     \
-  N(0x2100, 5, U16, RO, 0, kHookNone, 0, "Own station: START press counter")                           \
-  N(0x2100, 6, U16, RO, 0, kHookNone, 0, "Own station: STOP press counter")                            \
-  N(0x2110, 0, U8, CONST, 0, kHookNone, 4, "Previous station: highest sub-index")                       \
-  N(0x2110, 1, U8, RW, kAttrPdo, kHookNone, 0, "Previous station: RUN state")                          \
-  N(0x2110, 2, U16, RW, kAttrPdo, kHookNone, 0, "Previous station: STOP2 event counter")               \
-  N(0x2110, 3, U8, RO, 0, kHookNone, 0, "Previous station: status 0 unknown, 1 alive, 2 none")         \
-  N(0x2110, 4, U8, RO, 0, kHookNone, 0, "Previous station: node id")                                   \
-  N(0x2120, 0, U8, CONST, 0, kHookNone, 4, "Next station: highest sub-index")                           \
-  N(0x2120, 1, U8, RW, kAttrPdo, kHookNone, 0, "Next station: RUN state")                              \
-  N(0x2120, 2, U16, RW, kAttrPdo, kHookNone, 0, "Next station: STOP2 event counter")                   \
-  N(0x2120, 3, U8, RO, 0, kHookNone, 0, "Next station: status 0 unknown, 1 alive, 2 none")             \
-  N(0x2120, 4, U8, RO, 0, kHookNone, 0, "Next station: node id")                                       \
-  N(0x2130, 0, U8, CONST, 0, kHookNone, 2, "Remote buttons: highest sub-index")                         \
-  N(0x2130, 1, U8, RW, kAttrPdo, kHookNone, 0, "Remote buttons: levels of the watched station")        \
-  N(0x2130, 2, U8, RW, 0, kHookNone, 0, "Remote buttons: watched node id (0 previous station)")        \
-  N(0x2140, 0, U8, CONST, 0, kHookNone, 3, "Buttons: highest sub-index")                               \
-  N(0x2140, 1, BOOL, RO, kAttrPdo, kHookNone, 0, "Buttons: START pressed")                             \
-  N(0x2140, 2, BOOL, RO, kAttrPdo, kHookNone, 0, "Buttons: STOP pressed")                              \
-  N(0x2140, 3, BOOL, RO, kAttrPdo, kHookNone, 0, "Buttons: STOP2 pressed")                             \
-  N(0x2200, 0, U8, RO, kAttrPdo, kHookNone, 0, "LEDs as driven: RUN-self, RUN-prev, RUN-next, lab")     \
-  N(0x2300, 0, U8, CONST, 0, kHookNone, 3, "Latency lab: highest sub-index")                            \
-  N(0x2300, 1, U32, RO, 0, kHookNone, 0, "Latency lab: last button edge (us)")                         \
-  N(0x2300, 2, U32, RO, 0, kHookNone, 0, "Latency lab: last lab LED change (us)")                      \
-  N(0x2300, 3, U32, RO, 0, kHookNone, 0, "Latency lab: last remote buttons arrival (us)")              \
-  N(0x2400, 0, U8, RW, 0, kHookApp, 12, "Modbus holding registers: mapped entries")                    \
-  MB2CO_GW_MAP_ENTRY(N, 0x2400, 1, kHookApp, MB2CO_MAP(0x2100, 1, 8), "HR map 1")                       \
-  MB2CO_GW_MAP_ENTRY(N, 0x2400, 2, kHookApp, MB2CO_MAP(0x6200, 1, 8), "HR map 2")                       \
-  MB2CO_GW_MAP_ENTRY(N, 0x2400, 3, kHookApp, MB2CO_MAP(0x2000, 1, 8), "HR map 3")                       \
-  MB2CO_GW_MAP_ENTRY(N, 0x2400, 4, kHookApp, MB2CO_MAP(0x2000, 2, 16), "HR map 4")                      \
-  MB2CO_GW_MAP_ENTRY(N, 0x2400, 5, kHookApp, MB2CO_MAP(0x2000, 3, 8), "HR map 5")                       \
-  MB2CO_GW_MAP_ENTRY(N, 0x2400, 6, kHookApp, MB2CO_MAP(0x2000, 4, 8), "HR map 6")                       \
-  MB2CO_GW_MAP_ENTRY(N, 0x2400, 7, kHookApp, MB2CO_MAP(0x2000, 5, 8), "HR map 7")                       \
-  MB2CO_GW_MAP_ENTRY(N, 0x2400, 8, kHookApp, MB2CO_MAP(0x2000, 6, 16), "HR map 8")                      \
-  MB2CO_GW_MAP_ENTRY(N, 0x2400, 9, kHookApp, MB2CO_MAP(0x1017, 0, 16), "HR map 9")                      \
-  MB2CO_GW_MAP_ENTRY(N, 0x2400, 10, kHookApp, MB2CO_MAP(0x1006, 0, 32), "HR map 10")                    \
-  MB2CO_GW_MAP_ENTRY(N, 0x2400, 11, kHookApp, MB2CO_MAP(0x1010, 1, 32), "HR map 11")                    \
-  MB2CO_GW_MAP_ENTRY(N, 0x2400, 12, kHookApp, MB2CO_MAP(0x2001, 0, 8), "HR map 12")                     \
-  N(0x2401, 0, U8, RW, 0, kHookApp, 20, "Modbus input registers: mapped entries")                      \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 1, kHookApp, MB2CO_MAP(0x6000, 1, 8), "IR map 1")                       \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 2, kHookApp, MB2CO_MAP(0x2100, 2, 8), "IR map 2")                       \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 3, kHookApp, MB2CO_MAP(0x2100, 3, 16), "IR map 3")                      \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 4, kHookApp, MB2CO_MAP(0x2100, 4, 8), "IR map 4")                       \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 5, kHookApp, MB2CO_MAP(0x2100, 5, 16), "IR map 5")                      \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 6, kHookApp, MB2CO_MAP(0x2100, 6, 16), "IR map 6")                      \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 7, kHookApp, MB2CO_MAP(0x2110, 1, 8), "IR map 7")                       \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 8, kHookApp, MB2CO_MAP(0x2110, 2, 16), "IR map 8")                      \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 9, kHookApp, MB2CO_MAP(0x2110, 3, 8), "IR map 9")                       \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 10, kHookApp, MB2CO_MAP(0x2120, 1, 8), "IR map 10")                     \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 11, kHookApp, MB2CO_MAP(0x2120, 3, 8), "IR map 11")                     \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 12, kHookApp, MB2CO_MAP(0x2200, 0, 8), "IR map 12")                     \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 13, kHookApp, MB2CO_MAP(0x2300, 1, 32), "IR map 13")                    \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 14, kHookApp, MB2CO_MAP(0x2300, 2, 32), "IR map 14")                    \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 15, kHookApp, MB2CO_MAP(0x2300, 3, 32), "IR map 15")                    \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 16, kHookApp, MB2CO_MAP(0x2130, 1, 8), "IR map 16")                     \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 17, kHookApp, MB2CO_MAP(0x1001, 0, 8), "IR map 17")                     \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 18, kHookApp, MB2CO_MAP(0x2110, 4, 8), "IR map 18")                     \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 19, kHookApp, MB2CO_MAP(0x2120, 4, 8), "IR map 19")                     \
-  MB2CO_GW_MAP_ENTRY(N, 0x2401, 20, kHookApp, MB2CO_MAP(0x2002, 0, 8), "IR map 20")                     \
-  N(0x2402, 0, U8, RW, 0, kHookApp, 2, "Modbus coils: mapped entries")                                 \
-  MB2CO_GW_MAP_ENTRY(N, 0x2402, 1, kHookApp, MB2CO_MAP(0x2100, 1, 1), "coil map 1")                     \
-  MB2CO_GW_MAP_ENTRY(N, 0x2402, 2, kHookApp, MB2CO_MAP(0x6200, 1, 1), "coil map 2")                     \
-  N(0x2403, 0, U8, RW, 0, kHookApp, 7, "Modbus discrete inputs: mapped entries")                       \
-  MB2CO_GW_MAP_ENTRY(N, 0x2403, 1, kHookApp, MB2CO_MAP(0x2140, 1, 1), "DI map 1")                       \
-  MB2CO_GW_MAP_ENTRY(N, 0x2403, 2, kHookApp, MB2CO_MAP(0x2140, 2, 1), "DI map 2")              \
-  MB2CO_GW_MAP_ENTRY(N, 0x2403, 3, kHookApp, MB2CO_MAP(0x2140, 3, 1), "DI map 3")              \
-  MB2CO_GW_MAP_ENTRY(N, 0x2403, 4, kHookApp, MB2CO_MAP(0x2100, 2, 1), "DI map 4")                       \
-  MB2CO_GW_MAP_ENTRY(N, 0x2403, 5, kHookApp, MB2CO_MAP(0x2110, 1, 1), "DI map 5")                       \
-  MB2CO_GW_MAP_ENTRY(N, 0x2403, 6, kHookApp, MB2CO_MAP(0x2120, 1, 1), "DI map 6")                       \
-  MB2CO_GW_MAP_ENTRY(N, 0x2403, 7, kHookApp, MB2CO_MAP(0x2200, 0, 1), "DI map 7")                       \
-  MB2CO_GW_MAP_ENTRY(N, 0x2403, 8, kHookApp, 0, "DI map 8")                                             \
-  N(0x6000, 0, U8, CONST, 0, kHookNone, 1, "Read input 8-bit: highest sub-index")                       \
-  N(0x6000, 1, U8, RO, kAttrPdo, kHookNone, 0, "Read input 8-bit 1: START, STOP, STOP2 pressed")        \
-  N(0x6200, 0, U8, CONST, 0, kHookNone, 1, "Write output 8-bit: highest sub-index")                     \
-  N(0x6200, 1, U8, RW, kAttrPdo, kHookNone, 0, "Write output 8-bit 1: bit 0 lab LED")
+#define MB2CO_GATEWAY_OD(N, S)                                                                                                        \
+  MB2CO_OD_DATA_TYPES(N, S)                                                                                                           \
+  MB2CO_OD_COMM_1000(N, S, 0x00030191, "mb2co gateway", "Uno+MCP2515", "0.1.0", 0, 0x0B2C, 1, 100)                                    \
+  MB2CO_OD_RPDO_COMM(N, 0x1400, x1400, 0x17F, kAttrNodeId, 254, 0, "RPDO1 previous station")                                          \
+  MB2CO_OD_RPDO_COMM(N, 0x1401, x1401, 0x181, kAttrNodeId, 254, 0, "RPDO2 next station")                                              \
+  MB2CO_OD_RPDO_COMM(N, 0x1402, x1402, 0x27F, kAttrNodeId, 254, 0, "RPDO3 remote buttons")                                            \
+  MB2CO_OD_RPDO_COMM(N, 0x1403, x1403, 0x80000500, kAttrNodeId, 254, 0, "RPDO4")                                                      \
+  MB2CO_OD_PDO_MAP4(N, 0x1600, x1600, kHookRpdoMap, 2, MB2CO_MAP(0x2110, 1, 8), MB2CO_MAP(0x2110, 2, 16), 0,                          \
+                    0, "RPDO1 mapping")                                                                                               \
+  MB2CO_OD_PDO_MAP4(N, 0x1601, x1601, kHookRpdoMap, 2, MB2CO_MAP(0x2120, 1, 8), MB2CO_MAP(0x0006, 0, 16), 0,                          \
+                    0, "RPDO2 mapping")                                                                                               \
+  MB2CO_OD_PDO_MAP4(N, 0x1602, x1602, kHookRpdoMap, 1, MB2CO_MAP(0x2130, 1, 8), 0, 0, 0, "RPDO3 mapping")                             \
+  MB2CO_OD_PDO_MAP4(N, 0x1603, x1603, kHookRpdoMap, 0, 0, 0, 0, 0, "RPDO4 mapping")                                                   \
+  MB2CO_OD_TPDO_COMM(N, 0x1800, x1800, 0x180, kAttrNodeId, 254, 100, 100, "TPDO1 line state")                                         \
+  MB2CO_OD_TPDO_COMM(N, 0x1801, x1801, 0x280, kAttrNodeId, 254, 0, 0, "TPDO2 buttons")                                                \
+  MB2CO_OD_TPDO_COMM(N, 0x1802, x1802, 0x80000380, kAttrNodeId, 254, 0, 0, "TPDO3")                                                   \
+  MB2CO_OD_TPDO_COMM(N, 0x1803, x1803, 0x80000480, kAttrNodeId, 254, 0, 0, "TPDO4")                                                   \
+  MB2CO_OD_PDO_MAP4(N, 0x1A00, x1A00, kHookTpdoMap, 2, MB2CO_MAP(0x2100, 2, 8), MB2CO_MAP(0x2100, 3, 16), 0,                          \
+                    0, "TPDO1 mapping")                                                                                               \
+  MB2CO_OD_PDO_MAP4(N, 0x1A01, x1A01, kHookTpdoMap, 1, MB2CO_MAP(0x6000, 1, 8), 0, 0, 0, "TPDO2 mapping")                             \
+  MB2CO_OD_PDO_MAP4(N, 0x1A02, x1A02, kHookTpdoMap, 0, 0, 0, 0, 0, "TPDO3 mapping")                                                   \
+  MB2CO_OD_PDO_MAP4(N, 0x1A03, x1A03, kHookTpdoMap, 0, 0, 0, 0, 0, "TPDO4 mapping")                                                   \
+  N(0x2000, 0, x2000_0_highestSubIndex, U8, CONST, 0, kHookNone, 9, "Station configuration: highest sub-index")                       \
+  N(0x2000, 1, x2000_1_nodeId, U8, RW, 0, kHookApp, 1, "Station configuration: node id (from next reset)")                            \
+  N(0x2000, 2, x2000_2_bitrateKbit, U16, RW, 0, kHookApp, 500, "Station configuration: CAN bit rate kbit/s (from next reset)")        \
+  N(0x2000, 3, x2000_3_topology, U8, RW, 0, kHookNone, 1, "Station configuration: topology 0 chain, 1 ring")                          \
+  N(0x2000, 4, x2000_4_stationCount, U8, RW, 0, kHookNone, 4, "Station configuration: stations in the line")                          \
+  N(0x2000, 5, x2000_5_modbusAddress, U8, RW, 0, kHookNone, 1, "Station configuration: Modbus address (from next reset)")             \
+  N(0x2000, 6, x2000_6_debounceMs, U16, RW, 0, kHookNone, 20, "Station configuration: button debounce ms")                            \
+  N(0x2000, 7, x2000_7_pdoConfigAsStored, U8, RW, 0, kHookNone, 0, "Station configuration: PDOs and 1016h 0 derived, 1 as stored")    \
+  N(0x2000, 8, x2000_8_selfStarting, U8, RW, 0, kHookNone, 1, "Station configuration: 1 enter operational by itself, 0 wait for NMT") \
+  N(0x2000, 9, x2000_9_modbusWatchdogMs, U16, RW, 0, kHookNone, 2000, "Station configuration: Modbus watchdog ms (0 off)")            \
+  N(0x2001, 0, x2001_0_restartRequest, U8, RW, kAttrCommand, kHookApp, 0, "Restart request: 1 reset communication, 2 reset node")     \
+  N(0x2002, 0, x2002_0_nmtState, U8, RO, 0, kHookNone, 0, "NMT state of this node")                                                   \
+  N(0x2100, 0, x2100_0_highestSubIndex, U8, CONST, 0, kHookNone, 6, "Own station: highest sub-index")                                 \
+  N(0x2100, 1, x2100_1_runCommand, U8, RW, kAttrCommand, kHookApp, 0, "Own station: RUN command from the PC")                         \
+  N(0x2100, 2, x2100_2_runState, U8, RO, kAttrPdo, kHookNone, 0, "Own station: RUN state")                                            \
+  N(0x2100, 3, x2100_3_stop2Count, U16, RO, kAttrPdo, kHookNone, 0, "Own station: STOP2 event counter")                               \
+  N(0x2100, 4, x2100_4_stopCause, U8, RO, 0, kHookNone, 0, "Own station: stop cause")                                                 \
+  N(0x2100, 5, x2100_5_startCount, U16, RO, 0, kHookNone, 0, "Own station: START press counter")                                      \
+  N(0x2100, 6, x2100_6_stopCount, U16, RO, 0, kHookNone, 0, "Own station: STOP press counter")                                        \
+  N(0x2110, 0, x2110_0_highestSubIndex, U8, CONST, 0, kHookNone, 4, "Previous station: highest sub-index")                            \
+  N(0x2110, 1, x2110_1_prevRunState, U8, RW, kAttrPdo | kAttrCommand, kHookNone, 0, "Previous station: RUN state")                    \
+  N(0x2110, 2, x2110_2_prevStop2Count, U16, RW, kAttrPdo | kAttrCommand, kHookNone, 0, "Previous station: STOP2 event counter")       \
+  N(0x2110, 3, x2110_3_prevStatus, U8, RO, 0, kHookNone, 0, "Previous station: status 0 unknown, 1 alive, 2 none")                    \
+  N(0x2110, 4, x2110_4_prevNodeId, U8, RO, 0, kHookNone, 0, "Previous station: node id")                                              \
+  N(0x2120, 0, x2120_0_highestSubIndex, U8, CONST, 0, kHookNone, 4, "Next station: highest sub-index")                                \
+  N(0x2120, 1, x2120_1_nextRunState, U8, RW, kAttrPdo | kAttrCommand, kHookNone, 0, "Next station: RUN state")                        \
+  N(0x2120, 2, x2120_2_nextStop2Count, U16, RW, kAttrPdo | kAttrCommand, kHookNone, 0, "Next station: STOP2 event counter")           \
+  N(0x2120, 3, x2120_3_nextStatus, U8, RO, 0, kHookNone, 0, "Next station: status 0 unknown, 1 alive, 2 none")                        \
+  N(0x2120, 4, x2120_4_nextNodeId, U8, RO, 0, kHookNone, 0, "Next station: node id")                                                  \
+  N(0x2130, 0, x2130_0_highestSubIndex, U8, CONST, 0, kHookNone, 2, "Remote buttons: highest sub-index")                              \
+  N(0x2130, 1, x2130_1_remoteButtons, U8, RW, kAttrPdo | kAttrCommand, kHookNone, 0, "Remote buttons: levels of the watched station") \
+  N(0x2130, 2, x2130_2_watchedNodeId, U8, RW, 0, kHookNone, 0, "Remote buttons: watched node id (0 previous station)")                \
+  N(0x2140, 0, x2140_0_highestSubIndex, U8, CONST, 0, kHookNone, 3, "Buttons: highest sub-index")                                     \
+  N(0x2140, 1, x2140_1_startPressed, BOOL, RO, kAttrPdo, kHookNone, 0, "Buttons: START pressed")                                      \
+  N(0x2140, 2, x2140_2_stopPressed, BOOL, RO, kAttrPdo, kHookNone, 0, "Buttons: STOP pressed")                                        \
+  N(0x2140, 3, x2140_3_stop2Pressed, BOOL, RO, kAttrPdo, kHookNone, 0, "Buttons: STOP2 pressed")                                      \
+  N(0x2200, 0, x2200_0_leds, U8, RO, kAttrPdo, kHookNone, 0, "LEDs as driven: RUN-self, RUN-prev, RUN-next, lab")                     \
+  N(0x2300, 0, x2300_0_highestSubIndex, U8, CONST, 0, kHookNone, 3, "Latency lab: highest sub-index")                                 \
+  N(0x2300, 1, x2300_1_buttonEdgeUs, U32, RO, 0, kHookNone, 0, "Latency lab: last button edge (us)")                                  \
+  N(0x2300, 2, x2300_2_labLedUs, U32, RO, 0, kHookNone, 0, "Latency lab: last lab LED change (us)")                                   \
+  N(0x2300, 3, x2300_3_remoteButtonsUs, U32, RO, 0, kHookNone, 0, "Latency lab: last remote buttons arrival (us)")                    \
+  N(0x2400, 0, x2400_0_holdingMapCount, U8, RW, 0, kHookApp, 12, "Modbus holding registers: mapped entries")                          \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 1, x2400_1_holdingMap1, kHookApp, MB2CO_MAP(0x2100, 1, 8), "HR map 1")                                \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 2, x2400_2_holdingMap2, kHookApp, MB2CO_MAP(0x6200, 1, 8), "HR map 2")                                \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 3, x2400_3_holdingMap3, kHookApp, MB2CO_MAP(0x2000, 1, 8), "HR map 3")                                \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 4, x2400_4_holdingMap4, kHookApp, MB2CO_MAP(0x2000, 2, 16), "HR map 4")                               \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 5, x2400_5_holdingMap5, kHookApp, MB2CO_MAP(0x2000, 3, 8), "HR map 5")                                \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 6, x2400_6_holdingMap6, kHookApp, MB2CO_MAP(0x2000, 4, 8), "HR map 6")                                \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 7, x2400_7_holdingMap7, kHookApp, MB2CO_MAP(0x2000, 5, 8), "HR map 7")                                \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 8, x2400_8_holdingMap8, kHookApp, MB2CO_MAP(0x2000, 6, 16), "HR map 8")                               \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 9, x2400_9_holdingMap9, kHookApp, MB2CO_MAP(0x1017, 0, 16), "HR map 9")                               \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 10, x2400_10_holdingMap10, kHookApp, MB2CO_MAP(0x1006, 0, 32), "HR map 10")                           \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 11, x2400_11_holdingMap11, kHookApp, MB2CO_MAP(0x1010, 1, 32), "HR map 11")                           \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 12, x2400_12_holdingMap12, kHookApp, MB2CO_MAP(0x2001, 0, 8), "HR map 12")                            \
+  N(0x2401, 0, x2401_0_inputMapCount, U8, RW, 0, kHookApp, 20, "Modbus input registers: mapped entries")                              \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 1, x2401_1_inputMap1, kHookApp, MB2CO_MAP(0x6000, 1, 8), "IR map 1")                                  \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 2, x2401_2_inputMap2, kHookApp, MB2CO_MAP(0x2100, 2, 8), "IR map 2")                                  \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 3, x2401_3_inputMap3, kHookApp, MB2CO_MAP(0x2100, 3, 16), "IR map 3")                                 \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 4, x2401_4_inputMap4, kHookApp, MB2CO_MAP(0x2100, 4, 8), "IR map 4")                                  \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 5, x2401_5_inputMap5, kHookApp, MB2CO_MAP(0x2100, 5, 16), "IR map 5")                                 \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 6, x2401_6_inputMap6, kHookApp, MB2CO_MAP(0x2100, 6, 16), "IR map 6")                                 \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 7, x2401_7_inputMap7, kHookApp, MB2CO_MAP(0x2110, 1, 8), "IR map 7")                                  \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 8, x2401_8_inputMap8, kHookApp, MB2CO_MAP(0x2110, 2, 16), "IR map 8")                                 \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 9, x2401_9_inputMap9, kHookApp, MB2CO_MAP(0x2110, 3, 8), "IR map 9")                                  \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 10, x2401_10_inputMap10, kHookApp, MB2CO_MAP(0x2120, 1, 8), "IR map 10")                              \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 11, x2401_11_inputMap11, kHookApp, MB2CO_MAP(0x2120, 3, 8), "IR map 11")                              \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 12, x2401_12_inputMap12, kHookApp, MB2CO_MAP(0x2200, 0, 8), "IR map 12")                              \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 13, x2401_13_inputMap13, kHookApp, MB2CO_MAP(0x2300, 1, 32), "IR map 13")                             \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 14, x2401_14_inputMap14, kHookApp, MB2CO_MAP(0x2300, 2, 32), "IR map 14")                             \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 15, x2401_15_inputMap15, kHookApp, MB2CO_MAP(0x2300, 3, 32), "IR map 15")                             \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 16, x2401_16_inputMap16, kHookApp, MB2CO_MAP(0x2130, 1, 8), "IR map 16")                              \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 17, x2401_17_inputMap17, kHookApp, MB2CO_MAP(0x1001, 0, 8), "IR map 17")                              \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 18, x2401_18_inputMap18, kHookApp, MB2CO_MAP(0x2110, 4, 8), "IR map 18")                              \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 19, x2401_19_inputMap19, kHookApp, MB2CO_MAP(0x2120, 4, 8), "IR map 19")                              \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 20, x2401_20_inputMap20, kHookApp, MB2CO_MAP(0x2002, 0, 8), "IR map 20")                              \
+  N(0x2402, 0, x2402_0_coilMapCount, U8, RW, 0, kHookApp, 2, "Modbus coils: mapped entries")                                          \
+  MB2CO_GW_MAP_ENTRY(N, 0x2402, 1, x2402_1_coilMap1, kHookApp, MB2CO_MAP(0x2100, 1, 1), "coil map 1")                                 \
+  MB2CO_GW_MAP_ENTRY(N, 0x2402, 2, x2402_2_coilMap2, kHookApp, MB2CO_MAP(0x6200, 1, 1), "coil map 2")                                 \
+  N(0x2403, 0, x2403_0_discreteMapCount, U8, RW, 0, kHookApp, 7, "Modbus discrete inputs: mapped entries")                            \
+  MB2CO_GW_MAP_ENTRY(N, 0x2403, 1, x2403_1_discreteMap1, kHookApp, MB2CO_MAP(0x2140, 1, 1), "DI map 1")                               \
+  MB2CO_GW_MAP_ENTRY(N, 0x2403, 2, x2403_2_discreteMap2, kHookApp, MB2CO_MAP(0x2140, 2, 1), "DI map 2")                               \
+  MB2CO_GW_MAP_ENTRY(N, 0x2403, 3, x2403_3_discreteMap3, kHookApp, MB2CO_MAP(0x2140, 3, 1), "DI map 3")                               \
+  MB2CO_GW_MAP_ENTRY(N, 0x2403, 4, x2403_4_discreteMap4, kHookApp, MB2CO_MAP(0x2100, 2, 1), "DI map 4")                               \
+  MB2CO_GW_MAP_ENTRY(N, 0x2403, 5, x2403_5_discreteMap5, kHookApp, MB2CO_MAP(0x2110, 1, 1), "DI map 5")                               \
+  MB2CO_GW_MAP_ENTRY(N, 0x2403, 6, x2403_6_discreteMap6, kHookApp, MB2CO_MAP(0x2120, 1, 1), "DI map 6")                               \
+  MB2CO_GW_MAP_ENTRY(N, 0x2403, 7, x2403_7_discreteMap7, kHookApp, MB2CO_MAP(0x2200, 0, 1), "DI map 7")                               \
+  MB2CO_GW_MAP_ENTRY(N, 0x2403, 8, x2403_8_discreteMap8, kHookApp, 0, "DI map 8")                                                     \
+  N(0x6000, 0, x6000_0_highestSubIndex, U8, CONST, 0, kHookNone, 1, "Read input 8-bit: highest sub-index")                            \
+  N(0x6000, 1, x6000_1_readInput8Bit1, U8, RO, kAttrPdo, kHookNone, 0, "Read input 8-bit 1: START, STOP, STOP2 pressed")              \
+  N(0x6200, 0, x6200_0_highestSubIndex, U8, CONST, 0, kHookNone, 1, "Write output 8-bit: highest sub-index")                          \
+  N(0x6200, 1, x6200_1_writeOutput8Bit1, U8, RW, kAttrPdo | kAttrCommand, kHookNone, 0, "Write output 8-bit 1: bit 0 lab LED")
 
 #define MB2CO_GATEWAY_LIMITS(L) \
   L(0x2000, 1, 1, 127)          \
@@ -148,7 +150,32 @@ const uint8_t kDiscreteMapSize = 8;
 namespace od {
 using namespace ::mb2co::canopen;
 MB2CO_OD_DECLARE(Gateway, MB2CO_GATEWAY_OD)
+MB2CO_OD_DEFAULTS(Gateway, MB2CO_GATEWAY_OD)
 }  // namespace od
+
+/// Modbus address of `entry` in the default map `map_index` (2400h-2403h),
+/// laid out as OdRegisterBank does (a 32-bit entry takes two registers, every
+/// bit one address); 0xFFFF when that map does not hold it by default. For
+/// programs that talk to a gateway with the default map and want its
+/// addresses as named constants (the simulator's PC programs); a map that
+/// may have been changed is read from the OD instead (pcapp RegisterLayout).
+constexpr uint16_t default_map_address(uint16_t map_index, canopen::OdKey entry) {
+  const bool bit_table = map_index == 0x2402 || map_index == 0x2403;
+  uint32_t count = 0;
+  uint16_t address = 0;
+  for (const canopen::OdDefault& d : od::GatewayDefaults) {
+    if (d.index != map_index) continue;
+    if (d.sub == 0) {
+      count = d.value;
+      continue;
+    }
+    if (d.sub > count) break;
+    if (d.value != 0 && (d.value >> 16) == entry.index && ((d.value >> 8) & 0xFFu) == entry.sub) return address;
+    address = static_cast<uint16_t>(address + (d.value != 0 && !bit_table && (d.value & 0xFFu) == 32 ? 2 : 1));
+  }
+  return 0xFFFF;
+}
 
 }  // namespace gateway
 }  // namespace mb2co
+// clang-format on

@@ -13,23 +13,18 @@
 #pragma once
 #include <stdint.h>
 
+#include "canopen/clock.h"
 #include "canopen/heartbeat_consumer.h"
 #include "canopen/node.h"
 #include "canopen/od.h"
 #include "gateway/gateway_od.h"
+#include "gateway/stop_cause.h"
 
 namespace mb2co {
 namespace gateway {
 
 enum Button : uint8_t { kStart = 0x01, kStop = 0x02, kStop2 = 0x04 };
 enum Led : uint8_t { kLedRunSelf = 0x01, kLedRunPrev = 0x02, kLedRunNext = 0x04, kLedLab = 0x08 };
-enum StopCause : uint8_t {
-  kCauseNone = 0,
-  kCauseStopButton = 1,
-  kCauseStop2Here = 2,
-  kCauseStop2Previous = 3,
-  kCausePcSilent = 4,  ///< no Modbus request for the watchdog time (2000h/9)
-};
 enum NeighbourStatus : uint8_t { kNeighbourUnknown = 0, kNeighbourAlive = 1, kNeighbourNone = 2 };
 
 /// Plain data without initialisers: its owner value-initialises it (all
@@ -41,35 +36,42 @@ class LineApp {
 
   /// `values` is the value block of `od` (the gateway OD): the application
   /// reads and writes its entries there directly (no lookup, no flash access
-  /// per pass) and tells the OD when it changed one (ObjectDictionary::touch).
+  /// per pass); PDO-mappable ones through ObjectDictionary::put(), which
+  /// tells the OD (and so the TPDOs) when one changed.
   void init(canopen::ObjectDictionary* od, od::GatewayValues* values);
+  /// Power-on at `now_us`: the Modbus watchdog runs from here, so a station
+  /// whose PC never comes is stopped with cause kCausePcSilent like one whose
+  /// PC fell silent.
+  void start(uint32_t now_us) {
+    last_request_us_ = now_us;
+    watchdog_armed_ = true;
+  }
   /// After every reset: derives neighbours, RPDO COB-IDs and 1016h from node
   /// id and topology unless 2000h/7 says the stored configuration applies.
   void on_reset(uint8_t node_id);
   void on_heartbeat(uint8_t node_id, canopen::HbEvent event);
   void on_rpdo(uint8_t n, uint32_t now_us);
-  /// Validates application writes (RUN command); 0 or an SDO abort code.
-  uint32_t on_run_command(uint8_t value);
+  /// The PC wrote the RUN command `value` (0..1, checked by the OD): 0
+  /// acknowledges a latched stop.
+  void on_run_command(uint8_t value) {
+    if (value == 0) stop_latched_ = false;
+  }
   /// Samples raw button levels (Button bits, 1 = pressed), updates the OD,
   /// returns the LED bits to drive now. `modbus_requests` counts the
   /// requests the slave has accepted (for the watchdog).
   uint8_t process(uint32_t now_us, uint8_t raw_buttons, uint8_t nmt_state, uint16_t modbus_requests);
+  /// Lowers `d` to when process() with the same raw buttons must run next
+  /// (Gateway::next_deadline): now when it would write something else than
+  /// it wrote last (the node changed state or reset, a callback changed a
+  /// neighbour or latched a stop, a Modbus request came, the blink phase
+  /// turned); else a debounce running out (2000h/6), the Modbus watchdog
+  /// (2000h/9) and the next blink phase while a neighbour is unknown.
+  void next_deadline(NextDeadline& d, uint8_t nmt_state, uint16_t modbus_requests) const;
 
  private:
-  /// Out of line: four call sites (-10 B on the Uno).
+  /// Out of line: four call sites.
   __attribute__((noinline)) void latch_stop(StopCause cause);
   void neighbour_config(uint8_t node_id, uint8_t* prev, uint8_t* next) const;
-
-  /// Stores `value` into a PDO-mappable entry of the value block, telling
-  /// the OD (and so the TPDOs) when it changed (ObjectDictionary::touch).
-  /// Entries no PDO can map are assigned directly.
-  template <class T, class V>
-  void put(T& entry, V value) {
-    const T v = static_cast<T>(value);
-    if (entry == v) return;
-    entry = v;
-    od_->touch();
-  }
 
   canopen::ObjectDictionary* od_;
   od::GatewayValues* v_;
@@ -77,13 +79,13 @@ class LineApp {
   uint32_t last_request_us_;
   uint16_t prev_stop2_seen_;
   uint16_t requests_seen_;
-  uint8_t raw_;               ///< last raw levels
-  uint8_t stable_;            ///< debounced levels
+  uint8_t raw_;     ///< last raw levels
+  uint8_t stable_;  ///< debounced levels
   uint8_t leds_;
-  bool prev_stop2_known_;     ///< a baseline of the previous STOP2 counter
+  bool prev_stop2_known_;  ///< a baseline of the previous STOP2 counter
   bool stop_latched_;
-  /// Modbus watchdog: armed by the first request, so a station configured
-  /// without a PC is not stopped; a silent PC then latches a stop.
+  /// Modbus watchdog: armed at power-on and by every request; silence for
+  /// 2000h/9 ms latches one stop (2000h/9 = 0: a station without a PC).
   bool watchdog_armed_;
 };
 

@@ -12,12 +12,13 @@ using modbus::Exception;
 using modbus::Table;
 
 namespace {
-bool is_bit_table(Table t) { return t == Table::kCoils || t == Table::kDiscreteInputs; }
+bool is_bit_table(Table t) {
+  return t == Table::kCoils || t == Table::kDiscreteInputs;
+}
 }  // namespace
 
 // Where each table's rows start in cached_rows_, and how many there are.
-constexpr uint8_t kCacheBase[4] = {0, kCoilMapSize,
-                                   kCoilMapSize + kDiscreteMapSize,
+constexpr uint8_t kCacheBase[4] = {0, kCoilMapSize, kCoilMapSize + kDiscreteMapSize,
                                    kCoilMapSize + kDiscreteMapSize + kInputMapSize};
 constexpr uint8_t kCacheSize[4] = {kCoilMapSize, kDiscreteMapSize, kInputMapSize, kHoldingMapSize};
 static_assert(static_cast<uint8_t>(Table::kCoils) == 0 && static_cast<uint8_t>(Table::kDiscreteInputs) == 1 &&
@@ -35,11 +36,6 @@ void OdRegisterBank::begin(Table table, Walk* w) const {
   w->cache_size = kCacheSize[t];
   w->item.first = 0;
   w->item.width = 0;
-}
-
-bool OdRegisterBank::is_map(uint16_t row) const {
-  const uint16_t index = od_.index_of(row);
-  return index >= 0x2400 && index <= 0x2403;
 }
 
 uint16_t OdRegisterBank::row_of(const Walk& w, uint32_t entry) {
@@ -85,7 +81,7 @@ bool OdRegisterBank::covers(Table table, modbus::Access access, uint16_t start, 
     if (!reach(&w, static_cast<uint16_t>(a)) || it.row == ObjectDictionary::kNoRow) return false;
     const uint8_t attr = od_.attr(it.row);
     // 32-bit like `end`: first + width stays below 41 (20 map entries), but a
-    // 16-bit int sum widened is what check-int16.sh flags; one sum: -4 B.
+    // 16-bit int sum widened is what check-int16.sh flags; one sum.
     const uint32_t item_end = static_cast<uint32_t>(it.first) + it.width;
     if (access == modbus::Access::kWrite) {
       if (!(attr & canopen::kAttrWrite)) return false;
@@ -128,15 +124,19 @@ Exception OdRegisterBank::read_items(Table table, uint16_t start, uint16_t count
   return Exception::kNone;
 }
 
-Exception OdRegisterBank::write_value(const Item& it, uint32_t value) {
+Exception OdRegisterBank::write_value(const Item& it, uint32_t value, bool apply) {
+  // covers() checked the rights of the map as the request began; a map
+  // written by this very request may name another entry since, or none.
+  if (it.row == ObjectDictionary::kNoRow || !(od_.attr(it.row) & canopen::kAttrWrite)) {
+    return Exception::kIllegalDataAddress;
+  }
   const uint16_t size = od_.size_of(it.row);
   if (it.bits < 32 && (value >> it.bits) != 0) return Exception::kServerDeviceFailure;
   uint8_t bytes[4];
   canopen::put_le32(bytes, value);
   if (size < 4 && (value >> (8 * size)) != 0) return Exception::kServerDeviceFailure;
-  return od_.write(it.index, it.sub, bytes, size) == canopen::kSdoOk
-             ? Exception::kNone
-             : Exception::kServerDeviceFailure;
+  return od_.write_row(it.row, bytes, size, apply) == canopen::kSdoOk ? Exception::kNone
+                                                                      : Exception::kServerDeviceFailure;
 }
 
 namespace {
@@ -150,13 +150,14 @@ struct Undo {
   void save(ObjectDictionary& od, uint16_t row) {
     if (n == kMax) return;
     rows[n] = row;
-    memcpy(old[n], od.ram(row), od.size_of(row));
+    memcpy(old[n], od.ram_untracked(row), od.size_of(row));
     ++n;
   }
+  // The bytes saved, put back: no revision change (ram_untracked).
   void rollback(ObjectDictionary& od) {
     while (n > 0) {
       --n;
-      memcpy(od.ram(rows[n]), old[n], od.size_of(rows[n]));
+      memcpy(od.ram_untracked(rows[n]), old[n], od.size_of(rows[n]));
     }
   }
 };
@@ -170,10 +171,20 @@ Exception OdRegisterBank::write_coils(uint16_t start, modbus::ConstBitSpan value
   return write_items(Table::kCoils, start, values.count, values.bytes);
 }
 
+// A request takes effect whole or not at all, and nothing of it is carried
+// out before all of it is accepted: a check step decides every item (limits,
+// hooks without side effects) on the values before it, stored and then put
+// back; only then the apply step, whose hooks act (save, reset, the RUN
+// latch). A refused request leaves every observable state as it was.
+Exception OdRegisterBank::write_items(Table table, uint16_t start, uint16_t count, const uint8_t* bytes) {
+  const Exception ex = write_step(table, start, count, bytes, false);
+  return ex != Exception::kNone ? ex : write_step(table, start, count, bytes, true);
+}
+
 // Coils and holding registers share one loop: item by item, each value
 // checked by the OD (limits, hooks), all undone when one is refused.
-Exception OdRegisterBank::write_items(Table table, uint16_t start, uint16_t count,
-                                      const uint8_t* bytes) {
+Exception OdRegisterBank::write_step(Table table, uint16_t start, uint16_t count, const uint8_t* bytes,
+                                     bool apply) {
   Undo undo;
   Walk w;
   begin(table, &w);
@@ -191,20 +202,22 @@ Exception OdRegisterBank::write_items(Table table, uint16_t start, uint16_t coun
       if (it.width == 2) v = (v << 16) | modbus::get_be16(bytes + 2u * i + 2u);
     }
     undo.save(od_, it.row);
-    const Exception ex = write_value(it, v);
+    const Exception ex = write_value(it, v, apply);
     if (ex != Exception::kNone) {
       undo.rollback(od_);
       return ex;
     }
     i = static_cast<uint16_t>(i + it.width);  // always 1 for coils
-    if (is_map(it.row)) begin(table, &w);     // the map itself changed
+    // The map itself changed under the walk: it starts over on the new map.
+    if (moves_walk(w, it.row)) begin(table, &w);
   }
+  if (!apply) undo.rollback(od_);
   return Exception::kNone;
 }
 
-uint32_t OdRegisterBank::check_map_write(const ObjectDictionary& od, uint16_t index, uint8_t sub,
-                                         const uint8_t* data) {
-  const Table table = index == 0x2400 ? Table::kHoldingRegisters
+canopen::SdoAbort OdRegisterBank::check_map_write(uint16_t index, uint8_t sub, const uint8_t* data) const {
+  const ObjectDictionary& od = od_;
+  const Table table = index == 0x2400   ? Table::kHoldingRegisters
                       : index == 0x2401 ? Table::kInputRegisters
                       : index == 0x2402 ? Table::kCoils
                                         : Table::kDiscreteInputs;

@@ -26,21 +26,24 @@ class OdRegisterBank : public modbus::RegisterBank {
 
   bool covers(modbus::Table table, modbus::Access access, uint16_t start, uint16_t count) override;
   modbus::Exception read_bits(modbus::Table table, uint16_t start, modbus::BitSpan out) override;
-  modbus::Exception read_registers(modbus::Table table, uint16_t start,
-                                   modbus::RegisterSpan out) override;
+  modbus::Exception read_registers(modbus::Table table, uint16_t start, modbus::RegisterSpan out) override;
   modbus::Exception write_coils(uint16_t start, modbus::ConstBitSpan values) override;
   modbus::Exception write_registers(uint16_t start, modbus::ConstRegisterSpan values) override;
 
   /// OD index of a table's map.
   static uint16_t map_index(modbus::Table table) {
     return static_cast<uint16_t>(0x2400 + static_cast<uint8_t>(table == modbus::Table::kHoldingRegisters ? 0
-                                                                : table == modbus::Table::kInputRegisters ? 1
-                                                                : table == modbus::Table::kCoils          ? 2
-                                                                                                          : 3));
+                                                               : table == modbus::Table::kInputRegisters ? 1
+                                                               : table == modbus::Table::kCoils          ? 2
+                                                                                                : 3));
   }
-  /// Validates a write to a map (2400h–2403h sub `sub`): SDO abort code or 0.
-  static uint32_t check_map_write(const canopen::ObjectDictionary& od, uint16_t index, uint8_t sub,
-                                  const uint8_t* data);
+  /// True for the indices of the maps (2400h–2403h): writes to them are the
+  /// bank's to validate (check_map_write), whoever writes (SDO, Modbus).
+  static bool is_map_index(uint16_t index) { return index >= 0x2400 && index <= 0x2403; }
+  /// Validates a write of `data` to map `index` (is_map_index) sub `sub`:
+  /// the count within the map's capacity, an entry that names an existing
+  /// numeric entry the table can carry. SDO abort code or 0.
+  canopen::SdoAbort check_map_write(uint16_t index, uint8_t sub, const uint8_t* data) const;
 
  private:
   /// One mapped item: OD row, the entry it maps (index, sub, length in bits),
@@ -48,7 +51,7 @@ class OdRegisterBank : public modbus::RegisterBank {
   struct Item {
     uint16_t row;    ///< kNoRow for an unmapped address
     uint16_t index;  ///< index and sub of `row`, as the map entry names them
-    uint8_t sub;     ///< (no flash reads for them: -10 B on the Uno)
+    uint8_t sub;     ///< (no flash reads for them)
     uint8_t bits;
     uint8_t width;
     uint16_t first;
@@ -57,11 +60,11 @@ class OdRegisterBank : public modbus::RegisterBank {
   /// addresses in ascending order, so it costs one pass over the map whatever
   /// its length, and an OD lookup only for the items it uses.
   struct Walk {
-    Item item;       ///< the current item (valid once reach() returned true)
-    uint16_t row0;   ///< row of the map's sub 0
-    uint8_t count;   ///< entries in use (sub 0)
-    uint8_t sub;     ///< sub-index of `item`, 0 before the first
-    bool bit_table;  ///< coils, discrete inputs: every item is one address
+    Item item;           ///< the current item (valid once reach() returned true)
+    uint16_t row0;       ///< row of the map's sub 0
+    uint8_t count;       ///< entries in use (sub 0)
+    uint8_t sub;         ///< sub-index of `item`, 0 before the first
+    bool bit_table;      ///< coils, discrete inputs: every item is one address
     uint8_t cache_base;  ///< this table's first slot in cached_rows_
     uint8_t cache_size;  ///< its slots (the map's capacity)
   };
@@ -71,13 +74,20 @@ class OdRegisterBank : public modbus::RegisterBank {
   bool reach(Walk* walk, uint16_t address);
   /// Row of the current item's entry (kNoRow for an unmapped address).
   uint16_t row_of(const Walk& walk, uint32_t entry);
-  modbus::Exception write_value(const Item& item, uint32_t value);
+  /// One item's value through the OD's write path (`apply`: see write_row).
+  modbus::Exception write_value(const Item& item, uint32_t value, bool apply);
+  /// One step of write_items(): check (`apply` false) or apply.
+  modbus::Exception write_step(modbus::Table table, uint16_t start, uint16_t count, const uint8_t* bytes,
+                               bool apply);
   modbus::Exception read_items(modbus::Table table, uint16_t start, uint16_t count, uint8_t* bytes);
-  modbus::Exception write_items(modbus::Table table, uint16_t start, uint16_t count,
-                                const uint8_t* bytes);
-  /// True for a row of the maps 2400h-2403h (a write there moves the items).
-  bool is_map(uint16_t row) const;
-
+  modbus::Exception write_items(modbus::Table table, uint16_t start, uint16_t count, const uint8_t* bytes);
+  /// True when writing `row` changes the walk's items already laid out: the
+  /// walk's own map at sub 0 (the count) up to the current item (rows of
+  /// one index are contiguous). A later entry of that map is read when the
+  /// walk reaches it; another table's map does not touch this walk.
+  static bool moves_walk(const Walk& walk, uint16_t row) {
+    return static_cast<uint16_t>(row - walk.row0) <= walk.sub;
+  }
 
   canopen::ObjectDictionary& od_;
   /// The row each map entry named when it was last looked up, by table and

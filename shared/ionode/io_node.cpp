@@ -30,7 +30,7 @@ uint8_t IoNode::output(uint8_t n) const {
   return n < 2 ? static_cast<uint8_t>(od_.get(static_cast<uint16_t>(row_outputs_ + n))) : 0;
 }
 
-uint32_t IoNode::app_write(void* ctx, uint8_t, uint16_t index, uint8_t, const uint8_t*, uint16_t) {
+HookResult IoNode::app_write(void* ctx, uint8_t, uint16_t index, uint8_t, const uint8_t*, uint16_t, bool) {
   IoNode& n = *static_cast<IoNode*>(ctx);
   if (index == 0x6200) {
     // A hand switch (2100h) keeps the outputs under local control; and the

@@ -28,8 +28,8 @@ class IoNode {
   canopen::ObjectDictionary& od() { return od_; }
 
  private:
-  static uint32_t app_write(void* ctx, uint8_t hook, uint16_t index, uint8_t sub,
-                            const uint8_t* data, uint16_t len);
+  static canopen::HookResult app_write(void* ctx, uint8_t hook, uint16_t index, uint8_t sub,
+                                       const uint8_t* data, uint16_t len, bool apply);
   static void on_reset(void* ctx, canopen::NmtReset kind);
 
   od::IoNodeValues values_;

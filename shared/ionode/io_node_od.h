@@ -2,42 +2,44 @@
 // bytes (6000h), two output bytes (6200h), TPDO1 = inputs, RPDO1 = outputs,
 // as the CO4011 module of seed 004 §2.11 that the frame trace talks to.
 #pragma once
+// The OD lists and their macros are tables, one row a line: not reflowed.
+// clang-format off
 #include "canopen/od_comm.h"
 #include "canopen/od_define.h"
 
 namespace mb2co {
 namespace ionode {
 
-#define MB2CO_IO_NODE_OD(N, S)                                                                    \
-  MB2CO_OD_DATA_TYPES(N, S)                                                                       \
-  MB2CO_OD_COMM_1000(N, S, 0x00030191, "mb2co I/O node", "1.0", "0.1.0", 0, 0x401, 1, 0)              \
-  MB2CO_OD_RPDO_COMM(N, 0x1400, 0x200, kAttrNodeId, 255, 0, "RPDO1")                              \
-  MB2CO_OD_RPDO_COMM(N, 0x1401, 0x80000300, kAttrNodeId, 255, 0, "RPDO2")                         \
-  MB2CO_OD_RPDO_COMM(N, 0x1402, 0x80000400, kAttrNodeId, 255, 0, "RPDO3")                         \
-  MB2CO_OD_RPDO_COMM(N, 0x1403, 0x80000500, kAttrNodeId, 255, 0, "RPDO4")                         \
-  MB2CO_OD_PDO_MAP(N, 0x1600, kHookRpdoMap, 2, MB2CO_PDO_MAP_ENTRY(0x6200, 1, 8),                 \
-                   MB2CO_PDO_MAP_ENTRY(0x6200, 2, 8), 0, 0, 0, 0, 0, 0, "RPDO1 mapping")           \
-  MB2CO_OD_PDO_MAP(N, 0x1601, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO2 mapping")           \
-  MB2CO_OD_PDO_MAP(N, 0x1602, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO3 mapping")           \
-  MB2CO_OD_PDO_MAP(N, 0x1603, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO4 mapping")           \
-  MB2CO_OD_TPDO_COMM(N, 0x1800, 0x180, kAttrNodeId, 255, 0, 0, "TPDO1")                           \
-  MB2CO_OD_TPDO_COMM(N, 0x1801, 0x80000280, kAttrNodeId, 255, 0, 0, "TPDO2")                      \
-  MB2CO_OD_TPDO_COMM(N, 0x1802, 0x80000380, kAttrNodeId, 255, 0, 0, "TPDO3")                      \
-  MB2CO_OD_TPDO_COMM(N, 0x1803, 0x80000480, kAttrNodeId, 255, 0, 0, "TPDO4")                      \
-  MB2CO_OD_PDO_MAP(N, 0x1A00, kHookTpdoMap, 2, MB2CO_PDO_MAP_ENTRY(0x6000, 1, 8),                 \
-                   MB2CO_PDO_MAP_ENTRY(0x6000, 2, 8), 0, 0, 0, 0, 0, 0, "TPDO1 mapping")           \
-  MB2CO_OD_PDO_MAP(N, 0x1A01, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO2 mapping")           \
-  MB2CO_OD_PDO_MAP(N, 0x1A02, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO3 mapping")           \
-  MB2CO_OD_PDO_MAP(N, 0x1A03, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO4 mapping")           \
-  S(0x2000, 0, RW, kHookNone, 24, "", "Location label")                                           \
-  N(0x2100, 0, BOOL, RW, 0, kHookApp, 0, "Local control (outputs refuse network writes)")         \
-  N(0x2101, 0, U16, RW, 0, kHookNone, 10, "Input debounce (ms)")                                  \
-  N(0x6000, 0, U8, CONST, 0, kHookNone, 2, "Read input 8-bit: highest sub-index")                 \
-  N(0x6000, 1, U8, RO, kAttrPdo, kHookNone, 0, "Read input 8-bit 1")                              \
-  N(0x6000, 2, U8, RO, kAttrPdo, kHookNone, 0, "Read input 8-bit 2")                              \
-  N(0x6200, 0, U8, CONST, 0, kHookNone, 2, "Write output 8-bit: highest sub-index")               \
-  N(0x6200, 1, U8, RW, kAttrPdo, kHookApp, 0, "Write output 8-bit 1")                             \
-  N(0x6200, 2, U8, RW, kAttrPdo, kHookApp, 0, "Write output 8-bit 2")
+#define MB2CO_IO_NODE_OD(N, S)                                                                                  \
+  MB2CO_OD_DATA_TYPES(N, S)                                                                                     \
+  MB2CO_OD_COMM_1000(N, S, 0x00030191, "mb2co I/O node", "1.0", "0.1.0", 0, 0x401, 1, 0)                        \
+  MB2CO_OD_RPDO_COMM(N, 0x1400, x1400, 0x200, kAttrNodeId, 255, 0, "RPDO1")                                     \
+  MB2CO_OD_RPDO_COMM(N, 0x1401, x1401, 0x80000300, kAttrNodeId, 255, 0, "RPDO2")                                \
+  MB2CO_OD_RPDO_COMM(N, 0x1402, x1402, 0x80000400, kAttrNodeId, 255, 0, "RPDO3")                                \
+  MB2CO_OD_RPDO_COMM(N, 0x1403, x1403, 0x80000500, kAttrNodeId, 255, 0, "RPDO4")                                \
+  MB2CO_OD_PDO_MAP(N, 0x1600, x1600, kHookRpdoMap, 2, MB2CO_PDO_MAP_ENTRY(0x6200, 1, 8),                        \
+                   MB2CO_PDO_MAP_ENTRY(0x6200, 2, 8), 0, 0, 0, 0, 0, 0, "RPDO1 mapping")                        \
+  MB2CO_OD_PDO_MAP(N, 0x1601, x1601, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO2 mapping")                  \
+  MB2CO_OD_PDO_MAP(N, 0x1602, x1602, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO3 mapping")                  \
+  MB2CO_OD_PDO_MAP(N, 0x1603, x1603, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO4 mapping")                  \
+  MB2CO_OD_TPDO_COMM(N, 0x1800, x1800, 0x180, kAttrNodeId, 255, 0, 0, "TPDO1")                                  \
+  MB2CO_OD_TPDO_COMM(N, 0x1801, x1801, 0x80000280, kAttrNodeId, 255, 0, 0, "TPDO2")                             \
+  MB2CO_OD_TPDO_COMM(N, 0x1802, x1802, 0x80000380, kAttrNodeId, 255, 0, 0, "TPDO3")                             \
+  MB2CO_OD_TPDO_COMM(N, 0x1803, x1803, 0x80000480, kAttrNodeId, 255, 0, 0, "TPDO4")                             \
+  MB2CO_OD_PDO_MAP(N, 0x1A00, x1A00, kHookTpdoMap, 2, MB2CO_PDO_MAP_ENTRY(0x6000, 1, 8),                        \
+                   MB2CO_PDO_MAP_ENTRY(0x6000, 2, 8), 0, 0, 0, 0, 0, 0, "TPDO1 mapping")                        \
+  MB2CO_OD_PDO_MAP(N, 0x1A01, x1A01, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO2 mapping")                  \
+  MB2CO_OD_PDO_MAP(N, 0x1A02, x1A02, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO3 mapping")                  \
+  MB2CO_OD_PDO_MAP(N, 0x1A03, x1A03, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO4 mapping")                  \
+  S(0x2000, 0, x2000_0_locationLabel, RW, kHookNone, 24, "", "Location label")                                  \
+  N(0x2100, 0, x2100_0_localControl, BOOL, RW, 0, kHookApp, 0, "Local control (outputs refuse network writes)") \
+  N(0x2101, 0, x2101_0_inputDebounceMs, U16, RW, 0, kHookNone, 10, "Input debounce (ms)")                       \
+  N(0x6000, 0, x6000_0_highestSubIndex, U8, CONST, 0, kHookNone, 2, "Read input 8-bit: highest sub-index")      \
+  N(0x6000, 1, x6000_1_readInput8Bit1, U8, RO, kAttrPdo, kHookNone, 0, "Read input 8-bit 1")                    \
+  N(0x6000, 2, x6000_2_readInput8Bit2, U8, RO, kAttrPdo, kHookNone, 0, "Read input 8-bit 2")                    \
+  N(0x6200, 0, x6200_0_highestSubIndex, U8, CONST, 0, kHookNone, 2, "Write output 8-bit: highest sub-index")    \
+  N(0x6200, 1, x6200_1_writeOutput8Bit1, U8, RW, kAttrPdo | kAttrCommand, kHookApp, 0, "Write output 8-bit 1")  \
+  N(0x6200, 2, x6200_2_writeOutput8Bit2, U8, RW, kAttrPdo | kAttrCommand, kHookApp, 0, "Write output 8-bit 2")
 
 #define MB2CO_IO_NODE_LIMITS(L) L(0x2101, 0, 1, 250)
 
@@ -48,3 +50,4 @@ MB2CO_OD_DECLARE(IoNode, MB2CO_IO_NODE_OD)
 
 }  // namespace ionode
 }  // namespace mb2co
+// clang-format on

@@ -55,16 +55,15 @@ uint16_t build_read_request(uint8_t* out, uint16_t capacity, uint8_t address, ui
   return w.finish();
 }
 
-uint16_t build_write_single_coil(uint8_t* out, uint16_t capacity, uint8_t address,
-                                 uint16_t coil, bool on) {
+uint16_t build_write_single_coil(uint8_t* out, uint16_t capacity, uint8_t address, uint16_t coil, bool on) {
   AduWriter w(out, capacity, address, fc::kWriteSingleCoil);
   w.u16(coil);
   w.u16(on ? kCoilOn : kCoilOff);
   return w.finish();
 }
 
-uint16_t build_write_single_register(uint8_t* out, uint16_t capacity, uint8_t address,
-                                     uint16_t reg, uint16_t value) {
+uint16_t build_write_single_register(uint8_t* out, uint16_t capacity, uint8_t address, uint16_t reg,
+                                     uint16_t value) {
   AduWriter w(out, capacity, address, fc::kWriteSingleRegister);
   w.u16(reg);
   w.u16(value);
@@ -94,9 +93,8 @@ uint16_t build_write_registers(uint8_t* out, uint16_t capacity, uint8_t address,
   return w.finish();
 }
 
-uint16_t build_read_write_registers(uint8_t* out, uint16_t capacity, uint8_t address,
-                                    uint16_t read_start, uint16_t read_quantity,
-                                    uint16_t write_start, uint16_t write_quantity,
+uint16_t build_read_write_registers(uint8_t* out, uint16_t capacity, uint8_t address, uint16_t read_start,
+                                    uint16_t read_quantity, uint16_t write_start, uint16_t write_quantity,
                                     const uint16_t* values) {
   if (write_quantity > 0x7Fu) return 0;
   AduWriter w(out, capacity, address, fc::kReadWriteMultipleRegisters);
@@ -117,8 +115,7 @@ uint16_t build_diagnostics(uint8_t* out, uint16_t capacity, uint8_t address, uin
   return w.finish();
 }
 
-uint16_t build_diagnostics(uint8_t* out, uint16_t capacity, uint8_t address, uint16_t sub,
-                           uint16_t data) {
+uint16_t build_diagnostics(uint8_t* out, uint16_t capacity, uint8_t address, uint16_t sub, uint16_t data) {
   uint8_t field[2];
   put_be16(field, data);
   return build_diagnostics(out, capacity, address, sub, field, 2);

@@ -16,10 +16,9 @@ namespace modbus {
 /// FC 01 02 03 04; returns 0 for another function code.
 uint16_t build_read_request(uint8_t* out, uint16_t capacity, uint8_t address, uint8_t function,
                             uint16_t start, uint16_t quantity);
-uint16_t build_write_single_coil(uint8_t* out, uint16_t capacity, uint8_t address,
-                                 uint16_t coil, bool on);
-uint16_t build_write_single_register(uint8_t* out, uint16_t capacity, uint8_t address,
-                                     uint16_t reg, uint16_t value);
+uint16_t build_write_single_coil(uint8_t* out, uint16_t capacity, uint8_t address, uint16_t coil, bool on);
+uint16_t build_write_single_register(uint8_t* out, uint16_t capacity, uint8_t address, uint16_t reg,
+                                     uint16_t value);
 /// FC 0F; `packed` holds packed_bit_bytes(quantity) bytes, LSB first.
 uint16_t build_write_coils(uint8_t* out, uint16_t capacity, uint8_t address, uint16_t start,
                            uint16_t quantity, const uint8_t* packed);
@@ -27,16 +26,14 @@ uint16_t build_write_coils(uint8_t* out, uint16_t capacity, uint8_t address, uin
 uint16_t build_write_registers(uint8_t* out, uint16_t capacity, uint8_t address, uint16_t start,
                                uint16_t quantity, const uint16_t* values);
 /// FC 17; `values` holds `write_quantity` registers.
-uint16_t build_read_write_registers(uint8_t* out, uint16_t capacity, uint8_t address,
-                                    uint16_t read_start, uint16_t read_quantity,
-                                    uint16_t write_start, uint16_t write_quantity,
+uint16_t build_read_write_registers(uint8_t* out, uint16_t capacity, uint8_t address, uint16_t read_start,
+                                    uint16_t read_quantity, uint16_t write_start, uint16_t write_quantity,
                                     const uint16_t* values);
 /// FC 08 with an arbitrary data field (sub 00 echoes any data).
 uint16_t build_diagnostics(uint8_t* out, uint16_t capacity, uint8_t address, uint16_t sub,
                            const uint8_t* data, uint16_t data_length);
 /// FC 08 with the usual 2-byte data field (0000 for the counters).
-uint16_t build_diagnostics(uint8_t* out, uint16_t capacity, uint8_t address, uint16_t sub,
-                           uint16_t data);
+uint16_t build_diagnostics(uint8_t* out, uint16_t capacity, uint8_t address, uint16_t sub, uint16_t data);
 /// FC 2B / MEI 0E; code 1..3 stream access, 4 individual.
 uint16_t build_read_device_id(uint8_t* out, uint16_t capacity, uint8_t address, uint8_t code,
                               uint8_t object_id);
@@ -45,8 +42,8 @@ uint16_t build_read_device_id(uint8_t* out, uint16_t capacity, uint8_t address, 
 
 enum class ParseStatus : uint8_t {
   kOk,
-  kException,      ///< a well-formed exception response: see Response::exception
-  kTooShort,       ///< fewer bytes than the smallest response
+  kException,  ///< a well-formed exception response: see Response::exception
+  kTooShort,   ///< fewer bytes than the smallest response
   kBadCrc,
   kWrongAddress,   ///< from another slave (or the request was a broadcast)
   kWrongFunction,  ///< neither the request's function code nor its exception form
@@ -76,12 +73,12 @@ struct Response {
 };
 
 /// Checks `response` as the answer to `request` (both complete ADUs).
-ParseStatus parse_response(const uint8_t* request, uint16_t request_length,
-                           const uint8_t* response, uint16_t response_length, Response& out);
+ParseStatus parse_response(const uint8_t* request, uint16_t request_length, const uint8_t* response,
+                           uint16_t response_length, Response& out);
 
 /// FC 2B: object number `index` (0-based, < object_count) of a parsed response.
-bool device_id_object(const Response& response, uint8_t index, uint8_t& id,
-                      const uint8_t*& value, uint8_t& length);
+bool device_id_object(const Response& response, uint8_t index, uint8_t& id, const uint8_t*& value,
+                      uint8_t& length);
 
 }  // namespace modbus
 }  // namespace mb2co

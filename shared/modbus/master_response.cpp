@@ -9,8 +9,7 @@ namespace modbus {
 namespace {
 
 // Normal response carrying `byte_count` data bytes after a byte-count field.
-ParseStatus counted_data(const uint8_t* p, uint16_t pdu_length, uint16_t byte_count,
-                         Response& out) {
+ParseStatus counted_data(const uint8_t* p, uint16_t pdu_length, uint16_t byte_count, Response& out) {
   if (byte_count > 0xFFu || p[1] != byte_count || pdu_length != 2u + byte_count) {
     return ParseStatus::kBadLength;
   }
@@ -19,8 +18,8 @@ ParseStatus counted_data(const uint8_t* p, uint16_t pdu_length, uint16_t byte_co
   return ParseStatus::kOk;
 }
 
-ParseStatus diagnostics(const uint8_t* q, uint16_t request_pdu, const uint8_t* p,
-                        uint16_t pdu_length, Response& out) {
+ParseStatus diagnostics(const uint8_t* q, uint16_t request_pdu, const uint8_t* p, uint16_t pdu_length,
+                        Response& out) {
   if (request_pdu < 3u) return ParseStatus::kBadRequest;
   if (pdu_length < 3u) return ParseStatus::kBadLength;
   if (p[1] != q[1] || p[2] != q[2]) return ParseStatus::kMismatch;
@@ -32,14 +31,14 @@ ParseStatus diagnostics(const uint8_t* q, uint16_t request_pdu, const uint8_t* p
     return memcmp(p, q, pdu_length) == 0 ? ParseStatus::kOk : ParseStatus::kMismatch;
   }
   if (pdu_length != 5u) return ParseStatus::kBadLength;
-  const bool echoes = sub == diag::kRestartCommunications || sub == diag::kClearCounters ||
-                      sub == diag::kClearOverrun;
+  const bool echoes =
+      sub == diag::kRestartCommunications || sub == diag::kClearCounters || sub == diag::kClearOverrun;
   if (echoes && (request_pdu != 5u || memcmp(p + 3, q + 3, 2) != 0)) return ParseStatus::kMismatch;
   return ParseStatus::kOk;
 }
 
-ParseStatus device_id(const uint8_t* q, uint16_t request_pdu, const uint8_t* p,
-                      uint16_t pdu_length, Response& out) {
+ParseStatus device_id(const uint8_t* q, uint16_t request_pdu, const uint8_t* p, uint16_t pdu_length,
+                      Response& out) {
   if (request_pdu != 4u) return ParseStatus::kBadRequest;
   if (pdu_length < 7u) return ParseStatus::kBadLength;
   if (p[1] != q[1] || p[2] != q[2]) return ParseStatus::kMismatch;
@@ -60,8 +59,8 @@ ParseStatus device_id(const uint8_t* q, uint16_t request_pdu, const uint8_t* p,
 
 }  // namespace
 
-ParseStatus parse_response(const uint8_t* request, uint16_t request_length,
-                           const uint8_t* response, uint16_t response_length, Response& out) {
+ParseStatus parse_response(const uint8_t* request, uint16_t request_length, const uint8_t* response,
+                           uint16_t response_length, Response& out) {
   out = Response{};
   if (request_length < kMinAduBytes) return ParseStatus::kBadRequest;
   if (response_length < 5u) return ParseStatus::kTooShort;  // smallest: an exception
@@ -108,8 +107,8 @@ ParseStatus parse_response(const uint8_t* request, uint16_t request_length,
   }
 }
 
-bool device_id_object(const Response& response, uint8_t index, uint8_t& id,
-                      const uint8_t*& value, uint8_t& length) {
+bool device_id_object(const Response& response, uint8_t index, uint8_t& id, const uint8_t*& value,
+                      uint8_t& length) {
   if (index >= response.object_count || response.data == nullptr) return false;
   uint16_t pos = 0;
   for (uint8_t i = 0; i < index; ++i) pos = static_cast<uint16_t>(pos + 2u + response.data[pos + 1u]);

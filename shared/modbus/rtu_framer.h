@@ -33,8 +33,7 @@ class RtuFramer {
   /// `buffer` holds `capacity` bytes (kMinAduBytes..kMaxAduBytes; a larger
   /// value counts as kMaxAduBytes) and must outlive the framer.
   RtuFramer(const RtuTiming& timing, uint8_t* buffer, uint16_t capacity)
-      : timing_(timing), buf_(buffer),
-        capacity_(capacity < kMaxAduBytes ? capacity : kMaxAduBytes) {}
+      : timing_(timing), buf_(buffer), capacity_(capacity < kMaxAduBytes ? capacity : kMaxAduBytes) {}
 
   void set_timing(const RtuTiming& timing) { timing_ = timing; }
   const RtuTiming& timing() const { return timing_; }
@@ -85,7 +84,7 @@ class RtuFramer {
 
   uint32_t silence_before(uint32_t byte_us) const;
   /// True when t3.5 has passed from the last character (or begin()) to
-  /// `now_us`. Out of line: frame_due() and tick() share it (-28 B on the Uno).
+  /// `now_us`. Out of line: frame_due() and tick() share it.
   __attribute__((noinline)) bool t35_passed(uint32_t now_us) const;
 
   RtuTiming timing_;

@@ -12,7 +12,7 @@ uint32_t div_ceil(uint32_t numerator, uint32_t denominator) {
 }  // namespace
 
 RtuTiming rtu_timing(uint32_t baud, uint8_t char_bits) {
-  if (baud == 0u) baud = 1u;           // defined answer for a bad argument
+  if (baud == 0u) baud = 1u;  // defined answer for a bad argument
   if (char_bits == 0u) char_bits = kRtuCharBits;
   // char_bits ≤ 255 keeps 7 * bits * 10^6 below 2^32 (1.8e9).
   const uint32_t bit_us_x1e6 = static_cast<uint32_t>(char_bits) * 1000000u;

@@ -22,9 +22,8 @@ bool broadcast_allowed(uint8_t function) {
 
 }  // namespace
 
-SlaveCore::SlaveCore(RegisterBank& bank, DeviceIdentity* identity, ByteSink sink,
-                     uint8_t address, const RtuTiming& timing, uint8_t* frame,
-                     uint16_t frame_bytes)
+SlaveCore::SlaveCore(RegisterBank& bank, DeviceIdentity* identity, ByteSink sink, uint8_t address,
+                     const RtuTiming& timing, uint8_t* frame, uint16_t frame_bytes)
     : bank_(bank),
       identity_(identity),
       sink_(sink),
@@ -47,7 +46,9 @@ void SlaveCore::process(uint32_t now_us) {
   framer_.tick(now_us);
 }
 
-void SlaveCore::clear_counters() { counters_ = DiagCounters{}; }
+void SlaveCore::clear_counters() {
+  counters_ = DiagCounters{};
+}
 
 void SlaveCore::handle_frame() {
   switch (framer_.finish()) {

@@ -47,13 +47,13 @@ constexpr uint16_t kMinSlaveFrameBytes = 16;
 /// Diagnostic counters, serial line spec V1.02 §6.1 (16 bits, wrap around).
 /// Cleared by power-up, 08/01 restart and 08/0A; 08/14 clears only overruns.
 struct DiagCounters {
-  uint16_t bus_messages;      ///< CPT1 08/0B: frames with a good CRC, any address
-  uint16_t bus_comm_errors;   ///< CPT2 08/0C: bad CRC, < 4 bytes, t1.5 gap, parity
-  uint16_t exceptions;        ///< CPT3 08/0D: exceptions, including broadcast ones
-  uint16_t server_messages;   ///< CPT4 08/0E: good frames for us or broadcast
-  uint16_t no_responses;      ///< CPT5 08/0F: of those, not answered
-  uint16_t char_overruns;     ///< CPT8 08/12: frames longer than the buffer, 256
-                              ///< bytes or less (any address: the rest is lost)
+  uint16_t bus_messages;     ///< CPT1 08/0B: frames with a good CRC, any address
+  uint16_t bus_comm_errors;  ///< CPT2 08/0C: bad CRC, < 4 bytes, t1.5 gap, parity
+  uint16_t exceptions;       ///< CPT3 08/0D: exceptions, including broadcast ones
+  uint16_t server_messages;  ///< CPT4 08/0E: good frames for us or broadcast
+  uint16_t no_responses;     ///< CPT5 08/0F: of those, not answered
+  uint16_t char_overruns;    ///< CPT8 08/12: frames longer than the buffer, 256
+                             ///< bytes or less (any address: the rest is lost)
 };
 
 /// Counters outside the Modbus model (never cleared, for logs and tests).
@@ -83,13 +83,24 @@ class SlaveCore {
   void on_byte(uint8_t byte, uint32_t byte_us) { on_char(byte, byte_us, false); }
   /// A character received with a parity or framing error.
   void on_char_error(uint32_t byte_us) { on_char(0, byte_us, true); }
-  /// on_byte(), or on_char_error() when `error`: one path for both (-80 B
-  /// on the Uno, where the main loop hands in either).
+  /// on_byte(), or on_char_error() when `error`: one path for both (the
+  /// Uno's main loop hands in either).
   void on_char(uint8_t byte, uint32_t byte_us, bool error);
   /// Ends a frame after t3.5 of silence and answers it.
   void process(uint32_t now_us);
   /// When process() must run next at the latest; false: only after a byte.
   bool deadline(uint32_t& at_us) const { return framer_.deadline(at_us); }
+  /// The same in the form of Node::next_deadline: false when nothing is
+  /// pending (only a character makes work); else *at_us, the end of the
+  /// frame in progress (t3.5 after its last character) or of the power-up
+  /// wait. Invariant: process() called at *at_us, or after any later
+  /// on_char(), does everything due; called earlier it changes nothing
+  /// observable. `now_us` only states when the question is asked (a past
+  /// deadline is returned as it is: time_reached() says it is due).
+  bool next_deadline(uint32_t now_us, uint32_t* at_us) const {
+    (void)now_us;
+    return framer_.deadline(*at_us);
+  }
 
   const DiagCounters& counters() const { return counters_; }
   const LinkStats& stats() const { return stats_; }
@@ -121,9 +132,7 @@ class SlaveCore {
 
   uint8_t* pdu() { return framer_.buffer() + 1; }
   /// True when a response PDU of `pdu_length` bytes fits the frame buffer.
-  bool fits(uint16_t pdu_length) const {
-    return 1u + pdu_length + kCrcBytes <= framer_.capacity();
-  }
+  bool fits(uint16_t pdu_length) const { return 1u + pdu_length + kCrcBytes <= framer_.capacity(); }
 
   RegisterBank& bank_;
   DeviceIdentity* identity_;
@@ -146,8 +155,7 @@ struct SlaveFrame {
 template <uint16_t kFrameBytes>
 class SlaveWithFrame : private SlaveFrame<kFrameBytes>, public SlaveCore {
  public:
-  static_assert(kFrameBytes >= kMinSlaveFrameBytes && kFrameBytes <= kMaxAduBytes,
-                "RTU frame size");
+  static_assert(kFrameBytes >= kMinSlaveFrameBytes && kFrameBytes <= kMaxAduBytes, "RTU frame size");
   SlaveWithFrame(RegisterBank& bank, DeviceIdentity* identity, ByteSink sink, uint8_t address,
                  const RtuTiming& timing)
       : SlaveFrame<kFrameBytes>(),

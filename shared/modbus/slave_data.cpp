@@ -11,16 +11,16 @@ namespace mb2co {
 namespace modbus {
 namespace {
 
-
-bool quantity_ok(uint16_t quantity, uint16_t max) { return quantity >= 1u && quantity <= max; }
+bool quantity_ok(uint16_t quantity, uint16_t max) {
+  return quantity >= 1u && quantity <= max;
+}
 
 // start + quantity - 1 must not pass 65535 ("Starting Address + Quantity == OK").
 bool range_fits(uint16_t start, uint16_t quantity) {
   return static_cast<uint32_t>(start) + quantity <= 0x10000ul;
 }
 
-bool accessible(RegisterBank& bank, Table table, Access access, uint16_t start,
-                uint16_t quantity) {
+bool accessible(RegisterBank& bank, Table table, Access access, uint16_t start, uint16_t quantity) {
   return range_fits(start, quantity) && bank.covers(table, access, start, quantity);
 }
 
@@ -77,10 +77,9 @@ SlaveCore::Reply SlaveCore::write_multiple(uint16_t pdu_length, Table table) {
   const uint16_t start = get_be16(p + 1);
   const uint16_t quantity = get_be16(p + 3);
   const uint8_t byte_count = p[5];
-  const uint16_t expected_bytes =
-      coils ? packed_bit_bytes(quantity) : static_cast<uint16_t>(2u * quantity);
-  if (!quantity_ok(quantity, coils ? kMaxWriteCoils : kMaxWriteRegisters) ||
-      byte_count != expected_bytes || pdu_length != 6u + byte_count) {
+  const uint16_t expected_bytes = coils ? packed_bit_bytes(quantity) : static_cast<uint16_t>(2u * quantity);
+  if (!quantity_ok(quantity, coils ? kMaxWriteCoils : kMaxWriteRegisters) || byte_count != expected_bytes ||
+      pdu_length != 6u + byte_count) {
     return Reply{0, Exception::kIllegalDataValue};
   }
   return write_checked(table, start, quantity, p + 6);  // function, start, quantity: in place
@@ -88,7 +87,7 @@ SlaveCore::Reply SlaveCore::write_multiple(uint16_t pdu_length, Table table) {
 
 // FC 05, 06, 0F, 10 after their own checks: the address range (02), then the
 // write; every response is 5 bytes of the request echoed. One path for the
-// four (-104 B on the Uno). A single address always passes range_fits().
+// four. A single address always passes range_fits().
 SlaveCore::Reply SlaveCore::write_checked(Table table, uint16_t start, uint16_t quantity,
                                           const uint8_t* values) {
   if (!accessible(bank_, table, Access::kWrite, start, quantity)) {
@@ -114,8 +113,7 @@ SlaveCore::Reply SlaveCore::read_write_registers(uint16_t pdu_length) {
     return Reply{0, Exception::kIllegalDataValue};
   }
   if (!accessible(bank_, Table::kHoldingRegisters, Access::kRead, read_start, read_quantity) ||
-      !accessible(bank_, Table::kHoldingRegisters, Access::kWrite, write_start,
-                  write_quantity)) {
+      !accessible(bank_, Table::kHoldingRegisters, Access::kWrite, write_start, write_quantity)) {
     return Reply{0, Exception::kIllegalDataAddress};
   }
   if (!fits(static_cast<uint16_t>(2u + 2u * read_quantity))) {
@@ -125,8 +123,7 @@ SlaveCore::Reply SlaveCore::read_write_registers(uint16_t pdu_length) {
   // overlaps the write data only after write_registers has returned.
   Exception e = bank_.write_registers(write_start, ConstRegisterSpan{p + 10, write_quantity});
   if (e != Exception::kNone) return Reply{0, e};
-  e = bank_.read_registers(Table::kHoldingRegisters, read_start,
-                           RegisterSpan{p + 2, read_quantity});
+  e = bank_.read_registers(Table::kHoldingRegisters, read_start, RegisterSpan{p + 2, read_quantity});
   if (e != Exception::kNone) return Reply{0, e};
   p[1] = static_cast<uint8_t>(2u * read_quantity);
   return Reply{static_cast<uint16_t>(2u + 2u * read_quantity), Exception::kNone};

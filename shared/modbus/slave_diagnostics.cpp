@@ -95,8 +95,7 @@ SlaveCore::Reply SlaveCore::device_identification(uint16_t pdu_length) {
   }
   // Regular and extended requests are answered at our conformity level
   // (basic): the same objects as a basic request.
-  const uint8_t last =
-      code == kIndividual ? first : static_cast<uint8_t>(DeviceIdentity::kLastBasicObject);
+  const uint8_t last = code == kIndividual ? first : static_cast<uint8_t>(DeviceIdentity::kLastBasicObject);
 
   p[3] = kConformityBasicStreamAndIndividual;
   p[4] = 0;  // more follows

@@ -8,9 +8,15 @@ namespace mb2co {
 namespace plant {
 namespace {
 
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r'; }
-bool is_digit(char c) { return c >= '0' && c <= '9'; }
-bool ends_token(char c) { return is_space(c) || c == '=' || c == '#'; }
+bool is_space(char c) {
+  return c == ' ' || c == '\t' || c == '\r';
+}
+bool is_digit(char c) {
+  return c >= '0' && c <= '9';
+}
+bool ends_token(char c) {
+  return is_space(c) || c == '=' || c == '#';
+}
 
 // One line being parsed: `length` bytes at `begin` (no newline), 1-based number.
 struct Line {
@@ -62,8 +68,11 @@ bool parse_line(const Line& line, PlantConfig& config, Seen* seen, ConfigError& 
   }
   const ConfigKey& spec = config_key(key);
   if (seen[key].line != 0u) {
-    fail(error, line, key_begin).add(spec.name).add(": duplicate key (first set on line ")
-        .add_u32(seen[key].line).add(")");
+    fail(error, line, key_begin)
+        .add(spec.name)
+        .add(": duplicate key (first set on line ")
+        .add_u32(seen[key].line)
+        .add(")");
     return false;
   }
   const size_t value_begin = line.skip_spaces(eq + 1u);
@@ -77,9 +86,13 @@ bool parse_line(const Line& line, PlantConfig& config, Seen* seen, ConfigError& 
     const char c = line.begin[i];
     const uint32_t digit = static_cast<uint32_t>(c - '0');
     if (!is_digit(c) || value > (UINT32_MAX - digit) / 10u) {
-      fail(error, line, value_begin).add(spec.name).add(": bad number ")
+      fail(error, line, value_begin)
+          .add(spec.name)
+          .add(": bad number ")
           .add_quoted(line.begin + value_begin, value_end - value_begin)
-          .add(" (want a decimal integer up to ").add_u32(spec.max).add(")");
+          .add(" (want a decimal integer up to ")
+          .add_u32(spec.max)
+          .add(")");
       return false;
     }
     value = value * 10u + digit;
@@ -90,8 +103,14 @@ bool parse_line(const Line& line, PlantConfig& config, Seen* seen, ConfigError& 
     return false;
   }
   if (value < spec.min || value > spec.max) {
-    fail(error, line, value_begin).add(spec.name).add(": value ").add_u32(value)
-        .add(" out of range ").add_u32(spec.min).add("..").add_u32(spec.max);
+    fail(error, line, value_begin)
+        .add(spec.name)
+        .add(": value ")
+        .add_u32(value)
+        .add(" out of range ")
+        .add_u32(spec.min)
+        .add("..")
+        .add_u32(spec.max);
     return false;
   }
   config.*spec.field = value;

@@ -11,7 +11,9 @@ ControllerConfig controller_config_for(const PlantConfig& config) {
   return c;
 }
 
-Controller::Controller(const ControllerConfig& config) : config_(config) { update_outputs(); }
+Controller::Controller(const ControllerConfig& config) : config_(config) {
+  update_outputs();
+}
 
 const ControllerOutputs& Controller::step(const ControllerInputs& in) {
   // Sample every edge and counter every cycle, so none is lost or invented

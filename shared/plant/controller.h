@@ -8,6 +8,7 @@
 #pragma once
 #include <stdint.h>
 
+#include "gateway/stop_cause.h"
 #include "plant/edges.h"
 #include "plant/plant.h"
 #include "plant/plant_config.h"
@@ -22,7 +23,11 @@ enum class RunState : uint8_t { stopped = 0, running = 1 };
 /// heartbeat is lost (never taken for running); `absent` = end of the chain.
 enum class NeighbourState : uint8_t { absent = 0, unknown = 1, stopped = 2, running = 3 };
 
-/// Why the station stopped; one counter each.
+/// The controller's stop counters (ControllerCounters::stops), one per cause
+/// it tells apart. Not a second list of causes: each is one of the line's
+/// causes (gateway::StopCause, the values of 2100h/4), reported_cause()
+/// says which; only the numbering differs (a dense counter index, and the
+/// order of the PC app's reports).
 enum class StopCause : uint8_t {
   stop_button = 0,  ///< STOP pressed
   local_stop2 = 1,  ///< STOP2 pressed on this station's panel
@@ -31,6 +36,17 @@ enum class StopCause : uint8_t {
   fault = 4,        ///< the controller found the plant misbehaving
 };
 constexpr uint8_t kStopCauseCount = 5;
+
+/// The cause the firmware reports in 2100h/4 for the same stop: the PC's lost
+/// link is the silence the firmware's watchdog sees from its side; a fault is
+/// the controller's own decision, which the firmware sees as RUN command 0.
+constexpr gateway::StopCause reported_cause(StopCause cause) {
+  return cause == StopCause::stop_button   ? gateway::kCauseStopButton
+         : cause == StopCause::local_stop2 ? gateway::kCauseStop2Here
+         : cause == StopCause::prev_stop2  ? gateway::kCauseStop2Previous
+         : cause == StopCause::link_lost   ? gateway::kCausePcSilent
+                                           : gateway::kCauseNone;
+}
 
 enum class Fault : uint8_t {
   none = 0,
@@ -57,19 +73,19 @@ struct ControllerInputs {
 
 /// Everything the controller decides in one cycle.
 struct ControllerOutputs {
-  RunState run = RunState::stopped;  ///< write to the Arduino every cycle
-  Actuators plant;                   ///< apply to the plant's next step
-  bool lamp_fault = false;           ///< a fault waits for START
+  RunState run = RunState::stopped;     ///< write to the Arduino every cycle
+  Actuators plant;                      ///< apply to the plant's next step
+  bool lamp_fault = false;              ///< a fault waits for START
   bool lamp_neighbour_unknown = false;  ///< a neighbour's state is unknown (heartbeat lost)
 };
 
 /// Counters only grow (wrap after 2^32).
 struct ControllerCounters {
   uint32_t starts = 0;
-  uint32_t bottles_filled = 0;  ///< filling cycles that ended at "full"
-  uint32_t overfills = 0;       ///< rising edges of the overfill switch
+  uint32_t bottles_filled = 0;           ///< filling cycles that ended at "full"
+  uint32_t overfills = 0;                ///< rising edges of the overfill switch
   uint32_t stops[kStopCauseCount] = {};  ///< RUNNING -> stopped/fault, by StopCause
-  uint32_t local_stop2_events = 0;  ///< STOP2 events seen on the counters
+  uint32_t local_stop2_events = 0;       ///< STOP2 events seen on the counters
   uint32_t prev_stop2_events = 0;
 };
 

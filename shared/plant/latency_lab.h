@@ -13,8 +13,10 @@ class ButtonToLed {
   /// One cycle: the LED state to write for the button state just read.
   bool step(bool button_pressed) {
     if (button_pressed != led_) {
-      if (button_pressed) ++presses_;
-      else ++releases_;
+      if (button_pressed)
+        ++presses_;
+      else
+        ++releases_;
     }
     led_ = button_pressed;
     return led_;

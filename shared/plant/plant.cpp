@@ -32,7 +32,9 @@ void Plant::reset() {
   add_bottle(0);
 }
 
-const Bottle& Plant::bottle(uint8_t index) const { return bottles_[ring_index(head_, index)]; }
+const Bottle& Plant::bottle(uint8_t index) const {
+  return bottles_[ring_index(head_, index)];
+}
 
 int8_t Plant::bottle_near(uint32_t point_um) const {
   for (uint8_t i = 0; i < count_; ++i) {

@@ -35,13 +35,13 @@ struct Bottle {
 /// Ground truth, for the simulator's checks and the app's display. These only
 /// grow (wrap after 2^32 bottles).
 struct PlantCounters {
-  uint32_t bottles_in = 0;           ///< placed on the belt by the infeed
-  uint32_t handed_off = 0;           ///< passed to the next station
-  uint32_t handed_off_filled = 0;    ///<   of those: fill_level_ml..overfill_ml
+  uint32_t bottles_in = 0;         ///< placed on the belt by the infeed
+  uint32_t handed_off = 0;         ///< passed to the next station
+  uint32_t handed_off_filled = 0;  ///<   of those: fill_level_ml..overfill_ml
   uint32_t handed_off_underfilled = 0;
   uint32_t handed_off_overfilled = 0;
-  uint32_t overfilled = 0;           ///< bottles that went above overfill_ml
-  uint64_t spilled_ul = 0;           ///< liquid that missed a bottle or ran over
+  uint32_t overfilled = 0;  ///< bottles that went above overfill_ml
+  uint64_t spilled_ul = 0;  ///< liquid that missed a bottle or ran over
 };
 
 /// Caller owns it; no heap; bounded (kMaxBottles). Not thread-safe.

@@ -38,7 +38,7 @@ struct ConfigKey {
 };
 
 /// The table of keys (constant; order = order in docs/plant.md).
-constexpr size_t kConfigKeyCount = 12;  ///< fits the uint16_t key masks below
+constexpr size_t kConfigKeyCount = 12;      ///< fits the uint16_t key masks below
 const ConfigKey& config_key(size_t index);  ///< index < kConfigKeyCount
 /// Index of the key called `name` (`length` bytes, not NUL-terminated), or
 /// kConfigKeyCount when there is none.

@@ -9,8 +9,8 @@ uint64_t worst_case_arrival(const RtaMessage& m, uint64_t n) {
   return nominal > m.j ? nominal - m.j : 0;
 }
 
-size_t trace_busy_period(const RtaMessage* set, size_t count, size_t i, uint64_t tau_bit,
-                         uint64_t* sent, BusSegment* out, size_t capacity, bool* truncated) {
+size_t trace_busy_period(const RtaMessage* set, size_t count, size_t i, uint64_t tau_bit, uint64_t* sent,
+                         BusSegment* out, size_t capacity, bool* truncated) {
   *truncated = false;
   size_t written = 0;
   uint64_t now = 0;

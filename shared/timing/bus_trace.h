@@ -16,7 +16,7 @@ struct BusSegment {
   size_t message;     ///< index into the set (the blocker is a lower priority)
   uint64_t instance;  ///< which instance of that message (0 = first)
   uint64_t start;
-  uint64_t end;       ///< start + C of that message
+  uint64_t end;  ///< start + C of that message
 };
 
 /// Arrival (queuing) time of instance n of message m in the worst case:
@@ -32,8 +32,8 @@ uint64_t worst_case_arrival(const RtaMessage& m, uint64_t n);
 /// before now is sent: the L of eq. 6.7), at kMaxBusyPeriod, or when out is full
 /// (then *truncated = true). Returns the number of segments written.
 /// `sent` is caller-owned scratch of i + 1 counters (instances sent so far).
-size_t trace_busy_period(const RtaMessage* set, size_t count, size_t i, uint64_t tau_bit,
-                         uint64_t* sent, BusSegment* out, size_t capacity, bool* truncated);
+size_t trace_busy_period(const RtaMessage* set, size_t count, size_t i, uint64_t tau_bit, uint64_t* sent,
+                         BusSegment* out, size_t capacity, bool* truncated);
 
 }  // namespace timing
 }  // namespace mb2co

@@ -57,7 +57,7 @@ struct FrameEncoder {
 
 uint16_t crc15_update(uint16_t crc, bool bit) {
   const bool feedback = bit != (((crc >> 14) & 1u) != 0);
-  crc = static_cast<uint16_t>((crc << 1) & 0x7FFFu);
+  crc = static_cast<uint16_t>((static_cast<uint32_t>(crc) << 1) & 0x7FFFu);
   if (feedback) crc = static_cast<uint16_t>(crc ^ kCrcPolynomial);
   return crc;
 }

@@ -24,7 +24,9 @@ enum class WorstCase : uint8_t {
 };
 
 /// Data bytes a DLC stands for: 0..8 (ISO 11898: DLC 9..15 also mean 8).
-inline uint8_t dlc_bytes(uint8_t dlc) { return dlc > 8 ? uint8_t{8} : dlc; }
+inline uint8_t dlc_bytes(uint8_t dlc) {
+  return dlc > 8 ? uint8_t{8} : dlc;
+}
 
 /// Bits SOF .. IFS without stuff bits: 47 + 8n (11-bit ID), 67 + 8n (29-bit).
 uint16_t frame_bits_unstuffed(bool extended, uint8_t dlc);

@@ -24,9 +24,13 @@ class Builder {
   LatencyBound& out_;
 };
 
-uint64_t us(uint32_t value) { return value * kNsPerUs; }
+uint64_t us(uint32_t value) {
+  return value * kNsPerUs;
+}
 
-uint64_t slave_end_ns(const LatencyParams& p) { return p.slave_waits_t35 ? t35_ns(p.serial) : 0; }
+uint64_t slave_end_ns(const LatencyParams& p) {
+  return p.slave_waits_t35 ? t35_ns(p.serial) : 0;
+}
 
 // Inhibit wait: the previous TPDO may have left just before the event, and
 // the held-back one leaves at the first loop pass after the inhibit time.
@@ -42,12 +46,10 @@ void serial_round(const LatencyParams& p, Builder& b) {
   // The slave samples the OD when it notices a read; two samplings are at
   // most one cycle plus one loop pass apart.
   b.add("poll_wait", 0, cycle.period_ns + loop);
-  b.add("read_response", serial_frame_ns_floor(p.serial, p.read.response_bytes),
-        cycle.read.response_ns);
+  b.add("read_response", serial_frame_ns_floor(p.serial, p.read.response_bytes), cycle.read.response_ns);
   b.add("master_end", us(p.master_end_us), us(p.master_end_us));
   b.add("pc_compute", us(p.pc_compute_us), us(p.pc_compute_us));
-  b.add("write_request", serial_frame_ns_floor(p.serial, p.write.request_bytes),
-        cycle.write.request_ns);
+  b.add("write_request", serial_frame_ns_floor(p.serial, p.write.request_bytes), cycle.write.request_ns);
   b.add("slave_end", slave_end_ns(p), slave_end_ns(p));
 }
 

@@ -32,8 +32,8 @@ struct LatencyParams {
   uint32_t pc_compute_us = 0;    ///< from the read response's end to the write request
   uint32_t master_end_us = 0;    ///< PC noticing a response ended (0: length predicted)
   // --- serial link (Modbus RTU)
-  SerialFormat serial;           ///< 115200 baud 8E1 by default
-  bool slave_waits_t35 = true;   ///< slave detects a request's end by t3.5 silence
+  SerialFormat serial;                          ///< 115200 baud 8E1 by default
+  bool slave_waits_t35 = true;                  ///< slave detects a request's end by t3.5 silence
   RtuExchange read = read_bits_exchange(1);     ///< FC 02, the button
   RtuExchange write = write_single_exchange();  ///< FC 05, the LED
   // --- CAN, per hop (Modbus + CANopen path only); fill from the analysis
@@ -54,9 +54,9 @@ constexpr size_t kMaxLatencyTerms = 16;
 
 struct LatencyBound {
   LatencyTerm terms[kMaxLatencyTerms];
-  size_t count;      ///< terms in use, in the order the signal passes them
-  uint64_t best_ns;  ///< Σ best_ns
-  uint64_t worst_ns; ///< Σ worst_ns
+  size_t count;       ///< terms in use, in the order the signal passes them
+  uint64_t best_ns;   ///< Σ best_ns
+  uint64_t worst_ns;  ///< Σ worst_ns
 };
 
 /// The PC's read-compute-write cycle on the serial line.

@@ -22,8 +22,7 @@ void numbered_name(MessageSpec& m, const char* prefix, unsigned number) {
   m.name[len] = '\0';
 }
 
-MessageSpec make(uint32_t id, uint8_t dlc, uint32_t period_us, uint32_t deadline_us,
-                 uint32_t jitter_us) {
+MessageSpec make(uint32_t id, uint8_t dlc, uint32_t period_us, uint32_t deadline_us, uint32_t jitter_us) {
   MessageSpec m{};
   m.id = id;
   m.dlc = dlc;
@@ -38,8 +37,7 @@ LineStatus check(const LineCanConfig& cfg) {
   if (!bitrate_valid(cfg.bitrate_bps)) return LineStatus::kBitrate;
   if (cfg.tpdo1) {
     if (cfg.tpdo1_inhibit_100us == 0) return LineStatus::kNoInterArrival;
-    if (cfg.tpdo1_event_timer_ms != 0 &&
-        uint32_t{cfg.tpdo1_event_timer_ms} * 10u < cfg.tpdo1_inhibit_100us) {
+    if (cfg.tpdo1_event_timer_ms != 0 && uint32_t{cfg.tpdo1_event_timer_ms} * 10u < cfg.tpdo1_inhibit_100us) {
       return LineStatus::kEventTimer;
     }
     if (cfg.tpdo1_dlc > 8) return LineStatus::kDlc;
@@ -67,8 +65,7 @@ size_t line_message_count(const LineCanConfig& cfg) {
   return (cfg.sync_period_us != 0 ? 1u : 0u) + cfg.stations * per_station;
 }
 
-LineStatus build_line_messages(const LineCanConfig& cfg, MessageSpec* out, size_t capacity,
-                               size_t* count) {
+LineStatus build_line_messages(const LineCanConfig& cfg, MessageSpec* out, size_t capacity, size_t* count) {
   *count = 0;
   const LineStatus status = check(cfg);
   if (status != LineStatus::kOk) return status;
@@ -83,15 +80,13 @@ LineStatus build_line_messages(const LineCanConfig& cfg, MessageSpec* out, size_
   for (unsigned node = 1; node <= cfg.stations; ++node) {
     if (cfg.tpdo1) {
       const uint32_t inhibit_us = uint32_t{cfg.tpdo1_inhibit_100us} * 100u;
-      out[n] = make(kTpdo1CobBase + node, cfg.tpdo1_dlc, inhibit_us, cfg.tpdo1_deadline_us,
-                    jitter);
+      out[n] = make(kTpdo1CobBase + node, cfg.tpdo1_dlc, inhibit_us, cfg.tpdo1_deadline_us, jitter);
       numbered_name(out[n++], "TPDO1.", node);
     }
     if (cfg.sync_period_us != 0) {
       for (unsigned k = 0; k < cfg.sync_tpdos; ++k) {
         const uint32_t period = cfg.sync_period_us * cfg.sync_transmission_type;
-        out[n] = make(kTpdo1CobBase + (k + 1u) * kTpdoCobStep + node, cfg.sync_tpdo_dlc,
-                      period, 0, jitter);
+        out[n] = make(kTpdo1CobBase + (k + 1u) * kTpdoCobStep + node, cfg.sync_tpdo_dlc, period, 0, jitter);
         char prefix[] = "TPDOx.";
         prefix[4] = static_cast<char>('2' + k);
         numbered_name(out[n++], prefix, node);

@@ -83,8 +83,7 @@ size_t line_message_count(const LineCanConfig& cfg);
 /// Writes the line's message set into out[0..*count) in priority order:
 /// SYNC "SYNC", then per station "TPDO1.<id>", "TPDO<k>.<id>" (synchronous)
 /// and "HB.<id>". Deadlines equal periods unless stated.
-LineStatus build_line_messages(const LineCanConfig& cfg, MessageSpec* out, size_t capacity,
-                               size_t* count);
+LineStatus build_line_messages(const LineCanConfig& cfg, MessageSpec* out, size_t capacity, size_t* count);
 
 }  // namespace timing
 }  // namespace mb2co

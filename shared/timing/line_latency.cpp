@@ -21,25 +21,21 @@ bool hop(const LineScratch& s, size_t count, uint8_t node, uint32_t bitrate, uin
 
 }  // namespace
 
-HopStatus fill_can_hops(const LineCanConfig& cfg, WorstCase convention, uint8_t button_node,
-                        uint8_t pc_node, const LineScratch& scratch, LatencyParams* p,
-                        LineStatus* line_status) {
+HopStatus fill_can_hops(const LineCanConfig& cfg, WorstCase convention, uint8_t button_node, uint8_t pc_node,
+                        const LineScratch& scratch, LatencyParams* p, LineStatus* line_status) {
   size_t count = 0;
   *line_status = build_line_messages(cfg, scratch.specs, scratch.capacity, &count);
   if (*line_status != LineStatus::kOk) return HopStatus::kLine;
   if (!cfg.tpdo1) return HopStatus::kNoTpdo1;
-  if (button_node == 0 || pc_node == 0 || button_node > cfg.stations ||
-      pc_node > cfg.stations || button_node == pc_node) {
+  if (button_node == 0 || pc_node == 0 || button_node > cfg.stations || pc_node > cfg.stations ||
+      button_node == pc_node) {
     return HopStatus::kNode;
   }
   size_t bad = 0;
   // A valid line configuration always yields valid analysis input.
-  (void)analyse_set(scratch.specs, count, cfg.bitrate_bps, convention, scratch.rta,
-                    scratch.results, &bad);
-  if (!hop(scratch, count, button_node, cfg.bitrate_bps, &p->can_up_best_ns,
-           &p->can_up_worst_ns) ||
-      !hop(scratch, count, pc_node, cfg.bitrate_bps, &p->can_down_best_ns,
-           &p->can_down_worst_ns)) {
+  (void)analyse_set(scratch.specs, count, cfg.bitrate_bps, convention, scratch.rta, scratch.results, &bad);
+  if (!hop(scratch, count, button_node, cfg.bitrate_bps, &p->can_up_best_ns, &p->can_up_worst_ns) ||
+      !hop(scratch, count, pc_node, cfg.bitrate_bps, &p->can_down_best_ns, &p->can_down_worst_ns)) {
     return HopStatus::kUnbounded;
   }
   return HopStatus::kOk;

@@ -30,9 +30,8 @@ enum class HopStatus : uint8_t {
 };
 
 /// Fills p->can_* for a button/LED on `button_node` and the PC on `pc_node`.
-HopStatus fill_can_hops(const LineCanConfig& cfg, WorstCase convention, uint8_t button_node,
-                        uint8_t pc_node, const LineScratch& scratch, LatencyParams* p,
-                        LineStatus* line_status);
+HopStatus fill_can_hops(const LineCanConfig& cfg, WorstCase convention, uint8_t button_node, uint8_t pc_node,
+                        const LineScratch& scratch, LatencyParams* p, LineStatus* line_status);
 
 }  // namespace timing
 }  // namespace mb2co

@@ -25,7 +25,7 @@ uint32_t arbitration_key(uint32_t id, bool extended) {
 }
 
 uint64_t transmission_ticks(const MessageSpec& m, uint32_t bitrate_bps, WorstCase convention) {
-  if (m.c_us != 0) return us_to_ticks(m.c_us, bitrate_bps);
+  if (m.c_ns != 0) return (m.c_ns * bitrate_bps + 999u) / 1000u;  // 1 ns = bitrate / 1000 ticks
   const uint16_t bits = m.bits != 0 ? m.bits : frame_bits_worst(m.extended, m.dlc, convention);
   return bits_to_ticks(bits);
 }
@@ -43,9 +43,8 @@ RtaMessage to_rta(const MessageSpec& m, uint32_t bitrate_bps, WorstCase conventi
   return r;
 }
 
-RtaStatus analyse_set(const MessageSpec* sorted, size_t count, uint32_t bitrate_bps,
-                      WorstCase convention, RtaMessage* rta, RtaResult* results,
-                      size_t* bad_index) {
+RtaStatus analyse_set(const MessageSpec* sorted, size_t count, uint32_t bitrate_bps, WorstCase convention,
+                      RtaMessage* rta, RtaResult* results, size_t* bad_index) {
   for (size_t i = 0; i < count; ++i) rta[i] = to_rta(sorted[i], bitrate_bps, convention);
   return analyse(rta, count, bits_to_ticks(1), results, bad_index);
 }
@@ -79,14 +78,12 @@ Utilisation set_utilisation(const MessageSpec* set, size_t count, uint32_t bitra
                             WorstCase convention) {
   Utilisation u;
   for (size_t i = 0; i < count; ++i) {
-    u.add(transmission_ticks(set[i], bitrate_bps, convention),
-          us_to_ticks(set[i].period_us, bitrate_bps));
+    u.add(transmission_ticks(set[i], bitrate_bps, convention), us_to_ticks(set[i].period_us, bitrate_bps));
   }
   return u;
 }
 
-Utilisation bus_load_bps(const MessageSpec* set, size_t count, uint32_t bitrate_bps,
-                         WorstCase convention) {
+Utilisation bus_load_bps(const MessageSpec* set, size_t count, uint32_t bitrate_bps, WorstCase convention) {
   // C in ticks is bits · 10^6; over T in µs that is bits per second.
   Utilisation load;
   for (size_t i = 0; i < count; ++i) {
@@ -95,12 +92,11 @@ Utilisation bus_load_bps(const MessageSpec* set, size_t count, uint32_t bitrate_
   return load;
 }
 
-uint64_t window_bits(const MessageSpec* set, size_t count, uint32_t window_us,
-                     uint32_t bitrate_bps, WorstCase convention) {
+uint64_t window_bits(const MessageSpec* set, size_t count, uint32_t window_us, uint32_t bitrate_bps,
+                     WorstCase convention) {
   uint64_t bits = 0;
   for (size_t i = 0; i < count; ++i) {
-    const uint64_t releases =
-        (uint64_t{window_us} + set[i].period_us - 1u) / set[i].period_us;
+    const uint64_t releases = (uint64_t{window_us} + set[i].period_us - 1u) / set[i].period_us;
     bits += releases * message_bits(set[i], bitrate_bps, convention);
   }
   return bits;

@@ -24,7 +24,7 @@ struct MessageSpec {
   uint32_t period_us;        ///< period, or minimum inter-arrival time
   uint32_t deadline_us;      ///< relative deadline (often = period)
   uint32_t jitter_us;        ///< queuing jitter
-  uint32_t c_us;             ///< > 0: given transmission time, overrides bits
+  uint64_t c_ns;             ///< > 0: given transmission time (ns), overrides bits
   uint16_t bits;             ///< > 0: given frame length, overrides dlc
 };
 
@@ -43,7 +43,8 @@ SpecError check_spec(const MessageSpec& m);
 uint32_t arbitration_key(uint32_t id, bool extended);
 
 /// Worst-case transmission time C in ticks (time_base.h) at `bitrate_bps`:
-/// c_us if given, else bits if given, else frame_bits_worst(dlc).
+/// c_ns if given (rounded up to a whole tick: exact at every bit rate that
+/// is a multiple of 1 kbit/s), else bits if given, else frame_bits_worst(dlc).
 uint64_t transmission_ticks(const MessageSpec& m, uint32_t bitrate_bps, WorstCase convention);
 
 /// Bus time of m in whole bit times (C / τ_bit, rounded up).
@@ -54,9 +55,8 @@ RtaMessage to_rta(const MessageSpec& m, uint32_t bitrate_bps, WorstCase conventi
 
 /// Runs analyse() on a set already in priority order at `bitrate_bps`, with
 /// τ_bit = one bit time. rta[] and results[] are caller-owned, count long.
-RtaStatus analyse_set(const MessageSpec* sorted, size_t count, uint32_t bitrate_bps,
-                      WorstCase convention, RtaMessage* rta, RtaResult* results,
-                      size_t* bad_index);
+RtaStatus analyse_set(const MessageSpec* sorted, size_t count, uint32_t bitrate_bps, WorstCase convention,
+                      RtaMessage* rta, RtaResult* results, size_t* bad_index);
 
 /// Stable sort into priority order (arbitration_key ascending). Insertion
 /// sort: no heap, fine for a few thousand messages.
@@ -67,20 +67,18 @@ void sort_by_priority(MessageSpec* set, size_t count);
 bool find_duplicate_id(const MessageSpec* sorted, size_t count, size_t* first, size_t* second);
 
 /// Σ C_k / T_k at `bitrate_bps`: the bus utilisation (load / bit rate).
-Utilisation set_utilisation(const MessageSpec* set, size_t count, uint32_t bitrate_bps,
-                            WorstCase convention);
+Utilisation set_utilisation(const MessageSpec* set, size_t count, uint32_t bitrate_bps, WorstCase convention);
 
 /// Σ C_k / T_k in bit/s: the bus load of seed 000 §2.11 (65,000 bit/s for
-/// its four-PDO set), as exact bounds. A c_us override counts as the bits it
+/// its four-PDO set), as exact bounds. A c_ns override counts as the bits it
 /// lasts at `bitrate_bps`.
-Utilisation bus_load_bps(const MessageSpec* set, size_t count, uint32_t bitrate_bps,
-                         WorstCase convention);
+Utilisation bus_load_bps(const MessageSpec* set, size_t count, uint32_t bitrate_bps, WorstCase convention);
 
 /// Bits released in a window of `window_us` at worst: Σ bits_k ·
 /// ceil(window/T_k). For a SYNC window this is seed 000 §2.11's test: the set
 /// fits when the result ≤ window_us · bitrate / 10^6.
-uint64_t window_bits(const MessageSpec* set, size_t count, uint32_t window_us,
-                     uint32_t bitrate_bps, WorstCase convention);
+uint64_t window_bits(const MessageSpec* set, size_t count, uint32_t window_us, uint32_t bitrate_bps,
+                     WorstCase convention);
 
 /// Bits a bus carries in `window_us`: window_us · bitrate / 10^6, rounded down.
 uint64_t window_capacity_bits(uint32_t window_us, uint32_t bitrate_bps);

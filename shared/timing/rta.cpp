@@ -6,7 +6,9 @@ namespace mb2co {
 namespace timing {
 namespace {
 
-uint64_t ceil_div(uint64_t a, uint64_t b) { return a / b + (a % b != 0 ? 1u : 0u); }
+uint64_t ceil_div(uint64_t a, uint64_t b) {
+  return a / b + (a % b != 0 ? 1u : 0u);
+}
 
 // Σ_{k < count} ceil((x + J_k + extra)/T_k) C_k. With x < kMaxBusyPeriod and the
 // utilisation of these messages below 1 the sum stays below x + Σ C_k, far
@@ -26,8 +28,8 @@ uint64_t sum_c(const RtaMessage* set, size_t count) {
 }
 
 bool message_valid(const RtaMessage& m) {
-  return m.c != 0 && m.t != 0 && m.d != 0 && m.c <= kMaxValue && m.t <= kMaxValue &&
-         m.d <= kMaxValue && m.j <= kMaxValue;
+  return m.c != 0 && m.t != 0 && m.d != 0 && m.c <= kMaxValue && m.t <= kMaxValue && m.d <= kMaxValue &&
+         m.j <= kMaxValue;
 }
 
 // Revised analysis of message i whose level utilisation is below 1. `w0`:
@@ -85,8 +87,8 @@ uint64_t busy_period(const RtaMessage* set, size_t i, uint64_t blocking, Bound* 
   return l;
 }
 
-uint64_t queuing_delay(const RtaMessage* set, size_t i, uint64_t tau_bit, uint64_t blocking,
-                       uint64_t q, uint64_t w_start, Bound* outcome) {
+uint64_t queuing_delay(const RtaMessage* set, size_t i, uint64_t tau_bit, uint64_t blocking, uint64_t q,
+                       uint64_t w_start, Bound* outcome) {
   const uint64_t own = blocking + q * set[i].c;
   uint64_t w = w_start;
   for (;;) {
@@ -135,8 +137,7 @@ RtaStatus analyse(const RtaMessage* set, size_t count, uint64_t tau_bit, RtaResu
     // analysis (bounded whenever the level's utilisation is below 1).
     uint64_t w0 = 0;
     if (out.first == Bound::kBounded) {
-      w0 = queuing_delay(set, i, tau_bit, out.blocking, 0, out.blocking + sum_c(set, i),
-                         &out.first);
+      w0 = queuing_delay(set, i, tau_bit, out.blocking, 0, out.blocking + sum_c(set, i), &out.first);
       out.r_first = m.j + w0 + m.c;
     }
     if (out.revised == Bound::kBounded) {

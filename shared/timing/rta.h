@@ -60,8 +60,8 @@ enum class RtaStatus : uint8_t {
 /// (> 0 in the same unit; it is how late a higher-priority message may be
 /// queued and still win arbitration). Fills results[0..count).
 /// On kBadMessage, *bad_index names the first offending message.
-RtaStatus analyse(const RtaMessage* set, size_t count, uint64_t tau_bit,
-                  RtaResult* results, size_t* bad_index);
+RtaStatus analyse(const RtaMessage* set, size_t count, uint64_t tau_bit, RtaResult* results,
+                  size_t* bad_index);
 
 // The pieces, exposed so that tests and reports can show each equation.
 
@@ -76,8 +76,8 @@ uint64_t busy_period(const RtaMessage* set, size_t i, uint64_t blocking, Bound* 
 /// Queuing delay of instance q, eq. 6.10 with jitter:
 /// w = B + q C_i + Σ_{k < i} ceil((w + J_k + τ_bit)/T_k) C_k, from w_start.
 /// With q = 0 this is also the first attempt's W (seed eq. 6.5 plus J, τ_bit).
-uint64_t queuing_delay(const RtaMessage* set, size_t i, uint64_t tau_bit, uint64_t blocking,
-                       uint64_t q, uint64_t w_start, Bound* outcome);
+uint64_t queuing_delay(const RtaMessage* set, size_t i, uint64_t tau_bit, uint64_t blocking, uint64_t q,
+                       uint64_t w_start, Bound* outcome);
 
 }  // namespace timing
 }  // namespace mb2co

@@ -8,20 +8,22 @@ namespace {
 
 constexpr uint16_t kAddressFunctionCrcBytes = 4;  // address 1, function 1, CRC 2
 
-uint64_t div_ceil(uint64_t a, uint64_t b) { return (a + b - 1u) / b; }
+uint64_t div_ceil(uint64_t a, uint64_t b) {
+  return (a + b - 1u) / b;
+}
 
-uint16_t packed_bytes(uint16_t bit_count) { return static_cast<uint16_t>((bit_count + 7u) / 8u); }
+uint16_t packed_bytes(uint16_t bit_count) {
+  return static_cast<uint16_t>((bit_count + 7u) / 8u);
+}
 
 }  // namespace
 
 bool serial_format_valid(const SerialFormat& f) {
-  return f.baud > 0 && f.data_bits >= 5 && f.data_bits <= 8 && f.stop_bits >= 1 &&
-         f.stop_bits <= 2;
+  return f.baud > 0 && f.data_bits >= 5 && f.data_bits <= 8 && f.stop_bits >= 1 && f.stop_bits <= 2;
 }
 
 uint8_t char_bits(const SerialFormat& f) {
-  return static_cast<uint8_t>(1u + f.data_bits + (f.parity == Parity::kNone ? 0u : 1u) +
-                              f.stop_bits);
+  return static_cast<uint8_t>(1u + f.data_bits + (f.parity == Parity::kNone ? 0u : 1u) + f.stop_bits);
 }
 
 uint64_t serial_frame_ns_floor(const SerialFormat& f, uint16_t bytes) {
@@ -69,9 +71,8 @@ RtuExchange write_registers_exchange(uint16_t count) {
                      kAddressFunctionCrcBytes + 4};
 }
 
-TransactionTiming transaction_timing(const SerialFormat& f, const RtuExchange& x,
-                                     uint64_t slave_end_ns, uint64_t master_end_ns,
-                                     uint64_t slave_turnaround_ns) {
+TransactionTiming transaction_timing(const SerialFormat& f, const RtuExchange& x, uint64_t slave_end_ns,
+                                     uint64_t master_end_ns, uint64_t slave_turnaround_ns) {
   TransactionTiming t;
   t.request_ns = serial_frame_ns_ceil(f, x.request_bytes);
   t.response_ns = serial_frame_ns_ceil(f, x.response_bytes);

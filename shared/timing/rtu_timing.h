@@ -6,17 +6,19 @@
 #pragma once
 #include <stdint.h>
 
+#include "modbus/parity.h"
+
 namespace mb2co {
 namespace timing {
 
-enum class Parity : uint8_t { kNone, kEven, kOdd };
+using Parity = modbus::Parity;
 
 /// A serial character format. The Modbus default is 8E1 (11 bits).
 struct SerialFormat {
-  uint32_t baud = 115200;     ///< bit/s, > 0
-  uint8_t data_bits = 8;      ///< RTU uses 8
+  uint32_t baud = 115200;  ///< bit/s, > 0
+  uint8_t data_bits = 8;   ///< RTU uses 8
   Parity parity = Parity::kEven;
-  uint8_t stop_bits = 1;      ///< 1 or 2
+  uint8_t stop_bits = 1;  ///< 1 or 2
 };
 
 /// baud > 0, 5..8 data bits, 1 or 2 stop bits: required by every function below.
@@ -58,19 +60,18 @@ RtuExchange write_registers_exchange(uint16_t count);
 /// One transaction on the wire: request, the slave's end-of-frame silence,
 /// the slave's turnaround, the response, the master's end detection.
 struct TransactionTiming {
-  uint64_t request_ns;    ///< request frame
-  uint64_t response_ns;   ///< response frame
-  uint64_t best_ns;       ///< turnaround 0
-  uint64_t worst_ns;      ///< turnaround = slave_turnaround_ns
+  uint64_t request_ns;   ///< request frame
+  uint64_t response_ns;  ///< response frame
+  uint64_t best_ns;      ///< turnaround 0
+  uint64_t worst_ns;     ///< turnaround = slave_turnaround_ns
 };
 
 /// `slave_end_ns`: how long the slave waits to see the request ended (t3.5
 /// per spec); `master_end_ns`: the same for the master (0 when it predicts
 /// the length, as libmodbus does); `slave_turnaround_ns`: the slave's worst
 /// time to start answering (e.g. one firmware loop).
-TransactionTiming transaction_timing(const SerialFormat& f, const RtuExchange& x,
-                                     uint64_t slave_end_ns, uint64_t master_end_ns,
-                                     uint64_t slave_turnaround_ns);
+TransactionTiming transaction_timing(const SerialFormat& f, const RtuExchange& x, uint64_t slave_end_ns,
+                                     uint64_t master_end_ns, uint64_t slave_turnaround_ns);
 
 }  // namespace timing
 }  // namespace mb2co

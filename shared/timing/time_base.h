@@ -26,7 +26,9 @@ inline uint64_t us_to_ticks(uint64_t us, uint32_t bitrate_bps) {
 }
 
 /// `bits` bit times in ticks.
-inline uint64_t bits_to_ticks(uint64_t bits) { return bits * kTicksPerBit; }
+inline uint64_t bits_to_ticks(uint64_t bits) {
+  return bits * kTicksPerBit;
+}
 
 /// Ticks to nanoseconds, rounded up (for upper bounds: never optimistic).
 /// Exact for every bit rate that divides 10^9 (all CiA 301 rates).

@@ -40,8 +40,8 @@ CanFrame make(uint32_t id, uint8_t dlc, bool rtr, uint8_t seed) {
 
 TEST_F(BadInput, EveryLengthOnEveryIdInEveryState) {
   // Ids the node transmits on, or that belong to nobody here: never answered.
-  const uint32_t silent_ids[] = {0x083, 0x583, 0x283, 0x383, 0x483, 0x303, 0x403, 0x503,
-                                 0x604, 0x602, 0x704, 0x7FF, 0x001, 0x100};
+  const uint32_t silent_ids[] = {0x083, 0x583, 0x283, 0x383, 0x483, 0x303, 0x403,
+                                 0x503, 0x604, 0x602, 0x704, 0x7FF, 0x001, 0x100};
   for (NmtState state : {kNmtPreOperational, kNmtOperational, kNmtStopped}) {
     for (uint8_t dlc = 0; dlc <= 8; ++dlc) {
       for (bool rtr : {false, true}) {

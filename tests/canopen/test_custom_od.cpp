@@ -12,35 +12,35 @@ namespace mb2co {
 namespace test {
 namespace custom {
 
-#define MB2CO_TEST_OD(N, S)                                                               \
-  MB2CO_OD_DATA_TYPES(N, S)                                                               \
-  MB2CO_OD_COMM_1000(N, S, 0x12345678, "custom test node", "hw", "sw", 7, 8, 9, 0)        \
-  MB2CO_OD_RPDO_COMM(N, 0x1400, 0x80000200, kAttrNodeId, 255, 0, "RPDO1")                \
-  MB2CO_OD_RPDO_COMM(N, 0x1401, 0x80000300, kAttrNodeId, 255, 0, "RPDO2")                \
-  MB2CO_OD_RPDO_COMM(N, 0x1402, 0x80000400, kAttrNodeId, 255, 0, "RPDO3")                \
-  MB2CO_OD_RPDO_COMM(N, 0x1403, 0x80000500, kAttrNodeId, 255, 0, "RPDO4")                \
-  MB2CO_OD_PDO_MAP(N, 0x1600, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO1 mapping")  \
-  MB2CO_OD_PDO_MAP(N, 0x1601, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO2 mapping")  \
-  MB2CO_OD_PDO_MAP(N, 0x1602, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO3 mapping")  \
-  MB2CO_OD_PDO_MAP(N, 0x1603, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO4 mapping")  \
-  MB2CO_OD_TPDO_COMM(N, 0x1800, 0x80000180, kAttrNodeId, 255, 0, 0, "TPDO1")             \
-  MB2CO_OD_TPDO_COMM(N, 0x1801, 0x80000280, kAttrNodeId, 255, 0, 0, "TPDO2")             \
-  MB2CO_OD_TPDO_COMM(N, 0x1802, 0x80000380, kAttrNodeId, 255, 0, 0, "TPDO3")             \
-  MB2CO_OD_TPDO_COMM(N, 0x1803, 0x80000480, kAttrNodeId, 255, 0, 0, "TPDO4")             \
-  MB2CO_OD_PDO_MAP(N, 0x1A00, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO1 mapping")  \
-  MB2CO_OD_PDO_MAP(N, 0x1A01, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO2 mapping")  \
-  MB2CO_OD_PDO_MAP(N, 0x1A02, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO3 mapping")  \
-  MB2CO_OD_PDO_MAP(N, 0x1A03, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO4 mapping")  \
-  N(0x2001, 0, U32, WO, 0, kHookNone, 0, "Write-only password")                          \
-  S(0x2002, 0, WO, kHookNone, 8, "", "Write-only text")                                  \
-  N(0x2200, 0, U8, CONST, 0, kHookNone, 4, "Flags: highest sub-index")                   \
-  N(0x2200, 1, BOOL, RW, kAttrPdo, kHookNone, 0, "Flag 1")                               \
-  N(0x2200, 2, BOOL, RW, kAttrPdo, kHookNone, 0, "Flag 2")                               \
-  N(0x2200, 3, BOOL, RW, kAttrPdo, kHookNone, 0, "Flag 3")                               \
-  N(0x2200, 4, BOOL, RW, kAttrPdo, kHookNone, 0, "Flag 4")                               \
-  N(0x2201, 0, U16, RW, kAttrPdo, kHookNone, 0, "Word")                                  \
-  N(0x2202, 0, I8, RW, kAttrPdo, kHookNone, 0, "Signed byte")                            \
-  N(0x2203, 0, U32, RW, kAttrPdo, kHookNone, 0, "Long")
+#define MB2CO_TEST_OD(N, S)                                                                     \
+  MB2CO_OD_DATA_TYPES(N, S)                                                                     \
+  MB2CO_OD_COMM_1000(N, S, 0x12345678, "custom test node", "hw", "sw", 7, 8, 9, 0)              \
+  MB2CO_OD_RPDO_COMM(N, 0x1400, x1400, 0x80000200, kAttrNodeId, 255, 0, "RPDO1")                \
+  MB2CO_OD_RPDO_COMM(N, 0x1401, x1401, 0x80000300, kAttrNodeId, 255, 0, "RPDO2")                \
+  MB2CO_OD_RPDO_COMM(N, 0x1402, x1402, 0x80000400, kAttrNodeId, 255, 0, "RPDO3")                \
+  MB2CO_OD_RPDO_COMM(N, 0x1403, x1403, 0x80000500, kAttrNodeId, 255, 0, "RPDO4")                \
+  MB2CO_OD_PDO_MAP(N, 0x1600, x1600, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO1 mapping")  \
+  MB2CO_OD_PDO_MAP(N, 0x1601, x1601, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO2 mapping")  \
+  MB2CO_OD_PDO_MAP(N, 0x1602, x1602, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO3 mapping")  \
+  MB2CO_OD_PDO_MAP(N, 0x1603, x1603, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO4 mapping")  \
+  MB2CO_OD_TPDO_COMM(N, 0x1800, x1800, 0x80000180, kAttrNodeId, 255, 0, 0, "TPDO1")             \
+  MB2CO_OD_TPDO_COMM(N, 0x1801, x1801, 0x80000280, kAttrNodeId, 255, 0, 0, "TPDO2")             \
+  MB2CO_OD_TPDO_COMM(N, 0x1802, x1802, 0x80000380, kAttrNodeId, 255, 0, 0, "TPDO3")             \
+  MB2CO_OD_TPDO_COMM(N, 0x1803, x1803, 0x80000480, kAttrNodeId, 255, 0, 0, "TPDO4")             \
+  MB2CO_OD_PDO_MAP(N, 0x1A00, x1A00, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO1 mapping")  \
+  MB2CO_OD_PDO_MAP(N, 0x1A01, x1A01, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO2 mapping")  \
+  MB2CO_OD_PDO_MAP(N, 0x1A02, x1A02, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO3 mapping")  \
+  MB2CO_OD_PDO_MAP(N, 0x1A03, x1A03, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO4 mapping")  \
+  N(0x2001, 0, x2001_0_password, U32, WO, 0, kHookNone, 0, "Write-only password")               \
+  S(0x2002, 0, x2002_0_text, WO, kHookNone, 8, "", "Write-only text")                           \
+  N(0x2200, 0, x2200_0_highestSubIndex, U8, CONST, 0, kHookNone, 4, "Flags: highest sub-index") \
+  N(0x2200, 1, x2200_1_flag1, BOOL, RW, kAttrPdo, kHookNone, 0, "Flag 1")                       \
+  N(0x2200, 2, x2200_2_flag2, BOOL, RW, kAttrPdo, kHookNone, 0, "Flag 2")                       \
+  N(0x2200, 3, x2200_3_flag3, BOOL, RW, kAttrPdo, kHookNone, 0, "Flag 3")                       \
+  N(0x2200, 4, x2200_4_flag4, BOOL, RW, kAttrPdo, kHookNone, 0, "Flag 4")                       \
+  N(0x2201, 0, x2201_0_word, U16, RW, kAttrPdo, kHookNone, 0, "Word")                           \
+  N(0x2202, 0, x2202_0_signedByte, I8, RW, kAttrPdo, kHookNone, 0, "Signed byte")               \
+  N(0x2203, 0, x2203_0_long, U32, RW, kAttrPdo, kHookNone, 0, "Long")
 
 #define MB2CO_TEST_LIMITS(L)
 
@@ -121,8 +121,8 @@ TEST_F(CustomOd, BitGranularTransmitMappingWithBooleansAndDummies) {
   map(0x1800, {0x22000101, 0x22000201, 0x22000301, 0x22020005, 0x00050008, 0x2201000C, 0x22000401});
   set(0x2200, 1, 1);
   set(0x2200, 3, 1);
-  set(0x2202, 0, 0xF5);   // -11: low 5 bits 10101b
-  set(0x2201, 0, 0xFABC); // low 12 bits ABCh
+  set(0x2202, 0, 0xF5);    // -11: low 5 bits 10101b
+  set(0x2201, 0, 0xFABC);  // low 12 bits ABCh
   set(0x2200, 4, 1);
   h.nmt(0x01, kId);
   // byte 0: b0=1 b1=0 b2=1 | b3..7 = 10101b -> 0b10101101 = ADh
@@ -163,7 +163,7 @@ TEST_F(CustomOd, DummyEntriesAreTypes0002To0007WithTheirOwnLength) {
   EXPECT_EQ(h.write_u32(0x1A00, 3, 0x00040020u), 0u);
   EXPECT_EQ(h.write_u32(0x1A00, 4, 0x00060010u), 0u);
   h.expect_abort({0x2F, 0x00, 0x1A, 0x00, 4, 0, 0, 0}, 0x1A00, 0, kAbortMapLength);  // 72 bits
-  EXPECT_EQ(h.write_u8(0x1A00, 0, 3), 0u);  // 56 bits
+  EXPECT_EQ(h.write_u8(0x1A00, 0, 3), 0u);                                           // 56 bits
 }
 
 TEST_F(CustomOd, BooleanWritesBySdoAreZeroOrOne) {
@@ -174,8 +174,8 @@ TEST_F(CustomOd, BooleanWritesBySdoAreZeroOrOne) {
 
 TEST_F(CustomOd, SixtyFourBitsOfMappingFillEightBytes) {
   // 32 + 16 + 8 + 4 x 1 + 4 (low nibble of the U16 again) = 64 bits.
-  map(0x1800, {0x22030020, 0x22010010, 0x22020008, 0x22000101, 0x22000201, 0x22000301, 0x22000401,
-               0x22010004});
+  map(0x1800,
+      {0x22030020, 0x22010010, 0x22020008, 0x22000101, 0x22000201, 0x22000301, 0x22000401, 0x22010004});
   set(0x2203, 0, 0x44332211);
   set(0x2201, 0, 0x6655);
   set(0x2202, 0, 0x77);

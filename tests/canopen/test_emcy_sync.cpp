@@ -205,8 +205,8 @@ TEST_F(Sync, CounterRunsFromOneToTheOverflowValue) {
   ASSERT_EQ(h.write_u32(0x1006, 0, 1000u), 0u);
   ASSERT_EQ(h.write_u32(0x1005, 0, 0x40000080u), 0u);
   h.run_us(7000, 100);
-  EXPECT_EQ(h.take(), Frames({"<080> 01", "<080> 02", "<080> 03", "<080> 01", "<080> 02", "<080> 03",
-                              "<080> 01"}));
+  EXPECT_EQ(h.take(),
+            Frames({"<080> 01", "<080> 02", "<080> 03", "<080> 01", "<080> 02", "<080> 03", "<080> 01"}));
 }
 
 TEST_F(Sync, CounterOf240Wraps) {

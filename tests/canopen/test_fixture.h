@@ -35,10 +35,9 @@ inline std::vector<Bytes> od_snapshot(const canopen::ObjectDictionary& od) {
 
 /// "<583> 80 LL HH SS c0 c1 c2 c3": the abort frame CiA 301 §7.2.4.3.17 prescribes.
 inline std::string abort_frame(uint8_t node_id, uint16_t index, uint8_t sub, uint32_t code) {
-  return to_string(F(0x580u + node_id,
-                     {0x80, static_cast<uint8_t>(index), static_cast<uint8_t>(index >> 8), sub,
-                      static_cast<uint8_t>(code), static_cast<uint8_t>(code >> 8),
-                      static_cast<uint8_t>(code >> 16), static_cast<uint8_t>(code >> 24)}));
+  return to_string(F(0x580u + node_id, {0x80, static_cast<uint8_t>(index), static_cast<uint8_t>(index >> 8),
+                                        sub, static_cast<uint8_t>(code), static_cast<uint8_t>(code >> 8),
+                                        static_cast<uint8_t>(code >> 16), static_cast<uint8_t>(code >> 24)}));
 }
 
 inline CanFrame frame8(uint32_t id, const uint8_t* b) {
@@ -144,8 +143,8 @@ class Harness {
 
   /// Expedited download of 1..4 bytes with size indicated. 0 or abort code.
   uint32_t download_expedited(uint16_t index, uint8_t sub, const Bytes& data) {
-    uint8_t req[8] = {static_cast<uint8_t>(0x23 | ((4 - data.size()) << 2)),
-                      static_cast<uint8_t>(index), static_cast<uint8_t>(index >> 8), sub};
+    uint8_t req[8] = {static_cast<uint8_t>(0x23 | ((4 - data.size()) << 2)), static_cast<uint8_t>(index),
+                      static_cast<uint8_t>(index >> 8), sub};
     memcpy(&req[4], data.data(), data.size());
     return check_response(sdo(req), 0x60, index, sub);
   }
@@ -246,7 +245,9 @@ class Harness {
   FrameLog& bus_;
 };
 
-inline Bytes bytes_of(const std::string& s) { return Bytes(s.begin(), s.end()); }
+inline Bytes bytes_of(const std::string& s) {
+  return Bytes(s.begin(), s.end());
+}
 
 /// The CiA 401 I/O node with node id 3, started and pre-operational, log empty.
 class IoNodeTest : public ::testing::Test {
@@ -271,7 +272,8 @@ class IoNodeTest : public ::testing::Test {
   /// Current text of a string entry read locally (no SDO).
   std::string text(uint16_t index, uint8_t sub) {
     char buf[64];
-    const uint16_t n = io.od().copy_out(io.od().find(index, sub), reinterpret_cast<uint8_t*>(buf), sizeof buf);
+    const uint16_t n =
+        io.od().copy_out(io.od().find(index, sub), reinterpret_cast<uint8_t*>(buf), sizeof buf);
     return std::string(buf, n);
   }
 

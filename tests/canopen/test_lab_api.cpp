@@ -90,7 +90,7 @@ TEST_F(LabApi, WriteObjectIsAllOrNothing) {
   ASSERT_EQ(size, 11);
   uint8_t changed[12];
   std::memcpy(changed, data, sizeof changed);
-  changed[5] = 245;  // transmission type 245 is reserved: refused
+  changed[5] = 245;            // transmission type 245 is reserved: refused
   put_le16(&changed[8], 500);  // event timer would change
   EXPECT_EQ(od_write_object(0x1800, changed), kOdLabRefused);
   uint8_t after[12] = {};
@@ -99,6 +99,25 @@ TEST_F(LabApi, WriteObjectIsAllOrNothing) {
   changed[5] = 254;
   EXPECT_EQ(od_write_object(0x1800, changed), 0);
   EXPECT_EQ(node.od().get(node.od().find(0x1800, 5)), 500u);
+}
+
+// A refused object carries nothing out: 1016h with sub 1 watching node 5
+// and sub 2 watching node 5 again (refused: one time per node id) does not
+// start a consumer for node 5 (before, sub 1's hook had configured it and
+// only its value was put back: node 5's heartbeats were then watched).
+TEST_F(LabApi, ARefusedObjectWriteStartsNoService) {
+  uint8_t data[17] = {};
+  uint8_t size = 0;
+  ASSERT_EQ(od_read_object(0x1016, data, &size), 0);
+  ASSERT_EQ(size, 17);
+  put_le32(&data[1], 0x00050064u);  // node 5, 100 ms
+  put_le32(&data[5], 0x000500C8u);  // node 5 again, 200 ms: refused
+  EXPECT_EQ(od_write_object(0x1016, data), kOdLabRefused);
+  EXPECT_EQ(node.od().get(node.od().find(0x1016, 1)), 0u);
+  node.receive(test::F(0x705, {0x05}), 1000);  // node 5's heartbeat, then silence
+  bus.take();
+  for (uint32_t t = 10000; t <= 1000000; t += 10000) node.process(t);
+  EXPECT_TRUE(bus.take().empty()) << "a heartbeat consumer runs although its write was refused";
 }
 
 }  // namespace

@@ -67,7 +67,8 @@ TEST_F(Nmt, NodeIdZeroAddressesAllNodes) {
 TEST_F(Nmt, CommandsForOtherNodesAreIgnored) {
   for (unsigned other = 1; other < 256; ++other) {
     if (other == kId) continue;
-    for (int cmd : {0x01, 0x02, 0x80, 0x81, 0x82}) h.nmt(static_cast<uint8_t>(cmd), static_cast<uint8_t>(other));
+    for (int cmd : {0x01, 0x02, 0x80, 0x81, 0x82})
+      h.nmt(static_cast<uint8_t>(cmd), static_cast<uint8_t>(other));
   }
   EXPECT_EQ(io.node().nmt_state(), kNmtPreOperational);
   EXPECT_EQ(h.take(), Frames({}));
@@ -105,11 +106,11 @@ TEST_F(Nmt, StoppedAnswersNoSdoSendsNoPdoNoEmcyButKeepsTheHeartbeat) {
   EXPECT_TRUE(h.sdo_exchange({0x40, 0x00, 0x10, 0x00}).empty());
   EXPECT_TRUE(h.sdo_exchange({0x2B, 0x01, 0x21, 0x00, 0x05, 0x00, 0, 0}).empty());
   EXPECT_EQ(value(0x2101, 0), 10u) << "a write in stopped is not carried out";
-  io.set_input(0, 0x11);                 // would trigger TPDO1
-  h.rx(F(0x203, {0x01, 0x02}));          // RPDO1: not applied
-  h.rx(Rtr(0x183));                      // TPDO1 request: not answered
-  h.rx(F(0x080, {}));                    // SYNC: nothing
-  h.rx(F(0x080, {0x01, 0x02}));          // a wrong SYNC: no EMCY in stopped
+  io.set_input(0, 0x11);         // would trigger TPDO1
+  h.rx(F(0x203, {0x01, 0x02}));  // RPDO1: not applied
+  h.rx(Rtr(0x183));              // TPDO1 request: not answered
+  h.rx(F(0x080, {}));            // SYNC: nothing
+  h.rx(F(0x080, {0x01, 0x02}));  // a wrong SYNC: no EMCY in stopped
   io.node().emcy().raise(0x5000, kErrDeviceProfile);
   h.run_us(250000, 1000);
   EXPECT_EQ(h.take(), Frames({"<703> 04", "<703> 04"}));

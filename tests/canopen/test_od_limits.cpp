@@ -12,14 +12,14 @@ namespace mb2co {
 namespace test {
 namespace limits {
 
-#define MB2CO_LIMITS_TEST_OD(N, S)                                 \
-  MB2CO_OD_DATA_TYPES(N, S)                                        \
-  N(0x2000, 0, I8, RW, 0, kHookNone, 0, "I8 in -10..20")           \
-  N(0x2001, 0, I16, RW, 0, kHookNone, 0, "I16 in -1000..1000")     \
-  N(0x2002, 0, I32, RW, 0, kHookNone, 0, "I32 in -100000..100000") \
-  N(0x2003, 0, U32, RW, 0, kHookNone, 0, "U32 in 0..5000")         \
-  N(0x2004, 0, U8, RW, 0, kHookNone, 1, "U8 in 1..250")            \
-  N(0x2005, 0, I16, RW, 0, kHookNone, 0, "I16 without limits")
+#define MB2CO_LIMITS_TEST_OD(N, S)                                                     \
+  MB2CO_OD_DATA_TYPES(N, S)                                                            \
+  N(0x2000, 0, x2000_0_i8Limited, I8, RW, 0, kHookNone, 0, "I8 in -10..20")            \
+  N(0x2001, 0, x2001_0_i16Limited, I16, RW, 0, kHookNone, 0, "I16 in -1000..1000")     \
+  N(0x2002, 0, x2002_0_i32Limited, I32, RW, 0, kHookNone, 0, "I32 in -100000..100000") \
+  N(0x2003, 0, x2003_0_u32Limited, U32, RW, 0, kHookNone, 0, "U32 in 0..5000")         \
+  N(0x2004, 0, x2004_0_u8Limited, U8, RW, 0, kHookNone, 1, "U8 in 1..250")             \
+  N(0x2005, 0, x2005_0_i16Unlimited, I16, RW, 0, kHookNone, 0, "I16 without limits")
 
 #define MB2CO_LIMITS_TEST_LIMITS(L) \
   L(0x2000, 0, -10, 20)             \
@@ -48,8 +48,8 @@ class OdLimits : public ::testing::Test {
  protected:
   /// Writes the low `len` bytes of `v` (little-endian, as on the bus).
   uint32_t write(uint16_t index, uint32_t v, uint16_t len) {
-    uint8_t b[4] = {static_cast<uint8_t>(v), static_cast<uint8_t>(v >> 8),
-                    static_cast<uint8_t>(v >> 16), static_cast<uint8_t>(v >> 24)};
+    uint8_t b[4] = {static_cast<uint8_t>(v), static_cast<uint8_t>(v >> 8), static_cast<uint8_t>(v >> 16),
+                    static_cast<uint8_t>(v >> 24)};
     return od.write(index, 0, b, len);
   }
   uint32_t value(uint16_t index) { return od.get(od.find(index, 0)); }

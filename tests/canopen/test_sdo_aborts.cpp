@@ -203,7 +203,8 @@ TEST_F(SdoAbort, TooLong_06070012) {
   ASSERT_EQ(h.check_response(h.sdo({0x20, 0x00, 0x20, 0x00}), 0x60, 0x2000, 0), 0u);
   for (uint8_t k = 0; k < 3; ++k) {
     const uint8_t t = static_cast<uint8_t>((k & 1) << 4);
-    EXPECT_EQ(h.check_response(h.sdo({t, 'x', 'x', 'x', 'x', 'x', 'x', 'x'}), uint8_t(0x20 | t), 0, 0, false), 0u);
+    EXPECT_EQ(h.check_response(h.sdo({t, 'x', 'x', 'x', 'x', 'x', 'x', 'x'}), uint8_t(0x20 | t), 0, 0, false),
+              0u);
   }
   h.expect_abort({0x17, 'y', 'y', 'y', 'y', 0, 0, 0}, 0x2000, 0, kAbortTooLong);  // 21 + 4 = 25
   EXPECT_EQ(text(0x2000, 0), "");
@@ -214,16 +215,17 @@ TEST_F(SdoAbort, TooLong_06070012) {
   ASSERT_EQ(h.check_response(h.sdo({0x20, 0x00, 0x20, 0x00}), 0x60, 0x2000, 0), 0u);
   for (uint8_t k = 0; k < 4; ++k) {
     const uint8_t t = static_cast<uint8_t>((k & 1) << 4);
-    EXPECT_EQ(h.check_response(h.sdo({t, 'x', 'x', 'x', 'x', 'x', 'x', 'x'}), uint8_t(0x20 | t), 0, 0, false), 0u);
+    EXPECT_EQ(h.check_response(h.sdo({t, 'x', 'x', 'x', 'x', 'x', 'x', 'x'}), uint8_t(0x20 | t), 0, 0, false),
+              0u);
   }
   h.expect_abort({0x00, 'z', 'z', 'z', 'z', 'z', 'z', 'z'}, 0x2000, 0, kAbortTooLong);
 }
 
 // ---- 06070013h length too low ----------------------------------------------------
 TEST_F(SdoAbort, TooShort_06070013) {
-  h.expect_abort({0x2B, 0x06, 0x10, 0x00, 0x10, 0x27, 0, 0}, 0x1006, 0, kAbortTooShort);   // 2 to U32
-  h.expect_abort({0x2F, 0x06, 0x10, 0x00, 0x10, 0, 0, 0}, 0x1006, 0, kAbortTooShort);      // 1 to U32
-  h.expect_abort({0x2F, 0x01, 0x21, 0x00, 0x10, 0, 0, 0}, 0x2101, 0, kAbortTooShort);      // 1 to U16
+  h.expect_abort({0x2B, 0x06, 0x10, 0x00, 0x10, 0x27, 0, 0}, 0x1006, 0, kAbortTooShort);  // 2 to U32
+  h.expect_abort({0x2F, 0x06, 0x10, 0x00, 0x10, 0, 0, 0}, 0x1006, 0, kAbortTooShort);     // 1 to U32
+  h.expect_abort({0x2F, 0x01, 0x21, 0x00, 0x10, 0, 0, 0}, 0x2101, 0, kAbortTooShort);     // 1 to U16
   h.expect_abort({0x21, 0x06, 0x10, 0x00, 2, 0, 0, 0}, 0x1006, 0, kAbortTooShort);        // announced
   ASSERT_EQ(h.check_response(h.sdo({0x20, 0x06, 0x10, 0x00}), 0x60, 0x1006, 0), 0u);
   h.expect_abort({0x0B, 1, 2, 0, 0, 0, 0, 0}, 0x1006, 0, kAbortTooShort);  // 2 bytes sent
@@ -259,8 +261,8 @@ TEST_F(SdoAbort, InvalidValue_06090030) {
   h.expect_abort({0x23, 0x00, 0x18, 0x01, 0x83, 0x01, 0x00, 0x20}, 0x1800, 1, kAbortInvalidValue);
   // Restricted CAN-IDs (CiA 301 §7.3.5) for a PDO being made valid.
   ASSERT_EQ(h.write_u32(0x1800, 1, 0x80000183u), 0u);
-  for (uint32_t id : {0x000u, 0x001u, 0x07Fu, 0x101u, 0x180u, 0x581u, 0x5FFu, 0x601u, 0x67Fu,
-                      0x6E0u, 0x6FFu, 0x701u, 0x7FFu}) {
+  for (uint32_t id : {0x000u, 0x001u, 0x07Fu, 0x101u, 0x180u, 0x581u, 0x5FFu, 0x601u, 0x67Fu, 0x6E0u, 0x6FFu,
+                      0x701u, 0x7FFu}) {
     h.expect_abort({0x23, 0x00, 0x18, 0x01, static_cast<uint8_t>(id), static_cast<uint8_t>(id >> 8), 0, 0},
                    0x1800, 1, kAbortInvalidValue);
   }
@@ -318,7 +320,7 @@ struct FailingStorage {
 };
 
 TEST_F(SdoAbort, SaveWithFailingStorage_08000000) {
-  const ParamStorage st = {&FailingStorage::read, &FailingStorage::write, nullptr};
+  const ParamStorage st = {&FailingStorage::read, &FailingStorage::write, nullptr, nullptr};
   io.node().set_storage(&st);
   h.nmt(0x82, kId);  // 1010h reads the capability from the next reset on
   bus.frames.clear();

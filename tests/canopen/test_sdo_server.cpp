@@ -43,8 +43,7 @@ TEST_F(SdoServer, ExpeditedDownloadWithoutSizeTakesTheObjectsOwnSize) {
 }
 
 TEST_F(SdoServer, ExpeditedDownloadOfAShortString) {
-  EXPECT_EQ(to_string(h.sdo({0x27, 0x00, 0x20, 0x00, 'a', 'b', 'c', 'X'})),
-            "<583> 60 00 20 00 00 00 00 00");
+  EXPECT_EQ(to_string(h.sdo({0x27, 0x00, 0x20, 0x00, 'a', 'b', 'c', 'X'})), "<583> 60 00 20 00 00 00 00 00");
   EXPECT_EQ(h.read_string(0x2000, 0), "abc");
   // Reads back expedited with 3 bytes indicated (0x47).
   EXPECT_EQ(to_string(h.sdo({0x40, 0x00, 0x20, 0x00})), "<583> 47 00 20 00 61 62 63 00");

@@ -27,10 +27,10 @@ class Wrap : public ::testing::Test {
 };
 
 TEST_F(Wrap, PeriodicServicesKeepTheirPeriodAcrossTheWrap) {
-  ASSERT_EQ(h.write_u16(0x1017, 0, 100), 0u);       // heartbeat 100 ms
-  ASSERT_EQ(h.write_u32(0x1006, 0, 30000u), 0u);    // SYNC 30 ms
+  ASSERT_EQ(h.write_u16(0x1017, 0, 100), 0u);     // heartbeat 100 ms
+  ASSERT_EQ(h.write_u32(0x1006, 0, 30000u), 0u);  // SYNC 30 ms
   ASSERT_EQ(h.write_u32(0x1005, 0, 0x40000080u), 0u);
-  ASSERT_EQ(h.write_u16(0x1800, 5, 70), 0u);        // TPDO1 event timer 70 ms
+  ASSERT_EQ(h.write_u16(0x1800, 5, 70), 0u);  // TPDO1 event timer 70 ms
   h.nmt(0x01, kId);
   h.take();
   std::map<uint32_t, std::vector<uint32_t>> sent;  // id -> times (µs, modulo 2^32)

@@ -26,7 +26,6 @@ struct CountingSink {
   CanSink sink() { return CanSink{&CountingSink::send, this}; }
 };
 
-
 void BM_OdLookup(benchmark::State& state) {
   CountingSink bus;
   ionode::IoNode node(bus.sink());

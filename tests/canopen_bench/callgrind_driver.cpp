@@ -19,7 +19,6 @@ bool count(void*, const CanFrame&) {
   return true;
 }
 
-
 __attribute__((noinline)) uint32_t run_od_lookup(canopen::ObjectDictionary& od) {
   uint32_t sum = 0;
   for (int i = 0; i < kRuns; ++i) sum += od.find(static_cast<uint16_t>(i & 1 ? 0x1A00 : 0x6000), 1);

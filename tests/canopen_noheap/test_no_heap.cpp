@@ -38,8 +38,12 @@ void* operator new(size_t n) {
   if (p == nullptr) throw std::bad_alloc();
   return p;
 }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, size_t) noexcept { std::free(p); }
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, size_t) noexcept {
+  std::free(p);
+}
 
 namespace mb2co {
 namespace {
@@ -71,16 +75,16 @@ TEST(NoHeap, FullScenarioMakesNoAllocation) {
       F(0x603, {0x40, 0x08, 0x10, 0x00, 0, 0, 0, 0}),              // segmented upload
       F(0x603, {0x60, 0, 0, 0, 0, 0, 0, 0}),
       F(0x603, {0x70, 0, 0, 0, 0, 0, 0, 0}),
-      F(0x603, {0x21, 0x00, 0x20, 0x00, 0x03, 0, 0, 0}),           // segmented download
+      F(0x603, {0x21, 0x00, 0x20, 0x00, 0x03, 0, 0, 0}),  // segmented download
       F(0x603, {0x09, 'a', 'b', 'c', 0, 0, 0, 0}),
-      F(0x000, {0x01, 0x00}),                                      // start all
-      F(0x705, {0x05}),                                            // heartbeat of node 5
-      F(0x203, {0x01, 0x02}),                                      // RPDO1
-      F(0x203, {0x01}),                                            // short RPDO: EMCY
-      F(0x080, {}),                                                // SYNC
-      F(0x603, {0xE0, 0, 0, 0, 0, 0, 0, 0}),                       // unknown ccs: abort
-      F(0x000, {0x02, 0x03}),                                      // stop
-      F(0x000, {0x82, 0x03}),                                      // reset communication
+      F(0x000, {0x01, 0x00}),                 // start all
+      F(0x705, {0x05}),                       // heartbeat of node 5
+      F(0x203, {0x01, 0x02}),                 // RPDO1
+      F(0x203, {0x01}),                       // short RPDO: EMCY
+      F(0x080, {}),                           // SYNC
+      F(0x603, {0xE0, 0, 0, 0, 0, 0, 0, 0}),  // unknown ccs: abort
+      F(0x000, {0x02, 0x03}),                 // stop
+      F(0x000, {0x82, 0x03}),                 // reset communication
   };
   g_calls = 0;
   g_counting = true;

@@ -7,9 +7,9 @@
 
 #include <algorithm>
 #include <deque>
-#include <stdexcept>
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 #include "gateway/gateway.h"
@@ -40,9 +40,9 @@ class Line {
     stations_.resize(static_cast<size_t>(n));
     for (int i = 0; i < n; ++i) {
       Station& s = stations_[static_cast<size_t>(i)];
-      s.storage = canopen::ParamStorage{&Line::eeprom_read, &Line::eeprom_write, &s};
-      gateway::GatewayPorts ports{CanSink{&Line::can_send, this},
-                                  modbus::ByteSink{&Line::serial_send, &s}, &s.storage, kBaud};
+      s.storage = canopen::ParamStorage{&Line::eeprom_read, &Line::eeprom_write, nullptr, &s};
+      gateway::GatewayPorts ports{CanSink{&Line::can_send, this}, modbus::ByteSink{&Line::serial_send, &s},
+                                  &s.storage, kBaud};
       s.gw.reset(new gateway::Gateway(ports));
       current_ = i;
       commissioning_ = true;

@@ -49,7 +49,8 @@ TEST(Line, RunLedsShowOwnAndNeighbourStates) {
   line.run_ms(300);
   all_running(line, 3);
   for (int i = 0; i < 3; ++i) {
-    EXPECT_EQ(line.station(i).leds & 0x07, gateway::kLedRunSelf | gateway::kLedRunPrev | gateway::kLedRunNext);
+    EXPECT_EQ(line.station(i).leds & 0x07,
+              gateway::kLedRunSelf | gateway::kLedRunPrev | gateway::kLedRunNext);
   }
 }
 
@@ -113,7 +114,8 @@ TEST(Line, ALostNeighbourShowsUnknownAndBlinksNeverRunning) {
   all_running(line, 3);
   line.station(1).powered = false;  // node 2 dies
   const uint32_t died = line.now_us;
-  while (line.od_get(0, 0x2120, 3) != gateway::kNeighbourUnknown && line.now_us - died < 1000000) line.run_ms(1);
+  while (line.od_get(0, 0x2120, 3) != gateway::kNeighbourUnknown && line.now_us - died < 1000000)
+    line.run_ms(1);
   EXPECT_LE(line.now_us - died, 300000u + 1000u) << "within the heartbeat consumer time (3 x 100 ms)";
   EXPECT_EQ(line.od_get(2, 0x2110, 3), gateway::kNeighbourUnknown);
   // The RUN-next LED of node 1 blinks: both levels within one second.
@@ -195,10 +197,27 @@ TEST(Line, ASilentPcStopsItsStationAfterTheModbusWatchdogTime) {
   EXPECT_EQ(line.od_get(0, 0x2100, 4), gateway::kCausePcSilent);
 }
 
-TEST(Line, NoWatchdogBeforeTheFirstModbusRequest) {
+// The watchdog runs from power-on: a station whose PC never comes stops
+// like one whose PC fell silent (issue 16: a station never runs by itself).
+TEST(Line, WatchdogRunsFromPowerOnWithoutAnyModbusRequest) {
   test::Line line(1);
   uint8_t one = 1;
   ASSERT_EQ(line.gw(0).od().write(0x2100, 1, &one, 1), canopen::kSdoOk);  // by SDO, no PC
+  line.run_ms(1900);
+  EXPECT_EQ(line.od_get(0, 0x2100, 2), 1u);
+  line.run_ms(200);
+  EXPECT_EQ(line.od_get(0, 0x2100, 2), 0u);
+  EXPECT_EQ(line.od_get(0, 0x2100, 4), gateway::kCausePcSilent);
+}
+
+// A station meant to run without a PC turns the watchdog off (2000h/9 = 0).
+TEST(Line, WithoutTheWatchdogAStationRunsWithoutAPc) {
+  test::Line line(1, [](canopen::ObjectDictionary& od, int) {
+    const uint8_t off[2] = {0, 0};
+    ASSERT_EQ(od.write(0x2000, 9, off, 2), canopen::kSdoOk);
+  });
+  uint8_t one = 1;
+  ASSERT_EQ(line.gw(0).od().write(0x2100, 1, &one, 1), canopen::kSdoOk);
   line.run_ms(3000);
   EXPECT_EQ(line.od_get(0, 0x2100, 2), 1u);
 }

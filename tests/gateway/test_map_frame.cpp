@@ -55,17 +55,16 @@ class MapFrame : public ::testing::Test {
   gateway::OdDeviceIdentity identity{od};
   modbus::RtuTiming timing = modbus::rtu_timing(115200);
   std::vector<uint8_t> response;
-  modbus::SlaveWithFrame<gateway::kMapFrameBytes> slave{bank, &identity,
-                                                        modbus::ByteSink{&keep, &response}, 1,
-                                                        timing};
+  modbus::SlaveWithFrame<gateway::kMapFrameBytes> slave{bank, &identity, modbus::ByteSink{&keep, &response},
+                                                        1, timing};
   uint32_t now_us = 1000000;
   uint8_t req[256] = {};
 };
 
 TEST_F(MapFrame, ReadOfTheWholeLongestMapFits) {
   const uint16_t registers = 2u * gateway::kInputMapSize;
-  const uint16_t n = modbus::build_read_request(req, sizeof req, 1, modbus::fc::kReadInputRegisters,
-                                                0, registers);
+  const uint16_t n =
+      modbus::build_read_request(req, sizeof req, 1, modbus::fc::kReadInputRegisters, 0, registers);
   const std::vector<uint8_t> r = transact(req, n);
   ASSERT_EQ(r.size(), 3u + 2u * registers + 2u);
   EXPECT_EQ(r.size(), gateway::kMapFrameBytes);

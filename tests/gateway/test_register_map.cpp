@@ -36,7 +36,8 @@ struct Client {
     return call(modbus::build_write_single_register(req, sizeof req, 1, reg, v));
   }
   ParseStatus write_n(uint16_t start, std::vector<uint16_t> v) {
-    return call(modbus::build_write_registers(req, sizeof req, 1, start, static_cast<uint16_t>(v.size()), v.data()));
+    return call(
+        modbus::build_write_registers(req, sizeof req, 1, start, static_cast<uint16_t>(v.size()), v.data()));
   }
 };
 

@@ -16,8 +16,8 @@ inline bool operator==(const CanFrame& a, const CanFrame& b) {
   return a.rtr() || std::memcmp(a.data, b.data, a.dlc) == 0;
 }
 inline std::ostream& operator<<(std::ostream& os, const CanFrame& f) {
-  os << std::hex << "0x" << f.id << (f.extended() ? "x" : "") << (f.rtr() ? " RTR" : "") << " ["
-     << std::dec << int{f.dlc} << "]";
+  os << std::hex << "0x" << f.id << (f.extended() ? "x" : "") << (f.rtr() ? " RTR" : "") << " [" << std::dec
+     << int{f.dlc} << "]";
   for (int i = 0; i < f.dlc && !f.rtr(); ++i) os << ' ' << std::hex << int{f.data[i]} << std::dec;
   return os;
 }

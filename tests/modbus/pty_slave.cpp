@@ -32,7 +32,9 @@ using namespace mb2co;
 using namespace mb2co::modbus;
 
 volatile sig_atomic_t g_stop = 0;
-void on_signal(int) { g_stop = 1; }
+void on_signal(int) {
+  g_stop = 1;
+}
 
 struct Options {
   std::string link, tty;
@@ -73,10 +75,14 @@ Options parse_options(int argc, char** argv) {
       o.tty = value();
     } else if (a == "--parity") {
       const std::string p = value();
-      if (p == "none") o.parity = port::Parity::kNone;
-      else if (p == "even") o.parity = port::Parity::kEven;
-      else if (p == "odd") o.parity = port::Parity::kOdd;
-      else usage_error("bad parity '" + p + "'");
+      if (p == "none")
+        o.parity = port::Parity::kNone;
+      else if (p == "even")
+        o.parity = port::Parity::kEven;
+      else if (p == "odd")
+        o.parity = port::Parity::kOdd;
+      else
+        usage_error("bad parity '" + p + "'");
     } else if (a == "--stop-bits") {
       o.stop_bits = parse_number(value(), 1, 2, "stop bits");
     } else if (a == "--baud") {
@@ -95,7 +101,7 @@ Options parse_options(int argc, char** argv) {
 }
 
 bool write_to_port(void* ctx, const uint8_t* data, uint16_t length) {
-  return static_cast<port::SerialPort*>(ctx)->write(data, length);
+  return static_cast<port::SerialPort*>(ctx)->write(data, length).is_ok();
 }
 
 bool same(const DiagCounters& a, const DiagCounters& b, uint16_t t15a, uint16_t t15b) {
@@ -121,10 +127,10 @@ int main(int argc, char** argv) {
   const Options opt = parse_options(argc, argv);
 
   port::SerialPort serial;
-  const bool opened = opt.tty.empty() ? serial.create_pty(opt.link)
-                                      : serial.open_tty(opt.tty, opt.baud, opt.parity, opt.stop_bits);
+  const Status opened = opt.tty.empty() ? serial.create_pty(opt.link)
+                                        : serial.open_tty(opt.tty, opt.baud, opt.parity, opt.stop_bits);
   if (!opened) {
-    fprintf(stderr, "mb2co_modbus_pty_slave: %s\n", serial.error().c_str());
+    fprintf(stderr, "mb2co_modbus_pty_slave: %s\n", opened.message().c_str());
     return 1;
   }
 
@@ -132,8 +138,7 @@ int main(int argc, char** argv) {
                         test::kHoldingRegisterCount);
   test::apply_test_layout(bank);
   test::FixedIdentity identity = test::test_identity();
-  Slave slave(bank, &identity, ByteSink{&write_to_port, &serial}, opt.address,
-              rtu_timing(opt.baud));
+  Slave slave(bank, &identity, ByteSink{&write_to_port, &serial}, opt.address, rtu_timing(opt.baud));
   slave.set_check_t15(opt.check_t15);
 
   // SIGTERM/SIGINT only while waiting in ppoll: no lost wake-up.
@@ -174,24 +179,25 @@ int main(int argc, char** argv) {
     uint32_t now = 0;
     for (;;) {
       const uint32_t before = port::monotonic_us();
-      const long n = serial.read(bytes, stamps, sizeof bytes);
-      if (n < 0) {
-        fprintf(stderr, "mb2co_modbus_pty_slave: %s\n", serial.error().c_str());
+      size_t n = 0;
+      const Status got = serial.read(bytes, stamps, sizeof bytes, &n);
+      if (!got) {
+        fprintf(stderr, "mb2co_modbus_pty_slave: %s\n", got.message().c_str());
         return 1;
       }
       if (n == 0) {
         now = before;
         break;
       }
-      for (long i = 0; i < n; ++i) slave.on_byte(bytes[i], stamps[i]);
+      for (size_t i = 0; i < n; ++i) slave.on_byte(bytes[i], stamps[i]);
     }
     slave.process(now);
     if (opt.events && !same(shown, slave.counters(), shown_t15, slave.stats().t15_violations)) {
       shown = slave.counters();
       shown_t15 = slave.stats().t15_violations;
-      printf("counters bus=%u comm=%u exc=%u srv=%u noresp=%u ovr=%u t15=%u\n",
-             shown.bus_messages, shown.bus_comm_errors, shown.exceptions, shown.server_messages,
-             shown.no_responses, shown.char_overruns, shown_t15);
+      printf("counters bus=%u comm=%u exc=%u srv=%u noresp=%u ovr=%u t15=%u\n", shown.bus_messages,
+             shown.bus_comm_errors, shown.exceptions, shown.server_messages, shown.no_responses,
+             shown.char_overruns, shown_t15);
       fflush(stdout);
     }
   }

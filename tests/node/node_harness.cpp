@@ -10,12 +10,15 @@
 namespace mb2co {
 namespace test {
 
-const char* node_program() { return MB2CO_NODE; }
+const char* node_program() {
+  return MB2CO_NODE;
+}
 
 uint32_t monotonic_us() {
   timespec ts{};
   clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<uint32_t>(static_cast<uint64_t>(ts.tv_sec) * 1000000u + static_cast<uint64_t>(ts.tv_nsec) / 1000u);
+  return static_cast<uint32_t>(static_cast<uint64_t>(ts.tv_sec) * 1000000u +
+                               static_cast<uint64_t>(ts.tv_nsec) / 1000u);
 }
 
 uint32_t at_us_of(const std::string& line) {
@@ -24,7 +27,8 @@ uint32_t at_us_of(const std::string& line) {
 
 TempDir::TempDir() {
   const char* base = getenv("TMPDIR");
-  std::string tmpl = std::string(base != nullptr && *base != '\0' ? base : "/tmp") + "/mb2co-node-test.XXXXXX";
+  std::string tmpl =
+      std::string(base != nullptr && *base != '\0' ? base : "/tmp") + "/mb2co-node-test.XXXXXX";
   if (mkdtemp(tmpl.data()) != nullptr) dir_ = tmpl;
 }
 
@@ -76,7 +80,12 @@ bool NodeProcess::wait_counters(const std::function<bool(const std::string&)>& m
 bool NodeProcess::wait_event(const std::string& prefix, const std::function<bool(const std::string&)>& match,
                              std::chrono::milliseconds timeout, std::string* line) {
   return child.wait_line(
-      [&](const std::string& l) { return l.compare(0, prefix.size(), prefix) == 0 && match(l); }, timeout, line);
+      [&](const std::string& l) { return l.compare(0, prefix.size(), prefix) == 0 && match(l); }, timeout,
+      line);
+}
+
+uint32_t NodeProcess::device_us() {
+  return at_us_of(ask("leds?", "leds "));
 }
 
 int NodeProcess::stop(int sig, std::chrono::milliseconds timeout) {

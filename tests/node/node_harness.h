@@ -62,6 +62,9 @@ class NodeProcess {
   /// Waits for an event line starting with `prefix` and satisfying `match`.
   bool wait_event(const std::string& prefix, const std::function<bool(const std::string&)>& match,
                   std::chrono::milliseconds timeout, std::string* line = nullptr);
+  /// The program's own clock now (µs, 32 bits): mb2co-node's at_us, which is
+  /// its CLOCK_MONOTONIC (UnoProcess: the image's micros()).
+  uint32_t device_us();
   /// SIGTERM (or `sig`) and the exit status (see LineChild::wait_exit).
   int stop(int sig = 15, std::chrono::milliseconds timeout = 10s);
 

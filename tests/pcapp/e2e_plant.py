@@ -248,6 +248,20 @@ def scenario_link_loss(s):
     check(all(r["motor"] == "0" and r["valve"] == "0" for r in down), "plant not safe while the link was down")
 
 
+def scenario_stop_without_link(s):
+    """Stopped while the gateway is gone: RUN=0 cannot be written, exit 3, not 0."""
+    s.start_node()
+    plant = s.start_plant("--reconnect-max-ms", "400")
+    start_station(s, plant)
+    s.node.kill(signal.SIGKILL)
+    plant.expect(r" link lost: .* plant safe, reconnecting$", "link loss is reported")
+    plant.p.send_signal(signal.SIGINT)
+    rc = plant.wait_exit()
+    check(rc == 3, f"mb2co-plant exit code {rc} after SIGINT without the gateway, want 3")
+    check(any(re.search(r"SIGINT: RUN=0 not written \(no link\), port closed", l) for l in plant.rest()),
+          "no 'RUN=0 not written (no link)' line")
+
+
 def scenario_bad_port(s):
     """A bad --port: one line on stderr, nothing on stdout, exit code != 0."""
     p = subprocess.run([s.args.plant, "--port", os.path.join(s.dir, "no-such-tty")], capture_output=True,

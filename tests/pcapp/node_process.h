@@ -31,7 +31,8 @@ class NodeProcess {
       dup2(out[1], 1);
       close(in[1]);
       close(out[0]);
-      execl(MB2CO_NODE_BIN, MB2CO_NODE_BIN, "--can", "none", "--pty", tty_.c_str(), static_cast<char*>(nullptr));
+      execl(MB2CO_NODE_BIN, MB2CO_NODE_BIN, "--can", "none", "--pty", tty_.c_str(),
+            static_cast<char*>(nullptr));
       _exit(127);
     }
     close(in[0]);

@@ -46,8 +46,9 @@ TEST_F(LatencyTest, DelayFromTheFirmwareStampsPerPress) {
   ASSERT_EQ(lab.records().size(), 2u);
   EXPECT_EQ(lab.records()[1].delay_us, 0x5000u);
   EXPECT_TRUE(lab.done());
-  EXPECT_EQ(lab.csv(), "press,cycle,edge_us,led_us,delay_us\n1,3,1000000,1031000,31000\n"
-                       "2,7,4294963200,16384,20480\n");
+  EXPECT_EQ(lab.csv(),
+            "press,cycle,edge_us,led_us,delay_us\n1,3,1000000,1031000,31000\n"
+            "2,7,4294963200,16384,20480\n");
 }
 
 TEST_F(LatencyTest, PressGoneBeforeTheLedWasReadIsMissedNotMismeasured) {
@@ -98,9 +99,13 @@ TEST(LatencyStats, HistogramBinsAreOneTwoFiveSteps) {
   EXPECT_EQ(s.bin_width_us(12), 1000u);  // span 9001 us -> 10 bins of 1 ms
   EXPECT_EQ(s.bin_width_us(4), 5000u);
   const std::string r = s.report(12);
-  EXPECT_NE(r.find("presses 4  min 20.000 ms  mean 22.875 ms  p99 29.000 ms  max 29.000 ms"), std::string::npos);
-  EXPECT_NE(r.find("[  21.000,   22.000) ms      2  ########################################"), std::string::npos);
+  EXPECT_NE(r.find("presses 4  min 20.000 ms  mean 22.875 ms  p99 29.000 ms  max 29.000 ms"),
+            std::string::npos);
+  EXPECT_NE(r.find("[  21.000,   22.000) ms      2  ########################################"),
+            std::string::npos);
   EXPECT_NE(r.find("[  29.000,   30.000) ms      1  ####################\n"), std::string::npos);
 }
 
-TEST(LatencyStats, EmptyReport) { EXPECT_EQ(LatencyStats().report(), "no presses measured\n"); }
+TEST(LatencyStats, EmptyReport) {
+  EXPECT_EQ(LatencyStats().report(), "no presses measured\n");
+}

@@ -28,7 +28,8 @@ struct LinkTest : ::testing::Test {
     s.timeout_ms = 500;  // generous: a loaded test machine must not fail the link
     s.retries = 2;
     ASSERT_TRUE(link.open(s, error)) << error;
-    ASSERT_TRUE(plan_transactions(layout, {Field::run_state, Field::nmt_state}, {}, {Field::run_command}, plan, error));
+    ASSERT_TRUE(plan_transactions(layout, {Field::run_state, Field::nmt_state}, {}, {Field::run_command},
+                                  plan, error));
     in.resize(plan);
     out.resize(plan);
   }

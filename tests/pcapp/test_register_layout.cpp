@@ -28,9 +28,12 @@ std::map<std::string, DocRow> read_doc() {
   RegTable table = RegTable::none;
   const std::regex row(R"(^\| (\d+)(?:-(\d+))? \| ([0-9A-F]{4}h/[0-9A-F]{2}) \|)");
   for (std::string line; std::getline(in, line);) {
-    if (line.rfind("## Holding registers", 0) == 0) table = RegTable::holding;
-    else if (line.rfind("## Input registers", 0) == 0) table = RegTable::input;
-    else if (line.rfind("## ", 0) == 0) table = RegTable::none;
+    if (line.rfind("## Holding registers", 0) == 0)
+      table = RegTable::holding;
+    else if (line.rfind("## Input registers", 0) == 0)
+      table = RegTable::input;
+    else if (line.rfind("## ", 0) == 0)
+      table = RegTable::none;
     std::smatch m;
     if (table == RegTable::none || !std::regex_search(line, m, row)) continue;
     const uint16_t first = static_cast<uint16_t>(std::stoi(m[1]));
@@ -81,7 +84,8 @@ TEST(RegisterLayout, KnownAddressesOfTheDefaultMap) {
 
 TEST(RegisterLayout, FollowsAChangedMap) {
   mb2co::gateway::od::GatewayValues values{};
-  mb2co::canopen::ObjectDictionary od(mb2co::gateway::od::GatewayDefinition, reinterpret_cast<uint8_t*>(&values));
+  mb2co::canopen::ObjectDictionary od(mb2co::gateway::od::GatewayDefinition,
+                                      reinterpret_cast<uint8_t*>(&values));
   od.restore_defaults(0x0000, 0xFFFF);
   // Input map: an unmapped hole first, so everything moves up by one.
   const uint16_t row = od.find(0x2401, 1);

@@ -21,7 +21,7 @@ struct StationCycleTest : ::testing::Test {
     gw.set(Field::inputs, 0);
   }
   void start() {
-    cycle();  // baseline of START
+    cycle();                                          // baseline of START
     EXPECT_EQ(station.take_event(), "buttons none");  // the first read shows the panel
     click(gateway::kStart);
     ASSERT_EQ(station.controller().state(), State::moving);

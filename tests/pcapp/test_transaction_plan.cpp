@@ -8,27 +8,31 @@
 using namespace mb2co::pcapp;
 
 namespace {
-const std::vector<Field> kStationReads = {Field::inputs,     Field::run_state,  Field::stop2_count,
-                                          Field::stop_cause, Field::prev_run,   Field::prev_stop2,
+const std::vector<Field> kStationReads = {Field::inputs,      Field::run_state, Field::stop2_count,
+                                          Field::stop_cause,  Field::prev_run,  Field::prev_stop2,
                                           Field::prev_status, Field::next_run,  Field::next_status};
 
 /// The gateway OD with the holding map replaced by `entries` (PDO mapping format).
 RegisterLayout layout_with_holding_map(const std::vector<uint32_t>& entries) {
   static mb2co::gateway::od::GatewayValues values;
-  mb2co::canopen::ObjectDictionary od(mb2co::gateway::od::GatewayDefinition, reinterpret_cast<uint8_t*>(&values));
+  mb2co::canopen::ObjectDictionary od(mb2co::gateway::od::GatewayDefinition,
+                                      reinterpret_cast<uint8_t*>(&values));
   od.restore_defaults(0x0000, 0xFFFF);
   const uint16_t row0 = od.find(0x2400, 0);
   od.set(row0, static_cast<uint32_t>(entries.size()));
   for (size_t i = 0; i < entries.size(); ++i) od.set(static_cast<uint16_t>(row0 + 1 + i), entries[i]);
   return layout_from_od(od);
 }
-uint32_t map(uint16_t index, uint8_t sub, uint8_t bits) { return uint32_t{index} << 16 | uint32_t{sub} << 8 | bits; }
+uint32_t map(uint16_t index, uint8_t sub, uint8_t bits) {
+  return uint32_t{index} << 16 | uint32_t{sub} << 8 | bits;
+}
 }  // namespace
 
 TEST(TransactionPlan, DefaultMapStationIsOneInputReadAndOneWrite) {
   TransactionPlan p;
   std::string error;
-  ASSERT_TRUE(plan_transactions(default_layout(), kStationReads, {Field::nmt_state}, {Field::run_command}, p, error));
+  ASSERT_TRUE(
+      plan_transactions(default_layout(), kStationReads, {Field::nmt_state}, {Field::run_command}, p, error));
   EXPECT_FALSE(p.read_write);  // the inputs are input registers: FC 17h cannot read them
   EXPECT_EQ(describe(p), "FC 04 IR 0-22 + FC 06 HR 0");
   EXPECT_EQ(transaction_count(p), 2u);
@@ -37,30 +41,31 @@ TEST(TransactionPlan, DefaultMapStationIsOneInputReadAndOneWrite) {
 TEST(TransactionPlan, LatencyReadsOnlyUpToTheLedStamp) {
   TransactionPlan p;
   std::string error;
-  ASSERT_TRUE(plan_transactions(default_layout(), {Field::inputs, Field::edge_us, Field::led_us, Field::leds}, {},
-                                {Field::lab_led}, p, error));
+  ASSERT_TRUE(plan_transactions(default_layout(), {Field::inputs, Field::edge_us, Field::led_us, Field::leds},
+                                {}, {Field::lab_led}, p, error));
   EXPECT_EQ(describe(p), "FC 04 IR 0-15 + FC 06 HR 1");
 }
 
 TEST(TransactionPlan, WireTimeIsTheSumOfTheFramesAndSilences) {
   TransactionPlan p;
   std::string error;
-  ASSERT_TRUE(plan_transactions(default_layout(), kStationReads, {Field::nmt_state}, {Field::run_command}, p, error));
+  ASSERT_TRUE(
+      plan_transactions(default_layout(), kStationReads, {Field::nmt_state}, {Field::run_command}, p, error));
   mb2co::timing::SerialFormat f;
   f.parity = mb2co::timing::Parity::kNone;  // 8N1: 10 bits a character
   // FC 04 of 23 registers: 8 + 51 bytes; FC 06: 8 + 8 bytes; 75 characters.
   const uint64_t ns_per_bit_x = 1000000000ull;  // frames are floored one by one
-  EXPECT_EQ(plan_frame_time_ns(p, f), 80 * ns_per_bit_x / 115200 + 510 * ns_per_bit_x / 115200 +
-                                          2 * (80 * ns_per_bit_x / 115200));
+  EXPECT_EQ(plan_frame_time_ns(p, f),
+            80 * ns_per_bit_x / 115200 + 510 * ns_per_bit_x / 115200 + 2 * (80 * ns_per_bit_x / 115200));
   EXPECT_EQ(plan_frame_time_ns(p, f), 6510415u);
   EXPECT_EQ(plan_wire_time_ns(p, f), plan_frame_time_ns(p, f) + 2u * 1750000u);
 }
 
 TEST(TransactionPlan, ReadWriteWhenTheHoldingMapHoldsEverything) {
   // A map that puts RUN command and the station's inputs in holding registers.
-  std::vector<uint32_t> entries = {map(0x2100, 1, 8), map(0x6000, 1, 8), map(0x2100, 2, 8), map(0x2100, 3, 16),
-                                   map(0x2100, 4, 8), map(0x2110, 1, 8), map(0x2110, 2, 16), map(0x2110, 3, 8),
-                                   map(0x2120, 1, 8), map(0x2120, 3, 8)};
+  std::vector<uint32_t> entries = {
+      map(0x2100, 1, 8), map(0x6000, 1, 8),  map(0x2100, 2, 8), map(0x2100, 3, 16), map(0x2100, 4, 8),
+      map(0x2110, 1, 8), map(0x2110, 2, 16), map(0x2110, 3, 8), map(0x2120, 1, 8),  map(0x2120, 3, 8)};
   const RegisterLayout l = layout_with_holding_map(entries);
   TransactionPlan p;
   std::string error;

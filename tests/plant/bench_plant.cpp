@@ -1,7 +1,6 @@
 // One control cycle of a station: plant step + controller step, in steady
 // running (moving, approaching, filling in their natural proportions).
 #include <benchmark/benchmark.h>
-
 #include <string.h>
 
 #include "plant/config_parser.h"

@@ -1,12 +1,11 @@
 // Config file parsing: the documented example, every kind of bad input with
 // its line and column, and the cross-checks that keep the station safe.
 #include <gtest/gtest.h>
+#include <string.h>
 
 #include <fstream>
 #include <sstream>
 #include <string>
-
-#include <string.h>
 
 #include "plant/config_parser.h"
 #include "plant/plant_config.h"
@@ -75,9 +74,8 @@ TEST(PlantConfig, DocTableStatesEveryKeyWithDefaultAndRange) {
   const PlantConfig defaults;
   for (size_t i = 0; i < kConfigKeyCount; ++i) {
     const ConfigKey& k = config_key(i);
-    const std::string row = "| `" + std::string(k.name) + "` | " +
-                            std::to_string(defaults.*k.field) + " | " + std::to_string(k.min) +
-                            ".." + std::to_string(k.max) + " |";
+    const std::string row = "| `" + std::string(k.name) + "` | " + std::to_string(defaults.*k.field) + " | " +
+                            std::to_string(k.min) + ".." + std::to_string(k.max) + " |";
     EXPECT_NE(doc.find(row), std::string::npos) << "docs/plant.md lacks the row " << row;
   }
 }
@@ -93,7 +91,8 @@ TEST(PlantConfigParser, EmptyTextGivesDefaults) {
 TEST(PlantConfigParser, CommentsBlanksTabsCrlfAndMissingFinalNewline) {
   PlantConfig out;
   ConfigError error{};
-  ASSERT_TRUE(parse("# header\r\n\r\n\t  \n  step_ms\t=\t5   # half the step\r\nfill_level_ml=480", out, error))
+  ASSERT_TRUE(
+      parse("# header\r\n\r\n\t  \n  step_ms\t=\t5   # half the step\r\nfill_level_ml=480", out, error))
       << error.message;
   EXPECT_EQ(out.step_ms, 5u);
   EXPECT_EQ(out.fill_level_ml, 480u);
@@ -209,15 +208,15 @@ TEST(PlantConfigChecks, EachRuleRejectsItsCase) {
     const char* text;
     const char* message_start;
   } cases[] = {
-      {"overfill_ml = 500\n", "need fill_level_ml < overfill_ml"},             // not above the fill level
-      {"bottle_capacity_ml = 505\n", "need fill_level_ml < overfill_ml"},      // overfill above capacity
-      {"fill_flow_ml_s = 1001\n", "one step of flow"},                         // 10.01 mL > 10 mL margin
-      {"conveyor_speed_mm_s = 1001\n", "the conveyor moves 10010 um per step"}, // > half the window
-      {"bottle_spacing_mm = 20\n", "bottle_spacing_mm must exceed"},           // two bottles in one window
-      {"valve_position_mm = 20\n", "valve_position_mm must exceed"},           // sensor window at the infeed
-      {"valve_position_mm = 980\n", "valve_position_mm + sensor_window_mm"},   // window reaches the hand-off
-      {"bottle_spacing_mm = 60\n", "more than 16 bottles"},                    // 17 bottles on a 1 m belt
-      {"fill_timeout_ms = 5000\n", "fill_timeout_ms must be longer"},          // not longer than 500 steps
+      {"overfill_ml = 500\n", "need fill_level_ml < overfill_ml"},               // not above the fill level
+      {"bottle_capacity_ml = 505\n", "need fill_level_ml < overfill_ml"},        // overfill above capacity
+      {"fill_flow_ml_s = 1001\n", "one step of flow"},                           // 10.01 mL > 10 mL margin
+      {"conveyor_speed_mm_s = 1001\n", "the conveyor moves 10010 um per step"},  // > half the window
+      {"bottle_spacing_mm = 20\n", "bottle_spacing_mm must exceed"},             // two bottles in one window
+      {"valve_position_mm = 20\n", "valve_position_mm must exceed"},          // sensor window at the infeed
+      {"valve_position_mm = 980\n", "valve_position_mm + sensor_window_mm"},  // window reaches the hand-off
+      {"bottle_spacing_mm = 60\n", "more than 16 bottles"},                   // 17 bottles on a 1 m belt
+      {"fill_timeout_ms = 5000\n", "fill_timeout_ms must be longer"},         // not longer than 500 steps
   };
   for (const auto& c : cases) {
     PlantConfig out;
@@ -228,7 +227,9 @@ TEST(PlantConfigChecks, EachRuleRejectsItsCase) {
   }
 }
 
-uint16_t bit(const char* key) { return static_cast<uint16_t>(1u << find_config_key(key, strlen(key))); }
+uint16_t bit(const char* key) {
+  return static_cast<uint16_t>(1u << find_config_key(key, strlen(key)));
+}
 
 TEST(PlantConfigChecks, FlowMarginBoundaryIsExact) {
   PlantConfig c;

@@ -288,11 +288,20 @@ TEST_P(ControllerStopTest, SafeInTheCycleTheStopIsSeenAndResumesExactly) {
   const StopCase p = GetParam();
   to_state(p.state);
   switch (p.cause) {
-    case StopCause::stop_button: in.stop_pressed = true; break;
-    case StopCause::local_stop2: in.stop2_pressed = true; ++in.local_stop2_events; break;
-    case StopCause::prev_stop2: in.prev_stop2_events = static_cast<uint16_t>(in.prev_stop2_events + 1u); break;
-    case StopCause::link_lost: break;
-    case StopCause::fault: FAIL();
+    case StopCause::stop_button:
+      in.stop_pressed = true;
+      break;
+    case StopCause::local_stop2:
+      in.stop2_pressed = true;
+      ++in.local_stop2_events;
+      break;
+    case StopCause::prev_stop2:
+      in.prev_stop2_events = static_cast<uint16_t>(in.prev_stop2_events + 1u);
+      break;
+    case StopCause::link_lost:
+      break;
+    case StopCause::fault:
+      FAIL();
   }
   const ControllerOutputs& out = p.cause == StopCause::link_lost ? ctl.force_safe() : cycle();
   EXPECT_TRUE(safe(out));
@@ -310,18 +319,13 @@ TEST_P(ControllerStopTest, SafeInTheCycleTheStopIsSeenAndResumesExactly) {
 
 INSTANTIATE_TEST_SUITE_P(
     EveryRunningState, ControllerStopTest,
-    ::testing::Values(StopCase{State::moving, StopCause::stop_button},
-                      StopCase{State::moving, StopCause::local_stop2},
-                      StopCase{State::moving, StopCause::prev_stop2},
-                      StopCase{State::moving, StopCause::link_lost},
-                      StopCase{State::approach, StopCause::stop_button},
-                      StopCase{State::approach, StopCause::local_stop2},
-                      StopCase{State::approach, StopCause::prev_stop2},
-                      StopCase{State::approach, StopCause::link_lost},
-                      StopCase{State::filling, StopCause::stop_button},
-                      StopCase{State::filling, StopCause::local_stop2},
-                      StopCase{State::filling, StopCause::prev_stop2},
-                      StopCase{State::filling, StopCause::link_lost}),
+    ::testing::Values(
+        StopCase{State::moving, StopCause::stop_button}, StopCase{State::moving, StopCause::local_stop2},
+        StopCase{State::moving, StopCause::prev_stop2}, StopCase{State::moving, StopCause::link_lost},
+        StopCase{State::approach, StopCause::stop_button}, StopCase{State::approach, StopCause::local_stop2},
+        StopCase{State::approach, StopCause::prev_stop2}, StopCase{State::approach, StopCause::link_lost},
+        StopCase{State::filling, StopCause::stop_button}, StopCase{State::filling, StopCause::local_stop2},
+        StopCase{State::filling, StopCause::prev_stop2}, StopCase{State::filling, StopCause::link_lost}),
     stop_case_name);
 
 TEST_F(ControllerTest, ABottleReachingTheSensorInTheStopCycleIsNotLost) {
@@ -370,7 +374,7 @@ TEST_F(ControllerTest, ResumedFillingKeepsTheTimeUsed) {
   cycle();
   in.stop_pressed = false;
   for (int i = 0; i < 100; ++i) cycle();  // stopped time does not count
-  start();  // 32 open cycles
+  start();                                // 32 open cycles
   for (int i = 0; i < 18; ++i) ASSERT_EQ(cycle().plant.valve_open, true);
   cycle();
   EXPECT_EQ(ctl.fault(), Fault::fill_timeout);
@@ -482,8 +486,8 @@ TEST_F(ControllerTest, ForceSafeKeepsAFault) {
 }
 
 TEST_F(ControllerTest, NeighbourUnknownLamp) {
-  for (NeighbourState prev : {NeighbourState::absent, NeighbourState::unknown, NeighbourState::stopped,
-                              NeighbourState::running}) {
+  for (NeighbourState prev :
+       {NeighbourState::absent, NeighbourState::unknown, NeighbourState::stopped, NeighbourState::running}) {
     for (NeighbourState next : {NeighbourState::absent, NeighbourState::unknown, NeighbourState::stopped,
                                 NeighbourState::running}) {
       in.prev_run = prev;

@@ -55,7 +55,8 @@ TEST(Plant, SpacingStaysExactWhenStepsDoNotDivideIt) {
   Plant p{c};
   run(p, kMove, 2000);  // 1400 mm of belt
   for (uint8_t i = 1; i < p.bottle_count(); ++i) {
-    EXPECT_EQ(p.bottle(static_cast<uint8_t>(i - 1u)).position_um - p.bottle(i).position_um, 200000u) << int(i);
+    EXPECT_EQ(p.bottle(static_cast<uint8_t>(i - 1u)).position_um - p.bottle(i).position_um, 200000u)
+        << int(i);
   }
 }
 
@@ -137,11 +138,11 @@ TEST(Plant, MovingBottlePassingAnOpenValveCatchesSomeLiquid) {
 
 TEST(Plant, HandOffClassifiesEveryBottle) {
   Plant p{PlantConfig()};
-  run(p, kMove, 500);   // bottle 0 at the valve
-  run(p, kPour, 505);   // filled (505 mL)
-  run(p, kMove, 200);   // bottle 1 at the valve
-  run(p, kPour, 520);   // overfilled
-  run(p, kMove, 200);   // bottle 2 at the valve: left empty
+  run(p, kMove, 500);  // bottle 0 at the valve
+  run(p, kPour, 505);  // filled (505 mL)
+  run(p, kMove, 200);  // bottle 1 at the valve
+  run(p, kPour, 520);  // overfilled
+  run(p, kMove, 200);  // bottle 2 at the valve: left empty
   EXPECT_EQ(p.counters().handed_off, 0u);
   run(p, kMove, 99);
   EXPECT_EQ(p.counters().handed_off, 0u);  // bottle 0 at 999 mm

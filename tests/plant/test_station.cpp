@@ -161,11 +161,10 @@ TEST(Station, NoOverfillNorSpillInNormalRunningForAnyAcceptedConfig) {
     }
     const PlantCounters& p = s.plant.counters();
     const ControllerCounters& k = s.controller.counters();
-    SCOPED_TRACE(::testing::Message() << "config #" << accepted << ": step " << c.step_ms << " ms, speed "
-                                      << c.conveyor_speed_mm_s << ", window " << c.sensor_window_mm
-                                      << ", sensor->valve " << c.sensor_to_valve_mm << ", fill "
-                                      << c.fill_level_ml << "/" << c.overfill_ml << " mL, flow "
-                                      << c.fill_flow_ml_s);
+    SCOPED_TRACE(::testing::Message()
+                 << "config #" << accepted << ": step " << c.step_ms << " ms, speed " << c.conveyor_speed_mm_s
+                 << ", window " << c.sensor_window_mm << ", sensor->valve " << c.sensor_to_valve_mm
+                 << ", fill " << c.fill_level_ml << "/" << c.overfill_ml << " mL, flow " << c.fill_flow_ml_s);
     EXPECT_EQ(p.overfilled, 0u);
     EXPECT_EQ(p.spilled_ul, 0u);
     EXPECT_EQ(p.handed_off_underfilled, 0u);
@@ -173,7 +172,9 @@ TEST(Station, NoOverfillNorSpillInNormalRunningForAnyAcceptedConfig) {
     EXPECT_EQ(k.overfills, 0u);
     EXPECT_EQ(k.stops[static_cast<uint8_t>(StopCause::fault)], 0u);
     EXPECT_GT(k.starts, 1u);
-    EXPECT_GT(k.stops[static_cast<uint8_t>(StopCause::stop_button)] + k.stops[static_cast<uint8_t>(StopCause::link_lost)], 0u);
+    EXPECT_GT(k.stops[static_cast<uint8_t>(StopCause::stop_button)] +
+                  k.stops[static_cast<uint8_t>(StopCause::link_lost)],
+              0u);
     EXPECT_GT(k.bottles_filled, 0u);
   }
   EXPECT_EQ(accepted, 150);

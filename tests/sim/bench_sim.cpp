@@ -27,7 +27,8 @@ void BM_Line4At500kPc20ms(benchmark::State& state) {
   line.power_on_all();
   for (int i = 0; i < c.stations; ++i) {
     line.pc(i).start();
-    line.at(kNsPerS + static_cast<SimNs>(i) * 7 * kNsPerMs, [&line, i] { line.set_button(i, gateway::kStart, true); });
+    line.at(kNsPerS + static_cast<SimNs>(i) * 7 * kNsPerMs,
+            [&line, i] { line.set_button(i, gateway::kStart, true); });
     line.at(kNsPerS + static_cast<SimNs>(i) * 7 * kNsPerMs + 100 * kNsPerMs,
             [&line, i] { line.set_button(i, gateway::kStart, false); });
   }

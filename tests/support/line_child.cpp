@@ -115,12 +115,16 @@ bool LineChild::send_line(const std::string& line) {
   return true;
 }
 
-void LineChild::close_stdin() { close_fd(stdin_fd_); }
+void LineChild::close_stdin() {
+  close_fd(stdin_fd_);
+}
 
-bool LineChild::signal(int sig) { return pid_ > 0 && status_ < 0 && kill(pid_, sig) == 0; }
+bool LineChild::signal(int sig) {
+  return pid_ > 0 && status_ < 0 && kill(pid_, sig) == 0;
+}
 
-bool LineChild::wait_line(const std::function<bool(const std::string&)>& match, std::chrono::milliseconds timeout,
-                          std::string* line) {
+bool LineChild::wait_line(const std::function<bool(const std::string&)>& match,
+                          std::chrono::milliseconds timeout, std::string* line) {
   std::unique_lock<std::mutex> lock(mutex_);
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   for (;;) {
@@ -138,7 +142,8 @@ bool LineChild::wait_line(const std::function<bool(const std::string&)>& match, 
 }
 
 bool LineChild::wait_prefix(const std::string& prefix, std::chrono::milliseconds timeout, std::string* line) {
-  return wait_line([&](const std::string& l) { return l.compare(0, prefix.size(), prefix) == 0; }, timeout, line);
+  return wait_line([&](const std::string& l) { return l.compare(0, prefix.size(), prefix) == 0; }, timeout,
+                   line);
 }
 
 int LineChild::wait_exit(std::chrono::milliseconds timeout) {

@@ -67,7 +67,8 @@ Bytes read_response(int fd, size_t request_pdu_length, std::chrono::milliseconds
   }
   if (!ok || !take(2)) return {};
   const uint16_t crc = crc16_bitwise(rsp.data(), rsp.size() - 2);
-  if (rsp[rsp.size() - 2] != static_cast<uint8_t>(crc) || rsp[rsp.size() - 1] != static_cast<uint8_t>(crc >> 8)) {
+  if (rsp[rsp.size() - 2] != static_cast<uint8_t>(crc) ||
+      rsp[rsp.size() - 1] != static_cast<uint8_t>(crc >> 8)) {
     return {};
   }
   rsp.resize(rsp.size() - 2);

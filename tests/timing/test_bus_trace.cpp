@@ -21,8 +21,8 @@ Trace trace(const std::vector<RtaMessage>& set, size_t i, uint64_t tau, size_t c
   Trace t;
   t.segments.resize(capacity);
   std::vector<uint64_t> sent(i + 1);
-  t.segments.resize(trace_busy_period(set.data(), set.size(), i, tau, sent.data(),
-                                      t.segments.data(), capacity, &t.truncated));
+  t.segments.resize(trace_busy_period(set.data(), set.size(), i, tau, sent.data(), t.segments.data(),
+                                      capacity, &t.truncated));
   return t;
 }
 
@@ -38,8 +38,7 @@ uint64_t worst_traced_response(const Trace& t, const RtaMessage& m, size_t i) {
 }
 
 TEST(BusTrace, SeedFigureOfSection2_13) {
-  const std::vector<RtaMessage> set = {{1000, 2500, 2500, 0}, {1000, 3500, 3250, 0},
-                                       {1000, 3500, 3250, 0}};
+  const std::vector<RtaMessage> set = {{1000, 2500, 2500, 0}, {1000, 3500, 3250, 0}, {1000, 3500, 3250, 0}};
   const Trace t = trace(set, 2, 1);
   ASSERT_FALSE(t.truncated);
   // PDO1 PDO2 PDO3 | PDO1 (2.5) PDO2 (3.5) PDO1 (5.0) PDO3 (3.5) -> ends at 7.
@@ -54,8 +53,7 @@ TEST(BusTrace, SeedFigureOfSection2_13) {
 }
 
 TEST(BusTrace, BlockerComesFirst) {
-  const std::vector<RtaMessage> set = {{100, 1000, 1000, 0}, {300, 5000, 5000, 0},
-                                       {200, 5000, 5000, 0}};
+  const std::vector<RtaMessage> set = {{100, 1000, 1000, 0}, {300, 5000, 5000, 0}, {200, 5000, 5000, 0}};
   const Trace t = trace(set, 0, 1);
   ASSERT_EQ(t.segments.size(), 2u);
   EXPECT_EQ(t.segments[0].message, 1u);  // the longest lower-priority frame
@@ -63,8 +61,7 @@ TEST(BusTrace, BlockerComesFirst) {
 }
 
 TEST(BusTrace, TruncatesAtCapacity) {
-  const std::vector<RtaMessage> set = {{1000, 2500, 2500, 0}, {1000, 3500, 3250, 0},
-                                       {1000, 3500, 3250, 0}};
+  const std::vector<RtaMessage> set = {{1000, 2500, 2500, 0}, {1000, 3500, 3250, 0}, {1000, 3500, 3250, 0}};
   const Trace t = trace(set, 2, 1, 3);
   EXPECT_TRUE(t.truncated);
   EXPECT_EQ(t.segments.size(), 3u);

@@ -119,7 +119,8 @@ TEST(CanBits, ExactStuffingMatchesIndependentModel) {
     f.id = static_cast<uint32_t>(rng()) & (ext ? 0x1FFFFFFFu : 0x7FFu);
     f.dlc = static_cast<uint8_t>(rng() % 9);
     // Sparse bytes give long runs, dense ones few: mix both.
-    for (auto& b : f.data) b = (n % 3 == 0) ? static_cast<uint8_t>(rng()) : static_cast<uint8_t>(rng() % 2 ? 0 : 0xFF);
+    for (auto& b : f.data)
+      b = (n % 3 == 0) ? static_cast<uint8_t>(rng()) : static_cast<uint8_t>(rng() % 2 ? 0 : 0xFF);
     ASSERT_EQ(frame_bits_exact(f).total_bits, model_total_bits(f)) << n;
   }
 }

@@ -211,8 +211,7 @@ TEST_F(Cli, BadCommandLines) {
                         "option --bitrate must be a whole number 1..1000000, got \"fast\"");
   expect_one_line_error(run("rta " + set + " --bitrate 1M --frame-bits exact"),
                         "option --frame-bits must be course or davis, got \"exact\"");
-  expect_one_line_error(run("rta " + set + " --bitrate 1M --json --csv"),
-                        "choose one of --json and --csv");
+  expect_one_line_error(run("rta " + set + " --bitrate 1M --json --csv"), "choose one of --json and --csv");
   expect_one_line_error(run("rta " + set + " --bitrate 1M --window-us 5"),
                         "unknown option --window-us for rta (see --help)");
   expect_one_line_error(run("rta " + set + " --bitrate 1M --svg x.svg"),
@@ -224,10 +223,8 @@ TEST_F(Cli, BadCommandLines) {
   expect_one_line_error(run("rta --line 3 --tpdo-inhibit-100us 0"),
                         "event-driven TPDO1 needs --tpdo-inhibit-100us > 0 (its minimum "
                         "inter-arrival time)");
-  expect_one_line_error(run("bogus"),
-                        "unknown command \"bogus\" (expected frame, load, rta or latency)");
-  expect_one_line_error(run("frame --data 123"),
-                        "option --data/--rtr needs --id");
+  expect_one_line_error(run("bogus"), "unknown command \"bogus\" (expected frame, load, rta or latency)");
+  expect_one_line_error(run("frame --data 123"), "option --data/--rtr needs --id");
   expect_one_line_error(run("latency --button-node 1"),
                         "--button-node and --pc-node must be different nodes within 1..--line");
   EXPECT_EQ(run("--help").status, 0);

@@ -35,7 +35,7 @@ TEST(Csv, ReadsColumnsInAnyOrderWithDefaults) {
   EXPECT_EQ(set[0].id, 0x181u);
   EXPECT_EQ(set[0].deadline_us, 10000u);  // defaults to the period
   EXPECT_EQ(set[0].jitter_us, 0u);
-  EXPECT_EQ(set[0].c_us, 0u);
+  EXPECT_EQ(set[0].c_ns, 0u);
   EXPECT_TRUE(set[1].extended);
   EXPECT_EQ(set[1].id, 0x1ABCDEFu);
 }
@@ -43,15 +43,15 @@ TEST(Csv, ReadsColumnsInAnyOrderWithDefaults) {
 TEST(Csv, OptionalColumnsMayBeEmpty) {
   std::vector<MessageSpec> set;
   std::string error;
-  ASSERT_TRUE(parse_message_csv(
-      "name,id,ext,dlc,period_us,deadline_us,jitter_us,c_us,bits\n"
-      "A,1,0,0,100,,,,\nB,2,0,0,100,90,5,7,\nC,3,0,0,100,,,,60\n",
-      "set.csv", set, error))
+  ASSERT_TRUE(
+      parse_message_csv("name,id,ext,dlc,period_us,deadline_us,jitter_us,c_us,bits\n"
+                        "A,1,0,0,100,,,,\nB,2,0,0,100,90,5,7,\nC,3,0,0,100,,,,60\n",
+                        "set.csv", set, error))
       << error;
   EXPECT_EQ(set[0].deadline_us, 100u);
   EXPECT_EQ(set[1].deadline_us, 90u);
   EXPECT_EQ(set[1].jitter_us, 5u);
-  EXPECT_EQ(set[1].c_us, 7u);
+  EXPECT_EQ(set[1].c_ns, 7000u);
   EXPECT_EQ(set[2].bits, 60u);
 }
 
@@ -96,6 +96,56 @@ TEST(Csv, MissingFileIsOneLine) {
   std::string error;
   EXPECT_FALSE(read_message_csv("/nonexistent/set.csv", set, error));
   EXPECT_EQ(error, "/nonexistent/set.csv: cannot open: No such file or directory");
+  EXPECT_FALSE(read_message_csv("/tmp", set, error));
+  EXPECT_EQ(error, "/tmp: is a directory, not a CSV file");
+}
+
+// Times as exact decimals: "1040.0" is 1040 µs; c_us keeps up to three
+// decimals (ns); a fraction the column cannot hold is refused, not rounded.
+TEST(Csv, TimesAreExactDecimals) {
+  std::vector<MessageSpec> set;
+  std::string error;
+  ASSERT_TRUE(
+      parse_message_csv("name,id,ext,dlc,period_us,deadline_us,jitter_us,c_us\n"
+                        "A,1,0,8,10000.0,9000.000,5.0,1040.0\nB,2,0,8,10000,10000,0,1040.125\n",
+                        "set.csv", set, error))
+      << error;
+  EXPECT_EQ(set[0].period_us, 10000u);
+  EXPECT_EQ(set[0].deadline_us, 9000u);
+  EXPECT_EQ(set[0].jitter_us, 5u);
+  EXPECT_EQ(set[0].c_ns, 1040000u);
+  EXPECT_EQ(set[1].c_ns, 1040125u);
+  const std::string header = "name,id,ext,dlc,period_us,c_us\n";
+  EXPECT_EQ(parse_error(header + "A,1,0,8,100.5,7\n"),
+            "set.csv:2:9: period_us must be a whole number of µs 1..4294967295, got \"100.5\"");
+  EXPECT_EQ(parse_error(header + "A,1,0,8,100,7.0005\n"),
+            "set.csv:2:13: c_us must be µs 0.001..4294967295 with at most 3 decimals, got \"7.0005\"");
+  EXPECT_EQ(parse_error(header + "A,1,0,8,100,7.\n"),
+            "set.csv:2:13: c_us must be µs 0.001..4294967295 with at most 3 decimals, got \"7.\"");
+}
+
+// The file is UTF-8 text: a byte order mark is skipped, a NUL or a byte that
+// is not UTF-8 is an error at its column (names reach JSON output intact).
+TEST(Csv, TextIsUtf8WithoutNul) {
+  std::vector<MessageSpec> set;
+  std::string error;
+  ASSERT_TRUE(parse_message_csv("\xEF\xBB\xBFname,id,ext,dlc,period_us\nPDO \xC2\xB5s,1,0,8,100\n", "set.csv",
+                                set, error))
+      << error;
+  EXPECT_STREQ(set[0].name, "PDO \xC2\xB5s");
+  const std::string header = "name,id,ext,dlc,period_us\n";
+  EXPECT_EQ(parse_error(header + "A\xFF"
+                                 "B,1,0,8,100\n"),
+            "set.csv:2:2: not valid UTF-8 (save the file as UTF-8)");
+  EXPECT_EQ(parse_error(header + "A\xC0\x80,1,0,8,100\n"),
+            "set.csv:2:2: not valid UTF-8 (save the file as UTF-8)")
+      << "an overlong NUL";
+  EXPECT_EQ(parse_error(header + std::string("A\0B,1,0,8,100\n", 15)),
+            "set.csv:2:2: NUL byte (the file must be text)");
+  EXPECT_EQ(parse_error("\xEF\xBB\xBFname,id,ext,dlc,period\n"),
+            "set.csv:1:17: unknown column \"period\" (expected name,id,ext,dlc,period_us and optionally "
+            "deadline_us,jitter_us,c_us,bits)")
+      << "columns as an editor shows them: the BOM is not one";
 }
 
 }  // namespace

@@ -24,7 +24,7 @@ TEST(LineConfig, DefaultsGiveTpdo1AndHeartbeatPerStation) {
   ASSERT_EQ(set.size(), 6u);  // 3 stations x (TPDO1 + heartbeat)
   EXPECT_STREQ(set[0].name, "TPDO1.1");
   EXPECT_EQ(set[0].id, 0x181u);
-  EXPECT_EQ(set[0].dlc, 3);  // the gateway's TPDO1: RUN state + STOP2 counter
+  EXPECT_EQ(set[0].dlc, 3);             // the gateway's TPDO1: RUN state + STOP2 counter
   EXPECT_EQ(set[0].period_us, 10000u);  // inhibit 100 x 100 µs = T
   EXPECT_EQ(set[0].deadline_us, 10000u);
   EXPECT_STREQ(set[5].name, "HB.3");

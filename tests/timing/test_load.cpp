@@ -21,8 +21,7 @@ MessageSpec message(uint32_t id, uint8_t dlc, uint32_t period_us, uint16_t bits 
 }
 
 bool exactly(const Utilisation& u, uint64_t whole) {
-  return u.lower().whole == whole && u.lower().frac == 0 && u.upper().whole == whole &&
-         u.upper().frac == 0;
+  return u.lower().whole == whole && u.lower().frac == 0 && u.upper().whole == whole && u.upper().frac == 0;
 }
 
 TEST(Load, FiveNodeSyncExampleIs1347Bits) {
@@ -43,8 +42,8 @@ TEST(Load, FiveNodeSyncExampleIs1347Bits) {
 }
 
 std::vector<MessageSpec> four_pdo_set() {
-  return {message(0x181, 8, 10000, 130), message(0x182, 8, 5000, 50),
-          message(0x183, 8, 5000, 50), message(0x184, 8, 2500, 80)};
+  return {message(0x181, 8, 10000, 130), message(0x182, 8, 5000, 50), message(0x183, 8, 5000, 50),
+          message(0x184, 8, 2500, 80)};
 }
 
 TEST(Load, FourPdoSetIs65kbit) {
@@ -65,10 +64,10 @@ TEST(Load, WithSyncEvery2point5msIs85kbit) {
 
 TEST(Load, TransmissionTimeOverride) {
   MessageSpec m = message(0x181, 8, 3500);
-  m.c_us = 1000;
+  m.c_ns = 1000000;
   EXPECT_EQ(transmission_ticks(m, 1000000, WorstCase::kDavis), 1000u * 1000000u);
   EXPECT_EQ(message_bits(m, 125000, WorstCase::kDavis), 125u);
-  m.c_us = 0;
+  m.c_ns = 0;
   EXPECT_EQ(message_bits(m, 125000, WorstCase::kDavis), 135u);
   EXPECT_EQ(message_bits(m, 125000, WorstCase::kCourse), 130u);
 }

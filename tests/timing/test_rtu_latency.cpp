@@ -76,7 +76,9 @@ LatencyParams hand_example() {
   return p;  // read FC 02 (8 + 6 bytes), write FC 05 (8 + 8 bytes)
 }
 
-uint64_t ms(double v) { return static_cast<uint64_t>(v * 1e6 + 0.5); }
+uint64_t ms(double v) {
+  return static_cast<uint64_t>(v * 1e6 + 0.5);
+}
 
 const LatencyTerm& term(const LatencyBound& b, const char* name) {
   for (size_t i = 0; i < b.count; ++i) {
@@ -146,17 +148,17 @@ TEST(Latency, CanHopsFromTheDefaultLine) {
   std::vector<RtaResult> results(n);
   LatencyParams p;
   LineStatus line = LineStatus::kOk;
-  ASSERT_EQ(fill_can_hops(cfg, WorstCase::kDavis, 2, 1, {specs.data(), rta.data(), results.data(), n},
-                          &p, &line),
-            HopStatus::kOk);
+  ASSERT_EQ(
+      fill_can_hops(cfg, WorstCase::kDavis, 2, 1, {specs.data(), rta.data(), results.data(), n}, &p, &line),
+      HopStatus::kOk);
   // A 3-byte frame: 85 bits worst (Davis) = 680 µs, 68 bits bare = 544 µs.
   EXPECT_EQ(p.can_up_best_ns, 544000u);
   EXPECT_EQ(p.can_down_best_ns, 544000u);
   EXPECT_EQ(p.can_down_worst_ns, 1360000u);  // TPDO1.1: blocked 680 + own 680
   EXPECT_EQ(p.can_up_worst_ns, 2040000u);    // TPDO1.2: + TPDO1.1 680
-  EXPECT_EQ(fill_can_hops(cfg, WorstCase::kDavis, 2, 2, {specs.data(), rta.data(), results.data(), n},
-                          &p, &line),
-            HopStatus::kNode);
+  EXPECT_EQ(
+      fill_can_hops(cfg, WorstCase::kDavis, 2, 2, {specs.data(), rta.data(), results.data(), n}, &p, &line),
+      HopStatus::kNode);
 }
 
 }  // namespace

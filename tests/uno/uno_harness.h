@@ -27,6 +27,9 @@ class UnoProcess : public NodeProcess {
   /// (node id from the boot-up frame); false with the reason in error() when
   /// it does not come within `timeout`.
   bool start(const std::vector<std::string>& args, std::chrono::milliseconds timeout = 20s);
+  /// The image's micros() now (`stack?`'s sim_us): at_us follows the wall
+  /// clock and runs ahead of the image when the host is slow.
+  uint32_t device_us();
   /// Waits for a "leds" line whose `field` has `value`.
   bool wait_led(const std::string& field, const std::string& value, std::chrono::milliseconds timeout,
                 std::string* line = nullptr);

@@ -32,7 +32,8 @@ std::string to_text(const CanFrame& frame) {
   char out[40];
   int n = snprintf(out, sizeof out, frame.extended() ? "%08X#" : "%03X#", static_cast<unsigned>(frame.id));
   if (frame.rtr()) {
-    snprintf(out + n, sizeof out - static_cast<size_t>(n), frame.dlc ? "R%u" : "R", static_cast<unsigned>(frame.dlc));
+    snprintf(out + n, sizeof out - static_cast<size_t>(n), frame.dlc ? "R%u" : "R",
+             static_cast<unsigned>(frame.dlc));
     return out;
   }
   for (unsigned i = 0; i < frame.dlc && i < 8; ++i) {

@@ -5,6 +5,7 @@
 # creates <sketchbook>/libraries/mb2co/ with library.properties and src/ made
 # of symlinks into this checkout (edits here show up in the IDE at once):
 #   src/canopen src/modbus src/gateway src/ionode   -> shared/<area>
+#   src/platform (the port contract)                -> shared/platform
 #   src/port                                        -> firmware/avr/port
 #   src/pins.h src/mb2co.h                          -> firmware/avr/
 #   src/mcp2515.* bit_timing.h filter_plan.* ...    -> firmware/mcp2515/
@@ -23,7 +24,7 @@ rm -rf "$lib"
 mkdir -p "$lib/src"
 touch "$lib/.mb2co-generated"
 cp "$here/library.properties" "$lib/"
-for area in canopen modbus gateway ionode; do ln -s "$root/shared/$area" "$lib/src/$area"; done
+for area in canopen modbus gateway ionode platform; do ln -s "$root/shared/$area" "$lib/src/$area"; done
 ln -s "$root/firmware/avr/port" "$lib/src/port"
 ln -s "$root/firmware/avr/pins.h" "$lib/src/pins.h"
 ln -s "$root/firmware/avr/mb2co.h" "$lib/src/mb2co.h"

@@ -1,25 +1,15 @@
-// The MCP2515 under a canopen::Node on the Uno: services the chip (when INT
-// is low, and every kServicePeriodUs anyway: bus-off recovery raises no
-// interrupt), hands received frames to the node, reports controller trouble
-// by EMCY, keeps the bit rate and the hardware acceptance filters in line
-// with the node's Object Dictionary.
+// The MCP2515 under a canopen::Node on the Uno, the CAN half of the platform
+// contract (shared/platform/device_port.h): sends frames, follows the bit rate and the
+// acceptance filters the core sets, services the chip (when INT is low, and
+// every kServicePeriodUs anyway: bus-off recovery raises no interrupt),
+// hands received frames to the node and reports controller events to it
+// (Node::on_controller_state decides the EMCY). It knows no OD index.
 //
-// Filters admit exactly what the node consumes: NMT 000h, SYNC (1005h),
-// SDO 600h+id, node guarding 700h+id, the valid standard RPDO COB-IDs
-// (1400h-1403h/1) and 700h+n for every heartbeat consumer 1016h/1-4. The list
-// is re-derived every kServicePeriodUs and the filters re-planned when it
-// changed (boot, reset communication, new node id, an SDO write to a COB-ID
-// or to 1016h). A plan takes tens of ms (filter_plan.h), so it is computed a
-// step (~1 ms) per poll() while the filters stay open (accept all: no
-// consumed frame is missed, the node ignores the rest), then programmed; a
-// change meanwhile starts it again. More than mcp2515::kMaxSubscribedIds
-// ids: filters open.
+// Filters: set_filters hands in the ids the node consumes. A plan takes tens
+// of ms (filter_plan.h), so it is computed a step (~1 ms) per poll() while
+// the filters stay open (accept all: no consumed frame is missed, the node
+// ignores the rest), then programmed; new ids meanwhile start it again.
 // Remote requests for TPDOs are filtered out (RTR is deprecated, CiA AN 802).
-//
-// EMCY (error register bit "communication"):
-//   8110h CAN overrun: frames were lost; cleared after kEventHoldUs without
-//   8120h error passive: while the controller is error passive or bus-off
-//   8140h recovered from bus-off: cleared after kEventHoldUs
 #pragma once
 #include <stdint.h>
 
@@ -29,60 +19,64 @@
 namespace mb2co {
 namespace avr {
 
+static_assert(canopen::kMaxConsumedIds <= mcp2515::kMaxSubscribedIds,
+              "every id the node consumes fits the filter planner");
+
 /// The port's state, all zero at the start: CanPort value-initialises it as
-/// one block (one zero-fill instead of a store per member: -74 B on the Uno).
+/// one block (one zero-fill instead of a store per member).
 struct CanPortState {
-  /// The consumed ids, sorted: what the filters admit or are being planned
-  /// for (planner_ reads them: they change only when it is restarted).
+  /// The ids set_filters gave, sorted: what the filters admit or are being
+  /// planned for (planner_ reads them: they change only when it is restarted).
   uint16_t ids_[mcp2515::kMaxSubscribedIds];
-  /// Ids in ids_ (above kMaxSubscribedIds: too many, the first ones kept);
-  /// 0: none yet (a list always holds at least NMT 000h).
-  uint8_t id_count_;
+  uint8_t id_count_;  ///< 0: none given yet (filters stay open)
   uint16_t kbit_;
   uint32_t last_service_us_;
-  uint32_t overflow_us_;   ///< last RX overflow (8110h held until + kEventHoldUs)
-  uint32_t recovered_us_;  ///< last bus-off recovery (8140h likewise)
   bool ready_;
-  bool exact_;
-  bool open_;  ///< the chip accepts every frame (begin(), accept_all())
+  bool open_;                       ///< the chip accepts every frame (begin(), accept_all())
+  bool stale_;                      ///< the chip's filters are unknown: open and plan again next period
   mcp2515::FilterPlanner planner_;  ///< busy: planning for ids_
 };
 
 class CanPort : private CanPortState {
  public:
   static const uint32_t kServicePeriodUs = 10000;
-  static const uint32_t kEventHoldUs = 1000000;
-  /// How often begin() is retried while the chip does not answer.
+  /// How often the chip is restarted while it does not answer.
   static const uint32_t kRetryUs = 1000000;
 
-  CanPort(mcp2515::Driver& driver, canopen::Node& node) : CanPortState(), driver_(driver), node_(node) {}
+  explicit CanPort(mcp2515::Driver& driver) : CanPortState(), driver_(driver) {}
+
+  /// The contract's functions; ctx is the CanPort (platform/device_port.h).
+  static bool send_to(void* ctx, const CanFrame& frame) { return static_cast<CanPort*>(ctx)->send(frame); }
+  static const CanControl kControl;  ///< MB2CO_FLASH
 
   /// Starts the chip at `kbit` (125, 250, 500 or 1000; others: 500 kbit/s),
-  /// accepting every frame until the next period plans the filters. False
-  /// when it does not answer: poll() retries every kRetryUs.
+  /// accepting every frame until the filters are planned. False when it does
+  /// not answer: poll() retries every kRetryUs.
   bool begin(uint16_t kbit, uint32_t now_us);
-  /// Re-initialises the chip when `kbit` differs from the rate in use (frames
-  /// still waiting in the chip are lost). Call before every send, so that the
-  /// boot-up after a reset communication already leaves at the new rate.
-  void set_bitrate(uint16_t kbit, uint32_t now_us);
+  /// Restarts the chip when `kbit` differs from the rate in use (frames still
+  /// waiting in the chip are lost); the filters are planned again.
+  void set_bitrate(uint16_t kbit);
+  /// Admit ids[0..count) (sorted): open now, exact once planned.
+  void set_filters(const uint16_t* ids, uint8_t count);
   /// Queues `frame` (false: chip not ready, or its 3 buffers are busy).
   bool send(const CanFrame& frame) { return ready_ && driver_.send(frame); }
-  /// Call every loop pass. A pass plans at most one step (FilterPlanner).
-  void poll(uint32_t now_us);
+  /// Call every loop pass, from the loop (not an ISR). A pass plans at most
+  /// one step (FilterPlanner).
+  void poll(canopen::Node& node, uint32_t now_us);
 
   bool ready() const { return ready_; }
-  /// True when the filters admit exactly the subscribed ids.
-  bool filters_exact() const { return exact_; }
 
  private:
-  void service(uint32_t now_us);
-  void on_events(uint8_t events, uint32_t now_us);
-  void update_filters();
+  static void set_bitrate_of(void* ctx, uint16_t kbit) { static_cast<CanPort*>(ctx)->set_bitrate(kbit); }
+  static void set_filters_of(void* ctx, const uint16_t* ids, uint8_t count) {
+    static_cast<CanPort*>(ctx)->set_filters(ids, count);
+  }
+  bool start(uint16_t kbit);
+  void service(canopen::Node& node, uint32_t now_us);
+  void restart_filters();
   void program_plan();
-  uint8_t collect_ids(uint16_t* ids) const;
 
   mcp2515::Driver& driver_;
-  canopen::Node& node_;
 };
 
 }  // namespace avr

@@ -13,7 +13,9 @@ bool fits(uint16_t offset, uint16_t len) {
 }
 
 // EEPROM addresses are pointers in avr-libc's API.
-void* address(uint16_t offset) { return reinterpret_cast<void*>(static_cast<uintptr_t>(offset)); }
+void* address(uint16_t offset) {
+  return reinterpret_cast<void*>(static_cast<uintptr_t>(offset));
+}
 
 }  // namespace
 

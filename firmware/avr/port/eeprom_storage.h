@@ -17,9 +17,9 @@ bool eeprom_storage_write(void* ctx, uint16_t offset, const uint8_t* data, uint1
 
 /// Reads and writes beyond kEepromBytes fail (a save then reports failure).
 /// constexpr: a global built from it is initialised data, not constructor
-/// code (-50 B on the Uno).
+/// code (smaller on the Uno: docs/performance.md).
 constexpr canopen::ParamStorage eeprom_storage() {
-  return canopen::ParamStorage{&eeprom_storage_read, &eeprom_storage_write, nullptr};
+  return canopen::ParamStorage{&eeprom_storage_read, &eeprom_storage_write, nullptr, nullptr};
 }
 
 }  // namespace avr

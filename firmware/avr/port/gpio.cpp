@@ -21,7 +21,7 @@ struct Pin {
 
 Pin pin_of(uint8_t pin) {
   // One shift for the three ports (a shift by a variable count is a loop on
-  // the AVR): -18 B on the Uno.
+  // the AVR).
   volatile uint8_t* reg = &PIND;
   if (pin >= 14) {
     reg = &PINC;

@@ -28,11 +28,13 @@ volatile uint8_t tx_tail;
 
 volatile UartCounters counters;
 
-bool sink_write(void*, const uint8_t* data, uint16_t length) { return uart_write(data, length); }
+bool sink_write(void*, const uint8_t* data, uint16_t length) {
+  return uart_write(data, length);
+}
 
 }  // namespace
 
-void uart_begin(uint32_t baud, UartParity parity) {
+void uart_begin(uint32_t baud, modbus::Parity parity) {
   // Double speed (U2X): 115200 baud is 117647 (+2.1 %) instead of 111111 (-3.5 %).
   const uint16_t ubrr = static_cast<uint16_t>((F_CPU / 4ul / baud - 1ul) / 2ul);
   ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
@@ -40,9 +42,9 @@ void uart_begin(uint32_t baud, UartParity parity) {
     UBRR0H = static_cast<uint8_t>(ubrr >> 8);
     UBRR0L = static_cast<uint8_t>(ubrr);
     UCSR0A = _BV(U2X0);
-    const uint8_t parity_bits = parity == UartParity::kEven  ? _BV(UPM01)
-                                : parity == UartParity::kOdd ? (_BV(UPM01) | _BV(UPM00))
-                                                             : 0;
+    const uint8_t parity_bits = parity == modbus::Parity::kEven  ? _BV(UPM01)
+                                : parity == modbus::Parity::kOdd ? (_BV(UPM01) | _BV(UPM00))
+                                                                 : 0;
     UCSR0C = static_cast<uint8_t>(parity_bits | _BV(UCSZ01) | _BV(UCSZ00));  // 8 data, 1 stop
     rx_head = rx_tail = 0;
     rx_error_bits = 0;
@@ -85,7 +87,9 @@ bool uart_write(const uint8_t* data, uint16_t length) {
   return true;
 }
 
-modbus::ByteSink uart_sink() { return modbus::ByteSink{&sink_write, nullptr}; }
+modbus::ByteSink uart_sink() {
+  return modbus::ByteSink{&sink_write, nullptr};
+}
 
 UartCounters uart_counters() {
   UartCounters c;

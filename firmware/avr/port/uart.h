@@ -14,11 +14,10 @@
 #include <stdint.h>
 
 #include "modbus/byte_sink.h"
+#include "modbus/parity.h"
 
 namespace mb2co {
 namespace avr {
-
-enum class UartParity : uint8_t { kNone, kEven, kOdd };
 
 /// Slots of the receive ring (one stays free: 15 characters, 1.3 ms of
 /// back-to-back characters at 115200 baud; the main loop passes < 1 ms).
@@ -43,7 +42,7 @@ struct UartChar {
 };
 
 /// 8 data bits, 1 stop bit, `parity`. Call once from setup().
-void uart_begin(uint32_t baud, UartParity parity);
+void uart_begin(uint32_t baud, modbus::Parity parity);
 /// Takes the oldest received character; false when none is waiting.
 bool uart_read(UartChar& out);
 /// Queues `length` bytes (waits while the ring is full); always true.

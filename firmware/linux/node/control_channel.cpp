@@ -28,19 +28,23 @@ std::string stamped(const std::string& text, uint32_t now_us) {
 
 std::string ControlChannel::leds_text(uint8_t leds) {
   std::ostringstream s;
-  s << "leds self=" << ((leds & gateway::kLedRunSelf) ? 1 : 0) << " prev=" << ((leds & gateway::kLedRunPrev) ? 1 : 0)
+  s << "leds self=" << ((leds & gateway::kLedRunSelf) ? 1 : 0)
+    << " prev=" << ((leds & gateway::kLedRunPrev) ? 1 : 0)
     << " next=" << ((leds & gateway::kLedRunNext) ? 1 : 0) << " lab=" << ((leds & gateway::kLedLab) ? 1 : 0);
   return s.str();
 }
 
 std::string ControlChannel::state_text() {
   canopen::ObjectDictionary& od = gw_.od();
-  auto get = [&](uint16_t i, uint8_t s) { return od.get(od.find(i, s)); };
+  auto get = [&](canopen::OdKey key) { return od.get(od.find(key)); };
+  namespace e = gateway::od::GatewayEntry;
   std::ostringstream s;
-  s << "state node=" << unsigned(gw_.node_id()) << " nmt=" << get(0x2002, 0) << " run=" << get(0x2100, 2)
-    << " cause=" << get(0x2100, 4) << " stop2=" << get(0x2100, 3) << " prev=" << get(0x2110, 4) << ':'
-    << get(0x2110, 3) << ':' << get(0x2110, 1) << " next=" << get(0x2120, 4) << ':' << get(0x2120, 3) << ':'
-    << get(0x2120, 1);
+  s << "state node=" << unsigned(gw_.node_id()) << " nmt=" << get(e::x2002_0_nmtState)
+    << " run=" << get(e::x2100_2_runState) << " cause=" << get(e::x2100_4_stopCause)
+    << " stop2=" << get(e::x2100_3_stop2Count) << " prev=" << get(e::x2110_4_prevNodeId) << ':'
+    << get(e::x2110_3_prevStatus) << ':' << get(e::x2110_1_prevRunState)
+    << " next=" << get(e::x2120_4_nextNodeId) << ':' << get(e::x2120_3_nextStatus) << ':'
+    << get(e::x2120_1_nextRunState);
   return s.str();
 }
 
@@ -68,7 +72,11 @@ std::string ControlChannel::handle(const std::string& line, uint32_t now_us) {
   std::string cmd, arg;
   in >> cmd >> arg;
   if (cmd.empty()) return std::string();
-  if (cmd == "leds?") return stamped(leds_text(static_cast<uint8_t>(gw_.od().get(gw_.od().find(0x2200, 0)))), now_us);
+  if (cmd == "leds?") {
+    const canopen::ObjectDictionary& od = gw_.od();
+    return stamped(leds_text(static_cast<uint8_t>(od.get(od.find(gateway::od::GatewayEntry::x2200_0_leds)))),
+                   now_us);
+  }
   if (cmd == "state?") return stamped(state_text(), now_us);
   if (cmd == "counters?") return counters_text();
   if (cmd == "quit") {
@@ -90,7 +98,8 @@ std::string ControlChannel::handle(const std::string& line, uint32_t now_us) {
     if (in >> word) {
       char* end = nullptr;
       ms = std::strtol(word.c_str(), &end, 10);
-      if (*end != '\0' || ms < 1 || ms > 60000) return "error bad click duration '" + word + "' (1..60000 ms)";
+      if (*end != '\0' || ms < 1 || ms > 60000)
+        return "error bad click duration '" + word + "' (1..60000 ms)";
     }
     clicked_ = static_cast<uint8_t>(clicked_ | bit);
     release_at_us_[i] = now_us + static_cast<uint32_t>(ms) * 1000u;

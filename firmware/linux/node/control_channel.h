@@ -43,7 +43,7 @@ class ControlChannel {
   uint8_t clicked_ = 0;                    ///< buttons that click will release
   uint32_t release_at_us_[3] = {0, 0, 0};  ///< per button bit index
   bool quit_ = false;
-  std::string leds_shown_;   ///< last leds/state event printed (without time)
+  std::string leds_shown_;  ///< last leds/state event printed (without time)
   std::string state_shown_;
 };
 

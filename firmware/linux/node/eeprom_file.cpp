@@ -1,7 +1,10 @@
 #include "eeprom_file.h"
 
+#include <errno.h>
 #include <fcntl.h>
 #include <unistd.h>
+
+#include <cstring>
 
 namespace mb2co {
 namespace node {
@@ -21,14 +24,26 @@ bool EepromFile::write(void* ctx, uint16_t offset, const uint8_t* data, uint16_t
   if (offset + len > kSize) return false;
   const int fd = open(e.path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd < 0) return false;
-  // The image's header is at offset 0 and is written twice by a save
-  // (params_save): first invalidated, last made valid. Syncing around those
-  // writes only keeps the order that matters (invalid before the payload
-  // changes, payload durable before the header says it is valid) with ~3
-  // fsyncs per save instead of one per entry (~150: over a second on a busy
-  // machine, longer than a Modbus master waits for the answer to "save").
-  const bool barrier = offset == 0;
-  bool ok = (!barrier || fsync(fd) == 0) && pwrite(fd, data, len, offset) == len && (!barrier || fsync(fd) == 0);
+  bool ok = pwrite(fd, data, len, offset) == len;
+  ok = close(fd) == 0 && ok;
+  return ok;
+}
+
+bool EepromFile::usable(std::string* reason) const {
+  const int fd = open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    *reason = path_ + ": cannot open for reading and writing: " + std::strerror(errno);
+    return false;
+  }
+  close(fd);
+  return true;
+}
+
+bool EepromFile::barrier(void* ctx) {
+  const EepromFile& e = *static_cast<EepromFile*>(ctx);
+  const int fd = open(e.path_.c_str(), O_RDWR | O_CLOEXEC);
+  if (fd < 0) return false;
+  bool ok = fsync(fd) == 0;
   ok = close(fd) == 0 && ok;
   return ok;
 }

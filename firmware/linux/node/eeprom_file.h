@@ -1,7 +1,8 @@
 // Saved parameters (1010h) in a file of 1 KiB, like the Uno's EEPROM: read
-// and written in place, fsync'ed around writes of the image's header (offset
-// 0), so a saved image survives a restart and a crash never leaves a header
-// that declares a payload valid before the payload is on disk.
+// and written in place; the core's barriers (ParamStorage::barrier) are
+// fsyncs, so a crash never leaves a header that declares a payload valid
+// before the payload is on disk (a few per save, not one per entry: ~150
+// fsyncs took longer than a Modbus master waits for the answer to "save").
 #pragma once
 #include <string>
 
@@ -14,11 +15,22 @@ class EepromFile {
  public:
   static const uint16_t kSize = 1024;
   explicit EepromFile(const std::string& path) : path_(path) {}
-  canopen::ParamStorage storage() { return canopen::ParamStorage{&EepromFile::read, &EepromFile::write, this}; }
+  canopen::ParamStorage storage() {
+    return canopen::ParamStorage{&EepromFile::read, &EepromFile::write, &EepromFile::barrier, this};
+  }
 
  private:
   static bool read(void* ctx, uint16_t offset, uint8_t* data, uint16_t len);
   static bool write(void* ctx, uint16_t offset, const uint8_t* data, uint16_t len);
+  static bool barrier(void* ctx);
+
+ public:
+  /// False, with a one-line reason, when the file cannot be read and
+  /// written (a directory, no permission, a missing directory): a node must
+  /// not run with parameters it could never save.
+  bool usable(std::string* reason) const;
+
+ private:
   std::string path_;
 };
 

@@ -30,10 +30,12 @@ void on_signal(int) {
 }
 
 bool serial_write(void* ctx, const uint8_t* data, uint16_t n) {
-  return static_cast<mb2co::port::SerialPort*>(ctx)->write(data, n);
+  return static_cast<mb2co::port::SerialPort*>(ctx)->write(data, n).is_ok();
 }
 
-bool can_discard(void*, const mb2co::CanFrame&) { return true; }
+bool can_discard(void*, const mb2co::CanFrame&) {
+  return true;
+}
 
 // Control-channel output: whole lines, flushed at once (tests wait for them).
 void say(const std::string& lines) {
@@ -52,9 +54,9 @@ int fail(const std::string& what) {
 int main(int argc, char** argv) {
   using namespace mb2co;
   node::NodeOptions opt;
-  const std::string err = node::parse_options(argc, argv, &opt);
-  if (!err.empty()) {
-    std::fprintf(stderr, "mb2co-node: %s\n", err.c_str());
+  const Status parsed = node::parse_options(argc, argv, &opt);
+  if (!parsed) {
+    std::fprintf(stderr, "mb2co-node: %s\n", parsed.message().c_str());
     return 2;
   }
   if (opt.help) {
@@ -67,7 +69,8 @@ int main(int argc, char** argv) {
   }
 
   // Signals from here on end the loop below, so that the pty link goes away.
-  if (pipe2(g_signal_pipe, O_CLOEXEC | O_NONBLOCK) != 0) return fail(std::string("pipe: ") + std::strerror(errno));
+  if (pipe2(g_signal_pipe, O_CLOEXEC | O_NONBLOCK) != 0)
+    return fail(std::string("pipe: ") + std::strerror(errno));
   struct sigaction sa = {};
   sa.sa_handler = on_signal;
   sigaction(SIGINT, &sa, nullptr);
@@ -75,23 +78,37 @@ int main(int argc, char** argv) {
   signal(SIGPIPE, SIG_IGN);
 
   port::SerialPort serial;
-  const port::Parity parity = opt.parity == 'E' ? port::Parity::kEven : opt.parity == 'O' ? port::Parity::kOdd : port::Parity::kNone;
-  if (!opt.serial.empty() ? !serial.open_tty(opt.serial, opt.baud, parity) : !serial.create_pty(opt.pty_link)) {
-    return fail(serial.error());
-  }
+  const port::Parity parity = opt.parity == 'E'   ? port::Parity::kEven
+                              : opt.parity == 'O' ? port::Parity::kOdd
+                                                  : port::Parity::kNone;
+  const Status opened =
+      !opt.serial.empty() ? serial.open_tty(opt.serial, opt.baud, parity) : serial.create_pty(opt.pty_link);
+  if (!opened) return fail(opened.message());
   linux_port::SocketCanPort can;
   const bool with_can = opt.can != "none";
-  if (with_can && (!can.open(opt.can.c_str()) || !can.accept_all())) return fail(can.error());
+  if (with_can) {
+    Status bound = can.open(opt.can.c_str());
+    if (bound) bound = can.accept_all();
+    if (!bound) return fail(bound.message());
+  }
 
   node::EepromFile eeprom(opt.eeprom);
+  std::string eeprom_error;
+  if (!opt.eeprom.empty() && !eeprom.usable(&eeprom_error)) return fail(eeprom_error);
   canopen::ParamStorage storage = eeprom.storage();
   gateway::GatewayPorts ports{with_can ? can.sink() : CanSink{&can_discard, nullptr},
-                              modbus::ByteSink{&serial_write, &serial}, opt.eeprom.empty() ? nullptr : &storage,
-                              opt.baud};
+                              modbus::ByteSink{&serial_write, &serial},
+                              opt.eeprom.empty() ? nullptr : &storage, opt.baud};
+  if (with_can) ports.can_control = &linux_port::SocketCanPort::kControl;  // kernel filters
   static gateway::Gateway gw(ports);  // static like on the Uno (and large)
   node::ControlChannel control(gw);
 
   gw.start(port::monotonic_us(), opt.node_id);
+  if (gw.node().storage_damage_count() != 0) {
+    std::fprintf(stderr, "mb2co-node: warning: %s: %s\n", opt.eeprom.c_str(),
+                 gw.node().params_loaded() ? "a damaged parameter set was skipped, the older one is in force"
+                                           : "the saved parameters are damaged, defaults are in force");
+  }
   // Command-line settings are written like a technician would over SDO,
   // then take effect by a reset of communication.
   canopen::ObjectDictionary& od = gw.od();
@@ -111,13 +128,16 @@ int main(int argc, char** argv) {
   // "ready" once the Modbus slave accepts frames: after power-up it first
   // waits for t3.5 of silence on the line (serial line spec, initial state),
   // and a request sent before that would be dropped.
-  std::string ready = "ready node=" + std::to_string(gw.node_id()) + " can=" + opt.can + " serial=" + serial.path() +
+  std::string ready = "ready node=" + std::to_string(gw.node_id()) + " can=" + opt.can +
+                      " serial=" + serial.path() +
                       (serial.link_path().empty() ? "" : " link=" + serial.link_path()) + "\n";
 
   std::string input;
   bool stdin_open = true;
   while (!control.quit()) {
-    pollfd fds[4] = {{serial.fd(), POLLIN, 0}, {g_signal_pipe[0], POLLIN, 0}, {stdin_open ? 0 : -1, POLLIN, 0},
+    pollfd fds[4] = {{serial.fd(), POLLIN, 0},
+                     {g_signal_pipe[0], POLLIN, 0},
+                     {stdin_open ? 0 : -1, POLLIN, 0},
                      {with_can ? can.fd() : -1, POLLIN, 0}};
     if (poll(fds, 4, 1) < 0 && errno != EINTR) return fail(std::string("poll: ") + std::strerror(errno));
     if (fds[1].revents & POLLIN) break;  // SIGINT / SIGTERM: clean exit
@@ -127,15 +147,17 @@ int main(int argc, char** argv) {
     if (fds[0].revents & (POLLIN | POLLERR | POLLHUP)) {
       uint8_t bytes[256];
       uint32_t stamps[256];
-      const long n = serial.read(bytes, stamps, sizeof bytes);
-      if (n < 0) return fail(serial.error());
-      for (long i = 0; i < n; ++i) gw.on_serial_byte(bytes[i], stamps[i]);
+      size_t n = 0;
+      const Status got = serial.read(bytes, stamps, sizeof bytes, &n);
+      if (!got) return fail(got.message());
+      for (size_t i = 0; i < n; ++i) gw.on_serial_byte(bytes[i], stamps[i]);
     }
     if (fds[3].revents & POLLIN) {
       linux_port::TimedCanFrame frames[linux_port::SocketCanPort::kBatch];
       size_t got = 0;
       while ((got = can.receive(frames, linux_port::SocketCanPort::kBatch)) > 0) {
-        for (size_t i = 0; i < got; ++i) gw.on_can_frame(frames[i].frame, static_cast<uint32_t>(frames[i].rx_time_us));
+        for (size_t i = 0; i < got; ++i)
+          gw.on_can_frame(frames[i].frame, static_cast<uint32_t>(frames[i].rx_time_us));
       }
     }
     if (fds[2].revents & (POLLIN | POLLHUP)) {

@@ -36,7 +36,7 @@ bool number(const char* s, long lo, long hi, long* out) {
 }
 }  // namespace
 
-std::string parse_options(int argc, const char* const* argv, NodeOptions* o) {
+Status parse_options(int argc, const char* const* argv, NodeOptions* o) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--help" || a == "-h") {
@@ -47,12 +47,13 @@ std::string parse_options(int argc, const char* const* argv, NodeOptions* o) {
       o->version = true;
       continue;
     }
-    static const char* const kWithValue[] = {"--can", "--pty", "--serial", "--eeprom", "--baud", "--parity",
-                                             "--node-id", "--bitrate", "--stations", "--topology"};
+    static const char* const kWithValue[] = {"--can",      "--pty",     "--serial",  "--eeprom",
+                                             "--baud",     "--parity",  "--node-id", "--bitrate",
+                                             "--stations", "--topology"};
     bool known = false;
     for (const char* k : kWithValue) known = known || a == k;
-    if (!known) return "unknown option " + a + " (try --help)";
-    if (i + 1 >= argc) return "option " + a + " needs a value (try --help)";
+    if (!known) return Status::failure("unknown option " + a + " (try --help)");
+    if (i + 1 >= argc) return Status::failure("option " + a + " needs a value (try --help)");
     const char* v = argv[++i];
     long n = 0;
     if (a == "--can") {
@@ -64,29 +65,34 @@ std::string parse_options(int argc, const char* const* argv, NodeOptions* o) {
     } else if (a == "--eeprom") {
       o->eeprom = v;
     } else if (a == "--baud") {
-      if (!number(v, 1200, 4000000, &n)) return std::string("bad --baud '") + v + "'";
+      if (!number(v, 1200, 4000000, &n)) return Status::failure(std::string("bad --baud '") + v + "'");
       o->baud = static_cast<uint32_t>(n);
     } else if (a == "--parity") {
-      if (std::strlen(v) != 1 || std::strchr("NEO", v[0]) == nullptr) return std::string("bad --parity '") + v + "' (N, E or O)";
+      if (std::strlen(v) != 1 || std::strchr("NEO", v[0]) == nullptr) {
+        return Status::failure(std::string("bad --parity '") + v + "' (N, E or O)");
+      }
       o->parity = v[0];
     } else if (a == "--node-id") {
-      if (!number(v, 1, 127, &n)) return std::string("bad --node-id '") + v + "' (1..127)";
+      if (!number(v, 1, 127, &n)) return Status::failure(std::string("bad --node-id '") + v + "' (1..127)");
       o->node_id = static_cast<uint8_t>(n);
     } else if (a == "--bitrate") {
       if (!number(v, 125, 1000, &n) || (n != 125 && n != 250 && n != 500 && n != 1000)) {
-        return std::string("bad --bitrate '") + v + "' (125, 250, 500 or 1000)";
+        return Status::failure(std::string("bad --bitrate '") + v + "' (125, 250, 500 or 1000)");
       }
       o->bitrate_kbit = static_cast<uint16_t>(n);
     } else if (a == "--stations") {
-      if (!number(v, 2, 127, &n)) return std::string("bad --stations '") + v + "' (2..127)";
+      if (!number(v, 2, 127, &n)) return Status::failure(std::string("bad --stations '") + v + "' (2..127)");
       o->stations = static_cast<uint8_t>(n);
     } else if (a == "--topology") {
-      if (std::strcmp(v, "ring") != 0 && std::strcmp(v, "chain") != 0) return std::string("bad --topology '") + v + "' (ring or chain)";
+      if (std::strcmp(v, "ring") != 0 && std::strcmp(v, "chain") != 0) {
+        return Status::failure(std::string("bad --topology '") + v + "' (ring or chain)");
+      }
       o->topology = std::strcmp(v, "ring") == 0 ? 1 : 0;
     }
   }
-  if (!o->serial.empty() && !o->pty_link.empty()) return "--pty and --serial exclude each other";
-  return std::string();
+  if (!o->serial.empty() && !o->pty_link.empty())
+    return Status::failure("--pty and --serial exclude each other");
+  return Status::ok();
 }
 
 }  // namespace node

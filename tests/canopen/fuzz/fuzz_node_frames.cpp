@@ -31,8 +31,8 @@ struct Bus {
     Bus& b = *static_cast<Bus*>(ctx);
     const std::string why = test::frame_violation(*b.node, f);
     if (!why.empty()) {
-      fprintf(stderr, "invariant violated: %s (id %03X dlc %u)\n", why.c_str(),
-              static_cast<unsigned>(f.id), f.dlc);
+      fprintf(stderr, "invariant violated: %s (id %03X dlc %u)\n", why.c_str(), static_cast<unsigned>(f.id),
+              f.dlc);
       abort();
     }
     if (f.id == 0x583) b.sdo.push_back(f);
@@ -82,7 +82,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       f.id = (static_cast<uint32_t>(sel & 7) << 8) | data[at++];
     }
     f.dlc = static_cast<uint8_t>((ctl & 0x0F) % 9);
-    f.flags = static_cast<uint8_t>(((ctl & 0x10) ? CanFrame::kRtr : 0) | ((ctl & 0x20) ? CanFrame::kExtended : 0));
+    f.flags =
+        static_cast<uint8_t>(((ctl & 0x10) ? CanFrame::kRtr : 0) | ((ctl & 0x20) ? CanFrame::kExtended : 0));
     for (uint8_t i = 0; i < f.dlc && at < size; ++i) f.data[i] = data[at++];
     now += dt;
     io.process(now);

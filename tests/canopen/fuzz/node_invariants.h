@@ -17,11 +17,26 @@ namespace test {
 inline bool known_sdo_abort(uint32_t code) {
   using namespace canopen;
   switch (code) {
-    case kAbortToggle: case kAbortTimeout: case kAbortCommand: case kAbortUnsupported:
-    case kAbortWriteOnly: case kAbortReadOnly: case kAbortNoObject: case kAbortNotMappable:
-    case kAbortMapLength: case kAbortIncompatible: case kAbortTypeMismatch: case kAbortTooLong:
-    case kAbortTooShort: case kAbortNoSubindex: case kAbortInvalidValue: case kAbortValueTooHigh:
-    case kAbortValueTooLow: case kAbortGeneral: case kAbortStore: case kAbortLocalControl:
+    case kAbortToggle:
+    case kAbortTimeout:
+    case kAbortCommand:
+    case kAbortUnsupported:
+    case kAbortWriteOnly:
+    case kAbortReadOnly:
+    case kAbortNoObject:
+    case kAbortNotMappable:
+    case kAbortMapLength:
+    case kAbortIncompatible:
+    case kAbortTypeMismatch:
+    case kAbortTooLong:
+    case kAbortTooShort:
+    case kAbortNoSubindex:
+    case kAbortInvalidValue:
+    case kAbortValueTooHigh:
+    case kAbortValueTooLow:
+    case kAbortGeneral:
+    case kAbortStore:
+    case kAbortLocalControl:
     case kAbortDeviceState:
       return true;
     default:

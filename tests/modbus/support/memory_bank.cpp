@@ -1,7 +1,8 @@
 #include "memory_bank.h"
 
-#include <algorithm>
 #include <string.h>
+
+#include <algorithm>
 
 namespace mb2co {
 namespace modbus {
@@ -25,9 +26,13 @@ void MemoryBank::set_limit(uint16_t start, uint16_t count, uint16_t max) {
   limits_.push_back(Limit{start, count, max});
 }
 
-void MemoryBank::set_coil_rejects_on(uint16_t address) { coils_rejecting_on_.push_back(address); }
+void MemoryBank::set_coil_rejects_on(uint16_t address) {
+  coils_rejecting_on_.push_back(address);
+}
 
-void MemoryBank::set_read_failure(uint16_t address) { read_failures_.push_back(address); }
+void MemoryBank::set_read_failure(uint16_t address) {
+  read_failures_.push_back(address);
+}
 
 uint32_t MemoryBank::size(Table table) const {
   switch (table) {
@@ -82,8 +87,7 @@ Exception MemoryBank::write_coils(uint16_t start, ConstBitSpan values) {
   ++data_calls;
   for (uint16_t i = 0; i < values.count; ++i) {  // validate everything first
     const uint16_t a = static_cast<uint16_t>(start + i);
-    if (values.get(i) &&
-        std::count(coils_rejecting_on_.begin(), coils_rejecting_on_.end(), a) != 0) {
+    if (values.get(i) && std::count(coils_rejecting_on_.begin(), coils_rejecting_on_.end(), a) != 0) {
       return Exception::kServerDeviceFailure;
     }
   }

@@ -15,8 +15,7 @@ namespace test {
 
 class MemoryBank : public RegisterBank {
  public:
-  MemoryBank(uint32_t coils, uint32_t discrete_inputs, uint32_t input_registers,
-             uint32_t holding_registers);
+  MemoryBank(uint32_t coils, uint32_t discrete_inputs, uint32_t input_registers, uint32_t holding_registers);
 
   // Rules (all-or-nothing writes are checked against them before commit).
   /// Holding registers [start, start+count) cannot be written: covers() false → 02.

@@ -28,8 +28,8 @@ class SlaveProcess {
 
   /// Waits until a line (after the ready line) satisfies `match`; lines
   /// before it are consumed. False on timeout or end of output.
-  bool wait_line(const std::function<bool(const std::string&)>& match,
-                 std::chrono::milliseconds timeout, std::string* line = nullptr) {
+  bool wait_line(const std::function<bool(const std::string&)>& match, std::chrono::milliseconds timeout,
+                 std::string* line = nullptr) {
     return child_.wait_line(match, timeout, line);
   }
 

@@ -11,10 +11,10 @@ namespace test {
 
 constexpr uint8_t kSlaveAddress = 1;
 constexpr uint16_t kCoilCount = 2048;
-constexpr uint16_t kDiscreteInputCount = 2048;  ///< input i is (i % 3 == 0)
-constexpr uint16_t kInputRegisterCount = 256;   ///< register i holds 0x1000 + i
-constexpr uint16_t kHoldingRegisterCount = 256; ///< all 0 at start, except:
-constexpr uint16_t kReadOnlyStart = 100;        ///< 100..109 read-only (0xA000 + i): write → 02
+constexpr uint16_t kDiscreteInputCount = 2048;   ///< input i is (i % 3 == 0)
+constexpr uint16_t kInputRegisterCount = 256;    ///< register i holds 0x1000 + i
+constexpr uint16_t kHoldingRegisterCount = 256;  ///< all 0 at start, except:
+constexpr uint16_t kReadOnlyStart = 100;         ///< 100..109 read-only (0xA000 + i): write → 02
 constexpr uint16_t kReadOnlyCount = 10;
 constexpr uint16_t kLimitedStart = 110;  ///< 110..119 accept values ≤ 1000: else → 04
 constexpr uint16_t kLimitedCount = 10;
@@ -36,7 +36,9 @@ inline void apply_test_layout(MemoryBank& bank) {
   bank.set_coil_rejects_on(kCoilRejectingOn);
 }
 
-inline FixedIdentity test_identity() { return FixedIdentity("mb2co", "MB2CO-GW", "0.1.0"); }
+inline FixedIdentity test_identity() {
+  return FixedIdentity("mb2co", "MB2CO-GW", "0.1.0");
+}
 
 }  // namespace test
 }  // namespace modbus

@@ -27,7 +27,9 @@ using namespace mb2co;
 uint8_t response[96];
 uint16_t response_len = 0;
 
-bool can_sink(void*, const CanFrame&) { return true; }
+bool can_sink(void*, const CanFrame&) {
+  return true;
+}
 bool serial_sink(void*, const uint8_t* data, uint16_t n) {
   response_len = n;
   for (uint16_t i = 0; i < n && i < sizeof response; ++i) response[i] = data[i];
@@ -42,7 +44,8 @@ void put(char c) {
 }
 // `s` is in flash (PSTR): the names would otherwise take RAM the gateway needs.
 void put_P(const char* s) {
-  for (char c = static_cast<char>(pgm_read_byte(s)); c != 0; c = static_cast<char>(pgm_read_byte(++s))) put(c);
+  for (char c = static_cast<char>(pgm_read_byte(s)); c != 0; c = static_cast<char>(pgm_read_byte(++s)))
+    put(c);
 }
 void put_number(uint32_t v) {
   char digits[10];
@@ -55,8 +58,12 @@ void put_number(uint32_t v) {
 }
 
 // Timer1 at clk/64: 4 µs per tick, 262 ms before it wraps.
-void timer_start() { TCNT1 = 0; }
-uint32_t timer_us() { return static_cast<uint32_t>(TCNT1) * 4u; }
+void timer_start() {
+  TCNT1 = 0;
+}
+uint32_t timer_us() {
+  return static_cast<uint32_t>(TCNT1) * 4u;
+}
 
 gateway::Gateway* gw = nullptr;
 uint32_t now_us = 0;

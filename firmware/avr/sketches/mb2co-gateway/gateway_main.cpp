@@ -1,7 +1,8 @@
 // mb2co-gateway: one station of the line on an Arduino Uno with the SparkFun
 // CAN-BUS shield. The portable gateway (shared/gateway: CANopen node, Modbus/
 // RTU slave on the OD, RUN/STOP2 line application) on the Uno's ports:
-//   CAN      MCP2515 (port/can_port.h): bit rate 2000h/2, filters, EMCY
+//   CAN      MCP2515 (port/can_port.h): the bit rate (2000h/2) and the
+//            filters as the core sets them (shared/platform/device_port.h)
 //   Modbus   USART0 = USB serial, 115200 8N1 (port/uart.h), stamped bytes
 //   storage  EEPROM (port/eeprom_storage.h): 1010h save, node id at power-on
 //   panel    START/STOP/STOP2 buttons, RUN-self/prev/next LEDs (pins.h);
@@ -26,16 +27,15 @@ namespace {
 using namespace mb2co;
 
 constexpr uint32_t kBaud = 115200;
-constexpr avr::UartParity kParity = avr::UartParity::kNone;
+constexpr modbus::Parity kParity = modbus::Parity::kNone;
 /// Node id (and Modbus address 1) until one is saved in EEPROM (2000h/1).
 constexpr uint8_t kDefaultNodeId = 1;
 
-bool can_send(void*, const CanFrame& frame);
-
 mcp2515::Driver driver(avr::mcp2515_spi());
+avr::CanPort can_port(driver);
 const canopen::ParamStorage storage = avr::eeprom_storage();
-gateway::Gateway gw(gateway::GatewayPorts{CanSink{&can_send, nullptr}, avr::uart_sink(), &storage, kBaud});
-avr::CanPort can_port(driver, gw.node());
+gateway::Gateway gw(gateway::GatewayPorts{CanSink{&avr::CanPort::send_to, &can_port}, avr::uart_sink(),
+                                          &storage, kBaud, &avr::CanPort::kControl});
 
 // Button bits 0..2 (gateway::Button) and LED bits 0..3 (gateway::Led).
 const uint8_t kButtonPins[3] = {pins::kButtonStart, pins::kButtonStop, pins::kButtonStop2};
@@ -43,18 +43,11 @@ const uint8_t kLedPins[4] = {pins::kLedRunSelf, pins::kLedRunPrev, pins::kLedRun
 uint8_t leds_shown = 0xFF;
 bool can_led_shown = false;
 
-// A reset communication sets the new bit rate before the boot-up message:
-// the chip follows it before that first frame leaves.
-bool can_send(void*, const CanFrame& frame) {
-  can_port.set_bitrate(gw.bitrate_kbit(), micros());
-  return can_port.send(frame);
-}
-
 void show_leds(uint8_t leds) {
   if (leds == leds_shown) return;
   leds_shown = leds;
   // One bit per LED shifted down: a shift by a variable count is a loop on
-  // the AVR (-14 B).
+  // the AVR.
   for (uint8_t i = 0, bits = leds; i < 4; ++i, bits = static_cast<uint8_t>(bits >> 1)) {
     avr::gpio_write(kLedPins[i], bits & 1u);
   }
@@ -76,7 +69,8 @@ void setup() {
   avr::gpio_input(pins::kCanInt, false);  // the MCP2515 drives INT push-pull
   avr::uart_begin(kBaud, kParity);
   avr::mcp2515_spi_begin();
-  // The boot-up message starts the chip at the saved bit rate (can_send).
+  // Starts the chip at the saved bit rate before the boot-up message
+  // (Gateway::on_reset: CanControl::set_bitrate).
   gw.start(micros(), kDefaultNodeId);
 }
 
@@ -87,8 +81,7 @@ void loop() {
   avr::UartChar c;
   // A garbled character's byte lands in a frame that is then discarded.
   while (avr::uart_read(c)) gw.modbus_slave().on_char(c.byte, c.stamp_us, c.error);
-  can_port.set_bitrate(gw.bitrate_kbit(), now_us);
-  can_port.poll(now_us);
+  can_port.poll(gw.node(), now_us);
   show_leds(gw.process(now_us, avr::read_pressed(kButtonPins, 3)));
   show_can_state();
 }

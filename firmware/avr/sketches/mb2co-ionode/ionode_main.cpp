@@ -26,14 +26,14 @@ constexpr uint16_t kBitrateKbit = 500;
 
 mcp2515::Driver driver(avr::mcp2515_spi());
 const canopen::ParamStorage storage = avr::eeprom_storage();
-ionode::IoNode io(driver.sink());
-avr::CanPort can_port(driver, io.node());
+avr::CanPort can_port(driver);
+ionode::IoNode io(CanSink{&avr::CanPort::send_to, &can_port});
 
 const uint8_t kJoystickPins[5] = {pins::kJoyUp, pins::kJoyDown, pins::kJoyLeft, pins::kJoyRight,
                                   pins::kJoyClick};
-uint8_t raw_inputs = 0;       ///< last sampled levels
-uint8_t stable_inputs = 0;    ///< debounced levels, as in 6000h/1
-uint32_t raw_since_us = 0;    ///< when raw_inputs last changed
+uint8_t raw_inputs = 0;     ///< last sampled levels
+uint8_t stable_inputs = 0;  ///< debounced levels, as in 6000h/1
+uint32_t raw_since_us = 0;  ///< when raw_inputs last changed
 uint8_t outputs_shown = 0xFF;
 
 // A level counts once it held for the debounce time 2101h (ms).
@@ -70,12 +70,13 @@ void setup() {
   const uint32_t now_us = micros();
   can_port.begin(kBitrateKbit, now_us);  // before the boot-up message
   io.node().set_storage(&storage);
+  io.node().set_can_control(&avr::CanPort::kControl);  // filters; the rate is fixed
   io.start(kNodeId, now_us);
 }
 
 void loop() {
   const uint32_t now_us = micros();
-  can_port.poll(now_us);
+  can_port.poll(io.node(), now_us);
   sample_inputs(now_us);
   io.process(now_us);
   show_outputs();

@@ -1,0 +1,86 @@
+// NodeStation's firmware adapter: the gateway core built on the station's
+// ports (CAN controller, serial output, EEPROM, filters), the bench
+// commissioning, and the OD state the line watches. The pass scheduler is
+// node_station.cpp.
+#include <algorithm>
+
+#include "canopen/pdo_map.h"
+#include "filter_plan.h"
+#include "sim/node_station.h"
+
+namespace mb2co {
+namespace sim {
+
+namespace {
+// The controller's bit rate is the bus's (can_bus.h): filters only.
+const CanControl kCanControl = {nullptr, &NodeStation::set_filters};
+}  // namespace
+
+void NodeStation::make_gateway() {
+  gateway::GatewayPorts ports{CanSink{&NodeStation::can_send, this},
+                              modbus::ByteSink{&NodeStation::serial_send, this}, &eeprom_.storage(), baud_,
+                              &kCanControl};
+  gw_.reset(new gateway::Gateway(ports));
+  if (!timing_.isr_stamps) gw_->modbus_slave().set_check_t15(false);
+  canopen::ObjectDictionary& od = gw_->od();
+  namespace e = gateway::od::GatewayEntry;
+  const uint16_t rows[7] = {od.find(e::x2002_0_nmtState),    od.find(e::x2100_2_runState),
+                            od.find(e::x2100_3_stop2Count),  od.find(e::x2110_3_prevStatus),
+                            od.find(e::x2120_3_nextStatus),  od.find(e::x2110_1_prevRunState),
+                            od.find(e::x2120_1_nextRunState)};
+  std::copy(rows, rows + 7, rows_);
+}
+
+void NodeStation::commission(const std::function<void(canopen::ObjectDictionary&)>& configure) {
+  bench_ = true;
+  make_gateway();
+  gw_->start(0, static_cast<uint8_t>(index_ + 1));
+  if (configure) configure(gw_->od());
+  uint8_t save[4];
+  canopen::put_le32(save, canopen::kSaveSignature);
+  gw_->od().write(0x1010, 1, save, 4);
+  gw_.reset();
+  bench_ = false;
+  tx_pending_.clear();
+  serial_pending_.clear();
+}
+
+void NodeStation::set_filters(void* ctx, const uint16_t* ids, uint8_t count) {
+  NodeStation& n = *static_cast<NodeStation*>(ctx);
+  if (!n.timing_.can_filters || n.bench_) return;
+  // The whole plan at once: the firmware's planner reaches the same plan in
+  // steps (mcp2515.FilterPlanner tests), with the filters open meanwhile.
+  mcp2515::FilterPlan plan;
+  if (mcp2515::plan_filters(ids, count, plan)) n.can_.set_acceptance(&plan);
+}
+
+NodeState NodeStation::read_state() {
+  const canopen::ObjectDictionary& od = gw_->od();
+  NodeState s;
+  s.nmt = static_cast<uint8_t>(od.get(rows_[0]));
+  s.run = static_cast<uint8_t>(od.get(rows_[1]));
+  s.stop2_count = static_cast<uint16_t>(od.get(rows_[2]));
+  s.prev_status = static_cast<uint8_t>(od.get(rows_[3]));
+  s.next_status = static_cast<uint8_t>(od.get(rows_[4]));
+  s.prev_run = static_cast<uint8_t>(od.get(rows_[5]));
+  s.next_run = static_cast<uint8_t>(od.get(rows_[6]));
+  return s;
+}
+
+bool NodeStation::can_send(void* ctx, const CanFrame& f) {
+  NodeStation& n = *static_cast<NodeStation*>(ctx);
+  if (n.bench_) return true;
+  // A full controller refuses: the core keeps the frame due (retries it).
+  if (n.can_.free_tx() <= static_cast<int>(n.tx_pending_.size())) return false;
+  n.tx_pending_.push_back(f);
+  return true;
+}
+
+bool NodeStation::serial_send(void* ctx, const uint8_t* data, uint16_t len) {
+  NodeStation& n = *static_cast<NodeStation*>(ctx);
+  if (!n.bench_) n.serial_pending_.insert(n.serial_pending_.end(), data, data + len);
+  return true;
+}
+
+}  // namespace sim
+}  // namespace mb2co

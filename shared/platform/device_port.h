@@ -1,0 +1,135 @@
+// The whole contract between the portable core of a device (canopen::Node,
+// gateway::Gateway) and the platform it runs on: the AVR ports (MCP2515,
+// UART, EEPROM), the Linux ports (SocketCAN, tty/pty, file) and the line
+// simulator. In the shape of libcanard's canard_vtable_t and CANopenNode's
+// CO_driver.h: plain function pointers with a context, no virtual functions,
+// nothing owned by the core.
+//
+// What the core asks of a port, and when:
+//
+//   send frame    CanSink::send        from Node::start/receive/process
+//   serial out    ByteSink::write      from SlaveCore::process or on_char (one
+//                                      ADU per call, when a request is complete)
+//   storage       ParamStorage         from Node::start and reset (load),
+//                                      from an SDO/Modbus write of 1010h/1011h
+//   set bit rate  CanControl::set_bitrate
+//                                      from Gateway::on_reset only: at power-on
+//                                      (Gateway::start) and at every reset node
+//                                      or communication, with 2000h/2 as saved
+//                                      or written since; before the boot-up
+//                                      message leaves, so it leaves at that rate
+//   set filters   CanControl::set_filters
+//                                      from Node::reset (after set_bitrate, before
+//                                      the boot-up message) with consumed_ids(),
+//                                      and from the next Node::process after a
+//                                      write changed what the node consumes
+//                                      (1005h, 1400h-1403h, 1016h)
+//
+// So a change of 2000h/2 reaches the MCP2515 this way: the write is stored;
+// the next reset communication (2001h = 1, NMT) calls Gateway::on_reset,
+// which calls set_bitrate(2000h/2); on the Uno that is avr::CanPort::
+// set_bitrate, which restarts the chip at the new rate.
+//
+// Context rules (all ports):
+//  * Every function is called from the context that calls the core (the main
+//    loop), never from an interrupt; none is re-entered. A call may come
+//    while the port's own code is on the stack: an NMT reset the port hands
+//    in (Node::receive) sets bit rate and filters and sends the boot-up
+//    message from inside that call. A port that takes frames or bytes in an
+//    ISR queues them there and hands them in from the main loop
+//    (Node::receive, SlaveCore::on_char).
+//  * None blocks. send and write queue or refuse (false: the caller counts
+//    the loss or retries); set_bitrate and set_filters take effect at once or
+//    in steps the port runs from its own poll (the MCP2515 planner), and
+//    until then the port lets every frame through (a superset is safe: the
+//    core ignores what it does not consume; a subset loses frames).
+//  * Arguments are borrowed for the call only: a port copies what it keeps
+//    (the ids of set_filters, the bytes of write).
+//  * A null function pointer, or no CanControl table at all, means "not
+//    supported here" (SocketCAN cannot set the bit rate; a test sink has no
+//    filters); the core then skips the call.
+#pragma once
+#include <stdint.h>
+
+#include "canopen/flash.h"
+
+namespace mb2co {
+
+struct CanFrame;  // canopen/can_frame.h
+
+/// Where frames to transmit go. `send` must not block. Returns false when
+/// the port's transmit queue is full: the frame is dropped and the caller
+/// decides whether to retry (services count such drops).
+struct CanSink {
+  bool (*send)(void* ctx, const CanFrame& frame);
+  void* ctx;
+};
+
+/// The CAN controller's settings the core decides. Both get the CanSink's
+/// ctx (one port object per controller). A port defines one constant table
+/// of these, MB2CO_FLASH (flash on the AVR: no RAM); the core keeps a
+/// pointer to it and reads it with flash_read().
+struct CanControl {
+  /// Bit rate in kbit/s (125, 250, 500 or 1000). The port restarts the
+  /// controller when it differs from the rate in use (frames still waiting
+  /// in it are lost) and keeps the filters last set.
+  void (*set_bitrate)(void* ctx, uint16_t kbit);
+  /// The standard ids to receive: ids[0..count), sorted ascending, no
+  /// duplicates, count <= canopen::kMaxConsumedIds (Node::consumed_ids).
+  /// Replaces the previous set.
+  void (*set_filters)(void* ctx, const uint16_t* ids, uint8_t count);
+};
+
+/// What a CAN port reports of its controller (Node::on_controller_state):
+/// bits of an event mask, and the EMCY policy lives in the core.
+enum ControllerEvent : uint8_t {
+  kControllerRxOverflow = 0x01,       ///< frames were lost: EMCY 8110h
+  kControllerStateChanged = 0x02,     ///< error passive entered or left: 8120h
+  kControllerBusOffRecovered = 0x08,  ///< back on the bus after bus-off: 8140h
+};
+
+namespace modbus {
+
+/// Where a Modbus/RTU port sends bytes. `write` gets one complete ADU (CRC
+/// included) per call, in transmission order; it may queue the bytes but
+/// must not keep `data` after returning (the buffer is reused for the next
+/// frame). Returns false when the bytes could not be queued: the response is
+/// lost and counted.
+struct ByteSink {
+  bool (*write)(void* ctx, const uint8_t* data, uint16_t length);
+  void* ctx;
+};
+
+}  // namespace modbus
+
+namespace canopen {
+
+/// Byte-addressed non-volatile storage (EEPROM on the Uno, a file on Linux,
+/// RAM in tests); the core decides the layout: two slots, each with a CRC
+/// (param_storage.h). False: the access failed.
+struct ParamStorage {
+  bool (*read)(void* ctx, uint16_t offset, uint8_t* data, uint16_t len);
+  bool (*write)(void* ctx, uint16_t offset, const uint8_t* data, uint16_t len);
+  /// Every write before it is durable before any write after it (a file:
+  /// fsync). nullptr when writes reach the medium in order anyway (EEPROM).
+  bool (*barrier)(void* ctx);
+  void* ctx;
+};
+
+}  // namespace canopen
+
+namespace gateway {
+
+/// Everything a gateway needs from its platform. Copied by the Gateway's
+/// constructor, except *storage, which must outlive the Gateway.
+struct GatewayPorts {
+  CanSink can;
+  modbus::ByteSink serial;
+  const canopen::ParamStorage* storage;  ///< may be null (nothing persists)
+  uint32_t serial_baud;                  ///< for the RTU t1.5/t3.5 timing
+  /// MB2CO_FLASH table (CanControl); null: neither bit rate nor filters.
+  const CanControl* can_control = nullptr;
+};
+
+}  // namespace gateway
+}  // namespace mb2co

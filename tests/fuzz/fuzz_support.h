@@ -1,0 +1,58 @@
+// What the libFuzzer targets of tests/fuzz share: an abort with a reason,
+// the textbook CRC-16/MODBUS (independent of shared/modbus/crc16), and a
+// snapshot of an OD's const entries.
+#pragma once
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include <vector>
+
+#include "canopen/od.h"
+
+namespace mb2co {
+namespace fuzz {
+
+inline void require(bool ok, const char* what) {
+  if (!ok) {
+    fprintf(stderr, "invariant violated: %s\n", what);
+    abort();
+  }
+}
+
+/// CRC-16/MODBUS bit by bit; over an ADU with its CRC it is 0 when right.
+inline uint16_t crc16_modbus(const uint8_t* p, size_t n) {
+  uint16_t crc = 0xFFFF;
+  for (size_t i = 0; i < n; ++i) {
+    crc = static_cast<uint16_t>(crc ^ p[i]);
+    for (int b = 0; b < 8; ++b)
+      crc = (crc & 1u) ? static_cast<uint16_t>((crc >> 1) ^ 0xA001u) : static_cast<uint16_t>(crc >> 1);
+  }
+  return crc;
+}
+
+/// Every const entry's value, in row order.
+inline std::vector<uint8_t> const_values(const canopen::ObjectDictionary& od) {
+  std::vector<uint8_t> out;
+  for (uint16_t r = 0; r < od.row_count(); ++r) {
+    if (!(od.attr(r) & canopen::kAttrConst)) continue;
+    uint8_t buf[64];
+    const uint16_t n = od.copy_out(r, buf, sizeof buf);
+    out.insert(out.end(), buf, buf + n);
+  }
+  return out;
+}
+
+/// The whole RAM value block (everything the device stores).
+inline std::vector<uint8_t> value_block(canopen::ObjectDictionary& od) {
+  std::vector<uint8_t> out;
+  for (uint16_t r = 0; r < od.row_count(); ++r) {
+    const uint8_t* p = static_cast<const canopen::ObjectDictionary&>(od).ram(r);
+    if (p != nullptr) out.insert(out.end(), p, p + od.capacity_of(r));
+  }
+  return out;
+}
+
+}  // namespace fuzz
+}  // namespace mb2co

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (clang) into build-fuzz/ and runs each for
+# SECONDS on a copy of its corpus (tests/fuzz/corpus/<target>/, checked in):
+#   tests/fuzz/run.sh 20                    every target, 20 s each (scripts/test.sh)
+#   tests/fuzz/run.sh 600 register_bank     one target, 10 min
+#   MB2CO_FUZZ_MERGE=1 tests/fuzz/run.sh 600 ...   and merge what it found into the corpus
+# A crash or an invariant violation fails the run (exit 1) and leaves the
+# input in build-fuzz/artifacts/. Prints each target's executions.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+seconds=${1:?usage: tests/fuzz/run.sh SECONDS [TARGET...]}
+shift
+targets=("$@")
+((${#targets[@]})) || targets=(node_frames gateway_modbus register_bank timing_csv plant_config)
+build=${MB2CO_FUZZ_BUILD_DIR:-build-fuzz}
+mkdir -p "$build"
+if ! { cmake -S tests/fuzz -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ &&
+       cmake --build "$build" --target "${targets[@]/#/mb2co_fuzz_}"; } >"$build/build.log" 2>&1; then
+  echo "fuzz: the targets do not build (log $build/build.log):" >&2
+  grep -E "error|FAILED" "$build/build.log" | head -10 >&2
+  exit 1
+fi
+mkdir -p "$build/artifacts"
+status=0
+for t in "${targets[@]}"; do
+  corpus=tests/fuzz/corpus/$t
+  work=$(mktemp -d)
+  [ -d "$corpus" ] && cp -r "$corpus/." "$work/"
+  log=$build/$t.log
+  if "$build/mb2co_fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+      -artifact_prefix="$build/artifacts/$t-" -print_final_stats=1 "$work" >"$log" 2>&1; then
+    execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
+    echo "fuzz $t: ${execs:-?} executions in ${seconds} s, no failure"
+    if [ "${MB2CO_FUZZ_MERGE:-0}" = 1 ]; then
+      mkdir -p "$corpus"
+      "$build/mb2co_fuzz_$t" -merge=1 "$corpus" "$work" >/dev/null 2>&1
+    fi
+  else
+    echo "fuzz $t: FAILED (log $log, input in $build/artifacts/)" >&2
+    grep -E "invariant violated|ERROR: |SUMMARY" "$log" | head -5 >&2 || true
+    status=1
+  fi
+  rm -rf "$work"
+done
+exit $status

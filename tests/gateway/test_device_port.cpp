@@ -1,0 +1,65 @@
+// The gateway's side of the platform contract (shared/platform/device_port.h): the
+// bit rate of 2000h/2 reaches the port by CanControl::set_bitrate at every
+// reset, before the boot-up message and before set_filters. Black box: OD
+// writes in, the port's calls and frames out, in one log.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "gateway/gateway.h"
+
+namespace mb2co {
+namespace test {
+namespace {
+
+std::vector<std::string> g_calls;
+
+bool log_frame(void*, const CanFrame& f) {
+  g_calls.push_back("frame " + std::to_string(f.id));
+  return true;
+}
+bool no_serial(void*, const uint8_t*, uint16_t) {
+  return true;
+}
+void log_bitrate(void*, uint16_t kbit) {
+  g_calls.push_back("bitrate " + std::to_string(kbit));
+}
+void log_filters(void*, const uint16_t*, uint8_t count) {
+  g_calls.push_back("filters " + std::to_string(count));
+}
+const CanControl kControl = {&log_bitrate, &log_filters};
+
+class DevicePort : public ::testing::Test {
+ protected:
+  void SetUp() override { g_calls.clear(); }
+  gateway::Gateway gw{gateway::GatewayPorts{
+      CanSink{&log_frame, nullptr}, modbus::ByteSink{&no_serial, nullptr}, nullptr, 115200, &kControl}};
+};
+
+TEST_F(DevicePort, ResetSetsBitRateThenFiltersThenSendsBootUp) {
+  gw.start(0, 1);
+  uint16_t ids[canopen::kMaxConsumedIds];
+  const uint8_t n = gw.consumed_ids(ids);
+  EXPECT_EQ(g_calls, (std::vector<std::string>{"bitrate 500", "filters " + std::to_string(n),
+                                               "frame " + std::to_string(0x701)}));
+}
+
+TEST_F(DevicePort, ANewBitRateReachesThePortAtTheNextResetCommunication) {
+  gw.start(0, 1);
+  g_calls.clear();
+  const uint8_t kbit250[2] = {250, 0};
+  ASSERT_EQ(gw.od().write(0x2000, 2, kbit250, 2), canopen::kSdoOk);
+  gw.process(1000, 0);
+  EXPECT_EQ(g_calls, std::vector<std::string>{}) << "stored, not applied yet";
+  const uint8_t reset_comm = 1;
+  ASSERT_EQ(gw.od().write(0x2001, 0, &reset_comm, 1), canopen::kSdoOk);
+  gw.process(2000, 0);
+  ASSERT_GE(g_calls.size(), 3u);
+  EXPECT_EQ(g_calls[0], "bitrate 250");
+  EXPECT_EQ(g_calls[2], "frame " + std::to_string(0x701));
+}
+
+}  // namespace
+}  // namespace test
+}  // namespace mb2co

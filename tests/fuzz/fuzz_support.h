@@ -6,6 +6,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <vector>
 
@@ -32,13 +33,22 @@ inline uint16_t crc16_modbus(const uint8_t* p, size_t n) {
   return crc;
 }
 
-/// Every const entry's value, in row order.
+/// Every const entry's value, in row order. A $NODEID-relative const (the
+/// SDO server's COB-IDs 1200h) follows the active node id by design (CiA 306),
+/// so it is recorded less the node id: what must never change is its base.
 inline std::vector<uint8_t> const_values(const canopen::ObjectDictionary& od) {
   std::vector<uint8_t> out;
   for (uint16_t r = 0; r < od.row_count(); ++r) {
-    if (!(od.attr(r) & canopen::kAttrConst)) continue;
+    const uint8_t a = od.attr(r);
+    if (!(a & canopen::kAttrConst)) continue;
     uint8_t buf[64];
     const uint16_t n = od.copy_out(r, buf, sizeof buf);
+    if ((a & canopen::kAttrNodeId) && n == 4) {
+      uint32_t v = 0;
+      memcpy(&v, buf, 4);  // little-endian host, as the OD's value block
+      v -= od.node_id();
+      memcpy(buf, &v, 4);
+    }
     out.insert(out.end(), buf, buf + n);
   }
   return out;

@@ -14,7 +14,7 @@ firmware/avr/check-int16.sh
 scripts/check-tidy.sh
 echo "== Arduino IDE route: the sketches built by arduino-builder"
 firmware/avr/arduino/ide-build.sh
-echo "== libFuzzer targets, a short run each (tests/fuzz/run.sh; long runs by hand: docs/performance.md)"
-tests/fuzz/run.sh "${MB2CO_FUZZ_SECONDS:-15}"
+echo "== libFuzzer targets, a fixed short run each (tests/fuzz/run.sh ci; long runs by hand: docs/performance.md)"
+tests/fuzz/run.sh ci
 echo "== ctest"
 ctest --test-dir build --output-on-failure -j"$(nproc)" --timeout 600

@@ -47,7 +47,14 @@ class LogTail:
 class HardwareLine(Run):
     def prompt(self, button, stations):
         """The operator's instruction; one line, the same words every time
-        (hil/live/operator_test.py reads them)."""
+        (hil/live/operator_test.py reads them). Asked only once the plants of
+        those stations saw their panel empty: a button still held from the
+        last instruction (the line may answer faster than a finger lets go)
+        pressed again would be no new press, and the run would wait for a
+        START that never comes."""
+        for i in stations:
+            self.wait(lambda: self.plants[i].last("buttons") in (None, "buttons none"),
+                      f"plant {i}: panel empty before '{button}' is asked")
         self.say(f">>> press {button} at station {', '.join(map(str, stations))}")
 
     def mismatch(self, running, causes, mark):

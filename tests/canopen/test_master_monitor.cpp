@@ -59,6 +59,15 @@ class MasterMonitor : public ::testing::Test {
     ASSERT_EQ(bus.trace.size(), before + 2);
     EXPECT_EQ(bus.trace.back().second.substr(0, 8), "<583> 60") << "write acknowledged";
   }
+  /// Runs the bus to 100 µs before `at_us`, where nothing may be raised,
+  /// then to `at_us`, where exactly `event` must come.
+  void expect_exactly_at(uint32_t at_us, const std::string& event) {
+    bus.run(at_us - 100u - bus.now);
+    EXPECT_TRUE(events.take().empty()) << "nothing before " << at_us;
+    bus.step(100);
+    EXPECT_EQ(events.take(), Strings({event}));
+    EXPECT_EQ(events.times.back(), at_us);
+  }
   uint32_t deadline() {
     NextDeadline d(bus.now);
     table.next_deadline(d);
@@ -105,11 +114,7 @@ TEST_F(MasterMonitor, HeartbeatOfARealNodeLostExactlyAfterTheConsumerTimeAndBack
 
   // The node falls off the bus: lost 750 ms after its last heartbeat, not before.
   node.plugged = false;
-  bus.run(last_hb + 750000u - 100u - bus.now);
-  EXPECT_TRUE(events.take().empty());
-  bus.step(100);
-  EXPECT_EQ(events.take(), Strings({"3 lost 05->05"}));
-  EXPECT_EQ(events.times.back(), last_hb + 750000u);
+  expect_exactly_at(last_hb + 750000u, "3 lost 05->05");
   EXPECT_EQ(table.find(3)->link(), kLinkLost);
   EXPECT_EQ(table.lost_count(), 1u);
   bus.run(2000000);
@@ -215,16 +220,13 @@ TEST_F(MasterMonitor, GuardingARealNodeTogglesAndLosesItExactlyAfterTheLifeTime)
     EXPECT_EQ(f.find("<083>"), std::string::npos) << "no life guarding EMCY";
 
   // The node falls off: lost guard time x life time factor after its last answer.
-  uint32_t last = 0;
-  ASSERT_TRUE(bus.last_time_of("<703> 85", &last) || bus.last_time_of("<703> 05", &last));
-  uint32_t other = 0;
-  if (bus.last_time_of("<703> 05", &other) && other > last) last = other;
+  uint32_t with_toggle = 0;
+  uint32_t without = 0;
+  ASSERT_TRUE(bus.last_time_of("<703> 85", &with_toggle));
+  ASSERT_TRUE(bus.last_time_of("<703> 05", &without));
+  const uint32_t last = std::max(with_toggle, without);
   node.plugged = false;
-  bus.run(last + 300000u - 100u - bus.now);
-  EXPECT_TRUE(events.take().empty());
-  bus.step(100);
-  EXPECT_EQ(events.take(), Strings({"3 lost 05->05"}));
-  EXPECT_EQ(events.times.back(), last + 300000u);
+  expect_exactly_at(last + 300000u, "3 lost 05->05");
   // RTRs go on while it is lost; its first answer brings it back, whatever
   // its toggle (it may have been reset unseen).
   node.plugged = true;
@@ -249,11 +251,7 @@ TEST_F(MasterMonitor, GuardingAnswerWithTheSameToggleTwiceIsAToggleErrorThatDoes
   EXPECT_EQ(table.find(3)->toggle_errors(), 1u);
   // ...so the life time still runs from the last valid answer.
   node.plugged = false;
-  bus.run(last + 300000u - 100u - bus.now);
-  EXPECT_TRUE(events.take().empty());
-  bus.step(100);
-  EXPECT_EQ(events.take(), Strings({"3 lost 7F->7F"}));
-  EXPECT_EQ(events.times.back(), last + 300000u);
+  expect_exactly_at(last + 300000u, "3 lost 7F->7F");
 }
 
 TEST(MasterMonitorGuarding, BootUpResetsTheExpectedToggle) {
@@ -332,6 +330,27 @@ TEST_F(MasterMonitor, ATableWatchesSeveralRealNodesEachOnItsOwn) {
   EXPECT_EQ(events.take(), Strings({"3 lost 05->05"}));
   EXPECT_EQ(table.find(5)->link(), kLinkAlive);
   EXPECT_EQ(table.lost_count(), 1u);
+}
+
+TEST(MasterMonitorTable, All127NodesAtOnce) {
+  uint32_t now = 0;
+  EventLog events(&now);
+  NodeMonitorTable<127> table;
+  table.set_listener(events.listener());
+  for (uint8_t id = 1; id <= 127; ++id) ASSERT_TRUE(table.monitor(id)->watch_heartbeat(id, 100, 200));
+  EXPECT_EQ(table.monitor(1), table.find(1));
+  for (uint8_t id = 1; id <= 127; ++id) EXPECT_TRUE(table.on_frame(F(0x700u + id, {0x7F}), now));
+  EXPECT_EQ(events.take().size(), 127u);
+  const CanSink none = {nullptr, nullptr};
+  now = 150000;
+  for (uint8_t id = 2; id <= 127; ++id) table.on_frame(F(0x700u + id, {0x7F}), now);
+  now = 200000;
+  table.process(now, none);
+  EXPECT_EQ(events.take(), Strings({"1 lost 7F->7F"}));
+  now = 350000;
+  table.process(now, none);
+  EXPECT_EQ(events.take().size(), 126u);
+  EXPECT_EQ(table.lost_count(), 127u);
 }
 
 }  // namespace

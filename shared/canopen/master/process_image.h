@@ -93,8 +93,8 @@ class ProcessImageCore {
   /// Lowers `d` to now while an RPDO is pending.
   void next_deadline(NextDeadline& d) const;
 
-  /// The configured PDO, nullptr when none: `receive` false = a TPDO of the
-  /// node (the master receives), true = an RPDO of the node.
+  /// The configured PDO, nullptr when none: `rpdo` false = a TPDO of the
+  /// node (the master receives it), true = an RPDO of the node (it sends).
   const ImagePdo* pdo(uint8_t node_id, uint8_t n, bool rpdo) const;
   uint16_t pdo_length_errors() const { return length_errors_; }
   uint16_t send_failures() const { return send_failures_; }

@@ -7,6 +7,10 @@
 // node's first heartbeat (heartbeat) or first guarding answer (guarding); a
 // configured node never heard from stays kLinkWaiting and raises nothing but
 // its boot-up. A node configured for neither raises nothing at all.
+//
+// One protocol per node (CiA 301): a guarded node's every 1-byte frame on
+// 700h+id is taken as a guarding answer (a heartbeat there would show as
+// toggle errors), a heartbeat-watched node gets no RTRs.
 #pragma once
 #include <stdint.h>
 

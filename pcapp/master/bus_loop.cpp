@@ -1,0 +1,68 @@
+#include "bus_loop.h"
+
+#include <errno.h>
+#include <poll.h>
+#include <signal.h>
+#include <time.h>
+#include <unistd.h>
+
+namespace mb2co {
+namespace master {
+
+namespace {
+// Set by the handler, read by the loop: a signal only ends the current wait.
+volatile sig_atomic_t g_signalled = 0;
+extern "C" void on_signal(int) {
+  g_signalled = 1;
+}
+}  // namespace
+
+Status BusLoop::open(const char* ifname) {
+  struct sigaction sa = {};
+  sa.sa_handler = on_signal;  // no SA_RESTART: poll() returns EINTR at once
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  return port_.open(ifname);
+}
+
+bool BusLoop::add(BusService* service) {
+  if (count_ == kMaxServices) return false;
+  services_[count_++] = service;
+  return true;
+}
+
+uint32_t BusLoop::now_us() const {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<uint32_t>(static_cast<uint64_t>(ts.tv_sec) * 1000000u +
+                               static_cast<uint64_t>(ts.tv_nsec) / 1000u);
+}
+
+void BusLoop::pass(uint32_t end) {
+  const CanSink out = port_.sink();
+  NextDeadline next(now_us());
+  next.at(end);
+  for (int i = 0; i < count_; ++i) services_[i]->next_deadline(next);
+  uint32_t at_us = end;
+  next.result(&at_us);
+  // Round up: waking a little late is harmless, waking early costs a pass.
+  const uint32_t wait_us = time_until(next.now_us(), at_us);
+  pollfd fd = {port_.fd(), POLLIN, 0};
+  const int wait_ms = static_cast<int>((wait_us + 999u) / 1000u);
+  if (poll(&fd, 1, wait_ms) < 0 && errno == EINTR && g_signalled) interrupted_ = true;
+  if (fd.revents & POLLIN) {
+    linux_port::TimedCanFrame frames[linux_port::SocketCanPort::kBatch];
+    size_t got = 0;
+    while ((got = port_.receive(frames, linux_port::SocketCanPort::kBatch)) > 0) {
+      for (size_t k = 0; k < got; ++k) {
+        const uint32_t at = static_cast<uint32_t>(frames[k].rx_time_us);
+        for (int i = 0; i < count_; ++i) services_[i]->on_frame(frames[k].frame, at, out);
+      }
+    }
+  }
+  const uint32_t now = now_us();
+  for (int i = 0; i < count_; ++i) services_[i]->process(now, out);
+}
+
+}  // namespace master
+}  // namespace mb2co

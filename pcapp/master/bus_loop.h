@@ -1,0 +1,72 @@
+// The master's one thread: a SocketCAN port, the monotonic clock and the
+// portable services of shared/canopen/master, run by one poll() loop that
+// sleeps exactly until the earliest deadline any service reports (no
+// periodic wake-up: an idle master costs nothing).
+#pragma once
+#include <stdint.h>
+
+#include "canopen/can_frame.h"
+#include "canopen/clock.h"
+#include "socketcan_port.h"
+#include "status.h"
+
+namespace mb2co {
+namespace master {
+
+/// What the loop drives. Each call gets the same `now_us` the loop took once
+/// per pass, so services agree on time. Not owned by the loop.
+class BusService {
+ public:
+  virtual void on_frame(const CanFrame& frame, uint32_t now_us, const CanSink& sink) = 0;
+  virtual void process(uint32_t now_us, const CanSink& sink) = 0;
+  virtual void next_deadline(NextDeadline& d) const = 0;
+
+ protected:
+  ~BusService() = default;  // never deleted through this interface
+};
+
+class BusLoop {
+ public:
+  static const int kMaxServices = 8;
+
+  /// Opens `ifname` receiving every frame (a master listens to all of them).
+  Status open(const char* ifname);
+  /// Adds a service; false when kMaxServices are there already.
+  bool add(BusService* service);
+
+  /// Runs passes until `done()` is true (checked after every pass) or
+  /// `limit_us` µs have passed (at most kLongestRunUs: the wrapping clock's
+  /// horizon). True when done() ended it. SIGINT/SIGTERM end it early too
+  /// (interrupted() then tells).
+  static const uint32_t kLongestRunUs = 2000000000u;
+  template <class Done>
+  bool run_until(Done done, uint32_t limit_us) {
+    if (limit_us > kLongestRunUs) limit_us = kLongestRunUs;
+    const uint32_t end = now_us() + limit_us;
+    for (;;) {
+      pass(end);
+      if (done()) return true;
+      if (interrupted_ || time_reached(now_us(), end)) return false;
+    }
+  }
+  /// Sends one frame now (NMT, SYNC by hand). False when the kernel refused it.
+  bool send(const CanFrame& frame) { return port_.send(frame); }
+  CanSink sink() { return port_.sink(); }
+  uint32_t now_us() const;
+  /// A SIGINT or SIGTERM arrived (watch ends, transfers are aborted cleanly).
+  bool interrupted() const { return interrupted_; }
+  const linux_port::SocketCanPort& port() const { return port_; }
+
+ private:
+  /// One poll() until the earliest deadline (or `end`), then frames in, then
+  /// every service's process().
+  void pass(uint32_t end);
+
+  linux_port::SocketCanPort port_;
+  BusService* services_[kMaxServices] = {};
+  int count_ = 0;
+  bool interrupted_ = false;
+};
+
+}  // namespace master
+}  // namespace mb2co

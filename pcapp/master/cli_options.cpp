@@ -1,0 +1,121 @@
+#include "cli_options.h"
+
+#include <stdlib.h>
+
+#include <algorithm>
+
+namespace mb2co {
+namespace master {
+
+const char* usage_text() {
+  return "usage: mb2co-master [-i IFACE] [-t TIMEOUT_MS] [--json] [--eds FILE] COMMAND ...\n"
+         "  scan [FIRST [LAST]]                      node ids that answer, with 1000h, 1018h, 1008h\n"
+         "  read NODE INDEX SUB [TYPE]               SDO upload, shown as TYPE (or as --eds says)\n"
+         "  write NODE INDEX SUB [TYPE] VALUE        SDO download\n"
+         "  upload NODE INDEX SUB FILE [--block]     an object into a file, with progress\n"
+         "  download NODE INDEX SUB FILE [--block]   a file into an object, with progress\n"
+         "  nmt start|stop|preop|reset|reset-comm NODE|all\n"
+         "  sync [--period MS] [--count N] [--overflow N] [--cob-id ID]\n"
+         "  dump NODE [FILE.dcf]                     the whole OD uploaded, written as a DCF\n"
+         "  configure NETWORK_FILE                   DCFs written to their nodes, then started\n"
+         "  watch [--nodes LIST] [--heartbeat MS] [--for S]   NMT state, heartbeat age, EMCY, PDOs\n"
+         "TYPE: u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs (string) os (hex bytes) d (domain, hex)\n"
+         "exit: 0 done, 1 refused (SDO abort), 2 usage or file error, 3 CAN interface, 4 no answer\n";
+}
+
+Status parse_number(const std::string& text, uint64_t max, const char* what, uint64_t* value) {
+  std::string t = text;
+  int base = 10;
+  if (t.size() > 2 && t[0] == '0' && (t[1] == 'x' || t[1] == 'X')) {
+    t = t.substr(2);
+    base = 16;
+  } else if (t.size() > 1 && (t.back() == 'h' || t.back() == 'H')) {
+    t.pop_back();
+    base = 16;
+  }
+  const bool digits = !t.empty() && std::all_of(t.begin(), t.end(), [base](char c) {
+    return base == 16 ? isxdigit(static_cast<unsigned char>(c)) != 0 : (c >= '0' && c <= '9');
+  });
+  if (!digits || t.size() > 20) return Status::failure(std::string("bad ") + what + " '" + text + "'");
+  errno = 0;
+  const unsigned long long v = strtoull(t.c_str(), nullptr, base);
+  if (errno != 0 || v > max)
+    return Status::failure(std::string(what) + " '" + text + "' out of range (at most " +
+                           std::to_string(max) + ")");
+  *value = v;
+  return Status::ok();
+}
+
+Status parse_node_id(const std::string& text, bool allow_all, uint8_t* node_id) {
+  if (allow_all && (text == "all" || text == "0")) {
+    *node_id = 0;
+    return Status::ok();
+  }
+  uint64_t v = 0;
+  Status s = parse_number(text, 127, "node id", &v);
+  if (!s) return s;
+  if (v == 0)
+    return Status::failure("node id 0: node ids are 1..127" + std::string(allow_all ? " or all" : ""));
+  *node_id = static_cast<uint8_t>(v);
+  return Status::ok();
+}
+
+bool take_option(std::vector<std::string>* words, const std::string& name, bool flag, std::string* value) {
+  for (size_t i = 0; i < words->size(); ++i) {
+    if ((*words)[i] != name) continue;
+    if (flag) {
+      words->erase(words->begin() + static_cast<long>(i));
+      return true;
+    }
+    if (i + 1 >= words->size()) return false;
+    if (value) *value = (*words)[i + 1];
+    words->erase(words->begin() + static_cast<long>(i), words->begin() + static_cast<long>(i) + 2);
+    return true;
+  }
+  return false;
+}
+
+Status parse_options(int argc, char** argv, Options* out) {
+  int i = 1;
+  for (; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.empty() || a[0] != '-') break;
+    auto value = [&](std::string* v) {
+      if (i + 1 >= argc) return Status::failure("option " + a + " needs a value");
+      *v = argv[++i];
+      return Status::ok();
+    };
+    std::string v;
+    if (a == "-i" || a == "--interface") {
+      Status s = value(&out->iface);
+      if (!s) return s;
+    } else if (a == "-t" || a == "--timeout") {
+      Status s = value(&v);
+      if (!s) return s;
+      uint64_t ms = 0;
+      s = parse_number(v, 600000, "timeout", &ms);
+      if (!s) return s;
+      if (ms == 0) return Status::failure("timeout 0: the SDO timeout is 1..600000 ms");
+      out->timeout_ms = static_cast<uint32_t>(ms);
+    } else if (a == "--json") {
+      out->json = true;
+    } else if (a == "--eds") {
+      Status s = value(&out->eds);
+      if (!s) return s;
+    } else if (a == "-h" || a == "--help") {
+      out->command = "help";
+      return Status::ok();
+    } else {
+      return Status::failure("unknown option " + a);
+    }
+  }
+  if (i >= argc)
+    return Status::failure(
+        "no command (scan, read, write, upload, download, nmt, sync, dump, configure, watch)");
+  out->command = argv[i++];
+  for (; i < argc; ++i) out->words.emplace_back(argv[i]);
+  return Status::ok();
+}
+
+}  // namespace master
+}  // namespace mb2co

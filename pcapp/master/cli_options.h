@@ -1,0 +1,40 @@
+// mb2co-master's command line: global options, then a command and its
+// words. Numbers follow can-utils/cocomm habits: 0x.. or ..h hex, else
+// decimal; node ids 1..127 ("all" where a broadcast makes sense).
+#pragma once
+#include <stdint.h>
+
+#include <string>
+#include <vector>
+
+#include "status.h"
+
+namespace mb2co {
+namespace master {
+
+struct Options {
+  std::string iface = "can0";  ///< -i IFACE
+  uint32_t timeout_ms = 1000;  ///< -t MS: SDO client timeout (CiA 301 leaves it to us)
+  bool json = false;           ///< --json: one JSON object per line
+  std::string eds;             ///< --eds FILE: types for read/write
+  std::string command;
+  std::vector<std::string> words;  ///< the command's arguments and options, in order
+};
+
+/// Parses argv. Fails with one line (no newline) for an unknown option, a
+/// missing command or a bad number.
+Status parse_options(int argc, char** argv, Options* out);
+/// The usage text (printed for --help and after a usage error).
+const char* usage_text();
+
+/// "0x1018", "1018h", "4120" → value; fails when not a number or above `max`.
+Status parse_number(const std::string& text, uint64_t max, const char* what, uint64_t* value);
+/// 1..127, or 0 for "all"/"0" when `allow_all`.
+Status parse_node_id(const std::string& text, bool allow_all, uint8_t* node_id);
+
+/// Pulls "--name VALUE" (or "--name" alone when `flag`) out of `words`;
+/// true when it was there. `value` may be null for a flag.
+bool take_option(std::vector<std::string>* words, const std::string& name, bool flag, std::string* value);
+
+}  // namespace master
+}  // namespace mb2co

@@ -1,0 +1,21 @@
+// mb2co-master's commands. Each parses its own words, runs on an open bus
+// and returns an ExitCode; results go to `out` (plain lines or, with
+// --json, one JSON object per line), the one-line error to `err`.
+#pragma once
+#include <ostream>
+
+#include "bus_loop.h"
+#include "cli_options.h"
+
+namespace mb2co {
+namespace master {
+
+int nmt_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
+int sync_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
+int watch_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
+
+/// Prints "mb2co-master: WHY" and returns `code` (the one error style).
+int fail(std::ostream& err, int code, const std::string& why);
+
+}  // namespace master
+}  // namespace mb2co

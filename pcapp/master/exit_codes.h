@@ -1,0 +1,18 @@
+// mb2co-master's exit codes: what a script can tell apart without parsing
+// the one-line error on stderr.
+#pragma once
+
+namespace mb2co {
+namespace master {
+
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitRefused = 1,        ///< a node refused: SDO abort (its code is printed), wrong identity
+  kExitUsage = 2,          ///< bad command line or file (EDS/DCF/network file, value)
+  kExitBus = 3,            ///< the CAN interface cannot be opened or refuses frames
+  kExitNoAnswer = 4,       ///< a node did not answer in time (SDO timeout, node missing)
+  kExitInterrupted = 130,  ///< SIGINT/SIGTERM ended a transfer (it was aborted on the bus)
+};
+
+}  // namespace master
+}  // namespace mb2co

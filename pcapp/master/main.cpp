@@ -1,0 +1,41 @@
+// mb2co-master: a CANopen master on SocketCAN (seed 002's "Can
+// Communicator" with network management), in the habits of can-utils and
+// cocomm: one command per run, results on stdout, one-line errors on
+// stderr, exit codes a script can use (exit_codes.h).
+#include <iostream>
+
+#include "bus_loop.h"
+#include "cli_options.h"
+#include "commands.h"
+#include "exit_codes.h"
+
+using namespace mb2co::master;
+
+int main(int argc, char** argv) {
+  Options o;
+  const mb2co::Status parsed = parse_options(argc, argv, &o);
+  if (!parsed) {
+    std::cerr << "mb2co-master: " << parsed.message() << "\n" << usage_text();
+    return kExitUsage;
+  }
+  if (o.command == "help") {
+    std::cout << usage_text();
+    return kExitOk;
+  }
+  struct Command {
+    const char* name;
+    int (*run)(const Options&, BusLoop&, std::ostream&, std::ostream&);
+  };
+  static const Command kCommands[] = {{"nmt", nmt_command}, {"sync", sync_command}, {"watch", watch_command}};
+  const Command* command = nullptr;
+  for (const Command& c : kCommands)
+    if (o.command == c.name) command = &c;
+  if (!command) {
+    std::cerr << "mb2co-master: unknown command '" << o.command << "'\n" << usage_text();
+    return kExitUsage;
+  }
+  static BusLoop bus;
+  const mb2co::Status opened = bus.open(o.iface.c_str());
+  if (!opened) return fail(std::cerr, kExitBus, opened.message());
+  return command->run(o, bus, std::cout, std::cerr);
+}

@@ -1,0 +1,123 @@
+// nmt and sync: the two unconfirmed services a master sends on its own.
+#include <cstdio>
+
+#include "canopen/master/nmt_master.h"
+#include "canopen/master/sync_producer.h"
+#include "commands.h"
+#include "exit_codes.h"
+
+namespace mb2co {
+namespace master {
+
+int fail(std::ostream& err, int code, const std::string& why) {
+  err << "mb2co-master: " << why << "\n";
+  return code;
+}
+
+namespace {
+
+struct NmtName {
+  const char* word;
+  canopen::NmtCommand command;
+};
+const NmtName kNmtNames[] = {{"start", canopen::kNmtStart},
+                             {"stop", canopen::kNmtStop},
+                             {"preop", canopen::kNmtEnterPreOperational},
+                             {"reset", canopen::kNmtResetNode},
+                             {"reset-comm", canopen::kNmtResetCommunication}};
+
+/// The SYNC producer as a bus service; counts what it sent.
+class SyncService : public BusService {
+ public:
+  SyncService(canopen::SyncProducer* producer, std::ostream* out, bool json)
+      : producer_(producer), out_(out), json_(json) {}
+  void on_frame(const CanFrame&, uint32_t, const CanSink&) override {}
+  void process(uint32_t now_us, const CanSink& sink) override {
+    uint8_t counter = 0;
+    if (!producer_->process(now_us, sink, &counter)) return;
+    if (sent_ == 0) first_us_ = now_us;
+    ++sent_;
+    const double at_ms = static_cast<double>(now_us - first_us_) / 1000.0;
+    char line[96];
+    if (json_)
+      std::snprintf(line, sizeof line, "{\"sync\":%u,\"counter\":%u,\"at_ms\":%.3f}\n", sent_, counter,
+                    at_ms);
+    else
+      std::snprintf(line, sizeof line, "sync %u counter=%u at_ms=%.3f\n", sent_, counter, at_ms);
+    *out_ << line << std::flush;
+  }
+  void next_deadline(NextDeadline& d) const override { producer_->next_deadline(d); }
+  unsigned sent() const { return sent_; }
+
+ private:
+  canopen::SyncProducer* producer_;
+  std::ostream* out_;
+  bool json_;
+  unsigned sent_ = 0;
+  uint32_t first_us_ = 0;
+};
+
+}  // namespace
+
+int nmt_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+  if (o.words.size() != 2)
+    return fail(err, kExitUsage, "nmt: want nmt start|stop|preop|reset|reset-comm NODE|all");
+  const NmtName* name = nullptr;
+  for (const NmtName& n : kNmtNames)
+    if (o.words[0] == n.word) name = &n;
+  if (!name)
+    return fail(err, kExitUsage,
+                "nmt: unknown command '" + o.words[0] + "' (start, stop, preop, reset, reset-comm)");
+  uint8_t node = 0;
+  const Status s = parse_node_id(o.words[1], true, &node);
+  if (!s) return fail(err, kExitUsage, "nmt: " + s.message());
+  canopen::NmtMaster nmt(bus.sink());
+  if (!nmt.command(name->command, node))
+    return fail(err, kExitBus,
+                "nmt: the CAN interface refused the frame: " + std::string(bus.port().last_io_error()));
+  const std::string who = node == 0 ? "all" : std::to_string(node);
+  if (o.json)
+    out << "{\"nmt\":\"" << name->word << "\",\"node\":" << (node == 0 ? "\"all\"" : who) << "}\n";
+  else
+    out << "nmt " << name->word << " " << who << "\n";
+  return kExitOk;
+}
+
+int sync_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+  std::vector<std::string> w = o.words;
+  std::string v;
+  uint64_t period_ms = 0, count = 1, overflow = 0, cob_id = 0x80;
+  struct Numeric {
+    const char* name;
+    uint64_t max;
+    uint64_t* value;
+  } const numeric[] = {{"--period", 60000, &period_ms},
+                       {"--count", 1000000, &count},
+                       {"--overflow", 240, &overflow},
+                       {"--cob-id", 0x7FF, &cob_id}};
+  for (const Numeric& n : numeric) {
+    if (!take_option(&w, n.name, false, &v)) continue;
+    const Status s = parse_number(v, n.max, n.name + 2, n.value);
+    if (!s) return fail(err, kExitUsage, "sync: " + s.message());
+  }
+  if (!w.empty()) return fail(err, kExitUsage, "sync: unexpected '" + w[0] + "'");
+  if (count == 0) return fail(err, kExitUsage, "sync: --count 0 sends nothing");
+  if (count > 1 && period_ms == 0) return fail(err, kExitUsage, "sync: --count above 1 needs --period MS");
+  if (overflow == 1) return fail(err, kExitUsage, "sync: --overflow 1 is not allowed (CiA 301: 0 or 2..240)");
+  canopen::SyncProducer producer;
+  // One SYNC alone needs a period too: the producer sends at its start.
+  producer.configure(static_cast<uint32_t>(cob_id), static_cast<uint32_t>(period_ms ? period_ms : 1) * 1000u,
+                     static_cast<uint8_t>(overflow));
+  SyncService service(&producer, &out, o.json);
+  bus.add(&service);
+  const auto done = [&] { return service.sent() >= count; };
+  while (!done() && !bus.interrupted()) bus.run_until(done, BusLoop::kLongestRunUs);
+  if (bus.interrupted()) return kExitInterrupted;
+  if (producer.send_failures())
+    return fail(err, kExitBus,
+                "sync: the CAN interface refused a SYNC: " + std::string(bus.port().last_io_error()));
+  return kExitOk;
+}
+
+}  // namespace master
+}  // namespace mb2co

@@ -1,0 +1,242 @@
+// watch: the bus as a master sees it. Per node: NMT state and heartbeat age
+// (NodeMonitor), last EMCY decoded (EmcyConsumer), PDOs by COB-ID. Events
+// go out as lines (or JSON lines) the moment they happen; on a terminal a
+// table of the nodes is redrawn twice a second as well.
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+#include <map>
+
+#include "canopen/master/emcy_consumer.h"
+#include "canopen/master/emcy_names.h"
+#include "canopen/master/node_monitor.h"
+#include "canopen/nmt_slave.h"
+#include "commands.h"
+#include "exit_codes.h"
+
+namespace mb2co {
+namespace master {
+
+namespace {
+
+const char* state_name(uint8_t s) {
+  switch (s) {
+    case canopen::kNmtInitialising:
+      return "boot-up";
+    case canopen::kNmtStopped:
+      return "stopped";
+    case canopen::kNmtOperational:
+      return "operational";
+    case canopen::kNmtPreOperational:
+      return "pre-operational";
+    case canopen::kNodeStateUnknown:
+      return "unknown";
+    default:
+      return "invalid";
+  }
+}
+
+std::string hex(const uint8_t* p, int n) {
+  std::string s;
+  char b[4];
+  for (int i = 0; i < n; ++i) {
+    std::snprintf(b, sizeof b, i ? " %02X" : "%02X", p[i]);
+    s += b;
+  }
+  return s;
+}
+
+class WatchService : public BusService {
+ public:
+  WatchService(std::ostream* out, bool json, bool table) : out_(out), json_(json), table_(table) {
+    monitors_.set_listener(canopen::MonitorListener{&WatchService::on_monitor, this});
+    emcy_.set_listener(canopen::EmcyListener{&WatchService::on_emcy, this});
+  }
+  bool watch(uint8_t node, uint16_t consumer_ms) {
+    canopen::NodeMonitor* m = monitors_.monitor(node);
+    // The producer time is not known to a passive watcher; any below the
+    // consumer time is allowed, and only the consumer time matters here.
+    return m && m->watch_heartbeat(node, 1, consumer_ms);
+  }
+  void on_frame(const CanFrame& f, uint32_t now_us, const CanSink&) override {
+    if (f.extended()) return;
+    if (f.id >= 0x701 && f.id <= 0x77F && !f.rtr() && f.dlc >= 1)
+      last_heard_us_[static_cast<uint8_t>(f.id - 0x700)] = now_us;
+    if (monitors_.on_frame(f, now_us)) return;
+    if (emcy_.on_frame(f, now_us)) return;
+    if (f.id >= 0x180 && f.id <= 0x57F && !f.rtr()) pdo(f, now_us);
+  }
+  void process(uint32_t now_us, const CanSink& sink) override {
+    now_us_ = now_us;
+    monitors_.process(now_us, sink);
+    if (table_ && time_reached(now_us, redraw_at_us_)) {
+      draw(now_us);
+      redraw_at_us_ = now_us + 500000u;
+    }
+  }
+  void next_deadline(NextDeadline& d) const override {
+    monitors_.next_deadline(d);
+    if (table_) d.at(redraw_at_us_);
+  }
+
+ private:
+  static void on_monitor(void* ctx, uint8_t node, canopen::MonitorEvent e, uint8_t from, uint8_t to) {
+    auto* self = static_cast<WatchService*>(ctx);
+    const char* what = e == canopen::kMonitorNodeLost      ? "lost"
+                       : e == canopen::kMonitorNodeBack    ? "back"
+                       : e == canopen::kMonitorBootUp      ? "boot-up"
+                       : e == canopen::kMonitorToggleError ? "toggle-error"
+                                                           : "state";
+    char line[160];
+    if (self->json_)
+      std::snprintf(line, sizeof line, "{\"node\":%u,\"event\":\"%s\",\"from\":\"%s\",\"to\":\"%s\"}", node,
+                    what, state_name(from), state_name(to));
+    else if (e == canopen::kMonitorStateChanged)
+      std::snprintf(line, sizeof line, "node %u state %s -> %s", node, state_name(from), state_name(to));
+    else
+      std::snprintf(line, sizeof line, "node %u %s", node, what);
+    self->event(line);
+  }
+  static void on_emcy(void* ctx, uint8_t node, const canopen::EmcyMessage& m, uint32_t) {
+    auto* self = static_cast<WatchService*>(ctx);
+    std::string bits;
+    for (uint8_t b = 1; b != 0; b = static_cast<uint8_t>(b << 1)) {
+      if (!(m.error_register & b)) continue;
+      if (!bits.empty()) bits += ", ";
+      bits += canopen::error_register_bit_name(b);
+    }
+    char line[320];
+    if (self->json_)
+      std::snprintf(line, sizeof line,
+                    "{\"node\":%u,\"event\":\"emcy\",\"code\":\"%04X\",\"name\":\"%s\",\"register\":\"%02X\","
+                    "\"register_bits\":\"%s\",\"manufacturer\":\"%s\"}",
+                    node, m.code, canopen::emcy_code_name(m.code), m.error_register, bits.c_str(),
+                    hex(m.manufacturer, 5).c_str());
+    else
+      std::snprintf(line, sizeof line, "node %u emcy %04Xh %s, register %02Xh%s%s%s, manufacturer %s", node,
+                    m.code, canopen::emcy_code_name(m.code), m.error_register, bits.empty() ? "" : " (",
+                    bits.c_str(), bits.empty() ? "" : ")", hex(m.manufacturer, 5).c_str());
+    self->event(line);
+  }
+  void pdo(const CanFrame& f, uint32_t) {
+    std::string& last = pdos_[static_cast<uint16_t>(f.id)];
+    const std::string data = hex(f.data, f.dlc);
+    if (data == last && !last.empty()) return;  // only changes: a cyclic PDO would flood the log
+    last = data;
+    char line[160];
+    if (json_)
+      std::snprintf(line, sizeof line, "{\"event\":\"pdo\",\"cob_id\":\"%03X\",\"data\":\"%s\"}", f.id,
+                    data.c_str());
+    else
+      std::snprintf(line, sizeof line, "pdo %03Xh %s", f.id, data.c_str());
+    event(line);
+  }
+  void event(const char* line) {
+    if (table_) return;  // the table shows it; lines would scroll it away
+    *out_ << line << "\n" << std::flush;
+  }
+  void draw(uint32_t now_us) {
+    std::string s = "\x1b[H\x1b[2Jnode  state             heartbeat age  last EMCY\n";
+    char row[200];
+    for (uint8_t id = 1; id <= 127; ++id) {
+      const canopen::NodeMonitor* m = monitors_.find(id);
+      if (!m) continue;
+      const auto heard = last_heard_us_.find(id);
+      const canopen::EmcyRecord* e = emcy_.record(id);
+      char age[32] = "-";
+      if (heard != last_heard_us_.end())
+        std::snprintf(age, sizeof age, "%.1f s", static_cast<double>(now_us - heard->second) / 1e6);
+      char last_emcy[96] = "-";
+      if (e)
+        std::snprintf(last_emcy, sizeof last_emcy, "%04Xh %s", e->last.code,
+                      canopen::emcy_code_name(e->last.code));
+      std::snprintf(row, sizeof row, "%4u  %-16s  %13s  %s%s\n", id, state_name(m->state()), age, last_emcy,
+                    m->link() == canopen::kLinkLost ? "  LOST" : "");
+      s += row;
+    }
+    for (const auto& p : pdos_) {
+      std::snprintf(row, sizeof row, "pdo %03Xh  %s\n", p.first, p.second.c_str());
+      s += row;
+    }
+    *out_ << s << std::flush;
+  }
+
+  std::ostream* out_;
+  bool json_;
+  bool table_;
+  uint32_t now_us_ = 0;
+  uint32_t redraw_at_us_ = 0;
+  canopen::NodeMonitorTable<127> monitors_;
+  canopen::EmcyConsumer<127> emcy_;
+  std::map<uint8_t, uint32_t> last_heard_us_;
+  std::map<uint16_t, std::string> pdos_;
+};
+
+/// "1,2,5-7" → node ids; fails with the offending word.
+Status parse_node_list(const std::string& text, std::vector<uint8_t>* nodes) {
+  size_t start = 0;
+  while (start <= text.size()) {
+    const size_t comma = text.find(',', start);
+    const std::string part =
+        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    const size_t dash = part.find('-');
+    uint8_t a = 0, b = 0;
+    Status s = parse_node_id(part.substr(0, dash), false, &a);
+    if (s && dash != std::string::npos) s = parse_node_id(part.substr(dash + 1), false, &b);
+    if (!s) return s;
+    if (dash == std::string::npos) b = a;
+    if (b < a) return Status::failure("node range '" + part + "' runs backwards");
+    for (int id = a; id <= b; ++id) nodes->push_back(static_cast<uint8_t>(id));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return Status::ok();
+}
+
+}  // namespace
+
+int watch_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+  std::vector<std::string> w = o.words;
+  std::string v;
+  std::vector<uint8_t> nodes;
+  if (take_option(&w, "--nodes", false, &v)) {
+    const Status s = parse_node_list(v, &nodes);
+    if (!s) return fail(err, kExitUsage, "watch: " + s.message());
+  } else {
+    for (int id = 1; id <= 127; ++id) nodes.push_back(static_cast<uint8_t>(id));
+  }
+  uint64_t consumer_ms = 1000, seconds = 0;
+  if (take_option(&w, "--heartbeat", false, &v)) {
+    const Status s = parse_number(v, 65535, "heartbeat consumer time", &consumer_ms);
+    if (!s) return fail(err, kExitUsage, "watch: " + s.message());
+    if (consumer_ms < 2) return fail(err, kExitUsage, "watch: --heartbeat is 2..65535 ms");
+  }
+  if (take_option(&w, "--for", false, &v)) {
+    const Status s = parse_number(v, 2000, "duration", &seconds);
+    if (!s) return fail(err, kExitUsage, "watch: " + s.message() + " (seconds)");
+  }
+  if (!w.empty()) return fail(err, kExitUsage, "watch: unexpected '" + w[0] + "'");
+  const bool table = !o.json && isatty(STDOUT_FILENO) && &out == &std::cout;
+  static WatchService service(&out, o.json, table);  // large (127 monitors): not on the stack
+  for (uint8_t id : nodes) service.watch(id, static_cast<uint16_t>(consumer_ms));
+  bus.add(&service);
+  // Said once the socket is bound: from here on nothing on the bus is missed
+  // (a script or test may start the nodes after this line).
+  if (o.json)
+    out << "{\"event\":\"watching\",\"interface\":\"" << o.iface << "\",\"nodes\":" << nodes.size()
+        << ",\"heartbeat_ms\":" << consumer_ms << "}\n";
+  else if (!table)
+    out << "watching " << o.iface << ": " << nodes.size() << " node ids, heartbeat consumer " << consumer_ms
+        << " ms\n";
+  out << std::flush;
+  if (seconds) {
+    bus.run_until([] { return false; }, static_cast<uint32_t>(seconds * 1000000u));
+  } else {
+    while (!bus.interrupted()) bus.run_until([] { return false; }, BusLoop::kLongestRunUs);
+  }
+  return kExitOk;
+}
+
+}  // namespace master
+}  // namespace mb2co

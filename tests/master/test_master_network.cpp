@@ -1,0 +1,138 @@
+// mb2co-master's unconfirmed services and its watch, on vcan0 against
+// mb2co-node (the gateway firmware on Linux) with candump as the witness.
+// ctest runs this binary inside hil/uml/run-with-vcan.sh.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include "master_cli.h"
+#include "node_harness.h"
+
+namespace mb2co {
+namespace test {
+namespace {
+
+/// The node under test: node id 3 of a 4-station ring, self-starting.
+bool start_node(NodeProcess* node, TempDir* dir, int id = 3) {
+  return node->start(
+      {"--can", "vcan0", "--node-id", std::to_string(id), "--pty", dir->path("st" + std::to_string(id))});
+}
+
+/// Waits for the watch's next line containing `text`.
+bool watch_says(LineChild& watch, const std::string& text, std::string* line = nullptr) {
+  return watch.wait_line([&](const std::string& l) { return l.find(text) != std::string::npos; },
+                         kVcanDeadline, line);
+}
+
+TEST(MasterNetwork, WatchFollowsNmtCommandsBootUpLossAndEmcy) {
+  TempDir dir;
+  LineChild watch;
+  ASSERT_TRUE(start_master(&watch, {"watch", "--nodes", "3", "--heartbeat", "400"}));
+  ASSERT_TRUE(watch_says(watch, "watching vcan0: 1 node ids, heartbeat consumer 400 ms"));
+
+  NodeProcess node;
+  ASSERT_TRUE(start_node(&node, &dir)) << node.error();
+  EXPECT_TRUE(watch_says(watch, "node 3 boot-up"));
+  // Self-starting (2000h/8 = 1): its heartbeats say operational.
+  EXPECT_TRUE(watch_says(watch, "node 3 state boot-up -> operational"));
+
+  struct Step {
+    const char* command;
+    const char* target;
+    const char* printed;
+    const char* watch_sees;
+  } const steps[] = {
+      {"stop", "3", "nmt stop 3", "node 3 state operational -> stopped"},
+      {"preop", "3", "nmt preop 3", "node 3 state stopped -> pre-operational"},
+      {"start", "all", "nmt start all", "node 3 state pre-operational -> operational"},
+      {"reset-comm", "3", "nmt reset-comm 3", "node 3 boot-up"},
+  };
+  for (const Step& s : steps) {
+    const MasterRun run = run_master({"nmt", s.command, s.target});
+    EXPECT_EQ(run.exit_code, 0) << s.command << ": " << run.err;
+    EXPECT_EQ(run.text(), std::string(s.printed) + "\n");
+    EXPECT_TRUE(watch_says(watch, s.watch_sees)) << "after nmt " << s.command;
+  }
+  // Monitoring starts again with the first heartbeat after the boot-up.
+  EXPECT_TRUE(watch_says(watch, "node 3 state boot-up -> operational"));
+
+  // An RPDO shorter than its mapping (RPDO1 = TPDO1 of station 2, 3 bytes):
+  // the node answers with EMCY 8210h, decoded by the watch.
+  LineChild send;
+  ASSERT_TRUE(send.start({"cansend", "vcan0", "182#01"}));
+  ASSERT_EQ(send.wait_exit(kVcanDeadline), 0);
+  std::string line;
+  ASSERT_TRUE(watch_says(watch, "node 3 emcy 8210h", &line));
+  EXPECT_NE(line.find("PDO length error"), std::string::npos) << line;
+  EXPECT_NE(line.find("communication"), std::string::npos) << line;
+
+  // Killed without a word: lost after the consumer time; back when it boots.
+  ASSERT_TRUE(node.child.signal(SIGKILL));
+  EXPECT_TRUE(watch_says(watch, "node 3 lost"));
+  NodeProcess again;
+  ASSERT_TRUE(start_node(&again, &dir)) << again.error();
+  EXPECT_TRUE(watch_says(watch, "node 3 back"));
+
+  ASSERT_TRUE(watch.signal(SIGINT));
+  EXPECT_EQ(watch.wait_exit(kVcanDeadline), 0) << "watch ends cleanly on SIGINT";
+}
+
+TEST(MasterNetwork, SyncSendsTheCounterOfItsOverflowAtItsPeriod) {
+  LineChild candump;
+  ASSERT_TRUE(start_candump(&candump));
+  const MasterRun run = run_master({"sync", "--period", "20", "--count", "5", "--overflow", "3"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  ASSERT_EQ(run.out.size(), 5u) << run.text();
+  EXPECT_EQ(run.out[0].rfind("sync 1 counter=1 at_ms=", 0), 0u) << run.out[0];
+  EXPECT_EQ(run.out[4].rfind("sync 5 counter=2 at_ms=", 0), 0u) << run.out[4];
+
+  std::vector<unsigned> counters;
+  std::string line;
+  while (counters.size() < 5 &&
+         candump.wait_line([](const std::string&) { return true; }, kVcanDeadline, &line)) {
+    unsigned id = 0;
+    std::vector<unsigned> data;
+    if (parse_candump(line, &id, &data) && id == 0x80) {
+      ASSERT_EQ(data.size(), 1u) << line;
+      counters.push_back(data[0]);
+    }
+  }
+  EXPECT_EQ(counters, (std::vector<unsigned>{1, 2, 3, 1, 2})) << "1019h = 3: the counter runs 1..3";
+  // Never early: the fifth SYNC is at least four periods after the first.
+  double last_ms = 0;
+  ASSERT_EQ(std::sscanf(run.out[4].c_str(), "sync 5 counter=2 at_ms=%lf", &last_ms), 1);
+  EXPECT_GE(last_ms, 4 * 20.0 - 1.0);
+}
+
+TEST(MasterNetwork, BadCommandLinesAndAMissingInterfaceGiveOneLineAndTheirExitCode) {
+  struct Case {
+    std::vector<std::string> args;
+    int code;
+    const char* says;
+  } const cases[] = {
+      {{"nmt", "start", "128"}, 2, "node id '128' out of range"},
+      {{"nmt", "jump", "3"}, 2, "unknown command 'jump'"},
+      {{"nmt", "stop"}, 2, "nmt: want"},
+      {{"sync", "--overflow", "1"}, 2, "--overflow 1 is not allowed"},
+      {{"sync", "--count", "3"}, 2, "needs --period"},
+      {{"watch", "--nodes", "5-2"}, 2, "runs backwards"},
+      {{"fly"}, 2, "unknown command 'fly'"},
+  };
+  for (const Case& c : cases) {
+    const MasterRun run = run_master(c.args);
+    EXPECT_EQ(run.exit_code, c.code) << c.args[0];
+    EXPECT_EQ(run.err.rfind("mb2co-master: ", 0), 0u) << run.err;
+    EXPECT_NE(run.err.find(c.says), std::string::npos) << run.err;
+    EXPECT_TRUE(run.out.empty());
+  }
+  LineChild child;
+  ASSERT_TRUE(child.start({master_program(), "-i", "nosuch0", "nmt", "start", "all"}));
+  child.close_stdin();
+  EXPECT_EQ(child.wait_exit(kVcanDeadline), 3);
+  const std::string err = child.stderr_text();
+  EXPECT_NE(err.find("nosuch0"), std::string::npos) << err;
+  EXPECT_EQ(err.find('\n'), err.size() - 1) << "one line: " << err;
+}
+
+}  // namespace
+}  // namespace test
+}  // namespace mb2co

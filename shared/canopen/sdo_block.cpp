@@ -13,7 +13,8 @@ uint16_t sdo_crc16(uint16_t crc, const uint8_t* data, uint32_t n) {
   for (uint32_t i = 0; i < n; ++i) {
     crc = static_cast<uint16_t>(crc ^ (static_cast<uint16_t>(data[i]) << 8));
     for (uint8_t b = 0; b < 8; ++b) {
-      crc = (crc & 0x8000u) ? static_cast<uint16_t>((crc << 1) ^ 0x1021u) : static_cast<uint16_t>(crc << 1);
+      const uint16_t shifted = static_cast<uint16_t>(crc << 1);
+      crc = (crc & 0x8000u) ? static_cast<uint16_t>(shifted ^ 0x1021u) : shifted;
     }
   }
   return crc;

@@ -160,6 +160,10 @@ class Node : private NodeState {
   void set_sdo_domain(const SdoDomain* domain) {
     sdo_.set_domain(domain);
   }
+  /// SDO block transfer on or off (off by default, as on the AVR).
+  void set_sdo_block_transfer(bool on) {
+    sdo_.set_block_transfer(on);
+  }
 #endif
 
  private:

@@ -30,9 +30,11 @@ bool SdoServer::on_host_frame(const CanFrame& f, const CanSink& sink, SdoAbort* 
   }
   switch (f.data[0] >> 5) {
     case 6:
+      if (!block_) return false;  // 05040001h, as on the AVR
       *code = block_download(f, sink);
       return true;
     case 5:
+      if (!block_) return false;
       *code = block_upload(f, sink);
       return true;
     case 1:

@@ -5,10 +5,10 @@
 // MB2CO_SDO_BLOCK (defined for host builds by shared/canopen/CMakeLists.txt,
 // never for the AVR images, which must not grow) adds block upload and
 // download (sdo_block_server.cpp: CRC, sub-blocks resent from the client's
-// ackseq, the end phase, the protocol switch) and application objects
-// outside the OD (set_domain, sdo_domain.h), moved by every kind of transfer.
-// Without it, block requests (command specifiers 5, 6) are answered with
-// 05040001h.
+// ackseq, the end phase, the protocol switch; on with set_block_transfer)
+// and application objects outside the OD (set_domain, sdo_domain.h), moved
+// by every kind of transfer. Without it, or while it is off, block requests
+// (command specifiers 5, 6) are answered with 05040001h.
 #pragma once
 #include <stdint.h>
 
@@ -53,6 +53,13 @@ class SdoServer {
   /// outlive the server; init() keeps it.
   void set_domain(const SdoDomain* domain) {
     domain_ = domain;
+  }
+  /// Block transfer on or off. Off by default: block requests are answered
+  /// with 05040001h as by the AVR images, so a host model of an Uno (the
+  /// simulator, the tests of its behaviour) stays faithful; an application
+  /// that offers block transfer (mb2co-node) turns it on.
+  void set_block_transfer(bool on) {
+    block_ = on;
   }
   /// Sub-block size we ask for as the receiver of a block download (1..127).
   void set_block_size(uint8_t blksize) {
@@ -141,6 +148,7 @@ class SdoServer {
   uint8_t block_size_ = kBlockSizeMax;
   bool in_domain_;  ///< the transfer's object is domain_'s, not the OD's
   bool crc_;        ///< block transfer: both ends check the CRC
+  bool block_;      ///< block transfer offered (set_block_transfer)
 #endif
 };
 

@@ -62,14 +62,11 @@ TEST_F(SdoAbort, NoTimeoutWithoutATransferInProgress) {
 // ---- 05040001h command specifier not valid or unknown ----------------------
 TEST_F(SdoAbort, BlockAndUnknownCommandSpecifiers_05040001) {
   // ccs 5 (block upload), 6 (block download), 7 (undefined): refused with
-  // the multiplexer of the request. Host builds serve block transfers
-  // (MB2CO_SDO_BLOCK, test_sdo_block_server.cpp); the AVR images refuse them.
-#ifndef MB2CO_SDO_BLOCK
+  // the multiplexer of the request.
   h.expect_abort({0xA0, 0x08, 0x10, 0x00, 0x7F, 0, 0, 0}, 0x1008, 0, kAbortCommand);
   h.expect_abort({0xA4, 0x08, 0x10, 0x00, 0x7F, 0, 0, 0}, 0x1008, 0, kAbortCommand);
   h.expect_abort({0xC2, 0x00, 0x20, 0x00, 0x05, 0, 0, 0}, 0x2000, 0, kAbortCommand);
   h.expect_abort({0xC6, 0x00, 0x20, 0x00, 0x05, 0, 0, 0}, 0x2000, 0, kAbortCommand);
-#endif
   h.expect_abort({0xE0, 0x34, 0x12, 0x56, 0, 0, 0, 0}, 0x1234, 0x56, kAbortCommand);
   h.expect_abort({0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF}, 0xFFFF, 0xFF, kAbortCommand);
 }

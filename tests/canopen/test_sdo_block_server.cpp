@@ -57,6 +57,7 @@ class SdoBlockServer : public ::testing::Test {
     server.init(&io.od(), 3);
     table = domain.table();
     server.set_domain(&table);
+    server.set_block_transfer(true);
   }
 
   /// A request on 603h (8 bytes, zeros after `b`); the server's answers, as strings.
@@ -284,6 +285,17 @@ TEST_F(SdoBlockServer, SegmentsRefusedByAFullTransmitQueueGoOutLater) {
   EXPECT_EQ(out[4].substr(0, 8), "<583> 85");
 }
 
+TEST_F(SdoBlockServer, BlockTransferIsOffUnlessTurnedOn) {
+  canopen::SdoServer plain{};  // as in every Node, and on the AVR
+  plain.init(&io.od(), 3);
+  plain.on_frame(frame({0xA4, 0x08, 0x10, 0x00, 0x7F}), now, log.sink());
+  plain.on_frame(frame({0xC6, 0x00, 0x20, 0x00, 4}), now, log.sink());
+  EXPECT_EQ(log.take(), (Frames{abort(0x1008, 0, 0x05040001), abort(0x2000, 0, 0x05040001)}));
+  plain.set_block_transfer(true);
+  plain.on_frame(frame({0xA4, 0x08, 0x10, 0x00, 0x7F}), now, log.sink());
+  EXPECT_EQ(log.take(), Frames{"<583> C6 08 10 00 0E 00 00 00"});
+}
+
 TEST_F(SdoBlockServer, TheNodeServesItsDomainThroughTheHook) {
   io.node().set_sdo_domain(&table);
   domain.content = {0xDE, 0xAD};
@@ -293,6 +305,12 @@ TEST_F(SdoBlockServer, TheNodeServesItsDomainThroughTheHook) {
   // Other objects still come from the OD.
   io.receive(F(0x603, {0x40, 0x01, 0x21, 0x00, 0, 0, 0, 0}), 20);
   EXPECT_EQ(node_log.take(), Frames{"<583> 4B 01 21 00 0A 00 00 00"});
+  // Block transfer once the application turns it on.
+  io.receive(F(0x603, {0xA4, 0x50, 0x1F, 0x01, 0x7F, 0, 0, 0}), 30);
+  EXPECT_EQ(node_log.take(), Frames{abort(0x1F50, 1, 0x05040001)});
+  io.node().set_sdo_block_transfer(true);
+  io.receive(F(0x603, {0xA4, 0x50, 0x1F, 0x01, 0x7F, 0, 0, 0}), 40);
+  EXPECT_EQ(node_log.take(), Frames{"<583> C6 50 1F 01 02 00 00 00"});
 }
 
 }  // namespace

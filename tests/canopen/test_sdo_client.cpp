@@ -38,6 +38,7 @@ class SdoClientTest : public ::testing::Test {
     server.init(&io.od(), kId);
     domain_table = domain.table();
     server.set_domain(&domain_table);
+    server.set_block_transfer(true);
     client.init(kId);
     bus.servers.push_back({&server, kId});
     bus.clients.push_back(&client);
@@ -414,6 +415,7 @@ TEST(SdoClientConcurrency, ThreeClientsToThreeServersInterleaved) {
     servers[k].init(&io.od(), ids[k]);
     tables[k] = domains[k].table();
     servers[k].set_domain(&tables[k]);
+    servers[k].set_block_transfer(true);
     domains[k].content = pattern(3000 + 100 * static_cast<uint32_t>(k), static_cast<uint32_t>(k) * 50);
     clients[k].init(ids[k]);
     bus.servers.push_back({&servers[k], ids[k]});

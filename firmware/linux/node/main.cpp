@@ -107,6 +107,7 @@ int main(int argc, char** argv) {
   static node::ProgramData program_data;
   static const canopen::SdoDomain program_data_table = program_data.table();
   gw.node().set_sdo_domain(&program_data_table);
+  gw.node().set_sdo_block_transfer(true);
 
   gw.start(port::monotonic_us(), opt.node_id);
   if (gw.node().storage_damage_count() != 0) {

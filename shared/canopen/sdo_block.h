@@ -84,7 +84,10 @@ class BlockSender {
 /// ignores the rest (a lost segment makes the ack name the last one in
 /// sequence, and the sender resends from there). The latest segment is held
 /// back until the next arrives or the end phase says how many of its bytes
-/// are data, so `data` only ever gets real bytes.
+/// are data, so `data` only ever gets real bytes. Limit: the ack needs the
+/// sub-block's last seqno (or c = 1) to arrive; if exactly that frame is
+/// lost, nothing triggers the ack and the transfer ends at the timeout
+/// (05040000h). CiA 301 defines no ack without it.
 class BlockReceiver {
  public:
   /// A transfer into `data` begins; more than `limit` bytes are refused

@@ -15,6 +15,10 @@ enum SdoAbort : uint32_t {
   kAbortToggle = 0x05030000u,        ///< toggle bit not alternated
   kAbortTimeout = 0x05040000u,       ///< SDO protocol timed out
   kAbortCommand = 0x05040001u,       ///< client/server command specifier not valid or unknown
+  kAbortBlockSize = 0x05040002u,     ///< invalid block size (block transfer only)
+  kAbortSequence = 0x05040003u,      ///< invalid sequence number (block transfer only)
+  kAbortCrc = 0x05040004u,           ///< CRC error (block transfer only)
+  kAbortOutOfMemory = 0x05040005u,   ///< out of memory (an SDO client's buffer is too small)
   kAbortUnsupported = 0x06010000u,   ///< unsupported access to an object
   kAbortWriteOnly = 0x06010001u,     ///< attempt to read a write-only object
   kAbortReadOnly = 0x06010002u,      ///< attempt to write a read-only object

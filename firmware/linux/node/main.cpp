@@ -16,6 +16,7 @@
 #include "eeprom_file.h"
 #include "gateway/gateway.h"
 #include "node_options.h"
+#include "program_data.h"
 #include "serial_port.h"
 #include "socketcan_port.h"
 
@@ -102,6 +103,11 @@ int main(int argc, char** argv) {
   if (with_can) ports.can_control = &linux_port::SocketCanPort::kControl;  // kernel filters
   static gateway::Gateway gw(ports);  // static like on the Uno (and large)
   node::ControlChannel control(gw);
+  // 1F50h/1: a large DOMAIN for segmented and block SDO transfers (program_data.h).
+  static node::ProgramData program_data;
+  static const canopen::SdoDomain program_data_table = program_data.table();
+  gw.node().set_sdo_domain(&program_data_table);
+  gw.node().set_sdo_block_transfer(true);
 
   gw.start(port::monotonic_us(), opt.node_id);
   if (gw.node().storage_damage_count() != 0) {

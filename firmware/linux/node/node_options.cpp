@@ -21,6 +21,8 @@ const char* usage() {
          "  --topology ring|chain\n"
          "  --eeprom FILE      file holding saved parameters (1010h), like the Uno's EEPROM\n"
          "  --help, --version\n"
+         "SDO: block and segmented transfers; 1F50h/1 is a DOMAIN of up to 1 MiB in RAM (at\n"
+         "start 131072 bytes, byte i = i mod 251) for trying large transfers (README.md).\n"
          "Control (stdin, one command per line): press B | release B | click B [ms] (B: START,\n"
          "STOP, STOP2) | leds? | state? | counters? | quit. Replies, LED and state changes go to\n"
          "stdout (docs/mb2co-node.md). Exit: 0 on SIGINT/SIGTERM/quit, 2 bad option, 1 error.\n";

@@ -1,0 +1,380 @@
+#include "canopen/sdo_client.h"
+
+#include <string.h>
+
+#include "canopen/frame_out.h"
+#include "canopen/od.h"
+
+namespace mb2co {
+namespace canopen {
+
+void SdoClient::init(uint8_t server_node_id) {
+  request_id_ = static_cast<uint16_t>(0x600u + server_node_id);
+  response_id_ = static_cast<uint16_t>(0x580u + server_node_id);
+  state_ = kStIdle;
+  result_ = kSdoOk;
+}
+
+SdoClient::Status SdoClient::status() const {
+  if (state_ == kStIdle) return kIdle;
+  if (state_ == kStDone) return kDone;
+  if (state_ == kStFailed) return kFailed;
+  return kBusy;
+}
+
+// ---- the caller's buffer as SdoData ------------------------------------------
+
+SdoAbort SdoClient::buffer_write(void* ctx, uint32_t offset, const uint8_t* data, uint16_t n) {
+  SdoClient& c = *static_cast<SdoClient*>(ctx);
+  if (offset > c.capacity_ || n > c.capacity_ - offset) return kAbortOutOfMemory;
+  memcpy(c.buffer_ + offset, data, n);
+  return kSdoOk;
+}
+
+SdoAbort SdoClient::buffer_read(void* ctx, uint32_t offset, uint8_t* buf, uint16_t n) {
+  const SdoClient& c = *static_cast<const SdoClient*>(ctx);
+  memcpy(buf, c.buffer_ + offset, n);
+  return kSdoOk;
+}
+
+// ---- starting ---------------------------------------------------------------
+
+void SdoClient::begin(uint16_t index, uint8_t sub, uint32_t now_us) {
+  index_ = index;
+  sub_ = sub;
+  pos_ = 0;
+  toggle_ = 0;
+  crc_ = false;
+  server_abort_ = false;
+  result_ = kSdoOk;
+  deadline_us_ = now_us + timeout_us_;
+}
+
+void SdoClient::send(const CanSink& sink, const uint8_t data[8]) {
+  send_frame(sink, request_id_, 8, data);
+}
+
+void SdoClient::send_mux(const CanSink& sink, uint8_t cmd, uint32_t value) {
+  uint8_t d[8] = {cmd, static_cast<uint8_t>(index_), static_cast<uint8_t>(index_ >> 8), sub_, 0, 0, 0, 0};
+  put_le32(&d[4], value);
+  send(sink, d);
+}
+
+bool SdoClient::start_upload(uint16_t index, uint8_t sub, SdoMode mode, uint8_t* buf, uint32_t capacity,
+                             uint32_t now_us, const CanSink& sink) {
+  if (busy()) return false;
+  const SdoData out = {&SdoClient::buffer_write, &SdoClient::buffer_read, this};
+  if (!start_upload(index, sub, mode, out, capacity, now_us, sink)) return false;
+  buffer_ = buf;
+  return true;
+}
+
+bool SdoClient::start_upload(uint16_t index, uint8_t sub, SdoMode mode, const SdoData& out, uint32_t capacity,
+                             uint32_t now_us, const CanSink& sink) {
+  if (busy()) return false;
+  begin(index, sub, now_us);
+  data_ = out;
+  buffer_ = nullptr;
+  capacity_ = capacity;
+  size_ = 0;
+  size_known_ = false;
+  if (mode == kSdoBlock) {
+    if (block_size_ == 0 || block_size_ > kBlockSizeMax) block_size_ = kBlockSizeMax;
+    // ccs 5, cc = 1 (we check CRCs), cs = 0; blksize; pst.
+    send_mux(sink, 0xA4, static_cast<uint32_t>(block_size_) | (static_cast<uint32_t>(pst_) << 8));
+    state_ = kStBlockUploadInitiate;
+  } else {
+    send_mux(sink, 0x40, 0);
+    state_ = kStUploadInitiate;
+  }
+  return true;
+}
+
+bool SdoClient::start_download(uint16_t index, uint8_t sub, SdoMode mode, const uint8_t* data, uint32_t size,
+                               uint32_t now_us, const CanSink& sink) {
+  if (busy()) return false;
+  const SdoData in = {&SdoClient::buffer_write, &SdoClient::buffer_read, this};
+  // The buffer is only read: buffer_write is never called for a download.
+  buffer_ = const_cast<uint8_t*>(data);
+  capacity_ = size;
+  if (!start_download(index, sub, mode, in, size, now_us, sink)) return false;
+  buffer_ = const_cast<uint8_t*>(data);
+  return true;
+}
+
+bool SdoClient::start_download(uint16_t index, uint8_t sub, SdoMode mode, const SdoData& in, uint32_t size,
+                               uint32_t now_us, const CanSink& sink) {
+  if (busy()) return false;
+  begin(index, sub, now_us);
+  data_ = in;
+  size_ = size;
+  size_known_ = true;
+  expedited_ = mode == kSdoAuto && size >= 1 && size <= 4;
+  if (mode == kSdoBlock) {
+    // ccs 6, cc = 1, s = 1, cs = 0; size.
+    send_mux(sink, 0xC6, size);
+    state_ = kStBlockDownloadInitiate;
+  } else if (expedited_) {
+    uint8_t d[8] = {static_cast<uint8_t>(0x23 | ((4 - size) << 2)),
+                    static_cast<uint8_t>(index_),
+                    static_cast<uint8_t>(index_ >> 8),
+                    sub_,
+                    0,
+                    0,
+                    0,
+                    0};
+    const SdoAbort code = data_.read(data_.ctx, 0, &d[4], static_cast<uint16_t>(size));
+    if (code != kSdoOk) {
+      finish(code, false);  // nothing was sent: the server knows of no transfer
+      return true;
+    }
+    send(sink, d);
+    state_ = kStDownloadInitiate;
+  } else {
+    send_mux(sink, 0x21, size);  // segmented, size indicated
+    state_ = kStDownloadInitiate;
+  }
+  return true;
+}
+
+// ---- driving ----------------------------------------------------------------
+
+void SdoClient::finish(SdoAbort code, bool by_server) {
+  result_ = code;
+  server_abort_ = by_server;
+  state_ = code == kSdoOk ? kStDone : kStFailed;
+}
+
+void SdoClient::abort(SdoAbort code, const CanSink& sink) {
+  if (!busy()) return;
+  send_mux(sink, 0x80, code);
+  finish(code, false);
+}
+
+void SdoClient::process(uint32_t now_us, const CanSink& sink) {
+  if (!busy()) return;
+  if (state_ == kStBlockDownloadSub && sender_.pending()) {
+    const SdoAbort code = sender_.pump(request_id_, sink);
+    if (code != kSdoOk) return abort(code, sink);
+    if (!sender_.pending()) deadline_us_ = now_us + timeout_us_;
+    return;
+  }
+  if (time_reached(now_us, deadline_us_)) abort(kAbortTimeout, sink);
+}
+
+void SdoClient::next_deadline(NextDeadline& d) const {
+  if (!busy()) return;
+  if (state_ == kStBlockDownloadSub && sender_.pending()) return d.now();
+  d.at(deadline_us_);
+}
+
+void SdoClient::on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink) {
+  if (f.id != response_id_ || f.rtr() || f.extended() || f.dlc != 8 || !busy()) return;
+  // 80h is the abort frame in every state (no block segment has seqno 0).
+  if (f.data[0] == 0x80) return finish(static_cast<SdoAbort>(le32(&f.data[4])), true);
+  deadline_us_ = now_us + timeout_us_;
+  const SdoAbort code = on_response(f, sink);
+  if (code != kSdoOk) abort(code, sink);
+  // While a sub-block goes out the timeout waits for its ack: it starts
+  // once the last segment is sent (process()).
+}
+
+bool SdoClient::mux_matches(const CanFrame& f) const {
+  return le16(&f.data[1]) == index_ && f.data[3] == sub_;
+}
+
+SdoAbort SdoClient::on_response(const CanFrame& f, const CanSink& sink) {
+  const uint8_t cmd = f.data[0];
+  switch (state_) {
+    case kStDownloadInitiate:
+      if (cmd != 0x60) return kAbortCommand;
+      if (!mux_matches(f)) return kAbortIncompatible;
+      if (expedited_) {
+        pos_ = size_;
+        finish(kSdoOk, false);
+        return kSdoOk;
+      }
+      state_ = kStDownloadSegment;
+      send_download_segment(sink);
+      return kSdoOk;
+    case kStDownloadSegment:
+      if ((cmd & 0xE0) != 0x20) return kAbortCommand;
+      if ((cmd & 0x10) != toggle_) return kAbortToggle;
+      pos_ += seg_n_;
+      if (pos_ == size_) {
+        finish(kSdoOk, false);
+        return kSdoOk;
+      }
+      toggle_ ^= 0x10;
+      send_download_segment(sink);
+      return kSdoOk;
+    case kStUploadInitiate:
+      return on_upload_initiate(f, sink);
+    case kStUploadSegment:
+      return on_upload_segment(f, sink);
+    case kStBlockDownloadInitiate:
+    case kStBlockDownloadSub:
+    case kStBlockDownloadEnd:
+      return on_block_download(f, sink);
+    default:
+      return on_block_upload(f, sink);
+  }
+}
+
+// A segment is sent once; if it is lost the server's silence times out.
+void SdoClient::send_download_segment(const CanSink& sink) {
+  const uint32_t left = size_ - pos_;
+  seg_n_ = left < 7 ? static_cast<uint8_t>(left) : static_cast<uint8_t>(7);
+  const bool last = left <= 7;
+  uint8_t d[8] = {static_cast<uint8_t>(toggle_ | ((7 - seg_n_) << 1) | (last ? 1 : 0)), 0, 0, 0, 0, 0, 0, 0};
+  if (seg_n_ != 0) {
+    const SdoAbort code = data_.read(data_.ctx, pos_, &d[1], seg_n_);
+    if (code != kSdoOk) return abort(code, sink);
+  }
+  send(sink, d);
+}
+
+void SdoClient::send_upload_request(const CanSink& sink) {
+  const uint8_t d[8] = {static_cast<uint8_t>(0x60 | toggle_), 0, 0, 0, 0, 0, 0, 0};
+  send(sink, d);
+}
+
+// The plain upload's initiate answer; also the block upload's when the
+// server switched protocols (size <= pst).
+SdoAbort SdoClient::on_upload_initiate(const CanFrame& f, const CanSink& sink) {
+  const uint8_t cmd = f.data[0];
+  if ((cmd & 0xE0) != 0x40) return kAbortCommand;
+  if (!mux_matches(f)) return kAbortIncompatible;
+  const bool indicated = (cmd & 0x01) != 0;
+  if (cmd & 0x02) {  // expedited: n unused bytes when indicated, else 4 bytes
+    const uint8_t n = indicated ? static_cast<uint8_t>(4 - ((cmd >> 2) & 0x03)) : static_cast<uint8_t>(4);
+    size_ = n;
+    size_known_ = true;
+    if (n > capacity_) return kAbortOutOfMemory;
+    const SdoAbort code = data_.write(data_.ctx, 0, &f.data[4], n);
+    if (code != kSdoOk) return code;
+    pos_ = n;
+    finish(kSdoOk, false);
+    return kSdoOk;
+  }
+  size_known_ = indicated;
+  size_ = indicated ? le32(&f.data[4]) : 0;
+  if (indicated && size_ > capacity_) return kAbortOutOfMemory;
+  toggle_ = 0;
+  state_ = kStUploadSegment;
+  send_upload_request(sink);
+  return kSdoOk;
+}
+
+SdoAbort SdoClient::on_upload_segment(const CanFrame& f, const CanSink& sink) {
+  const uint8_t cmd = f.data[0];
+  if ((cmd & 0xE0) != 0x00) return kAbortCommand;
+  if ((cmd & 0x10) != toggle_) return kAbortToggle;
+  const uint8_t n = static_cast<uint8_t>(7 - ((cmd >> 1) & 0x07));
+  if (size_known_ && n > size_ - pos_) return kAbortTooLong;  // more than announced
+  if (n > capacity_ - pos_) return kAbortOutOfMemory;
+  if (n != 0) {
+    const SdoAbort code = data_.write(data_.ctx, pos_, &f.data[1], n);
+    if (code != kSdoOk) return code;
+  }
+  pos_ += n;
+  if (cmd & 0x01) {
+    if (size_known_ && pos_ != size_) return kAbortTooShort;  // less than announced
+    size_ = pos_;
+    size_known_ = true;
+    finish(kSdoOk, false);
+    return kSdoOk;
+  }
+  toggle_ ^= 0x10;
+  send_upload_request(sink);
+  return kSdoOk;
+}
+
+// ---- block transfer -----------------------------------------------------------
+
+SdoAbort SdoClient::on_block_download(const CanFrame& f, const CanSink& sink) {
+  const uint8_t cmd = f.data[0];
+  if ((cmd & 0xE0) != 0xA0) return kAbortCommand;
+  const uint8_t ss = cmd & 0x03;
+  if (state_ == kStBlockDownloadInitiate && ss == 0) {
+    if (!mux_matches(f)) return kAbortIncompatible;
+    const uint8_t blksize = f.data[4];
+    if (blksize == 0 || blksize > kBlockSizeMax) return kAbortBlockSize;
+    crc_ = (cmd & 0x04) != 0;  // we always offer it: the server decides
+    sender_.start(data_, size_);
+    sender_.begin_sub_block(blksize);
+    state_ = kStBlockDownloadSub;
+    return sender_.pump(request_id_, sink);
+  }
+  if (state_ == kStBlockDownloadSub && ss == 2 && !sender_.pending()) {
+    const SdoAbort code = sender_.on_ack(f.data[1], f.data[2]);
+    if (code != kSdoOk) return code;
+    pos_ = sender_.acked();
+    if (!sender_.finished()) return sender_.pump(request_id_, sink);
+    uint8_t d[8] = {static_cast<uint8_t>(0xC1 | (sender_.unused() << 2)), 0, 0, 0, 0, 0, 0, 0};
+    if (crc_) put_le16(&d[1], sender_.crc());
+    send(sink, d);
+    state_ = kStBlockDownloadEnd;
+    return kSdoOk;
+  }
+  if (state_ == kStBlockDownloadEnd && ss == 1) {
+    finish(kSdoOk, false);
+    return kSdoOk;
+  }
+  return kAbortCommand;
+}
+
+SdoAbort SdoClient::on_block_upload(const CanFrame& f, const CanSink& sink) {
+  const uint8_t cmd = f.data[0];
+  if (state_ == kStBlockUploadInitiate) {
+    if ((cmd & 0xE0) == 0x40) {  // the server switched to a plain upload
+      state_ = kStUploadInitiate;
+      return on_upload_initiate(f, sink);
+    }
+    if ((cmd & 0xE1) != 0xC0) return kAbortCommand;
+    if (!mux_matches(f)) return kAbortIncompatible;
+    crc_ = (cmd & 0x04) != 0;
+    size_known_ = (cmd & 0x02) != 0;
+    size_ = size_known_ ? le32(&f.data[4]) : 0;
+    if (size_known_ && size_ > capacity_) return kAbortOutOfMemory;
+    // The tighter limit decides the code: more than announced is the
+    // server's error (06070012h), more than we hold is ours (05040005h).
+    if (size_known_) {
+      receiver_.start(data_, size_, kAbortTooLong, block_size_);
+    } else {
+      receiver_.start(data_, capacity_, kAbortOutOfMemory, block_size_);
+    }
+    state_ = kStBlockUploadSub;
+    const uint8_t d[8] = {0xA3, 0, 0, 0, 0, 0, 0, 0};
+    send(sink, d);
+    return kSdoOk;
+  }
+  if (state_ == kStBlockUploadSub) {
+    bool ack = false;
+    const SdoAbort code = receiver_.on_segment(f, &ack);
+    if (code != kSdoOk) return code;
+    pos_ = receiver_.received();
+    if (!ack) return kSdoOk;
+    const uint8_t d[8] = {0xA2, receiver_.ackseq(), block_size_, 0, 0, 0, 0, 0};
+    send(sink, d);
+    receiver_.next_sub_block(block_size_);
+    if (receiver_.complete()) state_ = kStBlockUploadEnd;
+    return kSdoOk;
+  }
+  // kStBlockUploadEnd: the server's end frame.
+  if ((cmd & 0xE3) != 0xC1) return kAbortCommand;
+  const SdoAbort code = receiver_.finish(static_cast<uint8_t>((cmd >> 2) & 0x07));
+  if (code != kSdoOk) return code;
+  if (size_known_ && receiver_.received() != size_) return kAbortTooShort;
+  if (crc_ && le16(&f.data[1]) != receiver_.crc()) return kAbortCrc;
+  size_ = receiver_.received();
+  pos_ = size_;
+  size_known_ = true;
+  const uint8_t d[8] = {0xA1, 0, 0, 0, 0, 0, 0, 0};
+  send(sink, d);
+  finish(kSdoOk, false);
+  return kSdoOk;
+}
+
+}  // namespace canopen
+}  // namespace mb2co

@@ -1,0 +1,171 @@
+// SDO client (CiA 301 §7.2.4): the master's side of an SDO channel to one
+// server node. Expedited, segmented (toggle checked) and block transfer (sub-
+// blocks of 1..127 segments, resent from the server's ackseq, CRC-16 when
+// both ends support it, the protocol switch of block upload), a timeout that
+// aborts with 05040000h, and the abort code of every failure, sent by us or
+// received from the server, as the result.
+//
+// One client per server node (the seed 002 "Node" object); several run at
+// once, each with its own COB-IDs: nothing is global. No heap: the caller
+// hands in the data, as a buffer or as an SdoData stream (a 1 MiB object to
+// or from a file on Linux, a few bytes of RAM on the AVR).
+//
+// Use: start_upload()/start_download(), then hand in every frame on the
+// response COB-ID (on_frame) and call process() at next_deadline(); when
+// busy() turns false, result() says how it ended.
+#pragma once
+#include <stdint.h>
+
+#include "canopen/can_frame.h"
+#include "canopen/clock.h"
+#include "canopen/sdo_abort.h"
+#include "canopen/sdo_block.h"
+#include "canopen/sdo_domain.h"
+
+namespace mb2co {
+namespace canopen {
+
+/// How a transfer is carried out.
+enum SdoMode : uint8_t {
+  /// Download: expedited for 1..4 bytes, else segmented. Upload: as the
+  /// server chooses (expedited or segmented).
+  kSdoAuto,
+  /// Download: segmented even for 0..4 bytes. Upload: as kSdoAuto.
+  kSdoSegmented,
+  /// Block transfer. An upload falls back to expedited or segmented when the
+  /// server answers so (size <= the protocol switch threshold).
+  kSdoBlock,
+};
+
+class SdoClient {
+ public:
+  /// How the last transfer stands.
+  enum Status : uint8_t { kIdle, kBusy, kDone, kFailed };
+  /// Default time the server may take to answer (CiA 301 leaves it open).
+  static const uint32_t kDefaultTimeoutUs = 1000000u;
+
+  /// The server is node `server_node_id` (1..127): requests on 600h+id,
+  /// responses on 580h+id. Drops a transfer in progress without a word.
+  void init(uint8_t server_node_id);
+  /// Other COB-IDs (an SDO channel of 1280h-12FFh): client → server
+  /// `request_id`, server → client `response_id`.
+  void set_cob_ids(uint16_t request_id, uint16_t response_id) {
+    request_id_ = request_id;
+    response_id_ = response_id;
+  }
+  uint16_t request_id() const { return request_id_; }
+  uint16_t response_id() const { return response_id_; }
+  /// The server's answer must come within `us` of our last frame.
+  void set_timeout_us(uint32_t us) { timeout_us_ = us; }
+  /// Block size we offer as receiver of a block upload (1..127; others: 127).
+  void set_block_size(uint8_t blksize) { block_size_ = blksize; }
+  /// Protocol switch threshold of block upload: a server may answer an
+  /// object of at most `bytes` with a plain upload (0: never; CiA 301).
+  void set_switch_threshold(uint8_t bytes) { pst_ = bytes; }
+
+  /// Reads (index, sub) into `buf`, at most `capacity` bytes (more: the
+  /// transfer ends with 05040005h, out of memory, sent to the server). `buf`
+  /// must outlive the transfer. False when busy (nothing is sent).
+  bool start_upload(uint16_t index, uint8_t sub, SdoMode mode, uint8_t* buf, uint32_t capacity,
+                    uint32_t now_us, const CanSink& sink);
+  /// Reads (index, sub) through `out` (its write() may refuse with a code),
+  /// at most `capacity` bytes as above (0xFFFFFFFF: no limit of ours).
+  bool start_upload(uint16_t index, uint8_t sub, SdoMode mode, const SdoData& out, uint32_t capacity,
+                    uint32_t now_us, const CanSink& sink);
+  /// Writes the `size` bytes of `data` (outliving the transfer) to (index, sub).
+  bool start_download(uint16_t index, uint8_t sub, SdoMode mode, const uint8_t* data, uint32_t size,
+                      uint32_t now_us, const CanSink& sink);
+  /// Writes `size` bytes read through `in` to (index, sub).
+  bool start_download(uint16_t index, uint8_t sub, SdoMode mode, const SdoData& in, uint32_t size,
+                      uint32_t now_us, const CanSink& sink);
+
+  /// A frame on response_id() (others, RTR frames and frames that are not
+  /// 8 bytes long are ignored).
+  void on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink);
+  /// Times out a silent server (05040000h, sent and reported); sends what a
+  /// full transmit queue held back.
+  void process(uint32_t now_us, const CanSink& sink);
+  /// Lowers `d` to the timeout of a transfer in progress (now when frames wait).
+  void next_deadline(NextDeadline& d) const;
+  /// Ends a transfer in progress with `code`, sent to the server (the
+  /// master's watchdog, a user's cancel). Nothing when not busy.
+  void abort(SdoAbort code, const CanSink& sink);
+
+  bool busy() const { return state_ != kStIdle && state_ != kStDone && state_ != kStFailed; }
+  Status status() const;
+  /// kSdoOk after kDone; the abort code after kFailed.
+  SdoAbort result() const { return result_; }
+  /// True when result() came from the server's abort frame, false when we
+  /// sent it.
+  bool aborted_by_server() const { return server_abort_; }
+  /// Bytes moved so far (acknowledged ones for a block download).
+  uint32_t transferred() const { return pos_; }
+  /// The size the server announced (upload) or ours (download); 0 with
+  /// size_known() false when the server left it open.
+  uint32_t size() const { return size_; }
+  bool size_known() const { return size_known_; }
+  /// True when the current/last transfer was a block transfer with CRC.
+  bool crc_used() const { return crc_; }
+
+ private:
+  enum State : uint8_t {
+    kStIdle,
+    kStDone,
+    kStFailed,
+    kStDownloadInitiate,  ///< waits for 60h
+    kStDownloadSegment,   ///< waits for the ack of segment pos_
+    kStUploadInitiate,    ///< waits for 4xh
+    kStUploadSegment,     ///< waits for a segment
+    kStBlockDownloadInitiate,
+    kStBlockDownloadSub,  ///< sends a sub-block, waits for its ack
+    kStBlockDownloadEnd,  ///< waits for A1h
+    kStBlockUploadInitiate,
+    kStBlockUploadSub,  ///< takes segments
+    kStBlockUploadEnd,  ///< waits for the server's end frame
+  };
+
+  void begin(uint16_t index, uint8_t sub, uint32_t now_us);
+  void send(const CanSink& sink, const uint8_t data[8]);
+  /// Sends index, sub and 4 bytes after command `cmd`.
+  void send_mux(const CanSink& sink, uint8_t cmd, uint32_t value);
+  void send_download_segment(const CanSink& sink);
+  void send_upload_request(const CanSink& sink);
+  void finish(SdoAbort code, bool by_server);
+  /// Handlers of a response in each state: kSdoOk or the code to abort with.
+  SdoAbort on_response(const CanFrame& f, const CanSink& sink);
+  SdoAbort on_upload_initiate(const CanFrame& f, const CanSink& sink);
+  SdoAbort on_upload_segment(const CanFrame& f, const CanSink& sink);
+  SdoAbort on_block_download(const CanFrame& f, const CanSink& sink);
+  SdoAbort on_block_upload(const CanFrame& f, const CanSink& sink);
+  bool mux_matches(const CanFrame& f) const;
+
+  static SdoAbort buffer_write(void* ctx, uint32_t offset, const uint8_t* data, uint16_t n);
+  static SdoAbort buffer_read(void* ctx, uint32_t offset, uint8_t* buf, uint16_t n);
+
+  SdoData data_;
+  uint8_t* buffer_;  ///< the caller's buffer (start_* with a pointer), else null
+  uint32_t capacity_;
+  uint32_t size_;
+  uint32_t pos_;  ///< bytes moved: stored, or acknowledged by the server
+  uint32_t timeout_us_ = kDefaultTimeoutUs;
+  uint32_t deadline_us_;
+  SdoAbort result_;
+  BlockSender sender_;
+  BlockReceiver receiver_;
+  uint16_t request_id_;
+  uint16_t response_id_;
+  uint16_t index_;
+  uint8_t sub_;
+  uint8_t block_size_ = kBlockSizeMax;
+  uint8_t pst_;
+  uint8_t toggle_;  ///< 0x00 or 0x10
+  uint8_t seg_n_;   ///< data bytes of the download segment awaiting its ack
+  State state_;
+  bool size_known_;
+  bool expedited_;
+  bool crc_;
+  bool server_abort_;
+};
+
+}  // namespace canopen
+}  // namespace mb2co

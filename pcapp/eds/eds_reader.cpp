@@ -202,8 +202,20 @@ class Reader {
       return fail(count_entry->line, "SupportedObjects=" + std::to_string(*count) + " but [" + s.name +
                                          "] lists " + std::to_string(s.entries.size() - 1) + " objects");
     }
+    // Entries by their number 1..count, found in one pass (a list may be long).
+    std::vector<const Entry*> by_number(*count + 1, nullptr);
+    for (const Entry& e : s.entries) {
+      if (&e == count_entry) continue;
+      const std::optional<uint64_t> k = parse_unsigned(e.key, *count);
+      if (!k || *k == 0) {
+        return fail(e.line, "'" + e.key + "' in [" + s.name + "] is not an entry number 1.." +
+                                std::to_string(*count));
+      }
+      if (by_number[*k] != nullptr) return fail(e.line, "entry " + std::to_string(*k) + " appears twice");
+      by_number[*k] = &e;
+    }
     for (uint64_t k = 1; k <= *count; ++k) {
-      const Entry* e = s.find(std::to_string(k));
+      const Entry* e = by_number[k];
       if (e == nullptr) return fail(s.line, "[" + s.name + "] has no entry " + std::to_string(k));
       const std::optional<uint64_t> index = parse_unsigned(e->value, 0xFFFF);
       if (!index) return fail(e->line, "'" + e->value + "' is not an object index (0..0xFFFF)");

@@ -390,5 +390,28 @@ std::optional<int> compare_values(DataType type, const Value& a, const Value& b)
   return std::nullopt;
 }
 
+ValueResult parse_value_for(const SubObject& sub, std::string_view text, std::optional<uint8_t> node_id) {
+  ValueResult r = parse_value(sub.type, text, node_id);
+  if (!r.value || r.value->node_id_relative) return r;
+  const auto limit = [&](const std::optional<Value>& l) -> std::optional<Value> {
+    if (!l) return std::nullopt;
+    return node_id ? resolve(sub.type, *l, *node_id) : *l;
+  };
+  const std::optional<Value> low = limit(sub.low_limit), high = limit(sub.high_limit);
+  if (low && compare_values(sub.type, *r.value, *low).value_or(0) < 0) {
+    return fail("'" + std::string(trim(text)) + "' is below the LowLimit " + format_value(sub.type, *low));
+  }
+  if (high && compare_values(sub.type, *r.value, *high).value_or(0) > 0) {
+    return fail("'" + std::string(trim(text)) + "' is above the HighLimit " + format_value(sub.type, *high));
+  }
+  return r;
+}
+
+std::optional<Value> configured_value(const SubObject& sub, uint8_t node_id) {
+  const std::optional<Value>& v = sub.parameter_value ? sub.parameter_value : sub.default_value;
+  if (!v) return std::nullopt;
+  return resolve(sub.type, *v, node_id);
+}
+
 }  // namespace eds
 }  // namespace mb2co

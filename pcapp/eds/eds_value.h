@@ -46,6 +46,17 @@ std::optional<Value> resolve(DataType type, const Value& value, uint8_t node_id)
 /// is not numeric or either value is node-id relative (no order without a node).
 std::optional<int> compare_values(DataType type, const Value& a, const Value& b);
 
+/// A value for sub-object `sub` from user text (e.g. a typed SDO write via a
+/// node's EDS): parse_value() with the sub's data type, then its
+/// LowLimit/HighLimit (limits resolved with the node id when given).
+ValueResult parse_value_for(const SubObject& sub, std::string_view text,
+                            std::optional<uint8_t> node_id = std::nullopt);
+
+/// What configuring node `node_id` from a DCF writes into `sub`: its
+/// ParameterValue, else its DefaultValue, resolved with the node id; nullopt
+/// when it has neither or the value does not fit the type.
+std::optional<Value> configured_value(const SubObject& sub, uint8_t node_id);
+
 /// An unsigned integer in CiA 306 notation (decimal, 0x hex, 0 octal), with
 /// no sign and no $NODEID; nullopt when it is not one or exceeds `max`.
 std::optional<uint64_t> parse_unsigned(std::string_view text, uint64_t max);

@@ -179,3 +179,27 @@ TEST(EdsValue, UnsignedHelperForCountsAndIndices) {
   EXPECT_FALSE(parse_unsigned("-1", 0xFF));
   EXPECT_FALSE(parse_unsigned("", 0xFF));
 }
+
+TEST(EdsValue, ValueForASubObjectKeepsItsLimits) {
+  mb2co::eds::SubObject sub;
+  sub.type = DataType::kInteger16;
+  sub.low_limit = parse_value(DataType::kInteger16, "-10").value;
+  sub.high_limit = parse_value(DataType::kInteger16, "$NODEID+10").value;  // 10 + node id
+  EXPECT_EQ(mb2co::eds::parse_value_for(sub, "-10").value->bytes, (Bytes{0xF6, 0xFF}));
+  EXPECT_NE(mb2co::eds::parse_value_for(sub, "-11").error.find("below the LowLimit -10"), std::string::npos);
+  EXPECT_TRUE(mb2co::eds::parse_value_for(sub, "15", 5).value);
+  EXPECT_NE(mb2co::eds::parse_value_for(sub, "16", 5).error.find("above the HighLimit 15"),
+            std::string::npos);
+  EXPECT_TRUE(mb2co::eds::parse_value_for(sub, "1000").value);  // no node id: the high limit is unknown
+  EXPECT_NE(mb2co::eds::parse_value_for(sub, "0x8000").error.find("out of range"), std::string::npos);
+}
+
+TEST(EdsValue, ConfiguredValueIsParameterValueElseDefaultResolved) {
+  mb2co::eds::SubObject sub;
+  sub.type = DataType::kUnsigned32;
+  EXPECT_FALSE(mb2co::eds::configured_value(sub, 3));
+  sub.default_value = parse_value(DataType::kUnsigned32, "$NODEID+0x180").value;
+  EXPECT_EQ(mb2co::eds::configured_value(sub, 3)->bytes, (Bytes{0x83, 0x01, 0, 0}));
+  sub.parameter_value = parse_value(DataType::kUnsigned32, "0x80000183").value;
+  EXPECT_EQ(mb2co::eds::configured_value(sub, 3)->bytes, (Bytes{0x83, 0x01, 0, 0x80}));
+}

@@ -178,8 +178,11 @@ class Reader {
                                         "[ManufacturerObjects]");
       }
     }
-    const Section* comm = section("DeviceComissioning");
-    if (comm == nullptr) comm = section("DeviceCommissioning");
+    const Section* comm = section("DeviceComissioning");  // CiA 306 spelling
+    if (const Section* also = section("DeviceCommissioning")) {
+      if (comm != nullptr) return fail(also->line, "[" + also->name + "] beside [" + comm->name + "]");
+      comm = also;
+    }
     if (comm != nullptr && !read_commissioning(*comm, m)) return false;
     return !failed();
   }

@@ -31,6 +31,15 @@ bool BusLoop::add(BusService* service) {
   return true;
 }
 
+void BusLoop::remove(BusService* service) {
+  for (int i = 0; i < count_; ++i) {
+    if (services_[i] != service) continue;
+    for (int k = i + 1; k < count_; ++k) services_[k - 1] = services_[k];
+    services_[--count_] = nullptr;
+    return;
+  }
+}
+
 uint32_t BusLoop::now_us() const {
   timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);

@@ -33,6 +33,8 @@ class BusLoop {
   Status open(const char* ifname);
   /// Adds a service; false when kMaxServices are there already.
   bool add(BusService* service);
+  /// Takes a service out again (it may go out of scope then).
+  void remove(BusService* service);
 
   /// Runs passes until `done()` is true (checked after every pass) or
   /// `limit_us` µs have passed (at most kLongestRunUs: the wrapping clock's

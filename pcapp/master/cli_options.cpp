@@ -8,7 +8,10 @@ namespace mb2co {
 namespace master {
 
 const char* usage_text() {
-  return "usage: mb2co-master [-i IFACE] [-t TIMEOUT_MS] [--json] [--eds FILE] COMMAND ...\n"
+  return "usage: mb2co-master [-i IFACE] [-t TIMEOUT_MS] [--heartbeat MS] [--json] [--eds FILE] COMMAND ...\n"
+         "  -t MS: SDO timeout (default 1000); --heartbeat MS: end the transfers of a node whose\n"
+         "  heartbeats stop for MS (the watchdog); NODE may be a list: 2,3,5-7; INDEX is hexadecimal\n"
+         "  (1018, 0x1018, 1018h), SUB and NODE decimal unless 0x...\n"
          "  scan [FIRST [LAST]]                      node ids that answer, with 1000h, 1018h, 1008h\n"
          "  read NODE INDEX SUB [TYPE]               SDO upload, shown as TYPE (or as --eds says)\n"
          "  write NODE INDEX SUB [TYPE] VALUE        SDO download\n"
@@ -60,6 +63,41 @@ Status parse_node_id(const std::string& text, bool allow_all, uint8_t* node_id) 
   return Status::ok();
 }
 
+Status parse_node_list(const std::string& text, std::vector<uint8_t>* nodes) {
+  size_t start = 0;
+  while (start <= text.size()) {
+    const size_t comma = text.find(',', start);
+    const std::string part =
+        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    const size_t dash = part.find('-');
+    uint8_t a = 0, b = 0;
+    Status s = parse_node_id(part.substr(0, dash), false, &a);
+    if (s && dash != std::string::npos) s = parse_node_id(part.substr(dash + 1), false, &b);
+    if (!s) return s;
+    if (dash == std::string::npos) b = a;
+    if (b < a) return Status::failure("node range '" + part + "' runs backwards");
+    for (int id = a; id <= b; ++id) nodes->push_back(static_cast<uint8_t>(id));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return Status::ok();
+}
+
+Status parse_index_sub(const std::string& index, const std::string& sub, uint16_t* i, uint8_t* s) {
+  // An index is hexadecimal in every CANopen text (1018h): "1018", "0x1018"
+  // and "1018h" are the same object.
+  uint64_t v = 0;
+  const bool marked = index.rfind("0x", 0) == 0 || index.rfind("0X", 0) == 0 ||
+                      (!index.empty() && (index.back() == 'h' || index.back() == 'H'));
+  Status st = parse_number(marked ? index : "0x" + index, 0xFFFF, "index", &v);
+  if (!st) return Status::failure("bad index '" + index + "' (hexadecimal, 0000..FFFF)");
+  *i = static_cast<uint16_t>(v);
+  st = parse_number(sub, 0xFF, "sub-index", &v);
+  if (!st) return st;
+  *s = static_cast<uint8_t>(v);
+  return Status::ok();
+}
+
 bool take_option(std::vector<std::string>* words, const std::string& name, bool flag, std::string* value) {
   for (size_t i = 0; i < words->size(); ++i) {
     if ((*words)[i] != name) continue;
@@ -97,6 +135,13 @@ Status parse_options(int argc, char** argv, Options* out) {
       if (!s) return s;
       if (ms == 0) return Status::failure("timeout 0: the SDO timeout is 1..600000 ms");
       out->timeout_ms = static_cast<uint32_t>(ms);
+    } else if (a == "--heartbeat") {
+      Status s = value(&v);
+      if (!s) return s;
+      uint64_t ms = 0;
+      s = parse_number(v, 65535, "heartbeat consumer time", &ms);
+      if (!s) return s;
+      out->heartbeat_ms = static_cast<uint16_t>(ms);
     } else if (a == "--json") {
       out->json = true;
     } else if (a == "--eds") {

@@ -16,6 +16,7 @@ struct Options {
   std::string iface = "can0";  ///< -i IFACE
   uint32_t timeout_ms = 1000;  ///< -t MS: SDO client timeout (CiA 301 leaves it to us)
   bool json = false;           ///< --json: one JSON object per line
+  uint16_t heartbeat_ms = 0;   ///< --heartbeat MS: watchdog consumer time for SDO (0: none)
   std::string eds;             ///< --eds FILE: types for read/write
   std::string command;
   std::vector<std::string> words;  ///< the command's arguments and options, in order
@@ -31,6 +32,11 @@ const char* usage_text();
 Status parse_number(const std::string& text, uint64_t max, const char* what, uint64_t* value);
 /// 1..127, or 0 for "all"/"0" when `allow_all`.
 Status parse_node_id(const std::string& text, bool allow_all, uint8_t* node_id);
+
+/// "1,2,5-7" → node ids in that order; fails with the offending word.
+Status parse_node_list(const std::string& text, std::vector<uint8_t>* nodes);
+/// INDEX (0..FFFFh) and SUB (0..255) as parse_number reads them.
+Status parse_index_sub(const std::string& index, const std::string& sub, uint16_t* i, uint8_t* s);
 
 /// Pulls "--name VALUE" (or "--name" alone when `flag`) out of `words`;
 /// true when it was there. `value` may be null for a flag.

@@ -10,6 +10,11 @@
 namespace mb2co {
 namespace master {
 
+int scan_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
+int read_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
+int write_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
+int upload_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
+int download_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
 int nmt_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
 int sync_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
 int watch_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);

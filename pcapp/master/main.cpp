@@ -26,7 +26,10 @@ int main(int argc, char** argv) {
     const char* name;
     int (*run)(const Options&, BusLoop&, std::ostream&, std::ostream&);
   };
-  static const Command kCommands[] = {{"nmt", nmt_command}, {"sync", sync_command}, {"watch", watch_command}};
+  static const Command kCommands[] = {{"scan", scan_command},         {"read", read_command},
+                                      {"write", write_command},       {"upload", upload_command},
+                                      {"download", download_command}, {"nmt", nmt_command},
+                                      {"sync", sync_command},         {"watch", watch_command}};
   const Command* command = nullptr;
   for (const Command& c : kCommands)
     if (o.command == c.name) command = &c;

@@ -173,27 +173,6 @@ class WatchService : public BusService {
   std::map<uint16_t, std::string> pdos_;
 };
 
-/// "1,2,5-7" → node ids; fails with the offending word.
-Status parse_node_list(const std::string& text, std::vector<uint8_t>* nodes) {
-  size_t start = 0;
-  while (start <= text.size()) {
-    const size_t comma = text.find(',', start);
-    const std::string part =
-        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    const size_t dash = part.find('-');
-    uint8_t a = 0, b = 0;
-    Status s = parse_node_id(part.substr(0, dash), false, &a);
-    if (s && dash != std::string::npos) s = parse_node_id(part.substr(dash + 1), false, &b);
-    if (!s) return s;
-    if (dash == std::string::npos) b = a;
-    if (b < a) return Status::failure("node range '" + part + "' runs backwards");
-    for (int id = a; id <= b; ++id) nodes->push_back(static_cast<uint8_t>(id));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return Status::ok();
-}
-
 }  // namespace
 
 int watch_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {

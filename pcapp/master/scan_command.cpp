@@ -1,0 +1,100 @@
+// scan: which node ids answer SDO, all asked at once. A node counts as
+// present when it answers the upload of 1000h (device type, mandatory in
+// every CiA 301 device) with data or with an abort; then 1018h/1-4 and
+// 1008h are read from it. Silence within the SDO timeout: no node there.
+#include <cstdio>
+#include <map>
+#include <memory>
+
+#include "commands.h"
+#include "exit_codes.h"
+#include "transfer_run.h"
+
+namespace mb2co {
+namespace master {
+
+namespace {
+
+struct Found {
+  std::unique_ptr<Transfer> device_type;
+  std::unique_ptr<Transfer> identity[4];  ///< 1018h/1..4
+  std::unique_ptr<Transfer> name;         ///< 1008h
+};
+
+std::string u32_text(const Transfer* t) {
+  if (!t || !t->ok() || t->data.size() != 4) return "-";
+  const uint32_t v =
+      t->data[0] | t->data[1] << 8 | t->data[2] << 16 | static_cast<uint32_t>(t->data[3]) << 24;
+  char b[16];
+  std::snprintf(b, sizeof b, "0x%08X", v);
+  return b;
+}
+
+std::string text_of(const Transfer* t) {
+  if (!t || !t->ok()) return "";
+  std::string s;
+  for (uint8_t c : t->data)
+    s += (c >= 0x20 && c < 0x7F && c != '"' && c != '\\') ? static_cast<char>(c) : '?';
+  return s;
+}
+
+}  // namespace
+
+int scan_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+  if (o.words.size() > 2) return fail(err, kExitUsage, "scan: want scan [FIRST [LAST]]");
+  uint8_t first = 1, last = 127;
+  if (!o.words.empty()) {
+    Status s = parse_node_id(o.words[0], false, &first);
+    if (s) last = o.words.size() == 2 ? 0 : 127;
+    if (s && o.words.size() == 2) s = parse_node_id(o.words[1], false, &last);
+    if (!s) return fail(err, kExitUsage, "scan: " + s.message());
+    if (last < first) return fail(err, kExitUsage, "scan: LAST below FIRST");
+  }
+  TransferRun run(o, bus);
+  std::map<uint8_t, Found> found;
+  auto make = [](uint8_t node, uint16_t index, uint8_t sub) {
+    std::unique_ptr<Transfer> t(new Transfer);
+    t->node = node;
+    t->index = index;
+    t->sub = sub;
+    return t;
+  };
+  std::map<uint8_t, std::unique_ptr<Transfer>> probes;
+  for (int id = first; id <= last; ++id) {
+    const uint8_t node = static_cast<uint8_t>(id);
+    probes[node] = make(node, 0x1000, 0);
+    probes[node]->on_done = [&, node](Transfer& t) {
+      if (!t.ok() && !t.by_server) return;  // silence: nobody there
+      Found& f = found[node];
+      for (uint8_t sub = 1; sub <= 4; ++sub) {
+        f.identity[sub - 1] = make(node, 0x1018, sub);
+        run.network().queue(f.identity[sub - 1].get());
+      }
+      f.name = make(node, 0x1008, 0);
+      run.network().queue(f.name.get());
+    };
+    run.network().queue(probes[node].get());
+  }
+  if (!run.run()) return fail(err, kExitInterrupted, "scan: interrupted");
+  for (auto& p : found) {
+    const uint8_t node = p.first;
+    Found& f = p.second;
+    const Transfer* dt = probes[node].get();
+    if (o.json) {
+      out << "{\"node\":" << unsigned(node) << ",\"device_type\":\"" << u32_text(dt) << "\",\"vendor\":\""
+          << u32_text(f.identity[0].get()) << "\",\"product\":\"" << u32_text(f.identity[1].get())
+          << "\",\"revision\":\"" << u32_text(f.identity[2].get()) << "\",\"serial\":\""
+          << u32_text(f.identity[3].get()) << "\",\"name\":\"" << text_of(f.name.get()) << "\"}\n";
+    } else {
+      out << "node " << unsigned(node) << ": device type " << u32_text(dt) << ", vendor "
+          << u32_text(f.identity[0].get()) << ", product " << u32_text(f.identity[1].get()) << ", revision "
+          << u32_text(f.identity[2].get()) << ", serial " << u32_text(f.identity[3].get()) << ", name \""
+          << text_of(f.name.get()) << "\"\n";
+    }
+  }
+  if (!o.json) out << "scan: " << found.size() << " of " << (last - first + 1) << " node ids answered\n";
+  return found.empty() ? fail(err, kExitNoAnswer, "scan: no node answered") : kExitOk;
+}
+
+}  // namespace master
+}  // namespace mb2co

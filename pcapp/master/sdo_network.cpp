@@ -1,0 +1,183 @@
+#include "sdo_network.h"
+
+#include <cstdio>
+#include <cstring>
+
+#include "abort_text.h"
+
+namespace mb2co {
+namespace master {
+
+std::string Transfer::failure() const {
+  if (!finished || result == canopen::kSdoOk) return std::string();
+  char line[240];
+  const char* why = node_lost   ? "node lost (no heartbeat within the consumer time), transfer aborted"
+                    : by_server ? "SDO abort"
+                                : "SDO abort sent";
+  std::snprintf(line, sizeof line, "node %u %04Xh/%u: %s %08Xh (%s)", node, index, sub, why,
+                static_cast<unsigned>(result), abort_text(result));
+  return line;
+}
+
+SdoNetwork::SdoNetwork(uint32_t timeout_us, uint16_t heartbeat_ms)
+    : timeout_us_(timeout_us), heartbeat_ms_(heartbeat_ms) {
+  monitors_.set_listener(canopen::MonitorListener{&SdoNetwork::on_monitor, this});
+}
+
+void SdoNetwork::queue(Transfer* t) {
+  Node& n = nodes_[t->node];
+  if (!n.used) {
+    n.used = true;
+    n.client.init(t->node);
+    n.client.set_timeout_us(timeout_us_);
+    // The producer time is the node's business; only the consumer time counts.
+    if (heartbeat_ms_ && monitors_.monitor(t->node))
+      monitors_.monitor(t->node)->watch_heartbeat(t->node, 1, heartbeat_ms_);
+  }
+  n.queue.push_back(t);
+  ++pending_;
+  if (sink_.send) start_next(t->node, now_us_, sink_);
+}
+
+void SdoNetwork::progress(uint8_t node, uint32_t* moved, uint32_t* size) const {
+  const Node& n = nodes_[node];
+  const bool running = !n.queue.empty() && n.client.busy();
+  *moved = running ? n.client.transferred() : 0;
+  *size = running && n.client.size_known() ? n.client.size() : 0;
+}
+
+canopen::SdoAbort SdoNetwork::collect(void* ctx, uint32_t offset, const uint8_t* data, uint16_t n) {
+  auto* t = static_cast<Transfer*>(ctx);
+  if (offset != t->data.size()) return canopen::kAbortGeneral;  // never: offsets come in order
+  t->data.insert(t->data.end(), data, data + n);
+  return canopen::kSdoOk;
+}
+
+canopen::SdoAbort SdoNetwork::supply(void* ctx, uint32_t offset, uint8_t* buf, uint16_t n) {
+  auto* t = static_cast<Transfer*>(ctx);
+  if (static_cast<size_t>(offset) + n > t->data.size()) return canopen::kAbortGeneral;
+  std::memcpy(buf, t->data.data() + offset, n);
+  return canopen::kSdoOk;
+}
+
+void SdoNetwork::start_next(uint8_t id, uint32_t now_us, const CanSink& sink) {
+  Node& n = nodes_[id];
+  while (!n.queue.empty() && !n.client.busy()) {
+    Transfer* t = n.queue.front();
+    if (t->started_us != 0 || t->finished) return;  // running (or being finished)
+    t->started_us = now_us | 1u;                    // 0 means "not started"
+    bool started;
+    if (t->upload) {
+      t->data.clear();
+      started =
+          n.client.start_upload(t->index, t->sub, t->mode, canopen::SdoData{&SdoNetwork::collect, nullptr, t},
+                                0xFFFFFFFFu, now_us, sink);
+    } else {
+      started = n.client.start_download(t->index, t->sub, t->mode,
+                                        canopen::SdoData{nullptr, &SdoNetwork::supply, t},
+                                        static_cast<uint32_t>(t->data.size()), now_us, sink);
+    }
+    if (started && n.client.busy()) return;
+    finish_front(id, now_us, sink);  // refused at once (or done without an answer)
+  }
+}
+
+void SdoNetwork::finish_front(uint8_t id, uint32_t now_us, const CanSink& sink) {
+  Node& n = nodes_[id];
+  Transfer* t = n.queue.front();
+  n.queue.pop_front();
+  t->finished = true;
+  t->ended_us = now_us;
+  if (n.client.status() == canopen::SdoClient::kDone) {
+    t->result = canopen::kSdoOk;
+  } else {
+    t->result = n.client.status() == canopen::SdoClient::kFailed ? n.client.result() : canopen::kAbortGeneral;
+    t->by_server = n.client.aborted_by_server();
+  }
+  t->crc = n.client.crc_used();
+  --pending_;
+  if (t->on_done) t->on_done(*t);
+  start_next(id, now_us, sink);
+}
+
+void SdoNetwork::on_monitor(void* ctx, uint8_t node, canopen::MonitorEvent e, uint8_t, uint8_t) {
+  // Only noted here: the listener runs inside the monitor's own call.
+  if (e == canopen::kMonitorNodeLost) static_cast<SdoNetwork*>(ctx)->lost_.push_back(node);
+}
+
+void SdoNetwork::abort_all(canopen::SdoAbort code, const CanSink& sink) {
+  for (uint8_t id = 1; id <= 127; ++id) {
+    Node& n = nodes_[id];
+    if (n.client.busy()) n.client.abort(code, sink);
+    while (!n.queue.empty()) {
+      Transfer* t = n.queue.front();
+      n.queue.pop_front();
+      t->finished = true;
+      t->result = code;
+      t->ended_us = now_us_;
+      --pending_;
+    }
+  }
+}
+
+void SdoNetwork::on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink) {
+  now_us_ = now_us;
+  sink_ = sink;
+  if (f.extended()) return;
+  if (monitors_.on_frame(f, now_us)) return;
+  if (f.id < 0x581 || f.id > 0x5FF) return;
+  const uint8_t id = static_cast<uint8_t>(f.id - 0x580);
+  Node& n = nodes_[id];
+  if (!n.used || n.queue.empty()) return;
+  n.client.on_frame(f, now_us, sink);
+  if (!n.client.busy()) finish_front(id, now_us, sink);
+}
+
+void SdoNetwork::process(uint32_t now_us, const CanSink& sink) {
+  now_us_ = now_us;
+  sink_ = sink;
+  monitors_.process(now_us, sink);
+  for (uint8_t id : lost_) {
+    Node& n = nodes_[id];
+    if (n.queue.empty()) continue;
+    // The watchdog ends the running transfer and everything queued behind
+    // it: the node is gone, asking it more would only wait for timeouts.
+    if (n.client.busy()) n.client.abort(canopen::kAbortTimeout, sink);
+    while (!n.queue.empty()) {
+      Transfer* t = n.queue.front();
+      n.queue.pop_front();
+      t->finished = true;
+      t->result = canopen::kAbortTimeout;
+      t->node_lost = true;
+      t->ended_us = now_us;
+      --pending_;
+      if (t->on_done) t->on_done(*t);
+    }
+  }
+  lost_.clear();
+  for (uint8_t id = 1; id <= 127; ++id) {
+    Node& n = nodes_[id];
+    if (!n.used) continue;
+    if (!n.queue.empty() && n.client.busy()) {
+      n.client.process(now_us, sink);
+      if (!n.client.busy()) finish_front(id, now_us, sink);
+    } else {
+      start_next(id, now_us, sink);
+    }
+  }
+}
+
+void SdoNetwork::next_deadline(NextDeadline& d) const {
+  monitors_.next_deadline(d);
+  for (uint8_t id = 1; id <= 127; ++id) {
+    const Node& n = nodes_[id];
+    if (!n.used || n.queue.empty()) continue;
+    if (n.client.busy())
+      n.client.next_deadline(d);
+    else
+      d.now();  // a queued transfer waits to start
+  }
+}
+
+}  // namespace master
+}  // namespace mb2co

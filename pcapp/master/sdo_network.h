@@ -1,0 +1,93 @@
+// The master's SDO side: one SdoClient per node (1..127), each working
+// through its own queue of transfers, all nodes at once (seed 002: "all the
+// types of data transfers, which can run simultaneously with several
+// nodes"), and the watchdog: with a heartbeat consumer time set, a node whose
+// heartbeats stop has its running transfer aborted (05040000h sent) and its
+// queue failed, instead of waiting for the SDO timeout (seed 002's watchdog).
+#pragma once
+#include <stdint.h>
+
+#include <deque>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "bus_loop.h"
+#include "canopen/master/node_monitor.h"
+#include "canopen/sdo_client.h"
+
+namespace mb2co {
+namespace master {
+
+/// One SDO transfer and, once done(), how it ended. Owned by the caller;
+/// must stay put (not move) while queued or running.
+struct Transfer {
+  uint8_t node = 0;
+  uint16_t index = 0;
+  uint8_t sub = 0;
+  bool upload = true;
+  canopen::SdoMode mode = canopen::kSdoAuto;
+  std::vector<uint8_t> data;  ///< download: the bytes to write; upload: what came
+  /// Called when it ended (may queue more transfers for the same node).
+  std::function<void(Transfer&)> on_done;
+
+  bool finished = false;
+  canopen::SdoAbort result = canopen::kSdoOk;
+  bool by_server = false;  ///< result is the server's abort code
+  bool node_lost = false;  ///< ended by the watchdog (heartbeat lost)
+  bool crc = false;        ///< a block transfer with CRC
+  uint32_t started_us = 0;
+  uint32_t ended_us = 0;
+  bool ok() const { return finished && result == canopen::kSdoOk; }
+  /// "node 3 1018h/1: SDO abort 06020000h (object does not exist ...)" or "".
+  std::string failure() const;
+};
+
+class SdoNetwork : public BusService {
+ public:
+  /// `timeout_us`: SDO client timeout; `heartbeat_ms`: consumer time of the
+  /// watchdog (0: none). Nodes are watched from their first transfer on.
+  SdoNetwork(uint32_t timeout_us, uint16_t heartbeat_ms);
+
+  /// Queues `t` behind the node's other transfers; it starts at once when
+  /// the node's client is free.
+  void queue(Transfer* t);
+  /// Transfers not finished yet.
+  size_t pending() const { return pending_; }
+  /// Progress of the node's running transfer (bytes moved, size; size 0
+  /// when unknown or idle).
+  void progress(uint8_t node, uint32_t* moved, uint32_t* size) const;
+  /// Aborts every running transfer with `code` (SIGINT) and fails the queues.
+  void abort_all(canopen::SdoAbort code, const CanSink& sink);
+
+  void on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink) override;
+  void process(uint32_t now_us, const CanSink& sink) override;
+  void next_deadline(NextDeadline& d) const override;
+
+ private:
+  struct Node {
+    canopen::SdoClient client;
+    std::deque<Transfer*> queue;  ///< front(): running
+    bool used = false;
+  };
+  static void on_monitor(void* ctx, uint8_t node, canopen::MonitorEvent e, uint8_t, uint8_t);
+  /// Starts the node's front transfer if its client is idle.
+  void start_next(uint8_t id, uint32_t now_us, const CanSink& sink);
+  /// The running transfer ended (client no longer busy).
+  void finish_front(uint8_t id, uint32_t now_us, const CanSink& sink);
+
+  static canopen::SdoAbort collect(void* ctx, uint32_t offset, const uint8_t* data, uint16_t n);
+  static canopen::SdoAbort supply(void* ctx, uint32_t offset, uint8_t* buf, uint16_t n);
+
+  Node nodes_[128];
+  canopen::NodeMonitorTable<127> monitors_;
+  uint32_t timeout_us_;
+  uint16_t heartbeat_ms_;
+  size_t pending_ = 0;
+  uint32_t now_us_ = 0;
+  CanSink sink_ = {nullptr, nullptr};
+  std::vector<uint8_t> lost_;  ///< node ids the watchdog reported since the last process()
+};
+
+}  // namespace master
+}  // namespace mb2co

@@ -1,0 +1,235 @@
+// read, write, upload, download: SDO transfers to one node or several at
+// once (NODE may be a list), typed on the command line or via an EDS.
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <memory>
+
+#include "commands.h"
+#include "eds_value.h"
+#include "exit_codes.h"
+#include "transfer_run.h"
+#include "value_text.h"
+
+namespace mb2co {
+namespace master {
+
+namespace {
+
+/// NODE INDEX SUB of a transfer command.
+struct Target {
+  std::vector<uint8_t> nodes;
+  uint16_t index = 0;
+  uint8_t sub = 0;
+};
+
+Status parse_target(const std::vector<std::string>& w, Target* t) {
+  if (w.size() < 3) return Status::failure("want NODE INDEX SUB");
+  Status s = parse_node_list(w[0], &t->nodes);
+  if (!s) return s;
+  return parse_index_sub(w[1], w[2], &t->index, &t->sub);
+}
+
+/// --block / --segmented, taken out of the words.
+canopen::SdoMode take_mode(std::vector<std::string>* w) {
+  if (take_option(w, "--block", true, nullptr)) return canopen::kSdoBlock;
+  if (take_option(w, "--segmented", true, nullptr)) return canopen::kSdoSegmented;
+  return canopen::kSdoAuto;
+}
+
+/// Queues one transfer per node and runs them all; the first failure's exit
+/// code (each failure printed), kExitOk when all succeeded.
+int run_all(const Options& o, BusLoop& bus, std::vector<std::unique_ptr<Transfer>>& ts, std::ostream& err) {
+  TransferRun run(o, bus);
+  for (auto& t : ts) run.network().queue(t.get());
+  if (ts.size() == 1 && !o.json && isatty(STDERR_FILENO) && &err == &std::cerr)
+    run.show_progress(ts[0]->node, &err);
+  if (!run.run()) return fail(err, kExitInterrupted, "interrupted: transfers aborted (08000000h sent)");
+  int code = kExitOk;
+  for (auto& t : ts) {
+    if (t->ok()) continue;
+    const int c = exit_code_of(*t);
+    fail(err, c, t->failure());
+    if (code == kExitOk) code = c;
+  }
+  return code;
+}
+
+std::string hex_word(uint32_t v, int digits) {
+  char b[16];
+  std::snprintf(b, sizeof b, "%0*X", digits, v);
+  return b;
+}
+
+}  // namespace
+
+int read_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+  Target target;
+  Status s = parse_target(o.words, &target);
+  if (!s || o.words.size() > 4)
+    return fail(err, kExitUsage, "read: " + (s ? "want NODE INDEX SUB [TYPE]" : s.message()));
+  eds::DataType type;
+  s = resolve_type(o.words.size() == 4 ? o.words[3] : std::string(), o.eds, target.index, target.sub, &type);
+  if (!s) return fail(err, kExitUsage, "read: " + s.message());
+  std::vector<std::unique_ptr<Transfer>> ts;
+  for (uint8_t node : target.nodes) {
+    ts.emplace_back(new Transfer);
+    Transfer& t = *ts.back();
+    t.node = node;
+    t.index = target.index;
+    t.sub = target.sub;
+    t.upload = true;
+  }
+  const int code = run_all(o, bus, ts, err);
+  for (auto& t : ts) {
+    if (!t->ok()) continue;
+    eds::Value v;
+    v.bytes = t->data;
+    const eds::TypeInfo* info = eds::type_info(static_cast<uint16_t>(type));
+    if (info && info->bytes && v.bytes.size() != info->bytes) {
+      fail(err, kExitRefused,
+           "read: node " + std::to_string(t->node) + " " + hex_word(t->index, 4) + "h/" +
+               std::to_string(t->sub) + ": " + std::to_string(v.bytes.size()) + " bytes, not a " +
+               info->name + " (" + std::to_string(info->bytes) + " bytes)");
+      continue;
+    }
+    const std::string text = eds::format_value(type, v);
+    if (o.json)
+      out << "{\"node\":" << unsigned(t->node) << ",\"index\":\"" << hex_word(t->index, 4)
+          << "\",\"sub\":" << unsigned(t->sub) << ",\"value\":\"" << text << "\",\"bytes\":" << t->data.size()
+          << "}\n";
+    else if (ts.size() > 1)
+      out << "node " << unsigned(t->node) << ": " << text << "\n";
+    else
+      out << text << "\n";
+  }
+  return code;
+}
+
+int write_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+  Target target;
+  Status s = parse_target(o.words, &target);
+  if (!s || o.words.size() < 4 || o.words.size() > 5)
+    return fail(err, kExitUsage, "write: " + (s ? "want NODE INDEX SUB [TYPE] VALUE" : s.message()));
+  eds::DataType type;
+  s = resolve_type(o.words.size() == 5 ? o.words[3] : std::string(), o.eds, target.index, target.sub, &type);
+  if (!s) return fail(err, kExitUsage, "write: " + s.message());
+  const eds::ValueResult v = eds::parse_value(type, o.words.back());
+  if (!v.value) return fail(err, kExitUsage, "write: " + v.error);
+  std::vector<std::unique_ptr<Transfer>> ts;
+  for (uint8_t node : target.nodes) {
+    ts.emplace_back(new Transfer);
+    Transfer& t = *ts.back();
+    t.node = node;
+    t.index = target.index;
+    t.sub = target.sub;
+    t.upload = false;
+    t.data = v.value->bytes;
+  }
+  const int code = run_all(o, bus, ts, err);
+  for (auto& t : ts) {
+    if (!t->ok()) continue;
+    if (o.json)
+      out << "{\"node\":" << unsigned(t->node) << ",\"index\":\"" << hex_word(t->index, 4)
+          << "\",\"sub\":" << unsigned(t->sub) << ",\"written\":" << t->data.size() << "}\n";
+    else
+      out << "node " << unsigned(t->node) << " " << hex_word(t->index, 4) << "h/" << unsigned(t->sub) << ": "
+          << t->data.size() << " bytes written\n";
+  }
+  return code;
+}
+
+namespace {
+
+/// "131072 bytes from node 3 1F50h/1 in 1.234 s (106.2 KiB/s, block with CRC)"
+std::string summary(const Transfer& t, bool upload) {
+  const double s = static_cast<double>(t.ended_us - t.started_us) / 1e6;
+  char line[200];
+  std::snprintf(line, sizeof line, "%s %zu bytes %s node %u %04Xh/%u in %.3f s (%.1f KiB/s, %s)",
+                upload ? "uploaded" : "downloaded", t.data.size(), upload ? "from" : "to", t.node, t.index,
+                t.sub, s, s > 0 ? static_cast<double>(t.data.size()) / 1024.0 / s : 0.0,
+                t.mode == canopen::kSdoBlock ? (t.crc ? "block with CRC" : "block") : "expedited/segmented");
+  return line;
+}
+
+}  // namespace
+
+int upload_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+  std::vector<std::string> w = o.words;
+  const canopen::SdoMode mode = take_mode(&w);
+  Target target;
+  Status s = parse_target(w, &target);
+  if (!s || w.size() != 4)
+    return fail(err, kExitUsage, "upload: " + (s ? "want NODE INDEX SUB FILE" : s.message()));
+  std::vector<std::unique_ptr<Transfer>> ts;
+  for (uint8_t node : target.nodes) {
+    ts.emplace_back(new Transfer);
+    Transfer& t = *ts.back();
+    t.node = node;
+    t.index = target.index;
+    t.sub = target.sub;
+    t.mode = mode;
+  }
+  const int code = run_all(o, bus, ts, err);
+  for (auto& t : ts) {
+    if (!t->ok()) continue;
+    // One file per node when several; written whole under a temporary name
+    // and renamed, so a file is never half-written.
+    const std::string path = target.nodes.size() > 1 ? w[3] + "." + std::to_string(t->node) : w[3];
+    const std::string tmp = path + ".part";
+    {
+      std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+      f.write(reinterpret_cast<const char*>(t->data.data()), static_cast<std::streamsize>(t->data.size()));
+      if (!f.good()) return fail(err, kExitUsage, "upload: cannot write " + tmp);
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0)
+      return fail(err, kExitUsage, "upload: cannot write " + path);
+    if (o.json)
+      out << "{\"node\":" << unsigned(t->node) << ",\"file\":\"" << path << "\",\"bytes\":" << t->data.size()
+          << ",\"seconds\":" << (t->ended_us - t->started_us) / 1e6
+          << ",\"block\":" << (mode == canopen::kSdoBlock) << ",\"crc\":" << t->crc << "}\n";
+    else
+      out << summary(*t, true) << " -> " << path << "\n";
+  }
+  return code;
+}
+
+int download_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+  std::vector<std::string> w = o.words;
+  const canopen::SdoMode mode = take_mode(&w);
+  Target target;
+  Status s = parse_target(w, &target);
+  if (!s || w.size() != 4)
+    return fail(err, kExitUsage, "download: " + (s ? "want NODE INDEX SUB FILE" : s.message()));
+  std::ifstream f(w[3], std::ios::binary);
+  if (!f) return fail(err, kExitUsage, "download: cannot read " + w[3]);
+  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  std::vector<std::unique_ptr<Transfer>> ts;
+  for (uint8_t node : target.nodes) {
+    ts.emplace_back(new Transfer);
+    Transfer& t = *ts.back();
+    t.node = node;
+    t.index = target.index;
+    t.sub = target.sub;
+    t.upload = false;
+    t.mode = mode;
+    t.data = bytes;
+  }
+  const int code = run_all(o, bus, ts, err);
+  for (auto& t : ts) {
+    if (!t->ok()) continue;
+    if (o.json)
+      out << "{\"node\":" << unsigned(t->node) << ",\"file\":\"" << w[3] << "\",\"bytes\":" << t->data.size()
+          << ",\"seconds\":" << (t->ended_us - t->started_us) / 1e6
+          << ",\"block\":" << (mode == canopen::kSdoBlock) << ",\"crc\":" << t->crc << "}\n";
+    else
+      out << summary(*t, false) << "\n";
+  }
+  return code;
+}
+
+}  // namespace master
+}  // namespace mb2co

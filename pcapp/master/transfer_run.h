@@ -1,0 +1,41 @@
+// Running queued SDO transfers to their end on the bus, with a progress bar
+// on a terminal and a clean abort on SIGINT (the nodes are told: 08000000h).
+#pragma once
+#include <ostream>
+
+#include "bus_loop.h"
+#include "cli_options.h"
+#include "sdo_network.h"
+
+namespace mb2co {
+namespace master {
+
+/// The SDO side of a command: the network of clients, added to `bus`.
+/// `heartbeat_ms` from the --heartbeat option (0: no watchdog).
+class TransferRun {
+ public:
+  TransferRun(const Options& o, BusLoop& bus);
+  SdoNetwork& network() { return network_; }
+  /// Runs until nothing is queued or running. False when interrupted
+  /// (everything was aborted).
+  bool run();
+  /// Shows a progress bar for the transfers of `node` on `err` (a terminal).
+  void show_progress(uint8_t node, std::ostream* err) {
+    progress_node_ = node;
+    progress_out_ = err;
+  }
+
+ private:
+  class Progress;
+  BusLoop& bus_;
+  SdoNetwork network_;
+  uint8_t progress_node_ = 0;
+  std::ostream* progress_out_ = nullptr;
+};
+
+/// The exit code for a failed transfer: no answer (timeout, node lost) → 4,
+/// a refusal → 1.
+int exit_code_of(const Transfer& t);
+
+}  // namespace master
+}  // namespace mb2co

@@ -37,7 +37,10 @@ MasterRun run_master(const std::vector<std::string>& args, std::chrono::millisec
 }
 
 bool start_candump(LineChild* candump) {
-  if (!candump->start({"candump", "-L", "vcan0"})) return false;
+  // A large receive buffer (8 MiB; we are root in the sandbox): a block or
+  // segmented transfer floods the bus, and a frame candump dropped would
+  // read as a frame never sent. -d reports drops ("DROPCOUNT: ...").
+  if (!candump->start({"candump", "-d", "-r", "8388608", "-L", "vcan0"})) return false;
   // A probe sent before candump has bound its socket is lost: send until
   // one is seen.
   for (const auto deadline = std::chrono::steady_clock::now() + kVcanDeadline;

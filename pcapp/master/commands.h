@@ -18,6 +18,8 @@ int download_command(const Options& o, BusLoop& bus, std::ostream& out, std::ost
 int nmt_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
 int sync_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
 int watch_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
+int dump_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
+int configure_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
 
 /// Prints "mb2co-master: WHY" and returns `code` (the one error style).
 int fail(std::ostream& err, int code, const std::string& why);

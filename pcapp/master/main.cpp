@@ -29,7 +29,8 @@ int main(int argc, char** argv) {
   static const Command kCommands[] = {{"scan", scan_command},         {"read", read_command},
                                       {"write", write_command},       {"upload", upload_command},
                                       {"download", download_command}, {"nmt", nmt_command},
-                                      {"sync", sync_command},         {"watch", watch_command}};
+                                      {"sync", sync_command},         {"watch", watch_command},
+                                      {"dump", dump_command},         {"configure", configure_command}};
   const Command* command = nullptr;
   for (const Command& c : kCommands)
     if (o.command == c.name) command = &c;

@@ -144,8 +144,8 @@ class NodeJob {
     if (!t.by_server)
       finish(kMissing, "no answer to " + where(t.index, t.sub));
     else
-      finish(kRefused, std::string(what) + " " + where(t.index, t.sub) + ": SDO abort " + hex8(t.result) + " (" +
-                           abort_text(t.result) + ")");
+      finish(kRefused, std::string(what) + " " + where(t.index, t.sub) + ": SDO abort " + hex8(t.result) +
+                           " (" + abort_text(t.result) + ")");
   }
 
   void read_identity(uint8_t sub) {
@@ -155,7 +155,8 @@ class NodeJob {
       const eds::SubObject* s = dcf_.find(0x1018, sub);
       std::optional<eds::Value> want;
       if (s && s->parameter_value) want = eds::resolve(s->type, *s->parameter_value, node_.id);
-      if (s && !s->parameter_value && s->default_value) want = eds::resolve(s->type, *s->default_value, node_.id);
+      if (s && !s->parameter_value && s->default_value)
+        want = eds::resolve(s->type, *s->default_value, node_.id);
       if (want && u32_of(want->bytes) != u32_of(t.data))
         return finish(kRefused, std::string("wrong identity: ") + kWhat[sub] + " " + hex32(u32_of(t.data)) +
                                     " want " + hex32(u32_of(want->bytes)));
@@ -254,13 +255,14 @@ class NodeJob {
     if (cob_now.size() == 4 && !(u32_of(cob_now) & 0x80000000u))
       writes_.push_back(Write{comm, 1, bytes_of(u32_of(cob_now) | 0x80000000u, 4)});
     for (const Entry& e : entries_)
-      if (e.index == comm && e.sub != 1 && e.counted && e.differs()) writes_.push_back(Write{comm, e.sub, e.want});
+      if (e.index == comm && e.sub != 1 && e.counted && e.differs())
+        writes_.push_back(Write{comm, e.sub, e.want});
     if (map_differs) {
       writes_.push_back(Write{map, 0, {0}});
       for (const Entry& e : entries_)
         if (e.index == map && e.sub != 0 && e.counted) writes_.push_back(Write{map, e.sub, e.want});
-      const std::vector<uint8_t> n = count->counted ? count->want
-                                                    : (count->known() ? count->read->data : std::vector<uint8_t>());
+      const std::vector<uint8_t> n =
+          count->counted ? count->want : (count->known() ? count->read->data : std::vector<uint8_t>());
       if (!n.empty()) writes_.push_back(Write{map, 0, n});
     }
     if (!cob_want.empty()) writes_.push_back(Write{comm, 1, cob_want});
@@ -345,7 +347,8 @@ int configure_command(const Options& o, BusLoop& bus, std::ostream& out, std::os
   } else {
     for (auto& j : jobs) j->start();
   }
-  if (!run.run()) return fail(err, kExitInterrupted, "configure: interrupted: transfers aborted (08000000h sent)");
+  if (!run.run())
+    return fail(err, kExitInterrupted, "configure: interrupted: transfers aborted (08000000h sent)");
 
   canopen::NmtMaster nmt(bus.sink());
   bool refused = false, missing = false;
@@ -354,8 +357,9 @@ int configure_command(const Options& o, BusLoop& bus, std::ostream& out, std::os
     if (j->outcome() == NodeJob::kConfigured && !no_start) {
       started = nmt.start(j->id());
       if (!started)
-        return fail(err, kExitBus,
-                    "configure: the CAN interface refused NMT start: " + std::string(bus.port().last_io_error()));
+        return fail(
+            err, kExitBus,
+            "configure: the CAN interface refused NMT start: " + std::string(bus.port().last_io_error()));
     }
     refused |= j->outcome() == NodeJob::kRefused;
     missing |= j->outcome() == NodeJob::kMissing || j->outcome() == NodeJob::kRunning;
@@ -363,8 +367,8 @@ int configure_command(const Options& o, BusLoop& bus, std::ostream& out, std::os
     if (o.json) {
       out << "{\"node\":" << unsigned(j->id()) << ",\"result\":\"" << kResult[j->outcome()] << "\"";
       if (j->outcome() == NodeJob::kConfigured)
-        out << ",\"written\":" << j->written() << ",\"equal\":" << j->equal() << ",\"read_only\":"
-            << j->read_only() << ",\"saved\":" << (j->saved() ? "true" : "false")
+        out << ",\"written\":" << j->written() << ",\"equal\":" << j->equal()
+            << ",\"read_only\":" << j->read_only() << ",\"saved\":" << (j->saved() ? "true" : "false")
             << ",\"started\":" << (started ? "true" : "false");
       else
         out << ",\"why\":\"" << json_text(j->why()) << "\"";

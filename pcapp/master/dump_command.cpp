@@ -112,7 +112,8 @@ int dump_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream
       f << dcf;
       if (!f.good()) return fail(err, kExitUsage, "dump: cannot write " + tmp);
     }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) return fail(err, kExitUsage, "dump: cannot write " + path);
+    if (std::rename(tmp.c_str(), path.c_str()) != 0)
+      return fail(err, kExitUsage, "dump: cannot write " + path);
   } else {
     out << dcf << std::flush;
   }
@@ -124,7 +125,8 @@ int dump_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream
     for (size_t i = 0; i < refused.size(); ++i) summary << (i ? "," : "") << "\"" << refused[i] << "\"";
     summary << "]}\n";
   } else {
-    summary << "dump: node " << unsigned(node) << ": " << values << " values, " << refused.size() << " refused";
+    summary << "dump: node " << unsigned(node) << ": " << values << " values, " << refused.size()
+            << " refused";
     if (!refused.empty()) {
       summary << " (";
       for (size_t i = 0; i < refused.size(); ++i) summary << (i ? ", " : "") << refused[i];

@@ -8,8 +8,9 @@
 //   2. every sub with a ParameterValue (resolved with the node id) that is
 //      not ro/const is read; the ones that differ are written, the first
 //      abort stops the node;
-//      (1010h and 1011h, store/restore commands, are never written from a
-//      DCF: their value read is a capability, not a setting);
+//      (1003h error history, 1010h and 1011h store/restore commands are
+//      never written from a DCF: what a dump reads there is a record or a
+//      capability, not a setting);
 //   3. --save: 1010h/1 = "save"; then, unless --no-start, NMT start.
 // PDO parameters are written in the CiA 301 order whatever order the DCF
 // lists them in: for a PDO with something to change, its COB-ID is written
@@ -188,7 +189,9 @@ class NodeJob {
       for (const eds::SubObject& s : p.second.subs) {
         // 1010h/1011h are commands (a signature starts them), not values:
         // a DCF's ParameterValue there is what the node said it can do.
-        if (!s.parameter_value || p.first == 0x1010 || p.first == 0x1011) continue;
+        // 1003h is the error history: a record of the node's, which only
+        // takes 0 (clear); a dumped count is no setting either.
+        if (!s.parameter_value || p.first == 0x1003 || p.first == 0x1010 || p.first == 0x1011) continue;
         if (s.access == eds::AccessType::kRo || s.access == eds::AccessType::kConst) {
           ++read_only_;
           continue;

@@ -8,12 +8,14 @@
 # both write.
 #
 # Usage (builds first: cmake --build build --target mb2co-master mb2co-node):
-#   hil/uml/run-with-vcan.sh --timeout 600 -- tests/master/bench_configure.sh [BUILD_DIR] [N]
-# N defaults to 32. A node's line other than "configured: 3 written" is
+#   hil/uml/run-with-vcan.sh --timeout 900 -- tests/master/bench_configure.sh [BUILD_DIR] [N] [SDO_TIMEOUT_MS]
+# N defaults to 32 (setup then takes minutes: a scan and 32 dumps). A node's line other than "configured: 3 written" is
 # printed (it would make the comparison unfair). Results: docs/performance.md, "Master".
 set -euo pipefail
 build=${1:-build}
 count=${2:-32}
+# SDO timeout: generous, N node processes in user-mode Linux answer slowly.
+timeout_ms=${3:-5000}
 master=$build/pcapp/master/mb2co-master
 node=$(find "$build" -name mb2co-node -type f -perm -u+x | head -1)
 eds=$(cd "$(dirname "$0")/../.." && pwd)/docs/mb2co-gateway.eds
@@ -25,18 +27,21 @@ for id in $(seq 1 "$count"); do
 done
 # Until every node answers SDO (scan waits one SDO timeout per pass).
 for _ in $(seq 1 60); do
-  found=$("$master" -i vcan0 -t 500 scan 1 "$count" 2>/dev/null | grep -c '^node ' || true)
+  found=$("$master" -i vcan0 -t "$timeout_ms" scan 1 "$count" 2>/dev/null | grep -c '^node ' || true)
   [ "$found" -eq "$count" ] && break
 done
 [ "$found" -eq "$count" ] || { echo "bench: only $found of $count nodes answer" >&2; exit 1; }
 
 # Each node's own values (station ring, heartbeat consumers differ per
-# node id), dumped all at once.
+# node id), dumped one after the other (not timed).
+# A late answer to an earlier run's request (a loaded UML) makes a dump
+# fail with 06040043h: tried again.
 for id in $(seq 1 "$count"); do
-  "$master" -i vcan0 --eds "$eds" dump "$id" "$work/base$id.dcf" >/dev/null &
+  for try in 1 2 3; do
+    "$master" -i vcan0 -t "$timeout_ms" --eds "$eds" dump "$id" "$work/base$id.dcf" >/dev/null && break
+    [ "$try" -lt 3 ] || exit 1
+  done
 done
-wait_dumps() { for id in $(seq 1 "$count"); do [ -s "$work/base$id.dcf" ] || return 1; done; }
-while ! wait_dumps; do wait -n; done
 # Sets ParameterValue=VALUE in section [SECTION] of the DCF on stdin.
 set_value() {
   awk -v sec="[$1]" -v val="$2" '
@@ -66,7 +71,7 @@ run() {  # run LABEL NET [OPTIONS]
   shift 2
   local start end out
   start=$(date +%s.%N)
-  out=$("$master" -i vcan0 configure "$work/$net.cpj" --no-start "$@" || true)
+  out=$("$master" -i vcan0 -t "$timeout_ms" configure "$work/$net.cpj" --no-start "$@" || true)
   end=$(date +%s.%N)
   grep -v ': configured: 3 written' <<<"$out" >&2 || true
   local ok
@@ -76,5 +81,3 @@ run() {  # run LABEL NET [OPTIONS]
 }
 run "concurrent" a
 run "one at a time" b --one-at-a-time
-run "concurrent (again)" a
-run "one at a time (again)" b --one-at-a-time

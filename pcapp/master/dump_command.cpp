@@ -81,6 +81,12 @@ int dump_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream
       u.t.sub = sub.sub;
     }
   }
+  // Silence (not a refusal) means the node is not there: the rest would
+  // only wait out one SDO timeout each, so everything queued is dropped.
+  for (Upload& u : uploads)
+    u.t.on_done = [&](Transfer& t) {
+      if (!t.ok() && !t.by_server) run.network().abort_all(canopen::kAbortTimeout, bus.sink());
+    };
   for (Upload& u : uploads) run.network().queue(&u.t);
   if (!run.run()) return fail(err, kExitInterrupted, "dump: interrupted: transfers aborted (08000000h sent)");
 

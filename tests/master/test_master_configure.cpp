@@ -114,6 +114,12 @@ TEST(MasterConfigure, DumpIsADcfWithTheNodesValues) {
   EXPECT_EQ(piped.model->find(0x1017, 0)->parameter_value, heartbeat->parameter_value);
   EXPECT_NE(out.err.find("dump: node 3: "), std::string::npos) << out.err;
 
+  // Nobody at node id 9: one SDO timeout, not one per object.
+  const MasterRun absent = run_master({"-t", "300", "--eds", kEds, "dump", "9", dir.path("x.dcf")});
+  EXPECT_EQ(absent.exit_code, 4) << absent.err;
+  EXPECT_NE(absent.err.find("node 9 "), std::string::npos) << absent.err;
+  EXPECT_NE(absent.err.find("05040000h"), std::string::npos) << absent.err;
+
   const MasterRun no_eds = run_master({"dump", "3", dir.path("x.dcf")});
   EXPECT_EQ(no_eds.exit_code, 2);
   EXPECT_NE(no_eds.err.find("needs --eds FILE"), std::string::npos) << no_eds.err;

@@ -141,7 +141,10 @@ class NodeJob {
   }
 
   /// A failed transfer ends the job: silence is "missing", an abort "refused".
+  /// What is still queued for the node is dropped: after silence it would
+  /// only wait out one SDO timeout each.
   void failed(const Transfer& t, const char* what) {
+    net_->drop_queued(node_.id, canopen::kAbortTimeout);
     if (!t.by_server)
       finish(kMissing, "no answer to " + where(t.index, t.sub));
     else

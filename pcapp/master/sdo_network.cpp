@@ -105,6 +105,20 @@ void SdoNetwork::on_monitor(void* ctx, uint8_t node, canopen::MonitorEvent e, ui
   if (e == canopen::kMonitorNodeLost) static_cast<SdoNetwork*>(ctx)->lost_.push_back(node);
 }
 
+void SdoNetwork::drop_queued(uint8_t node, canopen::SdoAbort code) {
+  Node& n = nodes_[node];
+  auto it = n.queue.begin();
+  if (it != n.queue.end() && (*it)->started_us != 0) ++it;  // running: it ends on its own
+  while (it != n.queue.end()) {
+    Transfer* t = *it;
+    t->finished = true;
+    t->result = code;
+    t->ended_us = now_us_;
+    --pending_;
+    it = n.queue.erase(it);
+  }
+}
+
 void SdoNetwork::abort_all(canopen::SdoAbort code, const CanSink& sink) {
   for (uint8_t id = 1; id <= 127; ++id) {
     Node& n = nodes_[id];

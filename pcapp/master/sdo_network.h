@@ -57,6 +57,10 @@ class SdoNetwork : public BusService {
   /// Progress of the node's running transfer (bytes moved, size; size 0
   /// when unknown or idle).
   void progress(uint8_t node, uint32_t* moved, uint32_t* size) const;
+  /// Ends the node's queued transfers that have not started with `code`,
+  /// without calling their on_done (a running one runs on): for a caller
+  /// that gave up on the node and would otherwise wait out their timeouts.
+  void drop_queued(uint8_t node, canopen::SdoAbort code);
   /// Aborts every running transfer with `code` (SIGINT) and fails the queues.
   void abort_all(canopen::SdoAbort code, const CanSink& sink);
 

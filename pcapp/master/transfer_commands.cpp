@@ -137,7 +137,7 @@ int write_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostrea
           << "\",\"sub\":" << unsigned(t->sub) << ",\"written\":" << t->data.size() << "}\n";
     else
       out << "node " << unsigned(t->node) << " " << hex_word(t->index, 4) << "h/" << unsigned(t->sub) << ": "
-          << t->data.size() << " bytes written\n";
+          << t->data.size() << (t->data.size() == 1 ? " byte" : " bytes") << " written\n";
   }
   return code;
 }

@@ -79,7 +79,8 @@ Status exact_frame(const Options& o, uint32_t bitrate, timing::WorstCase convent
   char crc[8];
   std::snprintf(crc, sizeof crc, "0x%04X", exact.crc15);
   std::string data;
-  for (uint8_t i = 0; i < (frame.rtr() ? 0 : frame.dlc); ++i) {
+  const uint8_t data_bytes = frame.rtr() ? uint8_t{0} : frame.dlc;
+  for (uint8_t i = 0; i < data_bytes; ++i) {
     char byte[4];
     std::snprintf(byte, sizeof byte, "%02X", frame.data[i]);
     data += byte;

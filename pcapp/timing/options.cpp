@@ -92,7 +92,8 @@ Status parse_options(int argc, char** argv, Options& out) {
     }
     const OptionSpec* spec = find_spec(arg);
     if (spec == nullptr || (spec->commands & out.command) == 0) {
-      return Status::failure("unknown option " + arg + " for " + command + " (see --help)");
+      return Status::failure(
+          std::string("unknown option ").append(arg).append(" for ").append(command).append(" (see --help)"));
     }
     if (spec->takes_value && !inline_value) {
       if (i + 1 >= argc) {

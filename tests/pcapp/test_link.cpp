@@ -7,7 +7,7 @@
 #include <QElapsedTimer>
 
 #include "modbus_link.h"
-#include "node_process.h"
+#include "node_harness.h"
 #include "signal_pipe.h"
 
 using mb2co::Status;
@@ -15,7 +15,8 @@ using namespace mb2co::pcapp;
 
 namespace {
 struct LinkTest : ::testing::Test {
-  NodeProcess node;
+  mb2co::test::TempDir dir;
+  mb2co::test::NodeProcess node;  // mb2co-node --can none on a pty in `dir`
   ModbusLink link;
   RegisterLayout layout = default_layout();
   TransactionPlan plan;
@@ -28,9 +29,9 @@ struct LinkTest : ::testing::Test {
   }
 
   void SetUp() override {
-    ASSERT_TRUE(node.ready());
+    ASSERT_TRUE(node.start({"--can", "none", "--pty", dir.path("tty")})) << node.error();
     LinkSettings s;
-    s.path = node.tty();
+    s.path = dir.path("tty");
     s.timeout_ms = 500;  // generous: a loaded test machine must not fail the link
     s.retries = 2;
     const Status opened = link.open(s);
@@ -82,7 +83,7 @@ TEST_F(LinkTest, RefusedValueIsAnExceptionNotALostLink) {
 }
 
 TEST_F(LinkTest, DeadGatewayIsALostLinkWithinTheRetries) {
-  node.kill(SIGKILL);
+  node.stop(SIGKILL);
   QElapsedTimer t;
   t.start();
   EXPECT_EQ(outcome(link.read(plan, out, in)), LinkStatus::failed);

@@ -37,7 +37,7 @@ Status EepromImage::save() const {
   if (fd >= 0) ok = close(fd) == 0 && ok;
   if (ok) ok = rename(tmp.c_str(), path_.c_str()) == 0;
   if (ok) return Status::ok();
-  const Status failed = Status::failure("eeprom " + path_ + ": cannot write: " + strerror(errno));
+  Status failed = Status::failure("eeprom " + path_ + ": cannot write: " + strerror(errno));
   unlink(tmp.c_str());
   return failed;
 }

@@ -37,7 +37,7 @@ Status UnoRig::load(const std::string& elf_path) {
   w.pin_out = [this](uint8_t pin, bool high) { on_pin(pin, high); };
   w.spi_byte = [this](uint8_t mosi) { return wire_.chip().transfer(mosi); };
   w.spi_select = [this](bool selected) { on_select(selected); };
-  const Status loaded = board_.load(elf_path, std::move(w));
+  Status loaded = board_.load(elf_path, std::move(w));
   if (!loaded) return loaded;
   for (const LedPin& l : kLedPins) board_.watch_pin(l.pin);
   for (uint8_t pin : kButtonPins) board_.drive_pin(pin, true);  // released

@@ -34,13 +34,13 @@ Status ModbusLink::open(const LinkSettings& settings) {
   if (modbus_set_slave(ctx_, settings.slave) != 0 ||
       modbus_set_response_timeout(ctx_, us / 1000000u, us % 1000000u) != 0 ||
       modbus_set_byte_timeout(ctx_, us / 1000000u, us % 1000000u) != 0) {
-    const Status refused =
+    Status refused =
         Status::failure(std::string("libmodbus refused the settings: ") + modbus_strerror(errno));
     close();
     return refused;
   }
   if (modbus_connect(ctx_) != 0) {
-    const Status refused = Status::failure("cannot open " + settings.path + ": " + modbus_strerror(errno));
+    Status refused = Status::failure("cannot open " + settings.path + ": " + modbus_strerror(errno));
     close();
     return refused;
   }

@@ -23,7 +23,7 @@ Status message_set_option(const Options& o, std::vector<timing::MessageSpec>& se
       return Status::failure("give FILE.csv or --line N, not both");
     }
     timing::LineCanConfig cfg;
-    const Status s = line_config_option(o, &cfg);
+    Status s = line_config_option(o, &cfg);
     if (!s) return s;
     set.resize(timing::line_message_count(cfg));
     size_t count = 0;

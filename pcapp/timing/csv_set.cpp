@@ -326,7 +326,7 @@ Status parse_message_csv(const std::string& text, const std::string& source,
       return fail.at(line_no, quote + 1, "quoted fields are not supported");
     }
     const std::vector<Field> fields = split(line);
-    const Status s = have_header ? parser.row(fields, line, line_no, out) : parser.header(fields, line_no);
+    Status s = have_header ? parser.row(fields, line, line_no, out) : parser.header(fields, line_no);
     if (!s) return s;
     have_header = true;
   }

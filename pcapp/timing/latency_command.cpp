@@ -44,7 +44,7 @@ Status time_options(const Options& o, timing::LatencyParams& p) {
                       {"--master-end-us", &p.master_end_us}};
   for (const auto& f : fields) {
     uint64_t v = 0;
-    const Status s = uint_option(o, f.name, 0, 100000000, *f.field, false, &v);
+    Status s = uint_option(o, f.name, 0, 100000000, *f.field, false, &v);
     if (!s) return s;
     *f.field = static_cast<uint32_t>(v);
   }

@@ -84,7 +84,7 @@ Status load_command(const Options& o, std::ostream& out) {
 
 Status rta_command(const Options& o, std::ostream& out, bool* deadline_missed) {
   Analysed a;
-  const Status s = prepare(o, a);
+  Status s = prepare(o, a);
   if (!s) return s;
   if (o.has("--svg") != o.has("--message")) {
     return Status::failure("options --svg FILE and --message NAME go together");

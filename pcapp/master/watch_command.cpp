@@ -62,6 +62,12 @@ class WatchService : public BusService {
     monitors_.set_listener(canopen::MonitorListener{&WatchService::on_monitor, this});
     emcy_.set_listener(canopen::EmcyListener{&WatchService::on_emcy, this});
   }
+  /// Node guarding instead of heartbeat (a node with 1017h = 0): an RTR every
+  /// `guard_ms`, lost after guard_ms × `life_factor` without an answer.
+  bool guard(uint8_t node, uint16_t guard_ms, uint8_t life_factor) {
+    canopen::NodeMonitor* m = monitors_.monitor(node);
+    return m && m->watch_guarding(node, guard_ms, life_factor);
+  }
   bool watch(uint8_t node, uint16_t consumer_ms) {
     canopen::NodeMonitor* m = monitors_.monitor(node);
     // The producer time is not known to a passive watcher; any below the
@@ -304,6 +310,15 @@ int watch_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostrea
     const Status s = parse_number(v, 2000, "duration", &seconds);
     if (!s) return fail(err, kExitUsage, "watch: " + s.message() + " (seconds)");
   }
+  uint64_t guard_ms = 0, life_factor = 3;
+  if (take_option(&w, "--guard", false, &v)) {
+    const Status s = parse_number(v, 65535, "guard time", &guard_ms);
+    if (!s || guard_ms == 0) return fail(err, kExitUsage, "watch: --guard is 1..65535 ms");
+  }
+  if (take_option(&w, "--life", false, &v)) {
+    const Status s = parse_number(v, 255, "life time factor", &life_factor);
+    if (!s || life_factor == 0) return fail(err, kExitUsage, "watch: --life is 1..255");
+  }
   const bool raw = take_option(&w, "--raw", true, nullptr);
   const bool table = !o.json && isatty(STDOUT_FILENO) && &out == &std::cout;
   if (!w.empty()) return fail(err, kExitUsage, "watch: unexpected '" + w[0] + "'");
@@ -311,7 +326,12 @@ int watch_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostrea
   static SdoNetwork sdo(o.timeout_ms * 1000u, 0);
   if (!raw) bus.add(&sdo);
   static WatchService service(&out, o.json, table, raw ? nullptr : &sdo);  // large: not on the stack
-  for (uint8_t id : nodes) service.watch(id, static_cast<uint16_t>(consumer_ms));
+  for (uint8_t id : nodes) {
+    if (guard_ms)
+      service.guard(id, static_cast<uint16_t>(guard_ms), static_cast<uint8_t>(life_factor));
+    else
+      service.watch(id, static_cast<uint16_t>(consumer_ms));
+  }
   bus.add(&service);
   // Said once the socket is bound: from here on nothing on the bus is missed
   // (a script or test may start the nodes after this line).
@@ -319,8 +339,11 @@ int watch_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostrea
     out << "{\"event\":\"watching\",\"interface\":\"" << o.iface << "\",\"nodes\":" << nodes.size()
         << ",\"heartbeat_ms\":" << consumer_ms << "}\n";
   else if (!table)
-    out << "watching " << o.iface << ": " << nodes.size() << " node ids, heartbeat consumer " << consumer_ms
-        << " ms\n";
+    out << "watching " << o.iface << ": " << nodes.size() << " node ids, "
+        << (guard_ms ? "guarding every " + std::to_string(guard_ms) + " ms, life time factor " +
+                           std::to_string(life_factor)
+                     : "heartbeat consumer " + std::to_string(consumer_ms) + " ms")
+        << "\n";
   out << std::flush;
   if (seconds) {
     bus.run_until([] { return false; }, static_cast<uint32_t>(seconds * 1000000u));

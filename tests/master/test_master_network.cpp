@@ -96,6 +96,28 @@ TEST(MasterNetwork, WatchFollowsNmtCommandsBootUpLossAndEmcy) {
   EXPECT_EQ(watch.wait_exit(kVcanDeadline), 0) << "watch ends cleanly on SIGINT";
 }
 
+TEST(MasterNetwork, GuardingWatchSeesTheNodeAnswerAndLosesItWhenKilled) {
+  TempDir dir;
+  NodeProcess node;
+  ASSERT_TRUE(start_node(&node, &dir)) << node.error();
+  // The node is switched from heartbeat to guarding (CiA 301: guarding only
+  // with 1017h = 0): guard time 100 ms, life time factor 3.
+  for (const auto& args : std::vector<std::vector<std::string>>{{"write", "3", "1017", "0", "u16", "0"},
+                                                                {"write", "3", "100C", "0", "u16", "100"},
+                                                                {"write", "3", "100D", "0", "u8", "3"}}) {
+    const MasterRun run = run_master(args);
+    ASSERT_EQ(run.exit_code, 0) << args[1] << ": " << run.err;
+  }
+  LineChild watch;
+  ASSERT_TRUE(start_master(&watch, {"watch", "--nodes", "3", "--guard", "100", "--life", "3", "--raw"}));
+  ASSERT_TRUE(watch_says(watch, "watching vcan0: 1 node ids, guarding every 100 ms, life time factor 3"));
+  EXPECT_TRUE(watch_says(watch, "node 3 state unknown -> operational")) << "the first guarding answer";
+  ASSERT_TRUE(node.child.signal(SIGKILL));
+  EXPECT_TRUE(watch_says(watch, "node 3 lost"));
+  ASSERT_TRUE(watch.signal(SIGINT));
+  EXPECT_EQ(watch.wait_exit(kVcanDeadline), 0);
+}
+
 TEST(MasterNetwork, SyncSendsTheCounterOfItsOverflowAtItsPeriod) {
   LineChild candump;
   ASSERT_TRUE(start_candump(&candump));

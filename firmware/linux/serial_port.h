@@ -8,8 +8,8 @@
 
 #include <string>
 
+#include "host/status.h"
 #include "modbus/parity.h"
-#include "status.h"
 
 namespace mb2co {
 namespace port {

@@ -8,7 +8,7 @@
 #include <stdint.h>
 
 #include "canopen/can_frame.h"
-#include "status.h"
+#include "host/status.h"
 
 struct can_frame;  // <linux/can.h>
 

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -24,10 +25,11 @@ class ProgressBar {
   void show(const std::string& stage, double fraction) {
     if (!on_) return;
     const int width = 30;
-    const int filled = static_cast<int>(fraction * width + 0.5);
+    const int filled = static_cast<int>(std::lround(fraction * width));
     std::string bar(static_cast<size_t>(filled < 0 ? 0 : filled > width ? width : filled), '#');
     bar.resize(width, ' ');
-    std::printf("\r[%s] %3d%% %-28s", bar.c_str(), static_cast<int>(fraction * 100 + 0.5), stage.c_str());
+    std::printf("\r[%s] %3d%% %-28s", bar.c_str(), static_cast<int>(std::lround(fraction * 100)),
+                stage.c_str());
     std::fflush(stdout);
   }
   void clear() {
@@ -40,41 +42,38 @@ class ProgressBar {
   bool on_;
 };
 
-bool write_file(const std::filesystem::path& path, const std::string& text, std::string* error) {
+Status write_file(const std::filesystem::path& path, const std::string& text) {
   std::ofstream f(path, std::ios::binary);
   f << text;
   f.close();
-  if (!f) {
-    *error = "cannot write " + path.string();
-    return false;
-  }
-  return true;
+  if (!f) return Status::failure("cannot write " + path.string());
+  return Status::ok();
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   lab::Options o;
-  std::string error;
-  if (!lab::parse_options(argc, argv, &o, &error)) {
-    std::fprintf(stderr, "mb2co-lab: %s\n", error.c_str());
+  const Status parsed = lab::parse_options(argc, argv, &o);
+  if (!parsed) {
+    std::fprintf(stderr, "mb2co-lab: %s\n", parsed.message().c_str());
     return 2;
   }
   if (o.help) {
     std::fputs(lab::usage(), stdout);
     return 0;
   }
-  error = sim::check_line_config(o.line);
-  if (error.empty() && o.scenario != lab::Scenario::kLatency) {
+  Status usable = sim::check_line_config(o.line);
+  if (usable && o.scenario != lab::Scenario::kLatency) {
     plant::PlantConfig pc;
     pc.step_ms = static_cast<uint32_t>(o.line.pc.cycle_ns / sim::kNsPerMs);
     plant::ConfigError ce;
     uint16_t keys = 0;
     if (!plant::check_plant_config(pc, ce, keys))
-      error = std::string("plant with this PC cycle: ") + ce.message;
+      usable = Status::failure(std::string("plant with this PC cycle: ") + ce.message);
   }
-  if (!error.empty()) {
-    std::fprintf(stderr, "mb2co-lab: %s\n", error.c_str());
+  if (!usable) {
+    std::fprintf(stderr, "mb2co-lab: %s\n", usable.message().c_str());
     return 2;
   }
   const std::filesystem::path out(o.out_dir);
@@ -150,8 +149,9 @@ int main(int argc, char** argv) {
   files.push_back({"report.txt", report});
   files.push_back({"events.csv", std::string(sim::EventLog::header()) + log.text()});
   for (const auto& f : files) {
-    if (!write_file(out / f.first, f.second, &error)) {
-      std::fprintf(stderr, "mb2co-lab: %s\n", error.c_str());
+    const Status written = write_file(out / f.first, f.second);
+    if (!written) {
+      std::fprintf(stderr, "mb2co-lab: %s\n", written.message().c_str());
       return 1;
     }
   }

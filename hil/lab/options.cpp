@@ -77,7 +77,7 @@ const char* scenario_name(Scenario s) {
   }
 }
 
-bool parse_options(int argc, char** argv, Options* o, std::string* error) {
+Status parse_options(int argc, char** argv, Options* o) {
   uint64_t pc_cycle_ms = 20;
   uint64_t rx_buffers = 2;
   uint64_t pc_jitter_us = 1000;
@@ -85,12 +85,12 @@ bool parse_options(int argc, char** argv, Options* o, std::string* error) {
     const std::string a = argv[i];
     auto value = [&](std::string* v) {
       if (i + 1 >= argc) {
-        *error = "option " + a + " needs a value";
-        return false;
+        return Status::failure("option " + a + " needs a value");
       }
       *v = argv[++i];
-      return true;
+      return Status::ok();
     };
+    Status s;
     std::string v;
     uint64_t n = 0;
     if (a == "--help" || a == "-h") {
@@ -100,7 +100,7 @@ bool parse_options(int argc, char** argv, Options* o, std::string* error) {
     } else if (a == "--ring") {
       o->line.ring = true;
     } else if (a == "--scenario") {
-      if (!value(&v)) return false;
+      if (!(s = value(&v))) return s;
       if (v == "run")
         o->scenario = Scenario::kRun;
       else if (v == "stop2")
@@ -112,25 +112,23 @@ bool parse_options(int argc, char** argv, Options* o, std::string* error) {
       else if (v == "default")
         o->scenario = Scenario::kDefault;
       else {
-        *error = "--scenario must be run, stop2, latency, faults or default, got \"" + v + "\"";
-        return false;
+        return Status::failure("--scenario must be run, stop2, latency, faults or default, got \"" + v +
+                               "\"");
       }
     } else if (a == "--stations") {
-      if (!value(&v)) return false;
+      if (!(s = value(&v))) return s;
       if (!parse_uint(v, 2, 32, &n)) {
-        *error = "--stations must be 2..32, got \"" + v + "\"";
-        return false;
+        return Status::failure("--stations must be 2..32, got \"" + v + "\"");
       }
       o->line.stations = static_cast<int>(n);
     } else if (a == "--seed") {
-      if (!value(&v)) return false;
+      if (!(s = value(&v))) return s;
       if (!parse_uint(v, 0, UINT64_MAX, &n)) {
-        *error = "--seed must be an unsigned integer, got \"" + v + "\"";
-        return false;
+        return Status::failure("--seed must be an unsigned integer, got \"" + v + "\"");
       }
       o->line.seed = n;
     } else if (a == "--bitrates") {
-      if (!value(&v)) return false;
+      if (!(s = value(&v))) return s;
       o->bitrates.clear();
       size_t start = 0;
       while (start <= v.size()) {
@@ -139,77 +137,66 @@ bool parse_options(int argc, char** argv, Options* o, std::string* error) {
             v.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
         uint32_t kbit = 0;
         if (!parse_bitrate(item, &kbit)) {
-          *error = "--bitrates: \"" + item + "\" is not 125, 250, 500 or 1000 (kbit/s)";
-          return false;
+          return Status::failure("--bitrates: \"" + item + "\" is not 125, 250, 500 or 1000 (kbit/s)");
         }
         o->bitrates.push_back(kbit);
         if (comma == std::string::npos) break;
         start = comma + 1;
       }
     } else if (a == "--presses") {
-      if (!value(&v)) return false;
+      if (!(s = value(&v))) return s;
       if (!parse_uint(v, 1, 1000000, &n)) {
-        *error = "--presses must be 1..1000000, got \"" + v + "\"";
-        return false;
+        return Status::failure("--presses must be 1..1000000, got \"" + v + "\"");
       }
       o->presses = static_cast<uint32_t>(n);
     } else if (a == "--duration") {
-      if (!value(&v)) return false;
+      if (!(s = value(&v))) return s;
       if (!parse_uint(v, 4, 86400, &n)) {
-        *error = "--duration must be 4..86400 seconds, got \"" + v + "\"";
-        return false;
+        return Status::failure("--duration must be 4..86400 seconds, got \"" + v + "\"");
       }
       o->duration_s = static_cast<uint32_t>(n);
     } else if (a == "--pc-cycle-ms") {
-      if (!value(&v)) return false;
+      if (!(s = value(&v))) return s;
       if (!parse_uint(v, 5, 100, &pc_cycle_ms)) {
-        *error = "--pc-cycle-ms must be 5..100, got \"" + v + "\"";
-        return false;
+        return Status::failure("--pc-cycle-ms must be 5..100, got \"" + v + "\"");
       }
     } else if (a == "--pc-jitter-us") {
-      if (!value(&v)) return false;
+      if (!(s = value(&v))) return s;
       if (!parse_uint(v, 0, 100000, &pc_jitter_us)) {
-        *error = "--pc-jitter-us must be 0..100000, got \"" + v + "\"";
-        return false;
+        return Status::failure("--pc-jitter-us must be 0..100000, got \"" + v + "\"");
       }
     } else if (a == "--can-rx-buffers") {
-      if (!value(&v)) return false;
+      if (!(s = value(&v))) return s;
       if (!parse_uint(v, 1, 64, &rx_buffers)) {
-        *error = "--can-rx-buffers must be 1..64, got \"" + v + "\"";
-        return false;
+        return Status::failure("--can-rx-buffers must be 1..64, got \"" + v + "\"");
       }
     } else if (a == "--firmware") {
-      if (!value(&v)) return false;
+      if (!(s = value(&v))) return s;
       if (v != "uno" && v != "fast") {
-        *error = "--firmware must be uno or fast, got \"" + v + "\"";
-        return false;
+        return Status::failure("--firmware must be uno or fast, got \"" + v + "\"");
       }
       o->firmware = v;
     } else if (a == "--out") {
-      if (!value(&v)) return false;
+      if (!(s = value(&v))) return s;
       if (v.empty()) {
-        *error = "--out needs a directory";
-        return false;
+        return Status::failure("--out needs a directory");
       }
       o->out_dir = v;
     } else {
-      *error = "unknown option \"" + a + "\" (see --help)";
-      return false;
+      return Status::failure("unknown option \"" + a + "\" (see --help)");
     }
   }
   o->line.pc.cycle_ns = pc_cycle_ms * sim::kNsPerMs;
   o->line.pc.jitter_ns = pc_jitter_us * sim::kNsPerUs;
   if (o->line.pc.jitter_ns >= o->line.pc.cycle_ns) {
-    *error = "--pc-jitter-us must be below the PC cycle";
-    return false;
+    return Status::failure("--pc-jitter-us must be below the PC cycle");
   }
   o->line.node = o->firmware == "fast" ? sim::fast_timing() : sim::uno_timing();
   o->line.node.can_rx_buffers = static_cast<size_t>(rx_buffers);
   if ((o->scenario == Scenario::kFaults) && o->line.stations < 4) {
-    *error = "--scenario faults needs --stations 4 or more";
-    return false;
+    return Status::failure("--scenario faults needs --stations 4 or more");
   }
-  return true;
+  return Status::ok();
 }
 
 }  // namespace lab

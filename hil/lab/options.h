@@ -24,8 +24,8 @@ struct Options {
   bool help = false;
 };
 
-/// Parses argv; on error returns false with a one-line message.
-bool parse_options(int argc, char** argv, Options* out, std::string* error);
+/// Parses argv; a failure says why in one line.
+Status parse_options(int argc, char** argv, Options* out);
 const char* usage();
 const char* scenario_name(Scenario s);
 

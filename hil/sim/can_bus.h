@@ -134,7 +134,7 @@ class CanController {
   CanControllerCounters counters_;
 };
 
-class CanBus : public Handler {
+class CanBus final : public Handler {
  public:
   /// `bitrate_bps` must divide 10^9 (every CiA 301 rate does).
   CanBus(EventQueue& queue, uint32_t bitrate_bps, uint64_t seed);

@@ -48,29 +48,31 @@ std::string hex_bytes(const uint8_t* d, size_t n) {
 
 }  // namespace
 
-std::string check_line_config(const LineConfig& c) {
-  if (c.stations < 2 || c.stations > 32) return "stations must be 2..32";
+Status check_line_config(const LineConfig& c) {
+  if (c.stations < 2 || c.stations > 32) return Status::failure("stations must be 2..32");
   const uint32_t b = c.bitrate_kbit;
-  if (b != 125 && b != 250 && b != 500 && b != 1000) return "bit rate must be 125, 250, 500 or 1000 kbit/s";
-  if (c.baud < 1200 || c.baud > 1000000) return "baud must be 1200..1000000";
-  if (c.node.pass_ns + c.node.loop_ns == 0) return "firmware loop: a pass must take time or have a period";
+  if (b != 125 && b != 250 && b != 500 && b != 1000)
+    return Status::failure("bit rate must be 125, 250, 500 or 1000 kbit/s");
+  if (c.baud < 1200 || c.baud > 1000000) return Status::failure("baud must be 1200..1000000");
+  if (c.node.pass_ns + c.node.loop_ns == 0)
+    return Status::failure("firmware loop: a pass must take time or have a period");
   if (c.pc.cycle_ns < kNsPerMs || c.pc.cycle_ns % kNsPerMs != 0 || c.pc.cycle_ns > 1000 * kNsPerMs) {
-    return "PC cycle must be whole milliseconds, 1..1000 ms";
+    return Status::failure("PC cycle must be whole milliseconds, 1..1000 ms");
   }
-  if (c.pc.jitter_ns >= c.pc.cycle_ns) return "PC jitter must be below the cycle";
-  if (c.debounce_ms < 1 || c.debounce_ms > 500) return "debounce must be 1..500 ms";
-  if (c.tpdo1_inhibit_100us == 0) return "TPDO1 inhibit time must be > 0";
+  if (c.pc.jitter_ns >= c.pc.cycle_ns) return Status::failure("PC jitter must be below the cycle");
+  if (c.debounce_ms < 1 || c.debounce_ms > 500) return Status::failure("debounce must be 1..500 ms");
+  if (c.tpdo1_inhibit_100us == 0) return Status::failure("TPDO1 inhibit time must be > 0");
   if ((c.lab_pc < 0) != (c.lab_remote < 0) || c.lab_pc >= c.stations || c.lab_remote >= c.stations ||
       (c.lab_pc >= 0 && c.lab_pc == c.lab_remote)) {
-    return "lab stations must be two different stations of the line";
+    return Status::failure("lab stations must be two different stations of the line");
   }
-  return "";
+  return Status::ok();
 }
 
 Line::Line(const LineConfig& config, EventLog* log)
     : config_(config), log_(log), rng_(mix_seed(config.seed, kStreamLine)) {
-  const std::string err = check_line_config(config);
-  if (!err.empty()) throw std::invalid_argument(err);
+  const Status usable = check_line_config(config);
+  if (!usable) throw std::invalid_argument(usable.message());
   bus_.reset(new CanBus(q_, config.bitrate_kbit * 1000u, mix_seed(config.seed, kStreamBus)));
   for (int i = 0; i < config.stations; ++i) {
     const uint64_t k = static_cast<uint64_t>(i);

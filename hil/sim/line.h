@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "host/status.h"
 #include "sim/can_bus.h"
 #include "sim/event_log.h"
 #include "sim/event_queue.h"
@@ -44,8 +45,8 @@ struct LineConfig {
   uint64_t seed = 1;
 };
 
-/// Checks the configuration; an empty string when it is usable.
-std::string check_line_config(const LineConfig& c);
+/// Checks the configuration: ok when it is usable.
+Status check_line_config(const LineConfig& c);
 
 class Line {
  public:
@@ -86,7 +87,7 @@ class Line {
   std::function<void(const CanAttempt& attempt)> on_can;
 
  private:
-  class Script : public Handler {
+  class Script final : public Handler {
    public:
     void on_event(uint32_t, uint64_t arg) override;
     std::vector<std::function<void()>> fns;

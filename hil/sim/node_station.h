@@ -65,7 +65,7 @@ struct NodeState {
 /// earlier than it changes nothing observable) makes the run the same as
 /// with every pass calling the firmware; Determinism.SkippingIdlePasses*
 /// (tests/sim) compare whole runs with skipping on and off.
-class NodeStation : public Handler {
+class NodeStation final : public Handler {
  public:
   NodeStation(EventQueue& queue, CanBus& bus, int index, uint32_t baud, const NodeTiming& timing,
               uint64_t seed);

@@ -51,7 +51,7 @@ struct PcCounters {
   uint64_t splits = 0;    ///< requests sent with a gap inside
 };
 
-class PcStation : public Handler {
+class PcStation final : public Handler {
  public:
   PcStation(EventQueue& queue, int index, UartChannel& to_node, const PcTiming& timing, uint64_t seed);
 

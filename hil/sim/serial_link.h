@@ -26,7 +26,7 @@ struct SerialChar {
   SimNs end_ns;  ///< end of its stop bit
 };
 
-class UartChannel : public Handler {
+class UartChannel final : public Handler {
  public:
   UartChannel(EventQueue& queue, uint32_t baud, uint8_t char_bits);
 

@@ -9,6 +9,8 @@
 
 #include <string>
 
+#include "host/status.h"
+
 namespace mb2co {
 namespace uno {
 
@@ -18,11 +20,11 @@ class EepromImage {
 
   explicit EepromImage(std::string path) : path_(std::move(path)) {}
 
-  /// Reads the file (or starts erased when it does not exist). False with a
-  /// one-line reason for a file of the wrong size or one that cannot be read.
-  bool load(std::string* error);
-  /// Writes the bytes back. False with a one-line reason.
-  bool save(std::string* error) const;
+  /// Reads the file (or starts erased when it does not exist). Fails for a
+  /// file of the wrong size or one that cannot be read.
+  Status load();
+  /// Writes the bytes back.
+  Status save() const;
 
   uint8_t* bytes() { return bytes_; }
   size_t size() const { return kBytes; }

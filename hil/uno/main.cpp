@@ -69,9 +69,9 @@ std::string can_text(const CanFrame& f) {
 int main(int argc, char** argv) {
   uno::UnoOptions opt;
   opt.elf = MB2CO_UNO_DEFAULT_ELF;
-  const std::string err = uno::parse_options(argc, argv, &opt);
-  if (!err.empty()) {
-    fprintf(stderr, "mb2co-uno: %s\n", err.c_str());
+  const Status parsed = uno::parse_options(argc, argv, &opt);
+  if (!parsed) {
+    fprintf(stderr, "mb2co-uno: %s\n", parsed.message().c_str());
     return 2;
   }
   if (opt.help) {
@@ -91,11 +91,12 @@ int main(int argc, char** argv) {
   signal(SIGPIPE, SIG_IGN);
 
   static uno::UnoRig rig;  // large; static like the image's own globals
-  std::string error;
-  if (!rig.load(opt.elf, &error)) return fail(error);
+  const Status loaded = rig.load(opt.elf);
+  if (!loaded) return fail(loaded.message());
   uno::EepromImage eeprom(opt.eeprom);
   if (!opt.eeprom.empty()) {
-    if (!eeprom.load(&error)) return fail(error);
+    const Status read = eeprom.load();
+    if (!read) return fail(read.message());
     rig.board().set_eeprom(eeprom.bytes(), eeprom.size());
   }
   linux_port::SocketCanPort can;
@@ -225,7 +226,8 @@ int main(int argc, char** argv) {
   can.close();
   if (!opt.eeprom.empty()) {
     rig.board().get_eeprom(eeprom.bytes(), eeprom.size());
-    if (!eeprom.save(&error) && exit_code == 0) exit_code = fail(error);
+    const Status saved = eeprom.save();
+    if (!saved && exit_code == 0) exit_code = fail(saved.message());
   }
   const double sim_s = static_cast<double>(rig.now_us()) / 1e6;
   const double wall_s = static_cast<double>(wall_us() - wall_start) / 1e6;

@@ -76,15 +76,13 @@ UnoBoard::~UnoBoard() {
   if (avr_ != nullptr) avr_terminate(avr_);
 }
 
-bool UnoBoard::load(const std::string& elf_path, Wiring wiring, std::string* error) {
+Status UnoBoard::load(const std::string& elf_path, Wiring wiring) {
   struct stat st {};
   if (stat(elf_path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) {
-    *error = "elf " + elf_path + ": no such file";
-    return false;
+    return Status::failure("elf " + elf_path + ": no such file");
   }
   if (!is_avr_elf(elf_path)) {
-    *error = "elf " + elf_path + ": not an ELF file for the AVR";
-    return false;
+    return Status::failure("elf " + elf_path + ": not an ELF file for the AVR");
   }
   avr_global_logger_set(&simavr_log);
   auto fw = std::make_unique<elf_firmware_t>();
@@ -93,22 +91,18 @@ bool UnoBoard::load(const std::string& elf_path, Wiring wiring, std::string* err
   const int read_rc = elf_read_firmware(elf_path.c_str(), fw.get());
   g_log_quiet = false;
   if (read_rc != 0 || fw->flashsize == 0) {
-    *error = "elf " + elf_path + ": not an AVR image simavr can load";
-    return false;
+    return Status::failure("elf " + elf_path + ": not an AVR image simavr can load");
   }
   if (fw->mmcu[0] != '\0' && strcmp(fw->mmcu, "atmega328p") != 0) {
-    *error = "elf " + elf_path + ": built for " + fw->mmcu + ", not the Uno's atmega328p";
-    return false;
+    return Status::failure("elf " + elf_path + ": built for " + fw->mmcu + ", not the Uno's atmega328p");
   }
   if (fw->flashsize > 32768) {
-    *error =
-        "elf " + elf_path + ": " + std::to_string(fw->flashsize) + " B of flash, the ATmega328P has 32768";
-    return false;
+    return Status::failure("elf " + elf_path + ": " + std::to_string(fw->flashsize) +
+                           " B of flash, the ATmega328P has 32768");
   }
   avr_ = avr_make_mcu_by_name("atmega328p");
   if (avr_ == nullptr || avr_init(avr_) != 0) {
-    *error = "simavr has no atmega328p";
-    return false;
+    return Status::failure("simavr has no atmega328p");
   }
   avr_->frequency = kCpuHz;
   avr_->sleep = &no_sleep;
@@ -138,13 +132,12 @@ bool UnoBoard::load(const std::string& elf_path, Wiring wiring, std::string* err
   spi_ = find_spi(avr_);
   spi_input_ = spi_ != nullptr && spi_->io.irq != nullptr ? spi_->io.irq + SPI_IRQ_INPUT : nullptr;
   if (spi_input_ == nullptr) {
-    *error = "simavr's atmega328p has no SPI unit";
-    return false;
+    return Status::failure("simavr's atmega328p has no SPI unit");
   }
   avr_->io[AVR_DATA_TO_IO(kSpdr)].w.c = &on_spdr_write;
   avr_->io[AVR_DATA_TO_IO(kSpdr)].w.param = this;
   watch_pin(10);
-  return true;
+  return Status::ok();
 }
 
 uint16_t UnoBoard::stack_used() const {

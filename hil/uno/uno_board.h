@@ -20,6 +20,8 @@
 #include <functional>
 #include <string>
 
+#include "host/status.h"
+
 struct avr_t;
 struct avr_irq_t;
 struct avr_spi_t;
@@ -46,9 +48,9 @@ class UnoBoard {
   UnoBoard& operator=(const UnoBoard&) = delete;
 
   /// Reads `elf_path` and makes an ATmega328P at 16 MHz running it from
-  /// reset. False with a one-line reason in `error` for a missing or invalid
-  /// file or an image built for another MCU.
-  bool load(const std::string& elf_path, Wiring wiring, std::string* error);
+  /// reset. Fails for a missing or invalid file or an image built for
+  /// another MCU.
+  Status load(const std::string& elf_path, Wiring wiring);
 
   /// Runs until the cycle count reaches `cycle` (it may pass it by one
   /// instruction). False when the CPU stopped (crashed or `done`); the

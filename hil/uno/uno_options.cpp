@@ -2,6 +2,8 @@
 
 #include <stdlib.h>
 
+#include <cmath>
+
 namespace mb2co {
 namespace uno {
 
@@ -22,7 +24,7 @@ const char* usage() {
          "STOP, STOP2) | leds? | stack? | quit. Exit: 0 on SIGINT/SIGTERM/quit, 2 bad option, 1 error.\n";
 }
 
-std::string parse_options(int argc, const char* const* argv, UnoOptions* o) {
+Status parse_options(int argc, const char* const* argv, UnoOptions* o) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--help" || a == "-h") {
@@ -34,9 +36,9 @@ std::string parse_options(int argc, const char* const* argv, UnoOptions* o) {
     } else if (a == "--trace-can") {
       o->trace_can = true;
     } else if (a == "--elf" || a == "--can" || a == "--pty" || a == "--eeprom" || a == "--duration") {
-      if (i + 1 >= argc) return "option " + a + " needs a value (try --help)";
+      if (i + 1 >= argc) return Status::failure("option " + a + " needs a value (try --help)");
       const std::string v = argv[++i];
-      if (v.empty()) return "option " + a + " needs a value (try --help)";
+      if (v.empty()) return Status::failure("option " + a + " needs a value (try --help)");
       if (a == "--elf") o->elf = v;
       if (a == "--can") o->can = v;
       if (a == "--pty") o->pty_link = v;
@@ -45,18 +47,19 @@ std::string parse_options(int argc, const char* const* argv, UnoOptions* o) {
         char* end = nullptr;
         const double s = strtod(v.c_str(), &end);
         if (end == v.c_str() || *end != '\0' || !(s >= 0.001 && s <= 86400.0)) {
-          return "bad --duration '" + v + "' (seconds, 0.001..86400)";
+          return Status::failure("bad --duration '" + v + "' (seconds, 0.001..86400)");
         }
-        o->duration_ms = static_cast<uint32_t>(s * 1000.0 + 0.5);
+        o->duration_ms = static_cast<uint32_t>(std::llround(s * 1000.0));
       }
     } else if (a == "--serial" || a == "--baud" || a == "--parity" || a == "--node-id" || a == "--bitrate" ||
                a == "--stations" || a == "--topology") {
-      return "option " + a + " is mb2co-node's: the Uno image keeps its settings in its EEPROM (--eeprom)";
+      return Status::failure("option " + a +
+                             " is mb2co-node's: the Uno image keeps its settings in its EEPROM (--eeprom)");
     } else {
-      return "unknown option " + a + " (try --help)";
+      return Status::failure("unknown option " + a + " (try --help)");
     }
   }
-  return std::string();
+  return Status::ok();
 }
 
 }  // namespace uno

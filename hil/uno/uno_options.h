@@ -5,6 +5,8 @@
 
 #include <string>
 
+#include "host/status.h"
+
 namespace mb2co {
 namespace uno {
 
@@ -20,8 +22,8 @@ struct UnoOptions {
   bool version = false;
 };
 
-/// Parses argv. Returns "" on success, else the one-line error.
-std::string parse_options(int argc, const char* const* argv, UnoOptions* out);
+/// Parses argv; a failure says why in one line.
+Status parse_options(int argc, const char* const* argv, UnoOptions* out);
 const char* usage();
 
 }  // namespace uno

@@ -31,17 +31,18 @@ UnoRig::UnoRig() : wire_(UnoBoard::kCpuHz) {
   t35_us_ = t.t35_us;
 }
 
-bool UnoRig::load(const std::string& elf_path, std::string* error) {
+Status UnoRig::load(const std::string& elf_path) {
   UnoBoard::Wiring w;
   w.uart_tx = [this](uint8_t b) { serial_out_.push_back(static_cast<char>(b)); };
   w.pin_out = [this](uint8_t pin, bool high) { on_pin(pin, high); };
   w.spi_byte = [this](uint8_t mosi) { return wire_.chip().transfer(mosi); };
   w.spi_select = [this](bool selected) { on_select(selected); };
-  if (!board_.load(elf_path, std::move(w), error)) return false;
+  Status loaded = board_.load(elf_path, std::move(w));
+  if (!loaded) return loaded;
   for (const LedPin& l : kLedPins) board_.watch_pin(l.pin);
   for (uint8_t pin : kButtonPins) board_.drive_pin(pin, true);  // released
   board_.drive_pin(kPinCanInt, true);
-  return true;
+  return Status::ok();
 }
 
 bool UnoRig::run_until_us(uint64_t until_us) {

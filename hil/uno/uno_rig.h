@@ -22,7 +22,7 @@ class UnoRig {
  public:
   UnoRig();
   /// Loads the image and wires it up (see UnoBoard::load).
-  bool load(const std::string& elf_path, std::string* error);
+  Status load(const std::string& elf_path);
 
   UnoBoard& board() { return board_; }
   PanelChannel& panel() { return panel_; }

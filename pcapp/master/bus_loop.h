@@ -7,8 +7,8 @@
 
 #include "canopen/can_frame.h"
 #include "canopen/clock.h"
+#include "host/status.h"
 #include "socketcan_port.h"
-#include "status.h"
 
 namespace mb2co {
 namespace master {

@@ -21,7 +21,8 @@ const char* usage_text() {
          "  sync [--period MS] [--count N] [--overflow N] [--cob-id ID]\n"
          "  dump NODE [FILE.dcf]                     the whole OD (as --eds lists it) uploaded, as a DCF\n"
          "  configure NETWORK_FILE [--save] [--no-start] [--one-at-a-time]   DCFs written, then started\n"
-         "  watch [--nodes LIST] [--heartbeat MS] [--for S]   NMT state, heartbeat age, EMCY, PDOs\n"
+         "  watch [--nodes LIST] [--heartbeat MS | --guard MS [--life N]] [--for S] [--raw]\n"
+         "                                           NMT state, lost/back, EMCY, PDOs decoded\n"
          "TYPE: u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs (string) os (hex bytes) d (domain, hex)\n"
          "exit: 0 done, 1 refused (SDO abort), 2 usage or file error, 3 CAN interface, 4 no answer\n";
 }

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "status.h"
+#include "host/status.h"
 
 namespace mb2co {
 namespace master {

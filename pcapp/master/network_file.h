@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "status.h"
+#include "host/status.h"
 
 namespace mb2co {
 namespace master {

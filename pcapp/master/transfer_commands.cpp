@@ -58,6 +58,23 @@ int run_all(const Options& o, BusLoop& bus, std::vector<std::unique_ptr<Transfer
   return code;
 }
 
+/// One transfer of (index, sub) per node of `target`.
+std::vector<std::unique_ptr<Transfer>> transfers_for(const Target& target, bool upload, canopen::SdoMode mode,
+                                                     const std::vector<uint8_t>& data = {}) {
+  std::vector<std::unique_ptr<Transfer>> ts;
+  for (uint8_t node : target.nodes) {
+    ts.emplace_back(new Transfer);
+    Transfer& t = *ts.back();
+    t.node = node;
+    t.index = target.index;
+    t.sub = target.sub;
+    t.upload = upload;
+    t.mode = mode;
+    t.data = data;
+  }
+  return ts;
+}
+
 std::string hex_word(uint32_t v, int digits) {
   char b[16];
   std::snprintf(b, sizeof b, "%0*X", digits, v);
@@ -74,16 +91,8 @@ int read_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream
   eds::DataType type;
   s = resolve_type(o.words.size() == 4 ? o.words[3] : std::string(), o.eds, target.index, target.sub, &type);
   if (!s) return fail(err, kExitUsage, "read: " + s.message());
-  std::vector<std::unique_ptr<Transfer>> ts;
-  for (uint8_t node : target.nodes) {
-    ts.emplace_back(new Transfer);
-    Transfer& t = *ts.back();
-    t.node = node;
-    t.index = target.index;
-    t.sub = target.sub;
-    t.upload = true;
-  }
-  const int code = run_all(o, bus, ts, err);
+  std::vector<std::unique_ptr<Transfer>> ts = transfers_for(target, true, canopen::kSdoAuto);
+  int code = run_all(o, bus, ts, err);
   for (auto& t : ts) {
     if (!t->ok()) continue;
     eds::Value v;
@@ -94,6 +103,7 @@ int read_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream
            "read: node " + std::to_string(t->node) + " " + hex_word(t->index, 4) + "h/" +
                std::to_string(t->sub) + ": " + std::to_string(v.bytes.size()) + " bytes, not a " +
                info->name + " (" + std::to_string(info->bytes) + " bytes)");
+      if (code == kExitOk) code = kExitRefused;
       continue;
     }
     const std::string text = eds::format_value(type, v);
@@ -119,16 +129,7 @@ int write_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostrea
   if (!s) return fail(err, kExitUsage, "write: " + s.message());
   const eds::ValueResult v = eds::parse_value(type, o.words.back());
   if (!v.value) return fail(err, kExitUsage, "write: " + v.error);
-  std::vector<std::unique_ptr<Transfer>> ts;
-  for (uint8_t node : target.nodes) {
-    ts.emplace_back(new Transfer);
-    Transfer& t = *ts.back();
-    t.node = node;
-    t.index = target.index;
-    t.sub = target.sub;
-    t.upload = false;
-    t.data = v.value->bytes;
-  }
+  std::vector<std::unique_ptr<Transfer>> ts = transfers_for(target, false, canopen::kSdoAuto, v.value->bytes);
   const int code = run_all(o, bus, ts, err);
   for (auto& t : ts) {
     if (!t->ok()) continue;
@@ -137,7 +138,7 @@ int write_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostrea
           << "\",\"sub\":" << unsigned(t->sub) << ",\"written\":" << t->data.size() << "}\n";
     else
       out << "node " << unsigned(t->node) << " " << hex_word(t->index, 4) << "h/" << unsigned(t->sub) << ": "
-          << t->data.size() << " bytes written\n";
+          << t->data.size() << (t->data.size() == 1 ? " byte" : " bytes") << " written\n";
   }
   return code;
 }
@@ -155,6 +156,18 @@ std::string summary(const Transfer& t, bool upload) {
   return line;
 }
 
+/// The result line of an upload/download: text or JSON.
+void file_result(std::ostream& out, const Transfer& t, const std::string& path, bool upload, bool json) {
+  if (!json) {
+    out << summary(t, upload) << (upload ? " -> " + path : std::string()) << "\n";
+    return;
+  }
+  out << "{\"node\":" << unsigned(t.node) << ",\"file\":\"" << path << "\",\"bytes\":" << t.data.size()
+      << ",\"seconds\":" << (t.ended_us - t.started_us) / 1e6
+      << ",\"block\":" << (t.mode == canopen::kSdoBlock ? "true" : "false")
+      << ",\"crc\":" << (t.crc ? "true" : "false") << "}\n";
+}
+
 }  // namespace
 
 int upload_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
@@ -164,15 +177,7 @@ int upload_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostre
   Status s = parse_target(w, &target);
   if (!s || w.size() != 4)
     return fail(err, kExitUsage, "upload: " + (s ? "want NODE INDEX SUB FILE" : s.message()));
-  std::vector<std::unique_ptr<Transfer>> ts;
-  for (uint8_t node : target.nodes) {
-    ts.emplace_back(new Transfer);
-    Transfer& t = *ts.back();
-    t.node = node;
-    t.index = target.index;
-    t.sub = target.sub;
-    t.mode = mode;
-  }
+  std::vector<std::unique_ptr<Transfer>> ts = transfers_for(target, true, mode);
   const int code = run_all(o, bus, ts, err);
   for (auto& t : ts) {
     if (!t->ok()) continue;
@@ -183,16 +188,14 @@ int upload_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostre
     {
       std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
       f.write(reinterpret_cast<const char*>(t->data.data()), static_cast<std::streamsize>(t->data.size()));
-      if (!f.good()) return fail(err, kExitUsage, "upload: cannot write " + tmp);
+      if (!f.good()) {
+        std::remove(tmp.c_str());
+        return fail(err, kExitUsage, "upload: cannot write " + tmp);
+      }
     }
     if (std::rename(tmp.c_str(), path.c_str()) != 0)
       return fail(err, kExitUsage, "upload: cannot write " + path);
-    if (o.json)
-      out << "{\"node\":" << unsigned(t->node) << ",\"file\":\"" << path << "\",\"bytes\":" << t->data.size()
-          << ",\"seconds\":" << (t->ended_us - t->started_us) / 1e6
-          << ",\"block\":" << (mode == canopen::kSdoBlock) << ",\"crc\":" << t->crc << "}\n";
-    else
-      out << summary(*t, true) << " -> " << path << "\n";
+    file_result(out, *t, path, true, o.json);
   }
   return code;
 }
@@ -207,26 +210,11 @@ int download_command(const Options& o, BusLoop& bus, std::ostream& out, std::ost
   std::ifstream f(w[3], std::ios::binary);
   if (!f) return fail(err, kExitUsage, "download: cannot read " + w[3]);
   const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  std::vector<std::unique_ptr<Transfer>> ts;
-  for (uint8_t node : target.nodes) {
-    ts.emplace_back(new Transfer);
-    Transfer& t = *ts.back();
-    t.node = node;
-    t.index = target.index;
-    t.sub = target.sub;
-    t.upload = false;
-    t.mode = mode;
-    t.data = bytes;
-  }
+  std::vector<std::unique_ptr<Transfer>> ts = transfers_for(target, false, mode, bytes);
   const int code = run_all(o, bus, ts, err);
   for (auto& t : ts) {
     if (!t->ok()) continue;
-    if (o.json)
-      out << "{\"node\":" << unsigned(t->node) << ",\"file\":\"" << w[3] << "\",\"bytes\":" << t->data.size()
-          << ",\"seconds\":" << (t->ended_us - t->started_us) / 1e6
-          << ",\"block\":" << (mode == canopen::kSdoBlock) << ",\"crc\":" << t->crc << "}\n";
-    else
-      out << summary(*t, false) << "\n";
+    file_result(out, *t, w[3], false, o.json);
   }
   return code;
 }

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "eds_model.h"
-#include "status.h"
+#include "host/status.h"
 
 namespace mb2co {
 namespace master {

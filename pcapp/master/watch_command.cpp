@@ -1,19 +1,26 @@
 // watch: the bus as a master sees it. Per node: NMT state and heartbeat age
-// (NodeMonitor), last EMCY decoded (EmcyConsumer), PDOs by COB-ID. Events
-// go out as lines (or JSON lines) the moment they happen; on a terminal a
-// table of the nodes is redrawn twice a second as well.
+// (NodeMonitor), last EMCY decoded (EmcyConsumer), PDOs decoded into the
+// node's objects (ProcessImage) by the mapping read from the node by SDO
+// each time it becomes operational (after a remapping in pre-operational,
+// the new one), or as raw bytes with --raw or before the mapping is known.
+// Events go out as lines (or JSON lines) the moment they happen; on a
+// terminal a table of the nodes is redrawn twice a second as well.
 #include <unistd.h>
 
 #include <cstdio>
+#include <deque>
 #include <iostream>
 #include <map>
+#include <memory>
 
 #include "canopen/master/emcy_consumer.h"
 #include "canopen/master/emcy_names.h"
 #include "canopen/master/node_monitor.h"
+#include "canopen/master/process_image.h"
 #include "canopen/nmt_slave.h"
 #include "commands.h"
 #include "exit_codes.h"
+#include "sdo_network.h"
 
 namespace mb2co {
 namespace master {
@@ -49,9 +56,17 @@ std::string hex(const uint8_t* p, int n) {
 
 class WatchService : public BusService {
  public:
-  WatchService(std::ostream* out, bool json, bool table) : out_(out), json_(json), table_(table) {
+  /// `sdo`: where the TPDO mappings are read from (null: raw PDOs only).
+  WatchService(std::ostream* out, bool json, bool table, SdoNetwork* sdo)
+      : out_(out), json_(json), table_(table), sdo_(sdo) {
     monitors_.set_listener(canopen::MonitorListener{&WatchService::on_monitor, this});
     emcy_.set_listener(canopen::EmcyListener{&WatchService::on_emcy, this});
+  }
+  /// Node guarding instead of heartbeat (a node with 1017h = 0): an RTR every
+  /// `guard_ms`, lost after guard_ms × `life_factor` without an answer.
+  bool guard(uint8_t node, uint16_t guard_ms, uint8_t life_factor) {
+    canopen::NodeMonitor* m = monitors_.monitor(node);
+    return m && m->watch_guarding(node, guard_ms, life_factor);
   }
   bool watch(uint8_t node, uint16_t consumer_ms) {
     canopen::NodeMonitor* m = monitors_.monitor(node);
@@ -65,7 +80,12 @@ class WatchService : public BusService {
       last_heard_us_[static_cast<uint8_t>(f.id - 0x700)] = now_us;
     if (monitors_.on_frame(f, now_us)) return;
     if (emcy_.on_frame(f, now_us)) return;
-    if (f.id >= 0x180 && f.id <= 0x57F && !f.rtr()) pdo(f, now_us);
+    if (f.id >= 0x180 && f.id <= 0x57F && !f.rtr()) {
+      if (image_.on_frame(f, now_us))
+        decoded(f);
+      else
+        pdo(f, now_us);
+    }
   }
   void process(uint32_t now_us, const CanSink& sink) override {
     now_us_ = now_us;
@@ -83,6 +103,7 @@ class WatchService : public BusService {
  private:
   static void on_monitor(void* ctx, uint8_t node, canopen::MonitorEvent e, uint8_t from, uint8_t to) {
     auto* self = static_cast<WatchService*>(ctx);
+    if (e == canopen::kMonitorStateChanged && to == canopen::kNmtOperational) self->read_mapping(node);
     const char* what = e == canopen::kMonitorNodeLost      ? "lost"
                        : e == canopen::kMonitorNodeBack    ? "back"
                        : e == canopen::kMonitorBootUp      ? "boot-up"
@@ -118,6 +139,95 @@ class WatchService : public BusService {
                     m.code, canopen::emcy_code_name(m.code), m.error_register, bits.empty() ? "" : " (",
                     bits.c_str(), bits.empty() ? "" : ")", hex(m.manufacturer, 5).c_str());
     self->event(line);
+  }
+  /// Reads TPDO1..4's COB-ID (1800h+n/1) and mapping (1A00h+n/0..8) of
+  /// `node`, one transfer after the other, then configures the image.
+  void read_mapping(uint8_t node) {
+    if (!sdo_) return;
+    for (uint8_t n = 0; n < 4; ++n) {
+      Transfer& cob = add(node, static_cast<uint16_t>(0x1800 + n), 1);
+      cob.on_done = [this, node, n](Transfer& c) {
+        if (!c.ok() || c.data.size() != 4) return;
+        const uint32_t cob_id = le32(c.data.data());
+        if (cob_id & 0x80000000u) return;  // not valid: nothing to decode
+        Transfer& count = add(node, static_cast<uint16_t>(0x1A00 + n), 0);
+        count.on_done = [this, node, n, cob_id](Transfer& k) {
+          if (!k.ok() || k.data.size() != 1 || k.data[0] == 0 || k.data[0] > 8) return;
+          auto mapping = std::make_shared<std::vector<uint32_t>>();
+          const uint8_t entries = k.data[0];
+          for (uint8_t sub = 1; sub <= entries; ++sub) {
+            Transfer& e = add(node, static_cast<uint16_t>(0x1A00 + n), sub);
+            e.on_done = [this, node, n, cob_id, mapping, entries](Transfer& m) {
+              if (!m.ok() || m.data.size() != 4) return;
+              mapping->push_back(le32(m.data.data()));
+              if (mapping->size() != entries) return;
+              if (image_.configure_tpdo(node, n, static_cast<uint16_t>(cob_id & 0x7FF), mapping->data(),
+                                        entries))
+                mappings_[static_cast<uint32_t>(node) << 8 | n] = *mapping;
+            };
+          }
+        };
+      };
+    }
+  }
+  static uint32_t le32(const uint8_t* p) {
+    return p[0] | p[1] << 8 | p[2] << 16 | static_cast<uint32_t>(p[3]) << 24;
+  }
+  /// A transfer kept alive until the watch ends (deque: stable addresses).
+  Transfer& add(uint8_t node, uint16_t index, uint8_t sub) {
+    transfers_.emplace_back();
+    Transfer& t = transfers_.back();
+    t.node = node;
+    t.index = index;
+    t.sub = sub;
+    sdo_->queue(&t);
+    return t;
+  }
+  /// "node 3 TPDO1 2100h/2=0x1 2100h/3=0x0 2120h/1=0x0"
+  void decoded(const CanFrame& f) {
+    for (uint8_t node = 1; node <= 127; ++node) {
+      for (uint8_t n = 0; n < 4; ++n) {
+        const canopen::ImagePdo* p = image_.pdo(node, n, false);
+        if (!p || p->cob_id != f.id) continue;
+        std::string text;
+        char item[64];
+        std::string key;
+        for (uint8_t k = 0; k < p->count; ++k) {
+          if (p->entry[k] == canopen::ImagePdo::kDummy) continue;
+          // Entries by slot: find the one of this PDO's k-th mapping.
+          const canopen::ImageEntry* e = entry_of(node, p, k);
+          if (!e) continue;
+          if (json_)
+            std::snprintf(item, sizeof item, "%s\"%04X/%u\":\"0x%X\"", text.empty() ? "" : ",", e->index,
+                          e->sub, e->u32());
+          else
+            std::snprintf(item, sizeof item, " %04Xh/%u=0x%X", e->index, e->sub, e->u32());
+          text += item;
+        }
+        // Only changes: a cyclic PDO would flood the log.
+        std::string& last = decoded_[static_cast<uint16_t>(f.id)];
+        if (text == last) return;
+        last = text;
+        char head[64];
+        if (json_) {
+          std::snprintf(head, sizeof head, "{\"node\":%u,\"event\":\"tpdo\",\"n\":%u,\"values\":{", node,
+                        n + 1);
+          event((std::string(head) + text + "}}").c_str());
+        } else {
+          std::snprintf(head, sizeof head, "node %u TPDO%u", node, n + 1);
+          event((std::string(head) + text).c_str());
+        }
+        return;
+      }
+    }
+  }
+  /// The image entry the k-th mapping entry of `p` decodes into.
+  const canopen::ImageEntry* entry_of(uint8_t node, const canopen::ImagePdo* p, uint8_t k) const {
+    // The mapping as configured is kept beside the image: look it up there.
+    const auto m = mappings_.find(static_cast<uint32_t>(node) << 8 | p->n);
+    if (m == mappings_.end() || k >= m->second.size()) return nullptr;
+    const uint32_t e = m->second[k];
+    return image_.find(node, static_cast<uint16_t>(e >> 16), static_cast<uint8_t>(e >> 8));
   }
   void pdo(const CanFrame& f, uint32_t) {
     std::string& last = pdos_[static_cast<uint16_t>(f.id)];
@@ -167,6 +277,11 @@ class WatchService : public BusService {
   bool table_;
   uint32_t now_us_ = 0;
   uint32_t redraw_at_us_ = 0;
+  SdoNetwork* sdo_;
+  std::deque<Transfer> transfers_;
+  canopen::ProcessImage<64, 200> image_;
+  std::map<uint16_t, std::string> decoded_;
+  std::map<uint32_t, std::vector<uint32_t>> mappings_;  ///< node << 8 | n → 1A0xh entries
   canopen::NodeMonitorTable<127> monitors_;
   canopen::EmcyConsumer<127> emcy_;
   std::map<uint8_t, uint32_t> last_heard_us_;
@@ -195,10 +310,28 @@ int watch_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostrea
     const Status s = parse_number(v, 2000, "duration", &seconds);
     if (!s) return fail(err, kExitUsage, "watch: " + s.message() + " (seconds)");
   }
-  if (!w.empty()) return fail(err, kExitUsage, "watch: unexpected '" + w[0] + "'");
+  uint64_t guard_ms = 0, life_factor = 3;
+  if (take_option(&w, "--guard", false, &v)) {
+    const Status s = parse_number(v, 65535, "guard time", &guard_ms);
+    if (!s || guard_ms == 0) return fail(err, kExitUsage, "watch: --guard is 1..65535 ms");
+  }
+  if (take_option(&w, "--life", false, &v)) {
+    const Status s = parse_number(v, 255, "life time factor", &life_factor);
+    if (!s || life_factor == 0) return fail(err, kExitUsage, "watch: --life is 1..255");
+  }
+  const bool raw = take_option(&w, "--raw", true, nullptr);
   const bool table = !o.json && isatty(STDOUT_FILENO) && &out == &std::cout;
-  static WatchService service(&out, o.json, table);  // large (127 monitors): not on the stack
-  for (uint8_t id : nodes) service.watch(id, static_cast<uint16_t>(consumer_ms));
+  if (!w.empty()) return fail(err, kExitUsage, "watch: unexpected '" + w[0] + "'");
+  // Mappings are read by SDO unless --raw (a watch that only listens).
+  static SdoNetwork sdo(o.timeout_ms * 1000u, 0);
+  if (!raw) bus.add(&sdo);
+  static WatchService service(&out, o.json, table, raw ? nullptr : &sdo);  // large: not on the stack
+  for (uint8_t id : nodes) {
+    if (guard_ms)
+      service.guard(id, static_cast<uint16_t>(guard_ms), static_cast<uint8_t>(life_factor));
+    else
+      service.watch(id, static_cast<uint16_t>(consumer_ms));
+  }
   bus.add(&service);
   // Said once the socket is bound: from here on nothing on the bus is missed
   // (a script or test may start the nodes after this line).
@@ -206,8 +339,11 @@ int watch_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostrea
     out << "{\"event\":\"watching\",\"interface\":\"" << o.iface << "\",\"nodes\":" << nodes.size()
         << ",\"heartbeat_ms\":" << consumer_ms << "}\n";
   else if (!table)
-    out << "watching " << o.iface << ": " << nodes.size() << " node ids, heartbeat consumer " << consumer_ms
-        << " ms\n";
+    out << "watching " << o.iface << ": " << nodes.size() << " node ids, "
+        << (guard_ms ? "guarding every " + std::to_string(guard_ms) + " ms, life time factor " +
+                           std::to_string(life_factor)
+                     : "heartbeat consumer " + std::to_string(consumer_ms) + " ms")
+        << "\n";
   out << std::flush;
   if (seconds) {
     bus.run_until([] { return false; }, static_cast<uint32_t>(seconds * 1000000u));

@@ -99,6 +99,16 @@ std::string od_eds(const ObjectDictionary& od, const std::string& product) {
   s += "BaudRate_500=1\nBaudRate_800=0\nBaudRate_1000=1\nSimpleBootUpMaster=0\nSimpleBootUpSlave=1\n";
   s += "Granularity=1\nDynamicChannelsSupported=0\nCompactPDO=0\nGroupMessaging=0\n";
   s += "NrOfRXPDO=4\nNrOfTXPDO=4\nLSS_Supported=0\n\n";
+  // CiA 306 has no key for the SDO services a device offers: said here.
+  const bool gateway = product == "mb2co-gateway";
+  s += "[Comments]\nLines=";
+  s += gateway ? "3\n" : "1\n";
+  s += "Line1=SDO: expedited and segmented; block transfer requests are answered with abort 05040001h.\n";
+  if (gateway) {
+    s += "Line2=mb2co-node (this firmware on Linux) also does block transfer (CRC) and serves\n";
+    s += "Line3=1F50h/1 program data, a DOMAIN of up to 1 MiB in RAM, outside this file.\n";
+  }
+  s += "\n";
   std::string mandatory, optional, manufacturer;
   int n_mand = 0, n_opt = 0, n_man = 0;
   for (uint16_t r = 0; r < od.row_count(); ++r) {

@@ -46,20 +46,18 @@ void format_row(LogFormat format, const std::vector<const char*>& names, const s
   out += '\n';
 }
 
-bool CycleLog::open(const std::string& path, const std::vector<const char*>& names, std::string& error) {
+Status CycleLog::open(const std::string& path, const std::vector<const char*>& names) {
   close();
   if (ends_with(path, ".csv")) {
     format_ = LogFormat::csv;
   } else if (ends_with(path, ".jsonl")) {
     format_ = LogFormat::jsonl;
   } else {
-    error = "--log " + path + ": want a name ending in .csv or .jsonl";
-    return false;
+    return Status::failure("--log " + path + ": want a name ending in .csv or .jsonl");
   }
   file_ = std::fopen(path.c_str(), "w");
   if (file_ == nullptr) {
-    error = "--log " + path + ": " + std::strerror(errno);
-    return false;
+    return Status::failure("--log " + path + ": " + std::strerror(errno));
   }
   names_ = names;
   if (format_ == LogFormat::csv) {
@@ -67,7 +65,7 @@ bool CycleLog::open(const std::string& path, const std::vector<const char*>& nam
     format_csv_header(names_, line_);
     std::fwrite(line_.data(), 1, line_.size(), file_);
   }
-  return true;
+  return Status::ok();
 }
 
 void CycleLog::write(const std::vector<LogValue>& values) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cycle_mode.h"
+#include "host/status.h"
 
 namespace mb2co {
 namespace pcapp {
@@ -23,9 +24,9 @@ void format_row(LogFormat format, const std::vector<const char*>& names, const s
 /// Owns the file; rows are buffered by stdio and flushed on close/destruction.
 class CycleLog {
  public:
-  /// Opens `path` for writing; false with a one-line `error` for an unknown
-  /// extension or a file that cannot be created.
-  bool open(const std::string& path, const std::vector<const char*>& names, std::string& error);
+  /// Opens `path` for writing; fails for an unknown extension or a file that
+  /// cannot be created.
+  Status open(const std::string& path, const std::vector<const char*>& names);
   void write(const std::vector<LogValue>& values);
   void close();
   bool is_open() const { return file_ != nullptr; }

@@ -23,12 +23,13 @@ void LinkSupervisor::attempt() {
   LinkSettings settings = config_.link;
   const std::vector<PortInfo> ports = list_ports();
   if (settings.path.empty()) {
-    QString error;
-    settings.path = pick_arduino(ports, error).toStdString();
-    if (settings.path.empty()) return failed(error);
+    QString path;
+    const Status picked = pick_arduino(ports, &path);
+    if (!picked) return failed(QString::fromStdString(picked.message()));
+    settings.path = path.toStdString();
   }
-  std::string error;
-  if (!link_.open(settings, error)) return failed(QString::fromStdString(error));
+  const Status opened = link_.open(settings);
+  if (!opened) return failed(QString::fromStdString(opened.message()));
   int wait_ms = config_.boot_wait_ms;
   if (wait_ms < 0)
     wait_ms = is_arduino_port(ports, QString::fromStdString(settings.path)) ? kArduinoBootWaitMs : 0;
@@ -42,10 +43,10 @@ void LinkSupervisor::attempt() {
 void LinkSupervisor::verify() {
   if (stopped_) return;
   std::string identity;
-  std::string error;
-  if (link_.identify(identity, error) != LinkStatus::ok) {
+  const LinkResult identified = link_.identify(identity);
+  if (!identified.ok()) {
     link_.close();
-    return failed(QString::fromStdString(link_.settings().path + ": " + error));
+    return failed(QString::fromStdString(link_.settings().path + ": " + identified.status.message()));
   }
   up_ = true;
   first_ = false;

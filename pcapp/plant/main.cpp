@@ -18,16 +18,14 @@ int main(int argc, char** argv) {
   QCoreApplication::setApplicationVersion("0.1.0");
 
   AppOptions options;
-  QString message;
-  switch (parse_options(QCoreApplication::arguments(), options, message)) {
-    case ParseOutcome::exit_ok:
-      std::fputs(message.toLocal8Bit().constData(), stdout);
-      return 0;
-    case ParseOutcome::error:
-      std::fprintf(stderr, "mb2co-plant: %s\n", message.toLocal8Bit().constData());
-      return 2;
-    case ParseOutcome::run:
-      break;
+  const mb2co::Status parsed = parse_options(QCoreApplication::arguments(), options);
+  if (!parsed) {
+    std::fprintf(stderr, "mb2co-plant: %s\n", parsed.message().c_str());
+    return 2;
+  }
+  if (!options.exit_text.isEmpty()) {
+    std::fputs(options.exit_text.toLocal8Bit().constData(), stdout);
+    return 0;
   }
   if (options.list_ports) {
     std::fputs(format_ports(list_ports()).toLocal8Bit().constData(), stdout);

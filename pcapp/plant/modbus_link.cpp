@@ -25,28 +25,26 @@ int64_t now_ms() {
 }
 }  // namespace
 
-bool ModbusLink::open(const LinkSettings& settings, std::string& error) {
+Status ModbusLink::open(const LinkSettings& settings) {
   close();
   settings_ = settings;
   ctx_ = modbus_new_rtu(settings.path.c_str(), settings.baud, settings.parity, 8, 1);
-  if (ctx_ == nullptr) {
-    error = "cannot use " + settings.path + ": " + modbus_strerror(errno);
-    return false;
-  }
+  if (ctx_ == nullptr) return Status::failure("cannot use " + settings.path + ": " + modbus_strerror(errno));
   const uint32_t us = static_cast<uint32_t>(settings.timeout_ms) * 1000u;
   if (modbus_set_slave(ctx_, settings.slave) != 0 ||
       modbus_set_response_timeout(ctx_, us / 1000000u, us % 1000000u) != 0 ||
       modbus_set_byte_timeout(ctx_, us / 1000000u, us % 1000000u) != 0) {
-    error = std::string("libmodbus refused the settings: ") + modbus_strerror(errno);
+    Status refused =
+        Status::failure(std::string("libmodbus refused the settings: ") + modbus_strerror(errno));
     close();
-    return false;
+    return refused;
   }
   if (modbus_connect(ctx_) != 0) {
-    error = "cannot open " + settings.path + ": " + modbus_strerror(errno);
+    Status refused = Status::failure("cannot open " + settings.path + ": " + modbus_strerror(errno));
     close();
-    return false;
+    return refused;
   }
-  return true;
+  return Status::ok();
 }
 
 void ModbusLink::close() {
@@ -57,76 +55,65 @@ void ModbusLink::close() {
 }
 
 template <class F>
-LinkStatus ModbusLink::attempt(const char* what, F request, std::string& error) {
-  if (ctx_ == nullptr) {
-    error = std::string(what) + ": port closed";
-    return LinkStatus::failed;
-  }
+LinkResult ModbusLink::attempt(const char* what, F request) {
+  if (ctx_ == nullptr) return LinkResult::failure(LinkStatus::failed, std::string(what) + ": port closed");
+  std::string why;
   for (int i = 0; i <= settings_.retries; ++i) {
     if (i > 0) ++retries_used_;
-    if (request() >= 0) return LinkStatus::ok;
+    if (request() >= 0) return LinkResult::done();
     const int err = errno;
-    error = std::string(what) + ": " + modbus_strerror(err);
-    if (is_exception(err)) return LinkStatus::exception;
+    why = std::string(what) + ": " + modbus_strerror(err);
+    if (is_exception(err)) return LinkResult::failure(LinkStatus::exception, why);
     modbus_flush(ctx_);  // a late answer must not be taken for the next one
   }
-  return LinkStatus::failed;
+  return LinkResult::failure(LinkStatus::failed, why);
 }
 
-LinkStatus ModbusLink::read(const TransactionPlan& plan, const RegisterImage& out, RegisterImage& in,
-                            std::string& error) {
+LinkResult ModbusLink::read(const TransactionPlan& plan, const RegisterImage& out, RegisterImage& in) {
   if (plan.read_write) {
     const Block& w = plan.writes[0];
     const Block& r = plan.reads[0];
     const uint16_t* values = out.regs[0].data() + w.start;
     uint16_t* dest = in.block(r);
-    return attempt(
-        "FC 17",
-        [&] {
-          return modbus_write_and_read_registers(ctx_, w.start, w.count, values, r.start, r.count, dest);
-        },
-        error);
+    return attempt("FC 17", [&] {
+      return modbus_write_and_read_registers(ctx_, w.start, w.count, values, r.start, r.count, dest);
+    });
   }
   for (const Block& b : plan.reads) {
     uint16_t* dest = in.block(b);
     const bool input = b.table == RegTable::input;
-    const LinkStatus s = attempt(
-        input ? "FC 04" : "FC 03",
-        [&] {
-          return input ? modbus_read_input_registers(ctx_, b.start, b.count, dest)
-                       : modbus_read_registers(ctx_, b.start, b.count, dest);
-        },
-        error);
-    if (s != LinkStatus::ok) return s;
+    LinkResult s = attempt(input ? "FC 04" : "FC 03", [&] {
+      return input ? modbus_read_input_registers(ctx_, b.start, b.count, dest)
+                   : modbus_read_registers(ctx_, b.start, b.count, dest);
+    });
+    if (!s.ok()) return s;
   }
-  return LinkStatus::ok;
+  return LinkResult::done();
 }
 
-LinkStatus ModbusLink::write(const TransactionPlan& plan, const RegisterImage& out, std::string& error) {
+LinkResult ModbusLink::write(const TransactionPlan& plan, const RegisterImage& out) {
   for (const Block& b : plan.writes) {
     const uint16_t* values = out.regs[0].data() + b.start;
-    const LinkStatus s =
+    LinkResult s =
         b.count == 1
-            ? attempt(
-                  "FC 06", [&] { return modbus_write_register(ctx_, b.start, values[0]); }, error)
-            : attempt(
-                  "FC 10", [&] { return modbus_write_registers(ctx_, b.start, b.count, values); }, error);
-    if (s != LinkStatus::ok) return s;
+            ? attempt("FC 06", [&] { return modbus_write_register(ctx_, b.start, values[0]); })
+            : attempt("FC 10", [&] { return modbus_write_registers(ctx_, b.start, b.count, values); });
+    if (!s.ok()) return s;
   }
-  return LinkStatus::ok;
+  return LinkResult::done();
 }
 
-LinkStatus ModbusLink::raw(const uint8_t* request, uint16_t length, uint8_t* response, uint16_t capacity,
-                           uint16_t& got, std::string& error) {
+LinkResult ModbusLink::raw(const uint8_t* request, uint16_t length, uint8_t* response, uint16_t capacity,
+                           uint16_t& got) {
   const int fd = modbus_get_socket(ctx_);
+  std::string why;
   for (int i = 0; i <= settings_.retries; ++i) {
     if (i > 0) {
       ++retries_used_;
       modbus_flush(ctx_);
     }
     if (::write(fd, request, length) != static_cast<ssize_t>(length)) {
-      error = std::string("write: ") + std::strerror(errno);
-      return LinkStatus::failed;
+      return LinkResult::failure(LinkStatus::failed, std::string("write: ") + std::strerror(errno));
     }
     got = 0;
     const int64_t deadline = now_ms() + settings_.timeout_ms;
@@ -138,32 +125,33 @@ LinkStatus ModbusLink::raw(const uint8_t* request, uint16_t length, uint8_t* res
       if (left <= 0 || poll(&p, 1, static_cast<int>(left)) <= 0) break;
       const ssize_t n = ::read(fd, response + got, capacity - got);
       if (n <= 0) {
-        error = std::string("read: ") + (n == 0 ? "end of file" : std::strerror(errno));
-        return LinkStatus::failed;  // a hung-up device does not come back by retrying
+        // A hung-up device does not come back by retrying.
+        return LinkResult::failure(LinkStatus::failed,
+                                   std::string("read: ") + (n == 0 ? "end of file" : std::strerror(errno)));
       }
       got = static_cast<uint16_t>(got + n);
       st = modbus::parse_response(request, length, response, got, parsed);
       if (got == capacity) break;
     }
-    if (st == modbus::ParseStatus::kOk) return LinkStatus::ok;
+    if (st == modbus::ParseStatus::kOk) return LinkResult::done();
     if (st == modbus::ParseStatus::kException) {
-      error = "exception " + std::to_string(static_cast<int>(parsed.exception));
-      return LinkStatus::exception;
+      return LinkResult::failure(LinkStatus::exception,
+                                 "exception " + std::to_string(static_cast<int>(parsed.exception)));
     }
-    error = got == 0 ? "no answer" : "bad answer (" + std::to_string(got) + " bytes)";
+    why = got == 0 ? "no answer" : "bad answer (" + std::to_string(got) + " bytes)";
   }
-  return LinkStatus::failed;
+  return LinkResult::failure(LinkStatus::failed, why);
 }
 
-LinkStatus ModbusLink::identify(std::string& identity, std::string& error) {
-  if (ctx_ == nullptr) return LinkStatus::failed;
+LinkResult ModbusLink::identify(std::string& identity) {
+  if (ctx_ == nullptr) return LinkResult::failure(LinkStatus::failed, "");
   const uint8_t slave = static_cast<uint8_t>(settings_.slave);
   uint8_t request[16];
   uint8_t response[256];
   uint16_t got = 0;
   uint16_t n = modbus::build_read_device_id(request, sizeof request, slave, 1, 0);
-  LinkStatus s = raw(request, n, response, sizeof response, got, error);
-  if (s == LinkStatus::ok) {
+  LinkResult s = raw(request, n, response, sizeof response, got);
+  if (s.ok()) {
     modbus::Response r;
     modbus::parse_response(request, n, response, got, r);
     std::string parts[3];
@@ -176,23 +164,19 @@ LinkStatus ModbusLink::identify(std::string& identity, std::string& error) {
     }
     identity = parts[0] + " " + parts[1] + " " + parts[2];
     if (parts[0] != "mb2co") {
-      error =
-          "slave " + std::to_string(settings_.slave) + " is not an mb2co gateway (vendor '" + parts[0] + "')";
-      return LinkStatus::exception;
+      return LinkResult::failure(LinkStatus::exception, "slave " + std::to_string(settings_.slave) +
+                                                            " is not an mb2co gateway (vendor '" + parts[0] +
+                                                            "')");
     }
-    return LinkStatus::ok;
+    return LinkResult::done();
   }
-  if (s != LinkStatus::exception) {
-    error = "FC 2B/0E: " + error;
-    return s;
-  }
+  if (s.outcome != LinkStatus::exception)
+    return LinkResult::failure(s.outcome, "FC 2B/0E: " + s.status.message());
   // No FC 2B: an echo (FC 08/00) at least shows a live slave at this address.
   n = modbus::build_diagnostics(request, sizeof request, slave, 0x0000, 0xA55A);
-  s = raw(request, n, response, sizeof response, got, error);
-  if (s == LinkStatus::ok)
-    identity = "unidentified slave (FC 08/00 echo)";
-  else
-    error = "FC 08/00: " + error;
+  s = raw(request, n, response, sizeof response, got);
+  if (!s.ok()) return LinkResult::failure(s.outcome, "FC 08/00: " + s.status.message());
+  identity = "unidentified slave (FC 08/00 echo)";
   return s;
 }
 

@@ -18,6 +18,7 @@
 
 #include <string>
 
+#include "host/status.h"
 #include "station_io.h"
 #include "transaction_plan.h"
 
@@ -41,6 +42,19 @@ enum class LinkStatus : uint8_t {
   failed,     ///< no valid answer after every retry: the link is lost
 };
 
+/// What a transaction came to: the outcome, and unless it is ok why, in
+/// `status` (one line).
+struct LinkResult {
+  LinkStatus outcome = LinkStatus::ok;
+  Status status;
+
+  bool ok() const { return outcome == LinkStatus::ok; }
+  static LinkResult done() { return LinkResult(); }
+  static LinkResult failure(LinkStatus outcome, std::string why) {
+    return LinkResult{outcome, Status::failure(std::move(why))};
+  }
+};
+
 /// Not copyable; one context, one open device at a time.
 class ModbusLink {
  public:
@@ -49,8 +63,8 @@ class ModbusLink {
   ModbusLink(const ModbusLink&) = delete;
   ModbusLink& operator=(const ModbusLink&) = delete;
 
-  /// Opens and configures the device; false with a one-line `error`.
-  bool open(const LinkSettings& settings, std::string& error);
+  /// Opens and configures the device.
+  Status open(const LinkSettings& settings);
   void close();
   bool is_open() const { return ctx_ != nullptr; }
   const LinkSettings& settings() const { return settings_; }
@@ -58,26 +72,25 @@ class ModbusLink {
   /// Checks that an mb2co gateway answers: FC 2B/0E basic device
   /// identification (vendor "mb2co"); a slave without FC 2B (exception 01) is
   /// accepted when it echoes FC 08/00. `identity`: "vendor product revision".
-  LinkStatus identify(std::string& identity, std::string& error);
+  LinkResult identify(std::string& identity);
 
   /// The plan's reads into `in` (FC 03/04), or with plan.read_write one
   /// FC 17h that writes `out`'s write block first.
-  LinkStatus read(const TransactionPlan& plan, const RegisterImage& out, RegisterImage& in,
-                  std::string& error);
+  LinkResult read(const TransactionPlan& plan, const RegisterImage& out, RegisterImage& in);
   /// The plan's write blocks from `out` (FC 06 / FC 10h), also for a
   /// read_write plan (used at shutdown).
-  LinkStatus write(const TransactionPlan& plan, const RegisterImage& out, std::string& error);
+  LinkResult write(const TransactionPlan& plan, const RegisterImage& out);
 
   /// Attempts that timed out or were corrupt and were repeated (only grows).
   uint64_t retries_used() const { return retries_used_; }
 
  private:
   template <class F>
-  LinkStatus attempt(const char* what, F request, std::string& error);
+  LinkResult attempt(const char* what, F request);
   /// One raw request/response on the device (for FC 2B and 08, which
   /// libmodbus 3.1 cannot receive); response parsed by the shared codec.
-  LinkStatus raw(const uint8_t* request, uint16_t length, uint8_t* response, uint16_t capacity, uint16_t& got,
-                 std::string& error);
+  LinkResult raw(const uint8_t* request, uint16_t length, uint8_t* response, uint16_t capacity,
+                 uint16_t& got);
 
   modbus_t* ctx_ = nullptr;
   LinkSettings settings_;

@@ -31,7 +31,8 @@ bool standard_baud(long b) {
 }
 }  // namespace
 
-ParseOutcome parse_options(const QStringList& args, AppOptions& o, QString& message) {
+Status parse_options(const QStringList& args, AppOptions& o) {
+  QString message;
   QCommandLineParser p;
   p.setApplicationDescription(QString::fromUtf8(kDescription));
   const QCommandLineOption help = p.addHelpOption();
@@ -74,21 +75,20 @@ ParseOutcome parse_options(const QStringList& args, AppOptions& o, QString& mess
                 log, plain, cycles, remote, button, presses, csv});
 
   if (!p.parse(args)) {
-    message = p.errorText() + " (try --help)";
-    return ParseOutcome::error;
+    return Status::failure(QString(p.errorText() + " (try --help)").toStdString());
   }
   if (p.isSet(help)) {
-    message = p.helpText();
-    return ParseOutcome::exit_ok;
+    o.exit_text = p.helpText();
+    return Status::ok();
   }
   if (p.isSet(version)) {
-    message = QCoreApplication::applicationName() + " " + QCoreApplication::applicationVersion() + "\n";
-    return ParseOutcome::exit_ok;
+    o.exit_text = QCoreApplication::applicationName() + " " + QCoreApplication::applicationVersion() + "\n";
+    return Status::ok();
   }
   const QStringList pos = p.positionalArguments();
   if (pos.size() > 1 || (pos.size() == 1 && pos[0] != "station" && pos[0] != "latency")) {
-    message = "unknown mode '" + pos.join(' ') + "' (station or latency)";
-    return ParseOutcome::error;
+    return Status::failure(
+        QString("unknown mode '" + pos.join(' ') + "' (station or latency)").toStdString());
   }
   o.latency = pos.size() == 1 && pos[0] == "latency";
   o.list_ports = p.isSet(list);
@@ -115,41 +115,39 @@ ParseOutcome parse_options(const QStringList& args, AppOptions& o, QString& mess
       !number(retries, 0, 10, o.retries) || !number(boot, 0, 60000, o.boot_wait_ms) ||
       !number(reconnect, 100, 600000, o.reconnect_max_ms) || !number(cycles, 1, 4000000000L, o.cycles) ||
       !number(presses, 1, 1000000, o.presses)) {
-    return ParseOutcome::error;
+    return Status::failure(message.toStdString());
   }
   if (!standard_baud(o.baud)) {
-    message = "bad --baud '" + p.value(baud) + "' (a standard rate such as 9600, 19200, 115200)";
-    return ParseOutcome::error;
+    return Status::failure(
+        QString("bad --baud '" + p.value(baud) + "' (a standard rate such as 9600, 19200, 115200)")
+            .toStdString());
   }
   const QString par = p.value(parity).toUpper();
   if (par != "N" && par != "E" && par != "O") {
-    message = "bad --parity '" + p.value(parity) + "' (N, E or O)";
-    return ParseOutcome::error;
+    return Status::failure(QString("bad --parity '" + p.value(parity) + "' (N, E or O)").toStdString());
   }
   o.parity = par.at(0).toLatin1();
   if (p.isSet(no_reset)) {
     if (p.isSet(boot)) {
-      message = "--no-reset-wait and --boot-wait-ms exclude each other";
-      return ParseOutcome::error;
+      return Status::failure("--no-reset-wait and --boot-wait-ms exclude each other");
     }
     o.boot_wait_ms = 0;
   }
   const QString b = p.value(button).toUpper();
   o.button = b == "START" ? 1 : b == "STOP" ? 2 : b == "STOP2" ? 4 : 0;
   if (o.button == 0) {
-    message = "bad --button '" + p.value(button) + "' (START, STOP or STOP2)";
-    return ParseOutcome::error;
+    return Status::failure(
+        QString("bad --button '" + p.value(button) + "' (START, STOP or STOP2)").toStdString());
   }
   const bool latency_only = p.isSet(remote) || p.isSet(button) || p.isSet(presses) || p.isSet(csv);
   if (!o.latency && latency_only) {
-    message = "--remote, --button, --presses and --csv belong to the latency mode (mb2co-plant latency ...)";
-    return ParseOutcome::error;
+    return Status::failure(
+        "--remote, --button, --presses and --csv belong to the latency mode (mb2co-plant latency ...)");
   }
   if (o.latency && p.isSet(config)) {
-    message = "--config belongs to the station mode";
-    return ParseOutcome::error;
+    return Status::failure("--config belongs to the station mode");
   }
-  return ParseOutcome::run;
+  return Status::ok();
 }
 
 }  // namespace pcapp

@@ -6,6 +6,8 @@
 #include <QString>
 #include <QStringList>
 
+#include "host/status.h"
+
 namespace mb2co {
 namespace pcapp {
 
@@ -29,13 +31,12 @@ struct AppOptions {
   uint8_t button = 1;    ///< latency: gateway::Button bit (default START)
   uint32_t presses = 0;  ///< latency: stop after this many measured presses
   QString csv;           ///< latency: CSV of every press
+  QString exit_text;     ///< --help / --version: print this and exit 0 ("" to run)
 };
 
-enum class ParseOutcome { run, exit_ok, error };
-
-/// `args` includes the program name (QCoreApplication::arguments()). On
-/// exit_ok, `message` is the help or version text; on error, one line.
-ParseOutcome parse_options(const QStringList& args, AppOptions& options, QString& message);
+/// `args` includes the program name (QCoreApplication::arguments()). Fails
+/// with one line on a bad option; --help and --version set `exit_text`.
+Status parse_options(const QStringList& args, AppOptions& options);
 
 }  // namespace pcapp
 }  // namespace mb2co

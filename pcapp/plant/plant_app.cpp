@@ -31,20 +31,21 @@ timing::SerialFormat serial_format(const AppOptions& o) {
 
 /// The plant config: the file's (keys left out keep docs/plant.md's
 /// defaults), step_ms replaced by --cycle-ms; without a file, the defaults
-/// with a 20 ms step. False after printing the one-line reason.
-bool load_config(const AppOptions& o, plant::PlantConfig& config, int& cycle_ms) {
+/// with a 20 ms step.
+Status load_config(const AppOptions& o, plant::PlantConfig& config, int& cycle_ms) {
   plant::ConfigError error{};
   if (!o.config.isEmpty()) {
     QFile file(o.config);
-    if (!file.open(QIODevice::ReadOnly)) {
-      say_error(o.config + ": " + file.errorString());
-      return false;
-    }
+    if (!file.open(QIODevice::ReadOnly))
+      return Status::failure(QString(o.config + ": " + file.errorString()).toStdString());
     const QByteArray text = file.readAll();
     if (!plant::parse_plant_config(text.constData(), static_cast<size_t>(text.size()), config, error)) {
-      say_error(
-          QStringLiteral("%1:%2:%3: %4").arg(o.config).arg(error.line).arg(error.column).arg(error.message));
-      return false;
+      return Status::failure(QStringLiteral("%1:%2:%3: %4")
+                                 .arg(o.config)
+                                 .arg(error.line)
+                                 .arg(error.column)
+                                 .arg(error.message)
+                                 .toStdString());
     }
   } else {
     config.step_ms = kDefaultCycleMs;
@@ -52,11 +53,11 @@ bool load_config(const AppOptions& o, plant::PlantConfig& config, int& cycle_ms)
   if (o.cycle_ms > 0) config.step_ms = static_cast<uint32_t>(o.cycle_ms);
   uint16_t keys = 0;
   if (!plant::check_plant_config(config, error, keys)) {
-    say_error(QStringLiteral("--cycle-ms %1: %2").arg(config.step_ms).arg(error.message));
-    return false;
+    return Status::failure(
+        QStringLiteral("--cycle-ms %1: %2").arg(config.step_ms).arg(error.message).toStdString());
   }
   cycle_ms = static_cast<int>(config.step_ms);
-  return true;
+  return Status::ok();
 }
 }  // namespace
 
@@ -73,13 +74,17 @@ int PlantApp::prepare() {
     mode_.reset(latency_);
   } else {
     plant::PlantConfig config;
-    if (!load_config(options_, config, cycle_ms_)) return 2;
+    const Status loaded = load_config(options_, config, cycle_ms_);
+    if (!loaded) {
+      say_error(QString::fromStdString(loaded.message()));
+      return 2;
+    }
     mode_.reset(new StationCycle(layout_, config));
   }
-  std::string error;
-  if (!plan_transactions(layout_, mode_->required_reads(), mode_->optional_reads(), mode_->writes(), plan_,
-                         error)) {
-    say_error(QString::fromStdString(error));
+  const Status planned =
+      plan_transactions(layout_, mode_->required_reads(), mode_->optional_reads(), mode_->writes(), plan_);
+  if (!planned) {
+    say_error(QString::fromStdString(planned.message()));
     return 2;
   }
   in_.resize(plan_);
@@ -88,9 +93,12 @@ int PlantApp::prepare() {
 
   std::vector<const char*> names = {"cycle", "t_us", "link", "modbus_us"};
   for (const char* n : mode_->column_names()) names.push_back(n);
-  if (!options_.log.isEmpty() && !log_.open(options_.log.toStdString(), names, error)) {
-    say_error(QString::fromStdString(error));
-    return 2;
+  if (!options_.log.isEmpty()) {
+    const Status opened = log_.open(options_.log.toStdString(), names);
+    if (!opened) {
+      say_error(QString::fromStdString(opened.message()));
+      return 2;
+    }
   }
   SupervisorConfig sc;
   sc.link.path = options_.port.toStdString();
@@ -105,16 +113,16 @@ int PlantApp::prepare() {
   connect(supervisor_, &LinkSupervisor::connected, this, [this](const QString& d) {
     link_was_up_ = true;
     const timing::SerialFormat f = serial_format(options_);
-    event("link up " + d + " | cycle " + QString::number(cycle_ms_) +
-          " ms: " + QString::fromStdString(describe(plan_)) + ", frames " +
-          QString::number(plan_frame_time_ns(plan_, f) / 1000) +
-          " us + t3.5 = " + QString::number(plan_wire_time_ns(plan_, f) / 1000) + " us at " +
-          QString::number(options_.baud) + " baud");
+    log_event("link up " + d + " | cycle " + QString::number(cycle_ms_) +
+              " ms: " + QString::fromStdString(describe(plan_)) + ", frames " +
+              QString::number(plan_frame_time_ns(plan_, f) / 1000) +
+              " us + t3.5 = " + QString::number(plan_wire_time_ns(plan_, f) / 1000) + " us at " +
+              QString::number(options_.baud) + " baud");
   });
   connect(supervisor_, &LinkSupervisor::disconnected, this,
-          [this](const QString& why) { event("link lost: " + why + " | plant safe, reconnecting"); });
+          [this](const QString& why) { log_event("link lost: " + why + " | plant safe, reconnecting"); });
   connect(supervisor_, &LinkSupervisor::retrying, this, [this](const QString& why, int next_ms) {
-    event("reconnect failed: " + why + " | next attempt in " + QString::number(next_ms) + " ms");
+    log_event("reconnect failed: " + why + " | next attempt in " + QString::number(next_ms) + " ms");
   });
   connect(supervisor_, &LinkSupervisor::fatal, this, [this](const QString& why) {
     say_error(why);
@@ -134,7 +142,7 @@ void PlantApp::start() {
   if (!shutting_down_) timer_.start();
 }
 
-void PlantApp::event(const QString& text) {
+void PlantApp::log_event(const QString& text) {
   view_.event(seconds(), text.toStdString());
 }
 
@@ -148,26 +156,26 @@ void PlantApp::tick() {
   uint32_t modbus_us = 0;
   if (supervisor_->up()) {
     ModbusLink& link = supervisor_->link();
-    std::string error;
     QElapsedTimer t;
     t.start();
-    LinkStatus s = link.read(plan_, out_, in_, error);
+    LinkResult s = link.read(plan_, out_, in_);
     int64_t ns = t.nsecsElapsed();
-    if (s == LinkStatus::ok) {
+    if (s.ok()) {
       mode_->step(in_, out_);
       stepped = true;
       if (!plan_.read_write) {
         t.restart();
-        s = link.write(plan_, out_, error);
+        s = link.write(plan_, out_);
         ns += t.nsecsElapsed();
       }
     }
     modbus_us = static_cast<uint32_t>(ns / 1000);
-    if (s == LinkStatus::ok) {
+    const std::string& error = s.status.message();
+    if (s.ok()) {
       exchanged = true;
       modbus_us_.add(modbus_us);
       last_exception_.clear();
-    } else if (s == LinkStatus::failed) {
+    } else if (s.outcome == LinkStatus::failed) {
       lose_link(error);
     } else {
       // The gateway refused a request: the inputs or the written RUN state
@@ -175,13 +183,13 @@ void PlantApp::tick() {
       ++exceptions_;
       mode_->link_lost();
       mode_->safe_outputs(out_);
-      if (error != last_exception_) event(QString::fromStdString("modbus " + error + " | plant safe"));
+      if (error != last_exception_) log_event(QString::fromStdString("modbus " + error + " | plant safe"));
       last_exception_ = error;
     }
   }
   if (!stepped) mode_->step_offline();
   for (const QString& line : QString::fromStdString(mode_->take_event()).split('\n', Qt::SkipEmptyParts)) {
-    event(line);
+    log_event(line);
   }
   if (log_.is_open()) log_cycle(exchanged, modbus_us);
   if (view_.terminal() && now_ns - last_status_ns_ >= kStatusPeriodNs) {
@@ -189,7 +197,7 @@ void PlantApp::tick() {
     char tail[96];
     std::snprintf(tail, sizeof tail, " | %s %.1f ms | errors %llu",
                   supervisor_->up() ? "modbus" : "LINK DOWN", modbus_us / 1000.0,
-                  static_cast<unsigned long long>(link_losses_ + exceptions_));
+                  static_cast<unsigned long long>(link_losses_) + exceptions_);
     view_.status(mode_->status() + tail);
   }
   if (mode_->done())
@@ -242,19 +250,19 @@ void PlantApp::shutdown(int code, const QString& why) {
   bool confirmed = false;
   if (supervisor_->up()) {
     mode_->safe_outputs(out_);
-    std::string error;
-    confirmed = supervisor_->link().write(plan_, out_, error) == LinkStatus::ok;
+    const LinkResult written = supervisor_->link().write(plan_, out_);
+    confirmed = written.ok();
     done += confirmed ? ": " + safe_value + " written"
-                      : QString::fromStdString(": safe write failed (" + error + ")");
+                      : QString::fromStdString(": safe write failed (" + written.status.message() + ")");
   } else if (link_was_up_) {
     done += ": " + safe_value + " not written (no link)";
   }
   if (!confirmed && link_was_up_ && code == 0) code = kExitNotConfirmed;
   supervisor_->stop();
-  event(done + ", port closed");
-  event(QString::fromStdString(cycle_summary()));
+  log_event(done + ", port closed");
+  log_event(QString::fromStdString(cycle_summary()));
   const std::string m = mode_->summary();
-  if (!m.empty()) event(QString::fromStdString(m));
+  if (!m.empty()) log_event(QString::fromStdString(m));
   log_.close();
   if (latency_ != nullptr && !options_.csv.isEmpty()) {
     QFile csv(options_.csv);

@@ -50,7 +50,7 @@ class PlantApp : public QObject {
   void lose_link(const std::string& reason);
   void log_cycle(bool link_up, uint32_t modbus_us);
   double seconds() const { return static_cast<double>(clock_.nsecsElapsed()) / 1e9; }
-  void event(const QString& text);
+  void log_event(const QString& text);
   std::string cycle_summary() const;
 
   AppOptions options_;

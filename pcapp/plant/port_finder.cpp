@@ -43,16 +43,21 @@ QString format_ports(const std::vector<PortInfo>& ports) {
   return s;
 }
 
-QString pick_arduino(const std::vector<PortInfo>& ports, QString& error) {
+Status pick_arduino(const std::vector<PortInfo>& ports, QString* path) {
   QStringList found;
   for (const PortInfo& p : ports) {
     if (p.arduino) found << p.path;
   }
-  if (found.size() == 1) return found.front();
-  error = found.isEmpty()
-              ? QStringLiteral("no Arduino found on USB (see --list-ports; give the port with --port)")
-              : QStringLiteral("several Arduinos found (%1): choose one with --port").arg(found.join(", "));
-  return QString();
+  path->clear();
+  if (found.size() == 1) {
+    *path = found.front();
+    return Status::ok();
+  }
+  if (found.isEmpty())
+    return Status::failure("no Arduino found on USB (see --list-ports; give the port with --port)");
+  return Status::failure(QStringLiteral("several Arduinos found (%1): choose one with --port")
+                             .arg(found.join(", "))
+                             .toStdString());
 }
 
 bool is_arduino_port(const std::vector<PortInfo>& ports, const QString& path) {

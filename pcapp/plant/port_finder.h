@@ -6,6 +6,8 @@
 #include <QString>
 #include <vector>
 
+#include "host/status.h"
+
 namespace mb2co {
 namespace pcapp {
 
@@ -25,9 +27,9 @@ struct PortInfo {
 std::vector<PortInfo> list_ports();
 /// The lines --list-ports prints (one per port, Arduinos marked).
 QString format_ports(const std::vector<PortInfo>& ports);
-/// The one Arduino among `ports`; empty with a one-line `error` when there
-/// is none or more than one.
-QString pick_arduino(const std::vector<PortInfo>& ports, QString& error);
+/// The one Arduino among `ports` in `*path`; fails (and `*path` is empty)
+/// when there is none or more than one.
+Status pick_arduino(const std::vector<PortInfo>& ports, QString* path);
 /// True when `path` (after resolving symlinks) is a listed Arduino port: it
 /// resets when opened, so the boot loader must be waited for.
 bool is_arduino_port(const std::vector<PortInfo>& ports, const QString& path);

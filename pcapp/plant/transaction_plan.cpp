@@ -63,17 +63,16 @@ std::vector<timing::RtuExchange> exchanges(const TransactionPlan& plan) {
 }
 }  // namespace
 
-bool plan_transactions(const RegisterLayout& layout, const std::vector<Field>& required,
-                       const std::vector<Field>& optional, const std::vector<Field>& writes,
-                       TransactionPlan& plan, std::string& error) {
+Status plan_transactions(const RegisterLayout& layout, const std::vector<Field>& required,
+                         const std::vector<Field>& optional, const std::vector<Field>& writes,
+                         TransactionPlan& plan) {
   std::vector<Location> reads[2];
   for (Field f : required) {
     if (layout[f].table == RegTable::none) {
       const FieldSpec& s = field_spec(f);
       char od[16];
       std::snprintf(od, sizeof od, "%04Xh/%02X", s.index, s.sub);
-      error = std::string("the gateway's register map has no ") + s.name + " (" + od + ")";
-      return false;
+      return Status::failure(std::string("the gateway's register map has no ") + s.name + " (" + od + ")");
     }
     reads[table_slot(layout[f].table)].push_back(layout[f]);
   }
@@ -85,9 +84,8 @@ bool plan_transactions(const RegisterLayout& layout, const std::vector<Field>& r
     const Location& l = layout[f];
     if (l.table != RegTable::holding || l.width != 1 || l.address >= layout.writable.size() ||
         !layout.writable[l.address]) {
-      error = std::string("the gateway's register map has no writable holding register for ") +
-              field_spec(f).name;
-      return false;
+      return Status::failure(std::string("the gateway's register map has no writable holding register for ") +
+                             field_spec(f).name);
     }
     out.push_back(l);
   }
@@ -102,7 +100,7 @@ bool plan_transactions(const RegisterLayout& layout, const std::vector<Field>& r
   p.reads = input;
   p.reads.insert(p.reads.end(), holding.begin(), holding.end());
   plan = p;
-  return true;
+  return Status::ok();
 }
 
 std::string describe(const TransactionPlan& plan) {

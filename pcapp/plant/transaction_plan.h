@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "host/status.h"
 #include "register_layout.h"
 #include "timing/rtu_timing.h"
 
@@ -32,12 +33,12 @@ struct TransactionPlan {
   uint16_t read_registers[2] = {0, 0};  ///< image size per table (holding, input)
 };
 
-/// Plans the cycle's requests. `required` fields must be mapped (else false
-/// and a one-line `error`); `optional` ones are read when mapped. Every
-/// field in `writes` must be a writable holding register.
-bool plan_transactions(const RegisterLayout& layout, const std::vector<Field>& required,
-                       const std::vector<Field>& optional, const std::vector<Field>& writes,
-                       TransactionPlan& plan, std::string& error);
+/// Plans the cycle's requests. `required` fields must be mapped (else it
+/// fails); `optional` ones are read when mapped. Every field in `writes` must
+/// be a writable holding register.
+Status plan_transactions(const RegisterLayout& layout, const std::vector<Field>& required,
+                         const std::vector<Field>& optional, const std::vector<Field>& writes,
+                         TransactionPlan& plan);
 
 /// "FC 04 IR 0-22 + FC 06 HR 0": the plan in one line.
 std::string describe(const TransactionPlan& plan);

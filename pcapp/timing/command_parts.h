@@ -1,5 +1,5 @@
-// The subcommands of mb2co-timing, each given parsed options. On an error
-// they set `error` (one line, no prefix) and return 1.
+// The subcommands of mb2co-timing, each given parsed options. A failure's
+// message is one line without the program's prefix.
 #pragma once
 #include <ostream>
 #include <string>
@@ -11,15 +11,16 @@
 namespace mb2co {
 namespace timing_cli {
 
-int frame_command(const Options& o, std::ostream& out, std::string& error);
-int load_command(const Options& o, std::ostream& out, std::string& error);
-int rta_command(const Options& o, std::ostream& out, std::string& error);
-int latency_command(const Options& o, std::ostream& out, std::string& error);
+Status frame_command(const Options& o, std::ostream& out);
+Status load_command(const Options& o, std::ostream& out);
+/// `*deadline_missed` is set when --check is given and a message misses its
+/// deadline (exit status 3: an answer, not a failure).
+Status rta_command(const Options& o, std::ostream& out, bool* deadline_missed);
+Status latency_command(const Options& o, std::ostream& out);
 
 /// The message set of load/rta: FILE.csv (needs --bitrate) or --line N.
 /// Sorted into priority order; *bitrate_bps set.
-bool message_set_option(const Options& o, std::vector<timing::MessageSpec>& set, uint32_t* bitrate_bps,
-                        std::string& error);
+Status message_set_option(const Options& o, std::vector<timing::MessageSpec>& set, uint32_t* bitrate_bps);
 
 }  // namespace timing_cli
 }  // namespace mb2co

@@ -17,49 +17,43 @@ const char* const kLineOptions[] = {"--no-tpdo1",      "--tpdo-dlc",         "--
 
 }  // namespace
 
-bool message_set_option(const Options& o, std::vector<timing::MessageSpec>& set, uint32_t* bitrate_bps,
-                        std::string& error) {
+Status message_set_option(const Options& o, std::vector<timing::MessageSpec>& set, uint32_t* bitrate_bps) {
   if (o.has("--line")) {
     if (!o.positional.empty()) {
-      error = "give FILE.csv or --line N, not both";
-      return false;
+      return Status::failure("give FILE.csv or --line N, not both");
     }
     timing::LineCanConfig cfg;
-    if (!line_config_option(o, &cfg, error)) return false;
+    Status s = line_config_option(o, &cfg);
+    if (!s) return s;
     set.resize(timing::line_message_count(cfg));
     size_t count = 0;
     const timing::LineStatus status = timing::build_line_messages(cfg, set.data(), set.size(), &count);
     if (status != timing::LineStatus::kOk) {
-      error = line_status_text(status);
-      return false;
+      return Status::failure(line_status_text(status));
     }
     set.resize(count);
     *bitrate_bps = cfg.bitrate_bps;
-    return true;
+    return Status::ok();
   }
   for (const char* name : kLineOptions) {
     if (o.has(name)) {
-      error = std::string("option ") + name + " describes a line: add --line N";
-      return false;
+      return Status::failure(std::string("option ") + name + " describes a line: add --line N");
     }
   }
   if (o.positional.size() != 1) {
-    error = o.positional.empty() ? "missing FILE.csv (or --line N)"
-                                 : "unexpected argument \"" + o.positional[1] + "\"";
-    return false;
+    return Status::failure(o.positional.empty() ? "missing FILE.csv (or --line N)"
+                                                : "unexpected argument \"" + o.positional[1] + "\"");
   }
   if (!o.has("--bitrate")) {
-    error = "missing --bitrate B (bit/s) for " + o.positional[0];
-    return false;
+    return Status::failure("missing --bitrate B (bit/s) for " + o.positional[0]);
   }
   uint64_t bitrate = 0;
-  if (!uint_option(o, "--bitrate", 1, timing::kMaxBitrateBps, 0, true, &bitrate, error)) {
-    return false;
-  }
-  if (!read_message_csv(o.positional[0], set, error)) return false;
+  Status s = uint_option(o, "--bitrate", 1, timing::kMaxBitrateBps, 0, true, &bitrate);
+  if (!s) return s;
+  if (!(s = read_message_csv(o.positional[0], set))) return s;
   timing::sort_by_priority(set.data(), set.size());
   *bitrate_bps = static_cast<uint32_t>(bitrate);
-  return true;
+  return Status::ok();
 }
 
 int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
@@ -78,26 +72,29 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
     return 0;
   }
   Options options;
-  std::string error;
-  int status = 1;
-  if (parse_options(argc, argv, options, error)) {
+  bool deadline_missed = false;
+  Status status = parse_options(argc, argv, options);
+  if (status) {
     switch (options.command) {
       case kFrame:
-        status = frame_command(options, out, error);
+        status = frame_command(options, out);
         break;
       case kLoad:
-        status = load_command(options, out, error);
+        status = load_command(options, out);
         break;
       case kRta:
-        status = rta_command(options, out, error);
+        status = rta_command(options, out, &deadline_missed);
         break;
       case kLatency:
-        status = latency_command(options, out, error);
+        status = latency_command(options, out);
         break;
     }
   }
-  if (status == 1) err << program << ": " << error << '\n';
-  return status;
+  if (!status) {
+    err << program << ": " << status.message() << '\n';
+    return 1;
+  }
+  return deadline_missed ? 3 : 0;
 }
 
 }  // namespace timing_cli

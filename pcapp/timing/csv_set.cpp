@@ -28,17 +28,15 @@ struct Field {
 
 class Failure {
  public:
-  Failure(const std::string& source, std::string& error) : source_(source), error_(error) {}
-  bool at(size_t line, size_t col, const std::string& what) {
+  explicit Failure(const std::string& source) : source_(source) {}
+  Status at(size_t line, size_t col, const std::string& what) const {
     std::ostringstream s;
     s << source_ << ':' << line << ':' << col << ": " << what;
-    error_ = s.str();
-    return false;
+    return Status::failure(s.str());
   }
 
  private:
   const std::string& source_;
-  std::string& error_;
 };
 
 std::vector<Field> split(const std::string& line) {
@@ -162,9 +160,9 @@ size_t bad_byte(const std::string& line, const char** what) {
 
 class Parser {
  public:
-  Parser(const std::string& source, std::string& error) : fail_(source, error) {}
+  explicit Parser(const std::string& source) : fail_(source) {}
 
-  bool header(const std::vector<Field>& fields, size_t line) {
+  Status header(const std::vector<Field>& fields, size_t line) {
     index_.assign(kColumnCount, -1);
     for (size_t f = 0; f < fields.size(); ++f) {
       int column = -1;
@@ -188,11 +186,11 @@ class Parser {
       }
     }
     width_ = fields.size();
-    return true;
+    return Status::ok();
   }
 
-  bool row(const std::vector<Field>& fields, const std::string& text, size_t line,
-           std::vector<MessageSpec>& out) {
+  Status row(const std::vector<Field>& fields, const std::string& text, size_t line,
+             std::vector<MessageSpec>& out) {
     if (fields.size() != width_) {
       const size_t col = fields.size() > width_ ? fields[width_].col : text.size() + 1;
       return fail_.at(
@@ -203,6 +201,7 @@ class Parser {
     fields_ = &fields;
     MessageSpec m{};
     uint64_t v = 0;
+    Status s;
 
     const Field& name = cell(kName);
     if (name.text.empty()) return fail_.at(line, name.col, "empty name");
@@ -215,21 +214,21 @@ class Parser {
     }
     timing::set_name(m, name.text.c_str());
 
-    if (!number(kExt, false, 1, "ext must be 0 or 1", &v)) return false;
+    if (!(s = number(kExt, false, 1, "ext must be 0 or 1", &v))) return s;
     m.extended = v == 1;
     const uint64_t id_max = m.extended ? 0x1FFFFFFFu : 0x7FFu;
-    if (!number(kId, true, id_max,
-                m.extended ? "id must be 0..0x1FFFFFFF for ext=1"
-                           : "id must be 0..0x7FF for ext=0 (use ext=1 for 29-bit ids)",
-                &v)) {
-      return false;
+    if (!(s = number(kId, true, id_max,
+                     m.extended ? "id must be 0..0x1FFFFFFF for ext=1"
+                                : "id must be 0..0x7FF for ext=0 (use ext=1 for 29-bit ids)",
+                     &v))) {
+      return s;
     }
     m.id = static_cast<uint32_t>(v);
-    if (!number(kDlc, false, 8, "dlc must be 0..8", &v)) return false;
+    if (!(s = number(kDlc, false, 8, "dlc must be 0..8", &v))) return s;
     m.dlc = static_cast<uint8_t>(v);
-    if (!positive(kPeriod, &m.period_us)) return false;
+    if (!(s = positive(kPeriod, &m.period_us))) return s;
     m.deadline_us = m.period_us;
-    if (present(kDeadline) && !positive(kDeadline, &m.deadline_us)) return false;
+    if (present(kDeadline) && !(s = positive(kDeadline, &m.deadline_us))) return s;
     if (present(kJitter)) {
       if (!parse_decimal(cell(kJitter).text, 0, UINT32_MAX, &v)) {
         return fail_.at(line, cell(kJitter).col,
@@ -237,10 +236,10 @@ class Parser {
       }
       m.jitter_us = static_cast<uint32_t>(v);
     }
-    if (present(kCUs) && !transmission_time(&m.c_ns)) return false;
+    if (present(kCUs) && !(s = transmission_time(&m.c_ns))) return s;
     if (present(kBits)) {
       if (present(kCUs)) return fail_.at(line, cell(kBits).col, "give c_us or bits, not both");
-      if (!number(kBits, false, UINT16_MAX, "bits must be 1..65535", &v)) return false;
+      if (!(s = number(kBits, false, UINT16_MAX, "bits must be 1..65535", &v))) return s;
       if (v == 0) return fail_.at(line, cell(kBits).col, "bits must be 1..65535, got \"0\"");
       m.bits = static_cast<uint16_t>(v);
     }
@@ -253,7 +252,7 @@ class Parser {
                           " (CAN ids must be unique)");
     }
     out.push_back(m);
-    return true;
+    return Status::ok();
   }
 
  private:
@@ -262,15 +261,15 @@ class Parser {
   }
   const Field& cell(Column c) const { return (*fields_)[static_cast<size_t>(index_[c])]; }
 
-  bool number(Column c, bool hex, uint64_t max, const char* what, uint64_t* v) {
+  Status number(Column c, bool hex, uint64_t max, const char* what, uint64_t* v) {
     const Field& f = cell(c);
     if (!parse_uint(f.text, hex, max, v)) {
       return fail_.at(line_, f.col, std::string(what) + ", got \"" + f.text + "\"");
     }
-    return true;
+    return Status::ok();
   }
 
-  bool positive(Column c, uint32_t* out) {
+  Status positive(Column c, uint32_t* out) {
     uint64_t v = 0;
     const std::string what = std::string(kColumnNames[c]) + " must be a whole number of µs 1..4294967295";
     const Field& f = cell(c);
@@ -279,17 +278,17 @@ class Parser {
     }
     if (v == 0) return fail_.at(line_, f.col, what + ", got \"" + f.text + "\"");
     *out = static_cast<uint32_t>(v);
-    return true;
+    return Status::ok();
   }
 
   // c_us: µs with up to three decimals, kept in ns.
-  bool transmission_time(uint64_t* ns) {
+  Status transmission_time(uint64_t* ns) {
     const Field& f = cell(kCUs);
     const std::string what = "c_us must be µs 0.001..4294967295 with at most 3 decimals";
     if (!parse_decimal(f.text, 3, UINT32_MAX, ns) || *ns == 0) {
       return fail_.at(line_, f.col, what + ", got \"" + f.text + "\"");
     }
-    return true;
+    return Status::ok();
   }
 
   Failure fail_;
@@ -303,11 +302,11 @@ class Parser {
 
 }  // namespace
 
-bool parse_message_csv(const std::string& text, const std::string& source,
-                       std::vector<timing::MessageSpec>& out, std::string& error) {
+Status parse_message_csv(const std::string& text, const std::string& source,
+                         std::vector<timing::MessageSpec>& out) {
   out.clear();
-  Parser parser(source, error);
-  Failure fail(source, error);
+  Parser parser(source);
+  const Failure fail(source);
   bool have_header = false;
   size_t line_no = 0;
   // A UTF-8 byte order mark (Windows editors write one) is no column name.
@@ -327,36 +326,30 @@ bool parse_message_csv(const std::string& text, const std::string& source,
       return fail.at(line_no, quote + 1, "quoted fields are not supported");
     }
     const std::vector<Field> fields = split(line);
-    if (!have_header) {
-      if (!parser.header(fields, line_no)) return false;
-      have_header = true;
-    } else if (!parser.row(fields, line, line_no, out)) {
-      return false;
-    }
+    Status s = have_header ? parser.row(fields, line, line_no, out) : parser.header(fields, line_no);
+    if (!s) return s;
+    have_header = true;
   }
   if (!have_header) return fail.at(line_no + 1, 1, "empty file: expected a header line");
   if (out.empty()) return fail.at(line_no + 1, 1, "no messages after the header");
-  return true;
+  return Status::ok();
 }
 
-bool read_message_csv(const std::string& path, std::vector<timing::MessageSpec>& out, std::string& error) {
+Status read_message_csv(const std::string& path, std::vector<timing::MessageSpec>& out) {
   std::ifstream file(path, std::ios::binary);
   if (!file) {
-    error = path + ": cannot open: " + std::strerror(errno);
-    return false;
+    return Status::failure(path + ": cannot open: " + std::strerror(errno));
   }
   struct stat st;
   if (stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) {
-    error = path + ": is a directory, not a CSV file";
-    return false;
+    return Status::failure(path + ": is a directory, not a CSV file");
   }
   std::ostringstream text;
   text << file.rdbuf();
   if (file.bad()) {
-    error = path + ": cannot read: " + std::strerror(errno);
-    return false;
+    return Status::failure(path + ": cannot read: " + std::strerror(errno));
   }
-  return parse_message_csv(text.str(), path, out, error);
+  return parse_message_csv(text.str(), path, out);
 }
 
 }  // namespace timing_cli

@@ -12,19 +12,20 @@
 #include <string>
 #include <vector>
 
+#include "host/status.h"
 #include "timing/message_set.h"
 
 namespace mb2co {
 namespace timing_cli {
 
 /// Parses `text` (the contents of `source`, used in messages). On success
-/// fills `out` in file order and returns true; otherwise sets `error` to one
-/// line "source:line:col: what" and returns false.
-bool parse_message_csv(const std::string& text, const std::string& source,
-                       std::vector<timing::MessageSpec>& out, std::string& error);
+/// fills `out` in file order; otherwise fails with one line
+/// "source:line:col: what".
+Status parse_message_csv(const std::string& text, const std::string& source,
+                         std::vector<timing::MessageSpec>& out);
 
 /// Reads the file at `path` and parses it.
-bool read_message_csv(const std::string& path, std::vector<timing::MessageSpec>& out, std::string& error);
+Status read_message_csv(const std::string& path, std::vector<timing::MessageSpec>& out);
 
 }  // namespace timing_cli
 }  // namespace mb2co

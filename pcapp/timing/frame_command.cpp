@@ -10,10 +10,10 @@ namespace mb2co {
 namespace timing_cli {
 namespace {
 
-bool parse_hex_bytes(const std::string& hex, CanFrame& frame, std::string& error) {
+Status parse_hex_bytes(const std::string& hex, CanFrame& frame) {
   if (hex.size() % 2 != 0 || hex.size() > 16) {
-    error = "option --data must be 0..8 bytes as an even number of hex digits, got \"" + hex + "\"";
-    return false;
+    return Status::failure("option --data must be 0..8 bytes as an even number of hex digits, got \"" + hex +
+                           "\"");
   }
   for (size_t i = 0; i < hex.size(); i += 2) {
     unsigned value = 0;
@@ -24,18 +24,17 @@ bool parse_hex_bytes(const std::string& hex, CanFrame& frame, std::string& error
                         : c >= 'A' && c <= 'F' ? c - 'A' + 10
                                                : -1;
       if (digit < 0) {
-        error = "option --data must be hex digits, got \"" + hex + "\"";
-        return false;
+        return Status::failure("option --data must be hex digits, got \"" + hex + "\"");
       }
       value = value * 16u + static_cast<unsigned>(digit);
     }
     frame.data[i / 2] = static_cast<uint8_t>(value);
   }
   frame.dlc = static_cast<uint8_t>(hex.size() / 2);
-  return true;
+  return Status::ok();
 }
 
-bool parse_id(const std::string& text, bool extended, uint32_t* id, std::string& error) {
+Status parse_id(const std::string& text, bool extended, uint32_t* id) {
   const uint64_t max = extended ? 0x1FFFFFFFu : 0x7FFu;
   uint64_t v = 0;
   const bool hex = text.size() > 2 && text[0] == '0' && (text[1] == 'x' || text[1] == 'X');
@@ -49,31 +48,30 @@ bool parse_id(const std::string& text, bool extended, uint32_t* id, std::string&
     v = v * (hex ? 16u : 10u) + static_cast<uint64_t>(digit < 0 ? 0 : digit);
   }
   if (!ok || v > max) {
-    error = std::string("option --id must be ") + (extended ? "0..0x1FFFFFFF" : "0..0x7FF") +
-            " (decimal or 0x-hex), got \"" + text + "\"";
-    return false;
+    return Status::failure(std::string("option --id must be ") + (extended ? "0..0x1FFFFFFF" : "0..0x7FF") +
+                           " (decimal or 0x-hex), got \"" + text + "\"");
   }
   *id = static_cast<uint32_t>(v);
-  return true;
+  return Status::ok();
 }
 
-int exact_frame(const Options& o, uint32_t bitrate, timing::WorstCase convention, std::ostream& out,
-                Format format, std::string& error) {
+Status exact_frame(const Options& o, uint32_t bitrate, timing::WorstCase convention, std::ostream& out,
+                   Format format) {
   if (!o.has("--id")) {
-    error = "option --data/--rtr needs --id";
-    return 1;
+    return Status::failure("option --data/--rtr needs --id");
   }
   CanFrame frame{};
   frame.flags = static_cast<uint8_t>((o.has("--ext") ? CanFrame::kExtended : 0) |
                                      (o.has("--rtr") ? CanFrame::kRtr : 0));
-  if (!parse_id(o.get("--id"), frame.extended(), &frame.id, error)) return 1;
-  if (o.has("--data") && !parse_hex_bytes(o.get("--data"), frame, error)) return 1;
+  Status s = parse_id(o.get("--id"), frame.extended(), &frame.id);
+  if (!s) return s;
+  if (o.has("--data") && !(s = parse_hex_bytes(o.get("--data"), frame))) return s;
   if (o.has("--dlc")) {
     uint64_t dlc = 0;
-    if (!uint_option(o, "--dlc", 0, 8, 0, false, &dlc, error)) return 1;
+    if (!(s = uint_option(o, "--dlc", 0, 8, 0, false, &dlc))) return s;
     if (!frame.rtr() && o.has("--data") && dlc != frame.dlc) {
-      error = "option --dlc disagrees with the " + std::to_string(frame.dlc) + " bytes of --data";
-      return 1;
+      return Status::failure("option --dlc disagrees with the " + std::to_string(frame.dlc) +
+                             " bytes of --data");
     }
     frame.dlc = static_cast<uint8_t>(dlc);
   }
@@ -81,7 +79,8 @@ int exact_frame(const Options& o, uint32_t bitrate, timing::WorstCase convention
   char crc[8];
   std::snprintf(crc, sizeof crc, "0x%04X", exact.crc15);
   std::string data;
-  for (uint8_t i = 0; i < (frame.rtr() ? 0 : frame.dlc); ++i) {
+  const uint8_t data_bytes = frame.rtr() ? uint8_t{0} : frame.dlc;
+  for (uint8_t i = 0; i < data_bytes; ++i) {
     char byte[4];
     std::snprintf(byte, sizeof byte, "%02X", frame.data[i]);
     data += byte;
@@ -99,31 +98,30 @@ int exact_frame(const Options& o, uint32_t bitrate, timing::WorstCase convention
        Cell::integer(timing::frame_bits_worst(frame.extended(), frame.rtr() ? 0 : frame.dlc, convention))});
   r.totals = {{"bitrate", Cell::integer(bitrate)}, {"frame_bits", Cell::str(frame_bits_name(convention))}};
   print_report(r, format, out);
-  return 0;
+  return Status::ok();
 }
 
 }  // namespace
 
-int frame_command(const Options& o, std::ostream& out, std::string& error) {
+Status frame_command(const Options& o, std::ostream& out) {
   uint64_t bitrate = 0;
   timing::WorstCase convention = timing::WorstCase::kDavis;
   Format format = Format::kTable;
-  if (!uint_option(o, "--bitrate", 1, timing::kMaxBitrateBps, 1000000, true, &bitrate, error) ||
-      !frame_bits_option(o, &convention, error) || !format_option(o, &format, error)) {
-    return 1;
-  }
+  Status s = uint_option(o, "--bitrate", 1, timing::kMaxBitrateBps, 1000000, true, &bitrate);
+  if (s) s = frame_bits_option(o, &convention);
+  if (s) s = format_option(o, &format);
+  if (!s) return s;
   if (!o.positional.empty()) {
-    error = "unexpected argument \"" + o.positional[0] + "\"";
-    return 1;
+    return Status::failure("unexpected argument \"" + o.positional[0] + "\"");
   }
   const uint32_t rate = static_cast<uint32_t>(bitrate);
   if (o.has("--id") || o.has("--data") || o.has("--rtr")) {
-    return exact_frame(o, rate, convention, out, format, error);
+    return exact_frame(o, rate, convention, out, format);
   }
   uint64_t dlc_first = 0;
   uint64_t dlc_last = 8;
   if (o.has("--dlc")) {
-    if (!uint_option(o, "--dlc", 0, 8, 0, false, &dlc_first, error)) return 1;
+    if (!(s = uint_option(o, "--dlc", 0, 8, 0, false, &dlc_first))) return s;
     dlc_last = dlc_first;
   }
   const bool ext = o.has("--ext");
@@ -145,7 +143,7 @@ int frame_command(const Options& o, std::ostream& out, std::string& error) {
               {"frame_bits", Cell::str(frame_bits_name(convention))},
               {"extended", Cell::boolean(ext)}};
   print_report(r, format, out);
-  return 0;
+  return Status::ok();
 }
 
 }  // namespace timing_cli

@@ -10,11 +10,12 @@ namespace mb2co {
 namespace timing_cli {
 namespace {
 
-bool serial_options(const Options& o, timing::LatencyParams& p, std::string& error) {
+Status serial_options(const Options& o, timing::LatencyParams& p) {
   uint64_t v = 0;
-  if (!uint_option(o, "--baud", 1, 10000000, p.serial.baud, true, &v, error)) return false;
+  Status s = uint_option(o, "--baud", 1, 10000000, p.serial.baud, true, &v);
+  if (!s) return s;
   p.serial.baud = static_cast<uint32_t>(v);
-  if (!uint_option(o, "--stop-bits", 1, 2, p.serial.stop_bits, false, &v, error)) return false;
+  if (!(s = uint_option(o, "--stop-bits", 1, 2, p.serial.stop_bits, false, &v))) return s;
   p.serial.stop_bits = static_cast<uint8_t>(v);
   if (o.has("--parity")) {
     const std::string& parity = o.get("--parity");
@@ -25,15 +26,14 @@ bool serial_options(const Options& o, timing::LatencyParams& p, std::string& err
     } else if (parity == "none") {
       p.serial.parity = timing::Parity::kNone;
     } else {
-      error = "option --parity must be even, odd or none, got \"" + parity + "\"";
-      return false;
+      return Status::failure("option --parity must be even, odd or none, got \"" + parity + "\"");
     }
   }
   p.slave_waits_t35 = !o.has("--no-t35");
-  return true;
+  return Status::ok();
 }
 
-bool time_options(const Options& o, timing::LatencyParams& p, std::string& error) {
+Status time_options(const Options& o, timing::LatencyParams& p) {
   struct {
     const char* name;
     uint32_t* field;
@@ -44,10 +44,11 @@ bool time_options(const Options& o, timing::LatencyParams& p, std::string& error
                       {"--master-end-us", &p.master_end_us}};
   for (const auto& f : fields) {
     uint64_t v = 0;
-    if (!uint_option(o, f.name, 0, 100000000, *f.field, false, &v, error)) return false;
+    Status s = uint_option(o, f.name, 0, 100000000, *f.field, false, &v);
+    if (!s) return s;
     *f.field = static_cast<uint32_t>(v);
   }
-  return true;
+  return Status::ok();
 }
 
 const timing::LatencyTerm* find_term(const timing::LatencyBound& b, const char* name) {
@@ -59,22 +60,23 @@ const timing::LatencyTerm* find_term(const timing::LatencyBound& b, const char* 
 
 }  // namespace
 
-int latency_command(const Options& o, std::ostream& out, std::string& error) {
+Status latency_command(const Options& o, std::ostream& out) {
   timing::WorstCase convention = timing::WorstCase::kDavis;
   Format format = Format::kTable;
   timing::LineCanConfig line;
   timing::LatencyParams p;
   uint64_t button_node = 0;
   uint64_t pc_node = 0;
-  if (!frame_bits_option(o, &convention, error) || !format_option(o, &format, error) ||
-      !line_config_option(o, &line, error) || !serial_options(o, p, error) || !time_options(o, p, error) ||
-      !uint_option(o, "--button-node", 1, timing::kMaxStations, 2, false, &button_node, error) ||
-      !uint_option(o, "--pc-node", 1, timing::kMaxStations, 1, false, &pc_node, error)) {
-    return 1;
-  }
+  Status s = frame_bits_option(o, &convention);
+  if (s) s = format_option(o, &format);
+  if (s) s = line_config_option(o, &line);
+  if (s) s = serial_options(o, p);
+  if (s) s = time_options(o, p);
+  if (s) s = uint_option(o, "--button-node", 1, timing::kMaxStations, 2, false, &button_node);
+  if (s) s = uint_option(o, "--pc-node", 1, timing::kMaxStations, 1, false, &pc_node);
+  if (!s) return s;
   if (!o.positional.empty()) {
-    error = "unexpected argument \"" + o.positional[0] + "\"";
-    return 1;
+    return Status::failure("unexpected argument \"" + o.positional[0] + "\"");
   }
   p.inhibit_us = uint32_t{line.tpdo1_inhibit_100us} * 100u;
 
@@ -89,17 +91,13 @@ int latency_command(const Options& o, std::ostream& out, std::string& error) {
     case timing::HopStatus::kOk:
       break;
     case timing::HopStatus::kLine:
-      error = line_status_text(line_status);
-      return 1;
+      return Status::failure(line_status_text(line_status));
     case timing::HopStatus::kNoTpdo1:
-      error = "the latency path needs TPDO1 (drop --no-tpdo1)";
-      return 1;
+      return Status::failure("the latency path needs TPDO1 (drop --no-tpdo1)");
     case timing::HopStatus::kNode:
-      error = "--button-node and --pc-node must be different nodes within 1..--line";
-      return 1;
+      return Status::failure("--button-node and --pc-node must be different nodes within 1..--line");
     case timing::HopStatus::kUnbounded:
-      error = "a TPDO1 of the path has no bounded response time on this line";
-      return 1;
+      return Status::failure("a TPDO1 of the path has no bounded response time on this line");
   }
 
   const timing::LatencyBound modbus = timing::modbus_only_latency(p);
@@ -141,7 +139,7 @@ int latency_command(const Options& o, std::ostream& out, std::string& error) {
               {"can_up_worst_us", Cell::us(p.can_up_worst_ns)},
               {"can_down_worst_us", Cell::us(p.can_down_worst_ns)}};
   print_report(r, format, out);
-  return 0;
+  return Status::ok();
 }
 
 }  // namespace timing_cli

@@ -63,7 +63,7 @@ const OptionSpec* find_spec(const std::string& name) {
 
 }  // namespace
 
-bool parse_options(int argc, char** argv, Options& out, std::string& error) {
+Status parse_options(int argc, char** argv, Options& out) {
   const std::string command = argv[1];
   if (command == "frame") {
     out.command = kFrame;
@@ -74,8 +74,7 @@ bool parse_options(int argc, char** argv, Options& out, std::string& error) {
   } else if (command == "latency") {
     out.command = kLatency;
   } else {
-    error = "unknown command \"" + command + "\" (expected frame, load, rta or latency)";
-    return false;
+    return Status::failure("unknown command \"" + command + "\" (expected frame, load, rta or latency)");
   }
   for (int i = 2; i < argc; ++i) {
     std::string arg = argv[i];
@@ -93,32 +92,29 @@ bool parse_options(int argc, char** argv, Options& out, std::string& error) {
     }
     const OptionSpec* spec = find_spec(arg);
     if (spec == nullptr || (spec->commands & out.command) == 0) {
-      error = "unknown option " + arg + " for " + command + " (see --help)";
-      return false;
+      return Status::failure(
+          std::string("unknown option ").append(arg).append(" for ").append(command).append(" (see --help)"));
     }
     if (spec->takes_value && !inline_value) {
       if (i + 1 >= argc) {
-        error = "option " + arg + " needs a value";
-        return false;
+        return Status::failure("option " + arg + " needs a value");
       }
       value = argv[++i];
     } else if (!spec->takes_value && inline_value) {
-      error = "option " + arg + " takes no value";
-      return false;
+      return Status::failure("option " + arg + " takes no value");
     }
     if (!out.values.emplace(arg, value).second) {
-      error = "option " + arg + " given twice";
-      return false;
+      return Status::failure("option " + arg + " given twice");
     }
   }
-  return true;
+  return Status::ok();
 }
 
-bool uint_option(const Options& o, const std::string& name, uint64_t min, uint64_t max, uint64_t fallback,
-                 bool scaled, uint64_t* value, std::string& error) {
+Status uint_option(const Options& o, const std::string& name, uint64_t min, uint64_t max, uint64_t fallback,
+                   bool scaled, uint64_t* value) {
   if (!o.has(name)) {
     *value = fallback;
-    return true;
+    return Status::ok();
   }
   const std::string& text = o.get(name);
   std::string digits = text;
@@ -135,75 +131,71 @@ bool uint_option(const Options& o, const std::string& name, uint64_t min, uint64
     v *= scale;
   }
   if (!ok || v < min || v > max) {
-    error = "option " + name + " must be a whole number " + std::to_string(min) + ".." + std::to_string(max) +
-            ", got \"" + text + "\"";
-    return false;
+    return Status::failure("option " + name + " must be a whole number " + std::to_string(min) + ".." +
+                           std::to_string(max) + ", got \"" + text + "\"");
   }
   *value = v;
-  return true;
+  return Status::ok();
 }
 
-bool format_option(const Options& o, Format* format, std::string& error) {
+Status format_option(const Options& o, Format* format) {
   if (o.has("--json") && o.has("--csv")) {
-    error = "choose one of --json and --csv";
-    return false;
+    return Status::failure("choose one of --json and --csv");
   }
   *format = o.has("--json") ? Format::kJson : o.has("--csv") ? Format::kCsv : Format::kTable;
-  return true;
+  return Status::ok();
 }
 
-bool frame_bits_option(const Options& o, timing::WorstCase* convention, std::string& error) {
+Status frame_bits_option(const Options& o, timing::WorstCase* convention) {
   const std::string v = o.has("--frame-bits") ? o.get("--frame-bits") : "davis";
   if (v == "davis") {
     *convention = timing::WorstCase::kDavis;
   } else if (v == "course") {
     *convention = timing::WorstCase::kCourse;
   } else {
-    error = "option --frame-bits must be course or davis, got \"" + v + "\"";
-    return false;
+    return Status::failure("option --frame-bits must be course or davis, got \"" + v + "\"");
   }
-  return true;
+  return Status::ok();
 }
 
 const char* frame_bits_name(timing::WorstCase convention) {
   return convention == timing::WorstCase::kCourse ? "course" : "davis";
 }
 
-bool line_config_option(const Options& o, timing::LineCanConfig* cfg, std::string& error) {
+Status line_config_option(const Options& o, timing::LineCanConfig* cfg) {
   timing::LineCanConfig c;
   uint64_t v = 0;
   auto take = [&](const char* name, uint64_t min, uint64_t max, uint64_t fallback) {
-    return uint_option(o, name, min, max, fallback, false, &v, error);
+    return uint_option(o, name, min, max, fallback, false, &v);
   };
-  if (!take("--line", 1, timing::kMaxStations, c.stations)) return false;
+  Status s = take("--line", 1, timing::kMaxStations, c.stations);
+  if (!s) return s;
   c.stations = static_cast<uint8_t>(v);
-  if (!uint_option(o, "--bitrate", 1, timing::kMaxBitrateBps, c.bitrate_bps, true, &v, error)) {
-    return false;
-  }
+  if (!(s = uint_option(o, "--bitrate", 1, timing::kMaxBitrateBps, c.bitrate_bps, true, &v))) return s;
   c.bitrate_bps = static_cast<uint32_t>(v);
   c.tpdo1 = !o.has("--no-tpdo1");
-  if (!take("--tpdo-dlc", 0, 8, c.tpdo1_dlc)) return false;
+  if (!(s = take("--tpdo-dlc", 0, 8, c.tpdo1_dlc))) return s;
   c.tpdo1_dlc = static_cast<uint8_t>(v);
-  if (!take("--tpdo-inhibit-100us", 0, UINT16_MAX, c.tpdo1_inhibit_100us)) return false;
+  if (!(s = take("--tpdo-inhibit-100us", 0, UINT16_MAX, c.tpdo1_inhibit_100us))) return s;
   c.tpdo1_inhibit_100us = static_cast<uint16_t>(v);
-  if (!take("--tpdo-event-ms", 0, UINT16_MAX, c.tpdo1_event_timer_ms)) return false;
+  if (!(s = take("--tpdo-event-ms", 0, UINT16_MAX, c.tpdo1_event_timer_ms))) return s;
   c.tpdo1_event_timer_ms = static_cast<uint16_t>(v);
-  if (!take("--tpdo-deadline-us", 0, UINT32_MAX, c.tpdo1_deadline_us)) return false;
+  if (!(s = take("--tpdo-deadline-us", 0, UINT32_MAX, c.tpdo1_deadline_us))) return s;
   c.tpdo1_deadline_us = static_cast<uint32_t>(v);
-  if (!take("--heartbeat-ms", 0, UINT16_MAX, c.heartbeat_ms)) return false;
+  if (!(s = take("--heartbeat-ms", 0, UINT16_MAX, c.heartbeat_ms))) return s;
   c.heartbeat_ms = static_cast<uint16_t>(v);
-  if (!take("--sync-us", 0, UINT32_MAX, c.sync_period_us)) return false;
+  if (!(s = take("--sync-us", 0, UINT32_MAX, c.sync_period_us))) return s;
   c.sync_period_us = static_cast<uint32_t>(v);
-  if (!take("--sync-tpdos", 0, timing::kMaxSyncTpdos, c.sync_tpdos)) return false;
+  if (!(s = take("--sync-tpdos", 0, timing::kMaxSyncTpdos, c.sync_tpdos))) return s;
   c.sync_tpdos = static_cast<uint8_t>(v);
-  if (!take("--sync-dlc", 0, 8, c.sync_tpdo_dlc)) return false;
+  if (!(s = take("--sync-dlc", 0, 8, c.sync_tpdo_dlc))) return s;
   c.sync_tpdo_dlc = static_cast<uint8_t>(v);
-  if (!take("--sync-type", 1, 240, c.sync_transmission_type)) return false;
+  if (!(s = take("--sync-type", 1, 240, c.sync_transmission_type))) return s;
   c.sync_transmission_type = static_cast<uint8_t>(v);
-  if (!take("--jitter-us", 0, UINT32_MAX, c.queue_jitter_us)) return false;
+  if (!(s = take("--jitter-us", 0, UINT32_MAX, c.queue_jitter_us))) return s;
   c.queue_jitter_us = static_cast<uint32_t>(v);
   *cfg = c;
-  return true;
+  return Status::ok();
 }
 
 std::string line_status_text(timing::LineStatus status) {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "host/status.h"
 #include "report.h"
 #include "timing/can_bits.h"
 #include "timing/line_config.h"
@@ -26,23 +27,23 @@ struct Options {
   const std::string& get(const std::string& name) const { return values.at(name); }
 };
 
-/// Parses argv[2..] for `command` (named by argv[1]). False with `error` set
-/// on an unknown option, a missing value or a repeated option.
-bool parse_options(int argc, char** argv, Options& out, std::string& error);
+/// Parses argv[2..] for `command` (named by argv[1]). Fails on an unknown
+/// option, a missing value or a repeated option.
+Status parse_options(int argc, char** argv, Options& out);
 
 /// An unsigned option within [min, max]; `fallback` when absent. Accepts a
 /// k/M suffix when `scaled` (125k, 1M).
-bool uint_option(const Options& o, const std::string& name, uint64_t min, uint64_t max, uint64_t fallback,
-                 bool scaled, uint64_t* value, std::string& error);
+Status uint_option(const Options& o, const std::string& name, uint64_t min, uint64_t max, uint64_t fallback,
+                   bool scaled, uint64_t* value);
 
-bool format_option(const Options& o, Format* format, std::string& error);
-bool frame_bits_option(const Options& o, timing::WorstCase* convention, std::string& error);
+Status format_option(const Options& o, Format* format);
+Status frame_bits_option(const Options& o, timing::WorstCase* convention);
 /// "course" or "davis".
 const char* frame_bits_name(timing::WorstCase convention);
 
 /// The line configuration from --line N and the line options (defaults of
 /// LineCanConfig otherwise); --bitrate sets its bit rate.
-bool line_config_option(const Options& o, timing::LineCanConfig* cfg, std::string& error);
+Status line_config_option(const Options& o, timing::LineCanConfig* cfg);
 
 /// Human-readable reason for a LineStatus.
 std::string line_status_text(timing::LineStatus status);

@@ -86,7 +86,14 @@ void print_table(const Report& r, std::ostream& out) {
     for (size_t c = 0; c < width.size(); ++c) {
       const std::string t = text_of(c);
       const std::string pad(width[c] - t.size(), ' ');
-      s += c == 0 ? t + pad : "  " + pad + t;  // first column left, others right
+      if (c == 0) {  // first column left, others right
+        s += t;
+        s += pad;
+      } else {
+        s += "  ";
+        s += pad;
+        s += t;
+      }
     }
     while (!s.empty() && s.back() == ' ') s.pop_back();
     out << s << '\n';

@@ -21,9 +21,11 @@ struct Analysed {
   Format format = Format::kTable;
 };
 
-bool prepare(const Options& o, Analysed& a, std::string& error) {
-  return frame_bits_option(o, &a.convention, error) && format_option(o, &a.format, error) &&
-         message_set_option(o, a.set, &a.bitrate, error);
+Status prepare(const Options& o, Analysed& a) {
+  Status s = frame_bits_option(o, &a.convention);
+  if (s) s = format_option(o, &a.format);
+  if (s) s = message_set_option(o, a.set, &a.bitrate);
+  return s;
 }
 
 Cell time_cell(bool valid, uint64_t ticks, uint32_t bitrate) {
@@ -44,9 +46,10 @@ Cell reason_cell(timing::Bound b) {
 
 }  // namespace
 
-int load_command(const Options& o, std::ostream& out, std::string& error) {
+Status load_command(const Options& o, std::ostream& out) {
   Analysed a;
-  if (!prepare(o, a, error)) return 1;
+  Status s = prepare(o, a);
+  if (!s) return s;
   Report r;
   r.rows_key = "messages";
   r.columns = {"name", "id", "bits", "period_us", "load_bps"};
@@ -66,7 +69,7 @@ int load_command(const Options& o, std::ostream& out, std::string& error) {
               {"fits", Cell::boolean(u.below_one())}};
   if (o.has("--window-us")) {
     uint64_t window = 0;
-    if (!uint_option(o, "--window-us", 1, UINT32_MAX, 0, false, &window, error)) return 1;
+    if (!(s = uint_option(o, "--window-us", 1, UINT32_MAX, 0, false, &window))) return s;
     const uint32_t w = static_cast<uint32_t>(window);
     const uint64_t bits = timing::window_bits(a.set.data(), a.set.size(), w, a.bitrate, a.convention);
     const uint64_t capacity = timing::window_capacity_bits(w, a.bitrate);
@@ -76,15 +79,15 @@ int load_command(const Options& o, std::ostream& out, std::string& error) {
     r.totals.push_back({"window_fits", Cell::boolean(bits <= capacity)});
   }
   print_report(r, a.format, out);
-  return 0;
+  return Status::ok();
 }
 
-int rta_command(const Options& o, std::ostream& out, std::string& error) {
+Status rta_command(const Options& o, std::ostream& out, bool* deadline_missed) {
   Analysed a;
-  if (!prepare(o, a, error)) return 1;
+  Status s = prepare(o, a);
+  if (!s) return s;
   if (o.has("--svg") != o.has("--message")) {
-    error = "options --svg FILE and --message NAME go together";
-    return 1;
+    return Status::failure("options --svg FILE and --message NAME go together");
   }
   const size_t n = a.set.size();
   std::vector<timing::RtaMessage> rta(n);
@@ -92,8 +95,8 @@ int rta_command(const Options& o, std::ostream& out, std::string& error) {
   size_t bad = 0;
   if (timing::analyse_set(a.set.data(), n, a.bitrate, a.convention, rta.data(), results.data(), &bad) !=
       timing::RtaStatus::kOk) {
-    error = std::string("message \"") + a.set[bad].name + "\" is out of range for the analysis";
-    return 1;
+    return Status::failure(std::string("message \"") + a.set[bad].name +
+                           "\" is out of range for the analysis");
   }
 
   Report r;
@@ -143,22 +146,20 @@ int rta_command(const Options& o, std::ostream& out, std::string& error) {
       if (o.get("--message") == a.set[i].name) target = i;
     }
     if (target == n) {
-      error = "option --message: no message named \"" + o.get("--message") + "\"";
-      return 1;
+      return Status::failure("option --message: no message named \"" + o.get("--message") + "\"");
     }
     if (results[target].revised != timing::Bound::kBounded) {
-      error = "message \"" + o.get("--message") + "\" has no bounded busy period to draw";
-      return 1;
+      return Status::failure("message \"" + o.get("--message") + "\" has no bounded busy period to draw");
     }
     std::ofstream svg(o.get("--svg"), std::ios::binary | std::ios::trunc);
     svg << busy_period_svg(a.set, rta, target, results[target], a.bitrate);
     if (!svg.flush()) {
-      error = o.get("--svg") + ": cannot write";
-      return 1;
+      return Status::failure(o.get("--svg") + ": cannot write");
     }
   }
   print_report(r, a.format, out);
-  return o.has("--check") && !all_ok ? 3 : 0;
+  *deadline_missed = o.has("--check") && !all_ok;
+  return Status::ok();
 }
 
 }  // namespace timing_cli

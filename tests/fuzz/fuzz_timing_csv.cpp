@@ -21,8 +21,9 @@ using namespace mb2co;
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   std::vector<timing::MessageSpec> set;
-  std::string error;
-  if (!timing_cli::parse_message_csv(text, "fuzz.csv", set, error)) {
+  const Status status = timing_cli::parse_message_csv(text, "fuzz.csv", set);
+  const std::string& error = status.message();
+  if (!status) {
     fuzz::require(error.rfind("fuzz.csv:", 0) == 0, "an error that does not name the source");
     fuzz::require(error.find('\n') == std::string::npos, "an error of more than one line");
     return 0;

@@ -32,8 +32,11 @@ TEST(MasterNetwork, WatchFollowsNmtCommandsBootUpLossAndEmcy) {
   NodeProcess node;
   ASSERT_TRUE(start_node(&node, &dir)) << node.error();
   EXPECT_TRUE(watch_says(watch, "node 3 boot-up"));
-  // Self-starting (2000h/8 = 1): its heartbeats say operational.
+  // Self-starting (2000h/8 = 1): its heartbeats say operational; the watch
+  // then reads its TPDO mappings and decodes TPDO1 (RUN state 2100h/2,
+  // STOP2 counter 2100h/3).
   EXPECT_TRUE(watch_says(watch, "node 3 state boot-up -> operational"));
+  EXPECT_TRUE(watch_says(watch, "node 3 TPDO1 2100h/2=0x0 2100h/3=0x0"));
 
   struct Step {
     const char* command;
@@ -55,6 +58,23 @@ TEST(MasterNetwork, WatchFollowsNmtCommandsBootUpLossAndEmcy) {
   // Monitoring starts again with the first heartbeat after the boot-up.
   EXPECT_TRUE(watch_says(watch, "node 3 state boot-up -> operational"));
 
+  // TPDO1 remapped in pre-operational the CiA 301 way (invalid, count 0,
+  // entries, count, valid): once operational again the watch reads the new
+  // mapping and decodes by it.
+  const std::vector<std::vector<std::string>> remap = {{"nmt", "preop", "3"},
+                                                       {"write", "3", "1800", "1", "u32", "0x80000183"},
+                                                       {"write", "3", "1A00", "0", "u8", "0"},
+                                                       {"write", "3", "1A00", "1", "u32", "0x21000308"},
+                                                       {"write", "3", "1A00", "0", "u8", "1"},
+                                                       {"write", "3", "1800", "1", "u32", "0x183"},
+                                                       {"nmt", "start", "3"}};
+  for (const auto& args : remap) {
+    const MasterRun run = run_master(args);
+    EXPECT_EQ(run.exit_code, 0) << args[0] << " " << args.back() << ": " << run.err;
+  }
+  EXPECT_TRUE(watch_says(watch, "node 3 state pre-operational -> operational"));
+  EXPECT_TRUE(watch_says(watch, "node 3 TPDO1 2100h/3=0x0"));
+
   // An RPDO shorter than its mapping (RPDO1 = TPDO1 of station 2, 3 bytes):
   // the node answers with EMCY 8210h, decoded by the watch.
   LineChild send;
@@ -74,6 +94,28 @@ TEST(MasterNetwork, WatchFollowsNmtCommandsBootUpLossAndEmcy) {
 
   ASSERT_TRUE(watch.signal(SIGINT));
   EXPECT_EQ(watch.wait_exit(kVcanDeadline), 0) << "watch ends cleanly on SIGINT";
+}
+
+TEST(MasterNetwork, GuardingWatchSeesTheNodeAnswerAndLosesItWhenKilled) {
+  TempDir dir;
+  NodeProcess node;
+  ASSERT_TRUE(start_node(&node, &dir)) << node.error();
+  // The node is switched from heartbeat to guarding (CiA 301: guarding only
+  // with 1017h = 0): guard time 100 ms, life time factor 3.
+  for (const auto& args : std::vector<std::vector<std::string>>{{"write", "3", "1017", "0", "u16", "0"},
+                                                                {"write", "3", "100C", "0", "u16", "100"},
+                                                                {"write", "3", "100D", "0", "u8", "3"}}) {
+    const MasterRun run = run_master(args);
+    ASSERT_EQ(run.exit_code, 0) << args[1] << ": " << run.err;
+  }
+  LineChild watch;
+  ASSERT_TRUE(start_master(&watch, {"watch", "--nodes", "3", "--guard", "100", "--life", "3", "--raw"}));
+  ASSERT_TRUE(watch_says(watch, "watching vcan0: 1 node ids, guarding every 100 ms, life time factor 3"));
+  EXPECT_TRUE(watch_says(watch, "node 3 state unknown -> operational")) << "the first guarding answer";
+  ASSERT_TRUE(node.child.signal(SIGKILL));
+  EXPECT_TRUE(watch_says(watch, "node 3 lost"));
+  ASSERT_TRUE(watch.signal(SIGINT));
+  EXPECT_EQ(watch.wait_exit(kVcanDeadline), 0);
 }
 
 TEST(MasterNetwork, SyncSendsTheCounterOfItsOverflowAtItsPeriod) {

@@ -119,6 +119,10 @@ TEST_F(MasterTransfers, RefusalsAndSilenceGiveTheAbortCodeAndTheirExitCode) {
        "node 1 1018h/9: SDO abort 06090011h (sub-index does not exist)"},
       {{"write", "3", "1008", "0", "vs", "renamed"}, 1, "06010002h (attempt to write a read only object)"},
       {{"write", "2", "2000", "6", "u8", "1"}, 1, "06070013h"},
+      {{"read", "2", "2000", "6", "u8"}, 1, "node 2 2000h/6: 2 bytes, not a UNSIGNED8 (1 bytes)"},
+      {{"upload", "2", "1008", "0", "/nonexistent/dir/file"},
+       2,
+       "upload: cannot write /nonexistent/dir/file.part"},
       // Block transfer is not in the Uno image (its EDS says so): refused.
       {{"upload", "1", "1008", "0", "/dev/null", "--block"}, 1, "05040001h"},
       {{"-t", "200", "read", "9", "1000", "0", "u32"},

@@ -11,12 +11,30 @@
 #include "port_finder.h"
 #include "status_view.h"
 
+using mb2co::Status;
 using namespace mb2co::pcapp;
 
 namespace {
+// What the command line comes to: run, print `msg` and exit 0, or fail with `msg`.
+enum class ParseOutcome { run, exit_ok, error };
+
 ParseOutcome parse(QStringList args, AppOptions& o, QString& msg) {
   args.prepend("mb2co-plant");
-  return parse_options(args, o, msg);
+  const Status status = parse_options(args, o);
+  if (!status) {
+    msg = QString::fromStdString(status.message());
+    return ParseOutcome::error;
+  }
+  msg = o.exit_text;
+  return o.exit_text.isEmpty() ? ParseOutcome::run : ParseOutcome::exit_ok;
+}
+
+// The picked port, or "" with the reason in `error`.
+QString pick_arduino(const std::vector<PortInfo>& ports, QString& error) {
+  QString path;
+  const Status status = mb2co::pcapp::pick_arduino(ports, &path);
+  if (!status) error = QString::fromStdString(status.message());
+  return path;
 }
 }  // namespace
 
@@ -129,8 +147,8 @@ TEST(CycleLog, FileByExtension) {
   const std::string path = ::testing::TempDir() + "pcapp_log_test.jsonl";
   {
     CycleLog log;
-    std::string error;
-    ASSERT_TRUE(log.open(path, {"a"}, error)) << error;
+    const Status opened = log.open(path, {"a"});
+    ASSERT_TRUE(opened) << opened.message();
     log.write({{1, nullptr}});
     log.write({{2, nullptr}});
   }
@@ -138,11 +156,13 @@ TEST(CycleLog, FileByExtension) {
   std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_EQ(all, "{\"a\":1}\n{\"a\":2}\n");
   CycleLog log;
-  std::string error;
-  EXPECT_FALSE(log.open(::testing::TempDir() + "x.txt", {"a"}, error));
-  EXPECT_EQ(error, "--log " + ::testing::TempDir() + "x.txt: want a name ending in .csv or .jsonl");
-  EXPECT_FALSE(log.open("/nonexistent-dir/x.csv", {"a"}, error));
-  EXPECT_EQ(error, "--log /nonexistent-dir/x.csv: No such file or directory");
+  Status status = log.open(::testing::TempDir() + "x.txt", {"a"});
+  EXPECT_FALSE(status);
+  EXPECT_EQ(status.message(),
+            "--log " + ::testing::TempDir() + "x.txt: want a name ending in .csv or .jsonl");
+  status = log.open("/nonexistent-dir/x.csv", {"a"});
+  EXPECT_FALSE(status);
+  EXPECT_EQ(status.message(), "--log /nonexistent-dir/x.csv: No such file or directory");
 }
 
 TEST(StatusView, PlainLinesOrOneLiveLine) {

@@ -7,29 +7,37 @@
 #include <QElapsedTimer>
 
 #include "modbus_link.h"
-#include "node_process.h"
+#include "node_harness.h"
 #include "signal_pipe.h"
 
+using mb2co::Status;
 using namespace mb2co::pcapp;
 
 namespace {
 struct LinkTest : ::testing::Test {
-  NodeProcess node;
+  mb2co::test::TempDir dir;
+  mb2co::test::NodeProcess node;  // mb2co-node --can none on a pty in `dir`
   ModbusLink link;
   RegisterLayout layout = default_layout();
   TransactionPlan plan;
   RegisterImage in, out;
-  std::string error;
+  std::string error;  ///< why the last transaction passed to outcome() failed
+
+  LinkStatus outcome(const LinkResult& result) {
+    error = result.status.message();
+    return result.outcome;
+  }
 
   void SetUp() override {
-    ASSERT_TRUE(node.ready());
+    ASSERT_TRUE(node.start({"--can", "none", "--pty", dir.path("tty")})) << node.error();
     LinkSettings s;
-    s.path = node.tty();
+    s.path = dir.path("tty");
     s.timeout_ms = 500;  // generous: a loaded test machine must not fail the link
     s.retries = 2;
-    ASSERT_TRUE(link.open(s, error)) << error;
-    ASSERT_TRUE(plan_transactions(layout, {Field::run_state, Field::nmt_state}, {}, {Field::run_command},
-                                  plan, error));
+    const Status opened = link.open(s);
+    ASSERT_TRUE(opened) << opened.message();
+    ASSERT_TRUE(
+        plan_transactions(layout, {Field::run_state, Field::nmt_state}, {}, {Field::run_command}, plan));
     in.resize(plan);
     out.resize(plan);
   }
@@ -38,18 +46,18 @@ struct LinkTest : ::testing::Test {
 
 TEST_F(LinkTest, IdentifiesTheGateway) {
   std::string id;
-  ASSERT_EQ(link.identify(id, error), LinkStatus::ok) << error;
+  ASSERT_EQ(outcome(link.identify(id)), LinkStatus::ok) << error;
   EXPECT_EQ(id, "mb2co mb2co gateway 0.1.0");
 }
 
 TEST_F(LinkTest, WriteThenReadTheFirmwareRunState) {
-  ASSERT_EQ(link.read(plan, out, in, error), LinkStatus::ok) << error;
+  ASSERT_EQ(outcome(link.read(plan, out, in)), LinkStatus::ok) << error;
   EXPECT_EQ(in.get(layout, Field::run_state), 0u);
   const uint32_t nmt = in.get(layout, Field::nmt_state);
   EXPECT_TRUE(nmt == 127 || nmt == 5) << nmt;  // pre-operational, operational by itself soon (2000h/8)
   out.put(layout, Field::run_command, 1);
-  ASSERT_EQ(link.write(plan, out, error), LinkStatus::ok) << error;
-  ASSERT_EQ(link.read(plan, out, in, error), LinkStatus::ok) << error;
+  ASSERT_EQ(outcome(link.write(plan, out)), LinkStatus::ok) << error;
+  ASSERT_EQ(outcome(link.read(plan, out, in)), LinkStatus::ok) << error;
   EXPECT_EQ(in.get(layout, Field::run_state), 1u);
 }
 
@@ -59,29 +67,29 @@ TEST_F(LinkTest, ReadWriteInOneTransaction) {
   rw.reads = {Block{RegTable::holding, 0, 2}};
   rw.writes = {Block{RegTable::holding, 0, 1}};
   out.put(layout, Field::run_command, 1);
-  ASSERT_EQ(link.read(rw, out, in, error), LinkStatus::ok) << error;
+  ASSERT_EQ(outcome(link.read(rw, out, in)), LinkStatus::ok) << error;
   EXPECT_EQ(in.regs[0][0], 1);  // FC 17h writes before it reads
   out.put(layout, Field::run_command, 0);
-  ASSERT_EQ(link.read(rw, out, in, error), LinkStatus::ok) << error;
+  ASSERT_EQ(outcome(link.read(rw, out, in)), LinkStatus::ok) << error;
   EXPECT_EQ(in.regs[0][0], 0);
 }
 
 TEST_F(LinkTest, RefusedValueIsAnExceptionNotALostLink) {
   out.put(layout, Field::run_command, 2);  // 2100h/1 accepts 0..1
-  EXPECT_EQ(link.write(plan, out, error), LinkStatus::exception);
+  EXPECT_EQ(outcome(link.write(plan, out)), LinkStatus::exception);
   EXPECT_NE(error.find("FC 06"), std::string::npos);
   out.put(layout, Field::run_command, 0);
-  EXPECT_EQ(link.write(plan, out, error), LinkStatus::ok) << error;
+  EXPECT_EQ(outcome(link.write(plan, out)), LinkStatus::ok) << error;
 }
 
 TEST_F(LinkTest, DeadGatewayIsALostLinkWithinTheRetries) {
-  node.kill(SIGKILL);
+  node.stop(SIGKILL);
   QElapsedTimer t;
   t.start();
-  EXPECT_EQ(link.read(plan, out, in, error), LinkStatus::failed);
+  EXPECT_EQ(outcome(link.read(plan, out, in)), LinkStatus::failed);
   EXPECT_LE(t.elapsed(), 3 * 500 + 500);  // (retries + 1) x timeout, plus slack
   std::string id;
-  EXPECT_EQ(link.identify(id, error), LinkStatus::failed);
+  EXPECT_EQ(outcome(link.identify(id)), LinkStatus::failed);
 }
 
 TEST(SignalPipe, SignalArrivesInTheEventLoop) {

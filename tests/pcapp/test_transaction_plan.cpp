@@ -5,6 +5,7 @@
 #include "timing/rtu_timing.h"
 #include "transaction_plan.h"
 
+using mb2co::Status;
 using namespace mb2co::pcapp;
 
 namespace {
@@ -30,9 +31,8 @@ uint32_t map(uint16_t index, uint8_t sub, uint8_t bits) {
 
 TEST(TransactionPlan, DefaultMapStationIsOneInputReadAndOneWrite) {
   TransactionPlan p;
-  std::string error;
   ASSERT_TRUE(
-      plan_transactions(default_layout(), kStationReads, {Field::nmt_state}, {Field::run_command}, p, error));
+      plan_transactions(default_layout(), kStationReads, {Field::nmt_state}, {Field::run_command}, p));
   EXPECT_FALSE(p.read_write);  // the inputs are input registers: FC 17h cannot read them
   EXPECT_EQ(describe(p), "FC 04 IR 0-22 + FC 06 HR 0");
   EXPECT_EQ(transaction_count(p), 2u);
@@ -40,17 +40,15 @@ TEST(TransactionPlan, DefaultMapStationIsOneInputReadAndOneWrite) {
 
 TEST(TransactionPlan, LatencyReadsOnlyUpToTheLedStamp) {
   TransactionPlan p;
-  std::string error;
   ASSERT_TRUE(plan_transactions(default_layout(), {Field::inputs, Field::edge_us, Field::led_us, Field::leds},
-                                {}, {Field::lab_led}, p, error));
+                                {}, {Field::lab_led}, p));
   EXPECT_EQ(describe(p), "FC 04 IR 0-15 + FC 06 HR 1");
 }
 
 TEST(TransactionPlan, WireTimeIsTheSumOfTheFramesAndSilences) {
   TransactionPlan p;
-  std::string error;
   ASSERT_TRUE(
-      plan_transactions(default_layout(), kStationReads, {Field::nmt_state}, {Field::run_command}, p, error));
+      plan_transactions(default_layout(), kStationReads, {Field::nmt_state}, {Field::run_command}, p));
   mb2co::timing::SerialFormat f;
   f.parity = mb2co::timing::Parity::kNone;  // 8N1: 10 bits a character
   // FC 04 of 23 registers: 8 + 51 bytes; FC 06: 8 + 8 bytes; 75 characters.
@@ -68,8 +66,8 @@ TEST(TransactionPlan, ReadWriteWhenTheHoldingMapHoldsEverything) {
       map(0x2110, 1, 8), map(0x2110, 2, 16), map(0x2110, 3, 8), map(0x2120, 1, 8),  map(0x2120, 3, 8)};
   const RegisterLayout l = layout_with_holding_map(entries);
   TransactionPlan p;
-  std::string error;
-  ASSERT_TRUE(plan_transactions(l, kStationReads, {}, {Field::run_command}, p, error)) << error;
+  const Status status = plan_transactions(l, kStationReads, {}, {Field::run_command}, p);
+  ASSERT_TRUE(status) << status.message();
   EXPECT_TRUE(p.read_write);
   EXPECT_EQ(describe(p), "FC 17 write HR 0 read HR 1-9");
   EXPECT_EQ(transaction_count(p), 1u);
@@ -79,8 +77,7 @@ TEST(TransactionPlan, UnmappedHoleSplitsTheRead) {
   std::vector<uint32_t> entries = {map(0x2100, 1, 8), map(0x6000, 1, 8), 0, map(0x2100, 2, 8)};
   const RegisterLayout l = layout_with_holding_map(entries);
   TransactionPlan p;
-  std::string error;
-  ASSERT_TRUE(plan_transactions(l, {Field::inputs, Field::run_state}, {}, {Field::run_command}, p, error));
+  ASSERT_TRUE(plan_transactions(l, {Field::inputs, Field::run_state}, {}, {Field::run_command}, p));
   EXPECT_FALSE(p.read_write);
   EXPECT_EQ(describe(p), "FC 03 HR 1 + FC 03 HR 3 + FC 06 HR 0");
 }
@@ -90,14 +87,14 @@ TEST(TransactionPlan, MissingRequiredFieldIsAnError) {
   RegisterLayout l = layout_with_holding_map(entries);
   l.at[static_cast<int>(Field::inputs)] = Location{};
   TransactionPlan p;
-  std::string error;
-  EXPECT_FALSE(plan_transactions(l, {Field::inputs}, {}, {Field::run_command}, p, error));
-  EXPECT_EQ(error, "the gateway's register map has no inputs (6000h/01)");
+  const Status status = plan_transactions(l, {Field::inputs}, {}, {Field::run_command}, p);
+  EXPECT_FALSE(status);
+  EXPECT_EQ(status.message(), "the gateway's register map has no inputs (6000h/01)");
 }
 
 TEST(TransactionPlan, WriteToAnInputRegisterIsRefused) {
   TransactionPlan p;
-  std::string error;
-  EXPECT_FALSE(plan_transactions(default_layout(), {Field::inputs}, {}, {Field::run_state}, p, error));
-  EXPECT_NE(error.find("no writable holding register for run_state"), std::string::npos);
+  const Status status = plan_transactions(default_layout(), {Field::inputs}, {}, {Field::run_state}, p);
+  EXPECT_FALSE(status);
+  EXPECT_NE(status.message().find("no writable holding register for run_state"), std::string::npos);
 }

@@ -21,9 +21,9 @@ struct Set1000 {
 
   Set1000() {
     std::vector<timing::MessageSpec> specs;
-    std::string error;
-    if (!timing_cli::read_message_csv(MB2CO_TIMING_DATA "/rta_1000.csv", specs, error)) {
-      std::fprintf(stderr, "%s\n", error.c_str());
+    const Status status = timing_cli::read_message_csv(MB2CO_TIMING_DATA "/rta_1000.csv", specs);
+    if (!status) {
+      std::fprintf(stderr, "%s\n", status.message().c_str());
       std::exit(1);
     }
     timing::sort_by_priority(specs.data(), specs.size());

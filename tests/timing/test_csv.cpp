@@ -15,9 +15,9 @@ using timing::MessageSpec;
 
 std::string parse_error(const std::string& text) {
   std::vector<MessageSpec> set;
-  std::string error;
-  EXPECT_FALSE(parse_message_csv(text, "set.csv", set, error));
-  return error;
+  const Status status = parse_message_csv(text, "set.csv", set);
+  EXPECT_FALSE(status);
+  return status.message();
 }
 
 TEST(Csv, ReadsColumnsInAnyOrderWithDefaults) {
@@ -28,8 +28,8 @@ TEST(Csv, ReadsColumnsInAnyOrderWithDefaults) {
       "10000,TPDO1,0x181,2,0\n"
       "20000,Ext,0x1ABCDEF,8,1\n";
   std::vector<MessageSpec> set;
-  std::string error;
-  ASSERT_TRUE(parse_message_csv(text, "set.csv", set, error)) << error;
+  const Status status = parse_message_csv(text, "set.csv", set);
+  ASSERT_TRUE(status) << status.message();
   ASSERT_EQ(set.size(), 2u);
   EXPECT_STREQ(set[0].name, "TPDO1");
   EXPECT_EQ(set[0].id, 0x181u);
@@ -42,12 +42,11 @@ TEST(Csv, ReadsColumnsInAnyOrderWithDefaults) {
 
 TEST(Csv, OptionalColumnsMayBeEmpty) {
   std::vector<MessageSpec> set;
-  std::string error;
-  ASSERT_TRUE(
-      parse_message_csv("name,id,ext,dlc,period_us,deadline_us,jitter_us,c_us,bits\n"
-                        "A,1,0,0,100,,,,\nB,2,0,0,100,90,5,7,\nC,3,0,0,100,,,,60\n",
-                        "set.csv", set, error))
-      << error;
+  const Status status = parse_message_csv(
+      "name,id,ext,dlc,period_us,deadline_us,jitter_us,c_us,bits\n"
+      "A,1,0,0,100,,,,\nB,2,0,0,100,90,5,7,\nC,3,0,0,100,,,,60\n",
+      "set.csv", set);
+  ASSERT_TRUE(status) << status.message();
   EXPECT_EQ(set[0].deadline_us, 100u);
   EXPECT_EQ(set[1].deadline_us, 90u);
   EXPECT_EQ(set[1].jitter_us, 5u);
@@ -93,23 +92,23 @@ TEST(Csv, ExtendedIdsBeyond29BitsAndHugeNumbersAreRejected) {
 
 TEST(Csv, MissingFileIsOneLine) {
   std::vector<MessageSpec> set;
-  std::string error;
-  EXPECT_FALSE(read_message_csv("/nonexistent/set.csv", set, error));
-  EXPECT_EQ(error, "/nonexistent/set.csv: cannot open: No such file or directory");
-  EXPECT_FALSE(read_message_csv("/tmp", set, error));
-  EXPECT_EQ(error, "/tmp: is a directory, not a CSV file");
+  Status status = read_message_csv("/nonexistent/set.csv", set);
+  EXPECT_FALSE(status);
+  EXPECT_EQ(status.message(), "/nonexistent/set.csv: cannot open: No such file or directory");
+  status = read_message_csv("/tmp", set);
+  EXPECT_FALSE(status);
+  EXPECT_EQ(status.message(), "/tmp: is a directory, not a CSV file");
 }
 
 // Times as exact decimals: "1040.0" is 1040 µs; c_us keeps up to three
 // decimals (ns); a fraction the column cannot hold is refused, not rounded.
 TEST(Csv, TimesAreExactDecimals) {
   std::vector<MessageSpec> set;
-  std::string error;
-  ASSERT_TRUE(
-      parse_message_csv("name,id,ext,dlc,period_us,deadline_us,jitter_us,c_us\n"
-                        "A,1,0,8,10000.0,9000.000,5.0,1040.0\nB,2,0,8,10000,10000,0,1040.125\n",
-                        "set.csv", set, error))
-      << error;
+  const Status status = parse_message_csv(
+      "name,id,ext,dlc,period_us,deadline_us,jitter_us,c_us\n"
+      "A,1,0,8,10000.0,9000.000,5.0,1040.0\nB,2,0,8,10000,10000,0,1040.125\n",
+      "set.csv", set);
+  ASSERT_TRUE(status) << status.message();
   EXPECT_EQ(set[0].period_us, 10000u);
   EXPECT_EQ(set[0].deadline_us, 9000u);
   EXPECT_EQ(set[0].jitter_us, 5u);
@@ -128,10 +127,9 @@ TEST(Csv, TimesAreExactDecimals) {
 // is not UTF-8 is an error at its column (names reach JSON output intact).
 TEST(Csv, TextIsUtf8WithoutNul) {
   std::vector<MessageSpec> set;
-  std::string error;
-  ASSERT_TRUE(parse_message_csv("\xEF\xBB\xBFname,id,ext,dlc,period_us\nPDO \xC2\xB5s,1,0,8,100\n", "set.csv",
-                                set, error))
-      << error;
+  const Status status =
+      parse_message_csv("\xEF\xBB\xBFname,id,ext,dlc,period_us\nPDO \xC2\xB5s,1,0,8,100\n", "set.csv", set);
+  ASSERT_TRUE(status) << status.message();
   EXPECT_STREQ(set[0].name, "PDO \xC2\xB5s");
   const std::string header = "name,id,ext,dlc,period_us\n";
   EXPECT_EQ(parse_error(header + "A\xFF"

@@ -13,8 +13,8 @@ namespace {
 
 TEST(UnoRig, EchoImageAnswersAFrameWithinMicroseconds) {
   UnoRig rig;
-  std::string error;
-  ASSERT_TRUE(rig.load(MB2CO_UNO_ECHO_ELF, &error)) << error;
+  const Status loaded = rig.load(MB2CO_UNO_ECHO_ELF);
+  ASSERT_TRUE(loaded) << loaded.message();
   ASSERT_TRUE(rig.run_until_us(300000));  // set-up: chip reset, 500 kbit/s, normal mode
   ASSERT_EQ(rig.take_can_out().size(), 0u);
   CanFrame in{};

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "status.h"
+#include "host/status.h"
 
 namespace mb2co {
 namespace node {

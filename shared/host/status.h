@@ -1,5 +1,7 @@
-// The one result type of the Linux ports (serial, SocketCAN, mb2co-node's
-// options): done, or failed with one line saying why. A value, not a member
+// The one result type of host code outside the core: the Linux ports
+// (serial, SocketCAN, mb2co-node's options), pcapp/ and hil/: done, or failed
+// with one line saying why. Host-only (std::string): the portable core reports
+// with canopen::SdoAbort instead. A value, not a member
 // holding the last error, so a caller cannot read a reason that belongs to an
 // earlier call, and a free function reports the same way an object does.
 // Failures of the hot path (each frame sent or received) are not Statuses but

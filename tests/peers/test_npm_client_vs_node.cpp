@@ -188,7 +188,8 @@ TEST_F(NpmClientVsNode, BlockTransfers) {
       written[key] = content;
     } else {
       ASSERT_EQ(written.count(key), 1u) << "an upload case without an earlier download";
-      EXPECT_TRUE(read_file(file) == written[key]) << "the upload returned other bytes than the download wrote";
+      EXPECT_TRUE(read_file(file) == written[key])
+          << "the upload returned other bytes than the download wrote";
     }
   }
 }
@@ -215,9 +216,11 @@ TEST_F(NpmClientVsNode, SegmentedDownloadOf64KiBIsReadBackSegmented) {
   ASSERT_EQ(r.exit_code, 0) << r.describe();
   EXPECT_EQ(r.field("transfer"), "segmented") << r.describe();
   EXPECT_EQ(r.field("bytes"), std::to_string(bytes)) << r.describe();
-  EXPECT_TRUE(read_file(back) == content) << "the segmented upload returned other bytes than the download wrote";
-  std::cout << "npm client segmented download/upload of " << bytes << " bytes with mb2co-node: "
-            << w.field("bytes_per_s") << " / " << r.field("bytes_per_s") << " bytes/s\n";
+  EXPECT_TRUE(read_file(back) == content)
+      << "the segmented upload returned other bytes than the download wrote";
+  std::cout << "npm client segmented download/upload of " << bytes
+            << " bytes with mb2co-node: " << w.field("bytes_per_s") << " / " << r.field("bytes_per_s")
+            << " bytes/s\n";
 }
 
 }  // namespace

@@ -70,6 +70,12 @@ tx_frames() {
   awk '/transmitted frames/ { print $1; exit }' /proc/net/can/stats
 }
 
+failed() {
+  echo "bench_upload: $1 failed:" >&2
+  cat "$work/up.out" "$work/up.err" "$work/time.txt" >&2
+  exit 1
+}
+
 rows=()
 # row WHO MODE BYTES RATE WALL CPU FRAMES
 row() {
@@ -90,10 +96,11 @@ for size in $sizes; do
     rm -f "$work/up.bin"
     tx0=$(tx_frames)
     /usr/bin/time -f '%e %U %S' -o "$work/time.txt" \
-      "$master" -i vcan0 -t 5000 upload "$node_id" 1F50 1 "$work/up.bin" "--$mode" >"$work/up.out"
+      "$master" -i vcan0 -t 5000 upload "$node_id" 1F50 1 "$work/up.bin" "--$mode" >"$work/up.out" 2>"$work/up.err" ||
+      failed "mb2co-master $mode upload"
     frames=$(($(tx_frames) - tx0))
     cmp -s "$work/in.bin" "$work/up.bin" || { echo "bench_upload: mb2co-master $mode upload differs" >&2; exit 1; }
-    read -r wall user sys <"$work/time.txt"
+    read -r wall user sys <<<"$(tail -n 1 "$work/time.txt")"
     secs=$(sed -n 's/.* in \([0-9.]*\) s .*/\1/p' "$work/up.out")
     rate=$(awk -v b="$size" -v s="$secs" 'BEGIN { printf "%.0f", b / s }')
     cpu=$(awk -v u="$user" -v s="$sys" 'BEGIN { printf "%.2f", u + s }')
@@ -105,15 +112,33 @@ for size in $sizes; do
       rm -f "$work/up.bin"
       flag=()
       [ "$mode" = block ] && flag=(--block)
+      # Who ends a transfer with an abort (80h): a witness, not a counter
+      # (see tx_frames); Node.js's 1-3 s start gives it time to listen.
+      candump -L "vcan0,$(printf '%X' $((0x600 + node_id))):7FF,$(printf '%X' $((0x580 + node_id))):7FF" \
+        >"$work/npm_dump.txt" &
+      dump_pid=$!
       tx0=$(tx_frames)
+      status=0
       /usr/bin/time -f '%e %U %S' -o "$work/time.txt" \
         node "$peer" --can vcan0 client upload --node "$node_id" --index 0x1F50 --sub 1 "${flag[@]}" \
-        --file "$work/up.bin" --timeout 5000 >"$work/up.out"
+        --file "$work/up.bin" --timeout 5000 >"$work/up.out" 2>"$work/up.err" || status=$?
       frames=$(($(tx_frames) - tx0))
-      cmp -s "$work/in.bin" "$work/up.bin" || { echo "bench_upload: npm $mode upload differs" >&2; exit 1; }
-      read -r wall user sys <"$work/time.txt"
-      rate=$(sed -n 's/.* bytes_per_s=\([0-9]*\).*/\1/p' "$work/up.out")
+      kill -INT "$dump_pid"
+      wait "$dump_pid" || true
+      read -r wall user sys <<<"$(tail -n 1 "$work/time.txt")"
       cpu=$(awk -v u="$user" -v s="$sys" 'BEGIN { printf "%.2f", u + s }')
+      if [ "$status" = 1 ]; then
+        # An SDO abort: a row that says so (the code as the rate), and on.
+        code=$(sed -n 's/.* code=\([0-9A-F]*\).*/\1/p' "$work/up.out")
+        echo "bench_upload: npm $mode upload aborted: $(cat "$work/up.out")" >&2
+        echo "bench_upload: abort frames on the bus (605h: npm's client, 585h: mb2co-node):" >&2
+        grep -E '#80' "$work/npm_dump.txt" >&2 || echo "  (none seen)" >&2
+        row "npm canopen" "$mode" "$size" "abort:$code" "$wall" "$cpu" "$frames"
+        continue
+      fi
+      [ "$status" = 0 ] || failed "npm $mode upload"
+      cmp -s "$work/in.bin" "$work/up.bin" || { echo "bench_upload: npm $mode upload differs" >&2; exit 1; }
+      rate=$(sed -n 's/.* bytes_per_s=\([0-9]*\).*/\1/p' "$work/up.out")
       row "npm canopen" "$mode" "$size" "$rate" "$wall" "$cpu" "$frames"
     done
   fi

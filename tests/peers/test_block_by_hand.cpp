@@ -54,8 +54,8 @@ std::string frame_text(unsigned id, const std::vector<uint8_t>& data) {
 class BlockByHand : public ::testing::Test {
  protected:
   void SetUp() override {
-    ASSERT_TRUE(node_.start({"--can", "vcan0", "--node-id", std::to_string(kNodeId), "--pty", dir_.path("pty")},
-                            kPeerDeadline))
+    ASSERT_TRUE(node_.start(
+        {"--can", "vcan0", "--node-id", std::to_string(kNodeId), "--pty", dir_.path("pty")}, kPeerDeadline))
         << node_.error();
     ASSERT_TRUE(start_candump(&candump_)) << candump_.error();
   }
@@ -165,7 +165,8 @@ TEST_F(BlockByHand, LostSegmentIsResentFromTheAckAndTheBytesArriveWhole) {
 
   // mb2co-master reads the object back: exactly the 25 bytes.
   const std::string file = dir_.path("back.bin");
-  const MasterRun up = run_master({"upload", std::to_string(kNodeId), "1F50", "1", file, "--block"}, kPeerDeadline);
+  const MasterRun up =
+      run_master({"upload", std::to_string(kNodeId), "1F50", "1", file, "--block"}, kPeerDeadline);
   ASSERT_EQ(up.exit_code, 0) << up.text() << up.err;
   EXPECT_TRUE(read_file(file) == content) << "the upload returned other bytes than the hand-written download";
 }
@@ -184,14 +185,16 @@ TEST_F(BlockByHand, WrongCrcIsRefusedWith05040004h) {
   EXPECT_EQ(a[0], 0xA2u);
   EXPECT_EQ(a[1], 1u);
   const uint16_t bad = static_cast<uint16_t>(ccitt_crc16(content) + 1);
-  send({0xD1, static_cast<uint8_t>(bad & 0xFF), static_cast<uint8_t>(bad >> 8), 0, 0, 0, 0, 0});  // C0h|4<<2|1
+  send(
+      {0xD1, static_cast<uint8_t>(bad & 0xFF), static_cast<uint8_t>(bad >> 8), 0, 0, 0, 0, 0});  // C0h|4<<2|1
   // Abort: 80h, index, sub, code 05040004h (CRC error) little-endian.
   a = next_answer();
   ASSERT_EQ(a.size(), 8u);
   EXPECT_EQ(a, (std::vector<unsigned>{0x80, 0x50, 0x1F, 0x01, 0x04, 0x00, 0x04, 0x05}));
   // The object kept its start content (131072 bytes of i mod 251).
   const std::string file = dir_.path("kept.bin");
-  const MasterRun up = run_master({"upload", std::to_string(kNodeId), "1F50", "1", file, "--block"}, kPeerDeadline);
+  const MasterRun up =
+      run_master({"upload", std::to_string(kNodeId), "1F50", "1", file, "--block"}, kPeerDeadline);
   ASSERT_EQ(up.exit_code, 0) << up.text() << up.err;
   const std::vector<uint8_t> kept = read_file(file);
   ASSERT_EQ(kept.size(), 131072u);

@@ -60,8 +60,8 @@ class MasterVsNpmServer : public ::testing::Test {
   /// What the server holds in 1F50h/1, read by npm's own client (block).
   static std::vector<uint8_t> npm_reads_domain() {
     const std::string file = dir_->path("npm_read.bin");
-    const PeerResult r = run_peer_client(
-        {"upload", "--node", kNode, "--index", "0x1F50", "--sub", "1", "--block", "--file", file, "--timeout", "5000"});
+    const PeerResult r = run_peer_client({"upload", "--node", kNode, "--index", "0x1F50", "--sub", "1",
+                                          "--block", "--file", file, "--timeout", "5000"});
     EXPECT_EQ(r.exit_code, 0) << r.describe();
     return read_file(file);
   }
@@ -123,7 +123,7 @@ TEST_F(MasterVsNpmServer, ExpeditedAndSegmentedStrings) {
 
 TEST_F(MasterVsNpmServer, RefusalsCarryNpmsAbortCode) {
   const MasterRun r = master({"read", kNode, "3000", "0", "u32"});
-  EXPECT_EQ(r.exit_code, 1) << describe(r);  // refused (SDO abort)
+  EXPECT_EQ(r.exit_code, 1) << describe(r);                             // refused (SDO abort)
   EXPECT_NE(r.err.find("06020000"), std::string::npos) << describe(r);  // object does not exist
 }
 

@@ -157,7 +157,7 @@ class SdoClient {
   uint16_t index_;
   uint8_t sub_;
   uint8_t block_size_ = kBlockSizeMax;
-  uint8_t pst_;
+  uint8_t pst_ = 0;
   uint8_t toggle_;  ///< 0x00 or 0x10
   uint8_t seg_n_;   ///< data bytes of the download segment awaiting its ack
   State state_;

@@ -4,6 +4,8 @@
 // size or sequence number, a wrong CRC, an unexpected command).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -207,6 +209,23 @@ TEST_F(SdoClientScript, BlockUploadFramesWithALostSegment) {
   EXPECT_EQ(client.transferred(), 15u);
   EXPECT_EQ(Bytes(buf, buf + 15), data);
   EXPECT_EQ(buf[15], 0);  // nothing written past the data (the padding of the last segment)
+}
+
+TEST(SdoClientPst, ADefaultInitialisedClientOffersNoProtocolSwitch) {
+  // mb2co-master holds its clients default-initialised (SdoNetwork's
+  // Node nodes_[128]), not zeroed: pst (byte 5 of the block upload
+  // initiate) must still be 0 unless set_switch_threshold() said otherwise
+  // (CiA 301: pst 0, no change of protocol). npm's canopen server reads
+  // bytes 4..7 as one 32-bit blksize, so a stray pst broke the transfer.
+  alignas(SdoClient) unsigned char storage[sizeof(SdoClient)];
+  std::fill(storage, storage + sizeof storage, 0xFF);  // what a used stack may hold
+  SdoClient* c = new (storage) SdoClient;              // default-initialised, as in SdoNetwork
+  FrameLog log;
+  uint8_t buf[8] = {};
+  c->init(9);
+  ASSERT_TRUE(c->start_upload(0x1018, 1, canopen::kSdoBlock, buf, sizeof buf, 0, log.sink()));
+  EXPECT_EQ(log.take(), Frames{hex_frame(0x609, {0xA4, 0x18, 0x10, 0x01, 127, 0})});
+  c->~SdoClient();
 }
 
 TEST_F(SdoClientScript, BlockUploadWithAWrongCrcOrMoreThanAnnounced) {

@@ -1,9 +1,10 @@
 // NMT commands and SYNC frames, sent by can-utils' cansend, as npm's canopen
 // sees them (ctest peers.npm_listen_nmt_sync, inside run-with-vcan.sh): the
 // listen peer is an NMT slave with node id 9 and a SYNC consumer on 80h.
-// The sender is the part an mb2co NMT master / SYNC producer will replace.
+// The same sequence is then sent by mb2co-master's nmt and sync commands.
 #include <gtest/gtest.h>
 
+#include "master_cli.h"
 #include "npm_peer.h"
 
 namespace mb2co {
@@ -30,6 +31,21 @@ class NpmListen : public ::testing::Test {
     }
   }
 
+  /// mb2co-master ARGS, then the listener's next lines must be exactly `want`.
+  void master_expect(const std::vector<std::string>& args, const std::vector<std::string>& want) {
+    const MasterRun run = run_master(args, kPeerDeadline);
+    ASSERT_EQ(run.exit_code, 0) << run.text() << run.err;
+    expect_lines(args.empty() ? "" : args[0] + " " + (args.size() > 1 ? args[1] : ""), want);
+  }
+  void expect_lines(const std::string& after, const std::vector<std::string>& want) {
+    for (const std::string& w : want) {
+      std::string line;
+      ASSERT_TRUE(listener_.wait_line([](const std::string&) { return true; }, kPeerDeadline, &line))
+          << "after " << after << " no line; wanted '" << w << "'; stderr " << listener_.stderr_text();
+      EXPECT_EQ(line, w) << "after " << after;
+    }
+  }
+
   LineChild listener_;
 };
 
@@ -50,6 +66,24 @@ TEST_F(NpmListen, SeesNmtCommandsAndSyncFrames) {
   send_expect("080#09", {});
   send_expect("000#0109", {"nmt command=1 node=9", "state operational"});
   send_expect("080#0A", {"sync counter=10"});
+}
+
+TEST_F(NpmListen, SeesMb2coMastersNmtCommandsAndSyncFrames) {
+  // SYNC without counter (--overflow 0, the default).
+  master_expect({"sync"}, {"sync"});
+  master_expect({"nmt", "start", "9"}, {"nmt command=1 node=9", "state operational"});
+  // Three SYNCs with a counter that wraps after 2 (CiA 301: 1, 2, 1).
+  master_expect({"sync", "--period", "20", "--count", "3", "--overflow", "2"},
+                {"sync counter=1", "sync counter=2", "sync counter=1"});
+  // Another node: seen, no state change; the next line is the next SYNC's.
+  master_expect({"nmt", "stop", "5"}, {"nmt command=2 node=5"});
+  master_expect({"sync"}, {"sync"});
+  master_expect({"nmt", "preop", "all"}, {"nmt command=128 node=0", "state pre-operational"});
+  master_expect({"nmt", "stop", "9"}, {"nmt command=2 node=9", "state stopped"});
+  // Stopped: no SYNC consumed, so the next line is the next NMT command's.
+  master_expect({"sync"}, {});
+  master_expect({"nmt", "start", "all"}, {"nmt command=1 node=0", "state operational"});
+  master_expect({"sync", "--cob-id", "0x80"}, {"sync"});
 }
 
 }  // namespace

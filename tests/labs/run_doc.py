@@ -32,6 +32,7 @@ import difflib
 import os
 import re
 import select
+import signal
 import subprocess
 import sys
 import tempfile
@@ -258,7 +259,18 @@ def main():
             if missing is not None:
                 fail(step, f"job {step.text} never printed a line like the doc's", [missing],
                      job.lines[max(job.cursor - 20, 0):])
+    # The jobs still running (nodes, watch, candump) end with the run, also
+    # outside a sandbox: every process of every job, by its pid.
+    rc, out = shell.run("jobs -l")
+    for line in out if rc == 0 else []:
+        m = re.match(r"^\s*(?:\[\d+\][+-]?\s+)?(\d+)\s", line)
+        if m:
+            try:
+                os.kill(int(m.group(1)), signal.SIGTERM)
+            except ProcessLookupError:
+                pass
     shell.proc.stdin.close()
+    shell.proc.wait()
     print(f"{len(steps)} steps of {doc}, {failures} failed, {time.monotonic() - started:.1f} s")
     return 1 if failures else 0
 

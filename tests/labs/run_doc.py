@@ -22,7 +22,7 @@ files in /tmp work as they would for a student. Waits are for output only;
 the deadlines bound a failure. A mismatch prints a diff naming the doc line
 and the run goes on; the exit status is 1 if anything failed.
 
-Usage: run_doc.py DOC.md --build BUILD_DIR [--record | --verbose]
+Usage: run_doc.py DOC.md --build BUILD_DIR [--record | --verbose] [--job-deadline S]
   --record: print each command with what it really printed (no checking),
             for writing the doc.
   --verbose: check, and print what each command printed.
@@ -181,6 +181,8 @@ def main():
     ap.add_argument("--build", required=True)
     ap.add_argument("--record", action="store_true")
     ap.add_argument("--verbose", action="store_true", help="also print what each checked command printed")
+    ap.add_argument("--job-deadline", type=float, default=JOB_DEADLINE_S,
+                    help="seconds to wait for a line of a background job (bounds a failure)")
     args = ap.parse_args()
     doc = os.path.abspath(args.doc)
     source = os.path.dirname(os.path.dirname(doc))
@@ -226,7 +228,7 @@ def main():
                 if not line_regex(expected[0]).match(announced):
                     fail(step, f"job number: {step.text}", expected[:1], [announced])
                 expected = expected[1:]
-            missing = jobs[m.group(1)].wait_for(expected)
+            missing = jobs[m.group(1)].wait_for(expected, args.job_deadline)
             if missing is not None:
                 fail(step, f"job [{m.group(1)}] never printed a line like the doc's: {step.text}", [missing],
                      jobs[m.group(1)].lines[-20:])
@@ -255,7 +257,7 @@ def main():
                 print(f"--- output {step.text}\n" + "\n".join(job.lines[job.cursor:][-40:]))
                 job.cursor = len(job.lines)
                 continue
-            missing = job.wait_for(step.expected)
+            missing = job.wait_for(step.expected, args.job_deadline)
             if missing is not None:
                 fail(step, f"job {step.text} never printed a line like the doc's", [missing],
                      job.lines[max(job.cursor - 20, 0):])

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <new>
 #include <set>
@@ -546,7 +548,7 @@ ParseResult parse_file(const std::string& path, std::optional<uint8_t> node_id) 
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     ParseResult r;
-    r.error = ParseError{path, 0, "cannot open the file"};
+    r.error = ParseError{path, 0, std::string("cannot open: ") + std::strerror(errno)};
     return r;
   }
   std::ostringstream text;

@@ -29,8 +29,10 @@ struct ParseError {
   std::string file;
   int line = 0;  ///< 1-based line the problem is on (a missing section: the last line; 0: no line)
   std::string what;
-  /// "file:line: what" (one line).
-  std::string text() const { return file + ":" + std::to_string(line) + ": " + what; }
+  /// "file:line: what" (one line); "file: what" when no line is meant.
+  std::string text() const {
+    return file + (line ? ":" + std::to_string(line) : std::string()) + ": " + what;
+  }
 };
 
 /// Either a model or the first error.

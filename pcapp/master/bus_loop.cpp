@@ -1,6 +1,5 @@
 #include "bus_loop.h"
 
-#include <errno.h>
 #include <poll.h>
 #include <signal.h>
 #include <time.h>
@@ -58,7 +57,10 @@ void BusLoop::pass(uint32_t end) {
   const uint32_t wait_us = time_until(next.now_us(), at_us);
   pollfd fd = {port_.fd(), POLLIN, 0};
   const int wait_ms = static_cast<int>((wait_us + 999u) / 1000u);
-  if (poll(&fd, 1, wait_ms) < 0 && errno == EINTR && g_signalled) interrupted_ = true;
+  poll(&fd, 1, wait_ms);  // EINTR when a signal came during the wait
+  // A signal that came between two waits only set the flag: read it here,
+  // or a SIGINT outside poll() would be lost.
+  if (g_signalled) interrupted_ = true;
   if (fd.revents & POLLIN) {
     linux_port::TimedCanFrame frames[linux_port::SocketCanPort::kBatch];
     size_t got = 0;

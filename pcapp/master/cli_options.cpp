@@ -159,7 +159,13 @@ Status parse_options(int argc, char** argv, Options* out) {
     return Status::failure(
         "no command (scan, read, write, upload, download, nmt, sync, dump, configure, watch)");
   out->command = argv[i++];
-  for (; i < argc; ++i) out->words.emplace_back(argv[i]);
+  for (; i < argc; ++i) {
+    // --json after the command too ("watch --json"): where a user puts it.
+    if (std::string(argv[i]) == "--json")
+      out->json = true;
+    else
+      out->words.emplace_back(argv[i]);
+  }
   return Status::ok();
 }
 

@@ -68,6 +68,12 @@ class WatchService : public BusService {
     canopen::NodeMonitor* m = monitors_.monitor(node);
     return m && m->watch_guarding(node, guard_ms, life_factor);
   }
+  /// Only these nodes' EMCYs and PDOs are shown (all when never called).
+  void show_only(const std::vector<uint8_t>& nodes) {
+    shown_.assign(128, false);
+    for (uint8_t id : nodes) shown_[id] = true;
+  }
+  bool shown(uint8_t node) const { return shown_.empty() || (node < shown_.size() && shown_[node]); }
   bool watch(uint8_t node, uint16_t consumer_ms) {
     canopen::NodeMonitor* m = monitors_.monitor(node);
     // The producer time is not known to a passive watcher; any below the
@@ -121,6 +127,7 @@ class WatchService : public BusService {
   }
   static void on_emcy(void* ctx, uint8_t node, const canopen::EmcyMessage& m, uint32_t) {
     auto* self = static_cast<WatchService*>(ctx);
+    if (!self->shown(node)) return;
     std::string bits;
     for (uint8_t b = 1; b != 0; b = static_cast<uint8_t>(b << 1)) {
       if (!(m.error_register & b)) continue;
@@ -230,6 +237,8 @@ class WatchService : public BusService {
     return image_.find(node, static_cast<uint16_t>(e >> 16), static_cast<uint8_t>(e >> 8));
   }
   void pdo(const CanFrame& f, uint32_t) {
+    // A PDO of the default connection set names its node in the low 7 bits.
+    if (!shown(static_cast<uint8_t>(f.id & 0x7F))) return;
     std::string& last = pdos_[static_cast<uint16_t>(f.id)];
     const std::string data = hex(f.data, f.dlc);
     if (data == last && !last.empty()) return;  // only changes: a cyclic PDO would flood the log
@@ -281,6 +290,7 @@ class WatchService : public BusService {
   std::deque<Transfer> transfers_;
   canopen::ProcessImage<64, 200> image_;
   std::map<uint16_t, std::string> decoded_;
+  std::vector<bool> shown_;                             ///< by node id; empty: every node
   std::map<uint32_t, std::vector<uint32_t>> mappings_;  ///< node << 8 | n → 1A0xh entries
   canopen::NodeMonitorTable<127> monitors_;
   canopen::EmcyConsumer<127> emcy_;
@@ -326,6 +336,7 @@ int watch_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostrea
   static SdoNetwork sdo(o.timeout_ms * 1000u, 0);
   if (!raw) bus.add(&sdo);
   static WatchService service(&out, o.json, table, raw ? nullptr : &sdo);  // large: not on the stack
+  service.show_only(nodes);
   for (uint8_t id : nodes) {
     if (guard_ms)
       service.guard(id, static_cast<uint16_t>(guard_ms), static_cast<uint8_t>(life_factor));

@@ -154,7 +154,7 @@ TEST(EdsReader, NodeIdRelativeValuesSymbolicOrEvaluated) {
   EXPECT_EQ(m7.find(0x1800, 1)->parameter_value, (Value{{0x87, 0x01, 0, 0}, false}));
   const ParseResult bad = parse(text, "t.eds", 0);
   ASSERT_FALSE(bad);
-  EXPECT_EQ(bad.error.text(), "t.eds:0: node id 0 is not 1..127");
+  EXPECT_EQ(bad.error.text(), "t.eds: node id 0 is not 1..127");
 }
 
 TEST(EdsReader, LimitsFlagsAndEmptyNumericDefault) {
@@ -203,5 +203,5 @@ TEST(EdsReader, ParseFileReadsFromDiskAndReportsUnreadableFiles) {
   EXPECT_NE(r.model->find(0x1018, 1), nullptr);
   const ParseResult missing = parse_file("/nonexistent/x.eds");
   ASSERT_FALSE(missing);
-  EXPECT_EQ(missing.error.text(), "/nonexistent/x.eds:0: cannot open the file");
+  EXPECT_EQ(missing.error.text(), "/nonexistent/x.eds: cannot open: No such file or directory");
 }

@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 
+#include "canopen/od.h"
 #include "commands.h"
 #include "exit_codes.h"
 #include "transfer_run.h"
@@ -23,8 +24,7 @@ struct Found {
 
 std::string u32_text(const Transfer* t) {
   if (!t || !t->ok() || t->data.size() != 4) return "-";
-  const uint32_t v =
-      t->data[0] | t->data[1] << 8 | t->data[2] << 16 | static_cast<uint32_t>(t->data[3]) << 24;
+  const uint32_t v = canopen::le32(t->data.data());
   char b[16];
   std::snprintf(b, sizeof b, "0x%08X", v);
   return b;

@@ -18,6 +18,7 @@
 #include "canopen/master/node_monitor.h"
 #include "canopen/master/process_image.h"
 #include "canopen/nmt_slave.h"
+#include "canopen/od.h"
 #include "commands.h"
 #include "exit_codes.h"
 #include "sdo_network.h"
@@ -155,7 +156,7 @@ class WatchService : public BusService {
       Transfer& cob = add(node, static_cast<uint16_t>(0x1800 + n), 1);
       cob.on_done = [this, node, n](Transfer& c) {
         if (!c.ok() || c.data.size() != 4) return;
-        const uint32_t cob_id = le32(c.data.data());
+        const uint32_t cob_id = canopen::le32(c.data.data());
         if (cob_id & 0x80000000u) return;  // not valid: nothing to decode
         Transfer& count = add(node, static_cast<uint16_t>(0x1A00 + n), 0);
         count.on_done = [this, node, n, cob_id](Transfer& k) {
@@ -166,7 +167,7 @@ class WatchService : public BusService {
             Transfer& e = add(node, static_cast<uint16_t>(0x1A00 + n), sub);
             e.on_done = [this, node, n, cob_id, mapping, entries](Transfer& m) {
               if (!m.ok() || m.data.size() != 4) return;
-              mapping->push_back(le32(m.data.data()));
+              mapping->push_back(canopen::le32(m.data.data()));
               if (mapping->size() != entries) return;
               if (image_.configure_tpdo(node, n, static_cast<uint16_t>(cob_id & 0x7FF), mapping->data(),
                                         entries))
@@ -176,9 +177,6 @@ class WatchService : public BusService {
         };
       };
     }
-  }
-  static uint32_t le32(const uint8_t* p) {
-    return p[0] | p[1] << 8 | p[2] << 16 | static_cast<uint32_t>(p[3]) << 24;
   }
   /// A transfer kept alive until the watch ends (deque: stable addresses).
   Transfer& add(uint8_t node, uint16_t index, uint8_t sub) {

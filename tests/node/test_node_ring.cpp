@@ -32,9 +32,12 @@ constexpr int32_t kConsumerUs = 300000;  // 3 x 100 ms heartbeat, derived by the
 // bound that matters: a lost neighbour must show as unknown before a further
 // heartbeat would have been due, and a stalled host must not fail the test.
 constexpr int32_t kSlackUs = 100000;
-// Both clocks are read from the same kernel; their offset is sampled once.
-// The node's at_us is stamped at a loop pass, candump's at reception.
-constexpr int32_t kClockMapToleranceUs = 2000;
+// Both clocks are read from the same kernel; their offset is sampled once
+// (by the test here, by the node for its receive stamps), and under
+// user-mode Linux on a busy host the wall clock is slewed against the
+// monotonic one between those samples: 2.5 ms seen in a CI run. The node's
+// at_us is stamped at a loop pass, candump's at reception.
+constexpr int32_t kClockMapToleranceUs = 5000;
 constexpr auto kUmlDeadline = 60s;  // bounds a failure only
 
 // Input registers of docs/register-map.md.

@@ -96,18 +96,17 @@ void loop() {
 // Timer0 as the core's init() sets it (fast PWM, clock / 64: one tick 4 us,
 // an overflow every 1024 us) and micros() as the core's (wiring.c), without
 // millis(): the overflow interrupt only counts.
-namespace {
-volatile uint32_t timer0_overflows = 0;
-}  // namespace
+// The core's name: port/uart.cpp reads it for its stamps.
+volatile unsigned long timer0_overflow_count = 0;
 
 ISR(TIMER0_OVF_vect) {
-  timer0_overflows = timer0_overflows + 1;
+  timer0_overflow_count = timer0_overflow_count + 1;
 }
 
 unsigned long micros() {
   const uint8_t sreg = SREG;
   cli();
-  uint32_t overflows = timer0_overflows;
+  uint32_t overflows = timer0_overflow_count;
   const uint8_t ticks = TCNT0;
   // An overflow not yet counted (interrupts are off): the counter wrapped.
   if ((TIFR0 & _BV(TOV0)) && ticks < 255) ++overflows;

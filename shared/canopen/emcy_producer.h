@@ -54,7 +54,9 @@ class EmcyProducer {
   /// raise() when `on`, else clear(): for conditions re-evaluated as a whole
   /// (one call site instead of two).
   void report(uint16_t code, bool on, uint8_t register_bits);
-  bool active(uint16_t code) const;
+  /// Out of line: raise() and the node (controller EMCYs) ask it in several
+  /// places, each an inlined loop otherwise (the Uno's flash).
+  __attribute__((noinline)) bool active(uint16_t code) const;
   /// Sends queued EMCY frames when allowed and the inhibit time has passed.
   void process(uint32_t now_us, bool allowed, const CanSink& sink);
   /// Lowers `d` to when process(..., allowed, ...) must run next: the end

@@ -33,7 +33,8 @@ typedef void (*HbEventCallback)(void* ctx, uint8_t node_id, HbEvent event, uint8
 class HeartbeatConsumer {
  public:
   /// Re-reads one 1016h sub-entry (1-based `sub`); the monitor starts over.
-  void configure(uint8_t sub, uint32_t entry);
+  /// Out of line: Node::reset() and the 1016h write hook would each carry a copy.
+  __attribute__((noinline)) void configure(uint8_t sub, uint32_t entry);
   void set_callback(HbEventCallback cb, void* ctx) {
     cb_ = cb;
     cb_ctx_ = ctx;

@@ -146,6 +146,13 @@ uint8_t pdo_map_stride(const ObjectDictionary& od, uint16_t first_index) {
                               od.first_row(first_index));
 }
 
+void pdo_find_records(const ObjectDictionary& od, uint16_t comm_index, PdoRecords* out) {
+  const uint16_t map_index = static_cast<uint16_t>(comm_index + 0x200u);
+  out->comm0 = od.find(comm_index, 0);
+  out->map0 = od.find(map_index, 0);
+  out->map_stride = pdo_map_stride(od, map_index);
+}
+
 bool can_id_restricted(uint32_t can_id) {
   if (can_id > 0x7FFu) return false;
   // 16-bit compares (callers pass 11-bit ids).

@@ -37,6 +37,16 @@ SdoAbort pdo_check_map_write(const ObjectDictionary& od, uint32_t cob, uint16_t 
 /// Rows of one mapping record (1 + entries) in this OD, from the distance
 /// between the first two records starting at `first_index`.
 uint8_t pdo_map_stride(const ObjectDictionary& od, uint16_t first_index);
+/// Where one kind of PDO lives in this OD: the rows of its first
+/// communication record (`comm_index` sub 0) and first mapping record
+/// (comm_index + 200h, sub 0), and the mapping records' stride. One copy for
+/// the RPDOs and the TPDOs (the Uno's flash).
+struct PdoRecords {
+  uint16_t comm0;          ///< records are 5 (RPDO) or 6 (TPDO) rows apart
+  uint16_t map0;           ///< records are map_stride rows apart
+  uint8_t map_stride = 9;  ///< 1 + mapping entries per record in this OD
+};
+void pdo_find_records(const ObjectDictionary& od, uint16_t comm_index, PdoRecords* out);
 /// Builds the payload of the mapping at `row0`; returns its length in bytes.
 uint8_t pdo_build(const ObjectDictionary& od, uint16_t row0, uint8_t data[8]);
 /// Writes a received payload into the mapped objects. Entries with a write

@@ -18,9 +18,7 @@ uint32_t Rpdos::comm(uint8_t n, uint8_t k) const {
 void Rpdos::init(ObjectDictionary* od, EmcyProducer* emcy) {
   od_ = od;
   emcy_ = emcy;
-  comm0_ = od->find(0x1400, 0);
-  map0_ = od->find(0x1600, 0);
-  map_stride_ = pdo_map_stride(*od, 0x1600);
+  pdo_find_records(*od, 0x1400, &rec_);
   memset(st_, 0, sizeof st_);
 }
 
@@ -118,7 +116,7 @@ void Rpdos::stop() {
 SdoAbort Rpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data, bool apply) {
   if (index >= 0x1600) {  // mapping
     const uint8_t n = static_cast<uint8_t>(index - 0x1600);
-    return pdo_check_map_write(*od_, comm(n, kCob), map_row(n), map_stride_, sub, data, true);
+    return pdo_check_map_write(*od_, comm(n, kCob), map_row(n), rec_.map_stride, sub, data, true);
   }
   const uint8_t n = static_cast<uint8_t>(index - 0x1400);
   const uint32_t cur = comm(n, kCob);

@@ -11,6 +11,7 @@
 #include "canopen/emcy_producer.h"
 #include "canopen/od.h"
 #include "canopen/od_comm.h"
+#include "canopen/pdo_map.h"
 
 namespace mb2co {
 namespace canopen {
@@ -49,18 +50,16 @@ class Rpdos {
     uint8_t flags;
   };
   enum : uint8_t { kBuffered = 0x01, kMonitoring = 0x02, kTimedOut = 0x04, kShort = 0x08, kLong = 0x10 };
-  uint16_t comm_row(uint8_t n) const { return static_cast<uint16_t>(comm0_ + n * 5u); }
+  uint16_t comm_row(uint8_t n) const { return static_cast<uint16_t>(rec_.comm0 + n * 5u); }
   /// Value of row `k` of PDO n's communication record (out of line: many callers).
   uint32_t comm(uint8_t n, uint8_t k) const;
-  uint16_t map_row(uint8_t n) const { return static_cast<uint16_t>(map0_ + n * map_stride_); }
+  uint16_t map_row(uint8_t n) const { return static_cast<uint16_t>(rec_.map0 + n * rec_.map_stride); }
   void apply(uint8_t n, const uint8_t* data);
   void update_length_errors();
 
   ObjectDictionary* od_;
   EmcyProducer* emcy_;
-  uint16_t comm0_;          ///< row of 1400h sub 0; records are 5 rows apart
-  uint16_t map0_;           ///< row of 1600h sub 0; records are map_stride_ rows apart
-  uint8_t map_stride_ = 9;  ///< 1 + mapping entries per record in this OD
+  PdoRecords rec_;  ///< rows of 1400h and 1600h sub 0, the mapping stride
   State st_[kPdoCount];
   RpdoCallback cb_;
   void* cb_ctx_;

@@ -18,9 +18,7 @@ uint32_t Tpdos::comm(uint8_t n, uint8_t k) const {
 
 void Tpdos::init(ObjectDictionary* od) {
   od_ = od;
-  comm0_ = od->find(0x1800, 0);
-  map0_ = od->find(0x1A00, 0);
-  map_stride_ = pdo_map_stride(*od, 0x1A00);
+  pdo_find_records(*od, 0x1800, &rec_);
   memset(st_, 0, sizeof st_);
 }
 
@@ -178,7 +176,7 @@ bool Tpdos::on_rtr(const CanFrame& f, const CanSink& sink, uint32_t now_us) {
 SdoAbort Tpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data, bool apply) {
   if (index >= 0x1A00) {  // mapping
     const uint8_t n = static_cast<uint8_t>(index - 0x1A00);
-    return pdo_check_map_write(*od_, comm(n, kCob), map_row(n), map_stride_, sub, data, false);
+    return pdo_check_map_write(*od_, comm(n, kCob), map_row(n), rec_.map_stride, sub, data, false);
   }
   const uint8_t n = static_cast<uint8_t>(index - 0x1800);
   const uint32_t cur = comm(n, kCob);

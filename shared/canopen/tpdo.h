@@ -10,6 +10,7 @@
 #include "canopen/clock.h"
 #include "canopen/od.h"
 #include "canopen/od_comm.h"
+#include "canopen/pdo_map.h"
 
 namespace mb2co {
 namespace canopen {
@@ -60,15 +61,13 @@ class Tpdos {
   /// Builds PDO n's payload from the OD and sends it (one copy for SYNC and
   /// RTR).
   void build_and_send(uint8_t n, uint32_t cob, const CanSink& sink, uint32_t now_us);
-  uint16_t comm_row(uint8_t n) const { return static_cast<uint16_t>(comm0_ + n * 6u); }
+  uint16_t comm_row(uint8_t n) const { return static_cast<uint16_t>(rec_.comm0 + n * 6u); }
   /// Value of row `k` of PDO n's communication record (out of line: many callers).
   uint32_t comm(uint8_t n, uint8_t k) const;
-  uint16_t map_row(uint8_t n) const { return static_cast<uint16_t>(map0_ + n * map_stride_); }
+  uint16_t map_row(uint8_t n) const { return static_cast<uint16_t>(rec_.map0 + n * rec_.map_stride); }
 
   ObjectDictionary* od_;
-  uint16_t comm0_;          ///< row of 1800h sub 0; records are 6 rows apart
-  uint16_t map0_;           ///< row of 1A00h sub 0; records are map_stride_ rows apart
-  uint8_t map_stride_ = 9;  ///< 1 + mapping entries per record in this OD
+  PdoRecords rec_;  ///< rows of 1800h and 1A00h sub 0, the mapping stride
   State st_[kPdoCount];
   uint16_t send_failures_;
   uint16_t seen_revision_;  ///< od_->revision() at the last process()

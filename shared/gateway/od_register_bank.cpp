@@ -189,10 +189,11 @@ Exception OdRegisterBank::write_step(Table table, uint16_t start, uint16_t count
   Walk w;
   begin(table, &w);
   const Item& it = w.item;
+  Exception ex = Exception::kNone;
   for (uint16_t i = 0; i < count;) {
     if (!reach(&w, static_cast<uint16_t>(start + i))) {
-      undo.rollback(od_);
-      return Exception::kIllegalDataAddress;
+      ex = Exception::kIllegalDataAddress;
+      break;
     }
     uint32_t v;
     if (w.bit_table) {
@@ -202,17 +203,15 @@ Exception OdRegisterBank::write_step(Table table, uint16_t start, uint16_t count
       if (it.width == 2) v = (v << 16) | modbus::get_be16(bytes + 2u * i + 2u);
     }
     undo.save(od_, it.row);
-    const Exception ex = write_value(it, v, apply);
-    if (ex != Exception::kNone) {
-      undo.rollback(od_);
-      return ex;
-    }
+    ex = write_value(it, v, apply);
+    if (ex != Exception::kNone) break;
     i = static_cast<uint16_t>(i + it.width);  // always 1 for coils
     // The map itself changed under the walk: it starts over on the new map.
     if (moves_walk(w, it.row)) begin(table, &w);
   }
-  if (!apply) undo.rollback(od_);
-  return Exception::kNone;
+  // One exit: a refused item undoes the request, and so does the check step.
+  if (ex != Exception::kNone || !apply) undo.rollback(od_);
+  return ex;
 }
 
 canopen::SdoAbort OdRegisterBank::check_map_write(uint16_t index, uint8_t sub, const uint8_t* data) const {

@@ -21,7 +21,7 @@ command -v arduino-builder >/dev/null || { echo "ide-build: arduino-builder not 
 [[ -f $hardware/arduino/avr/platform.txt ]] || { echo "ide-build: no Arduino core in $hardware (apt-get install arduino-core-avr)" >&2; exit 1; }
 
 # The settings of README.md ("Arduino IDE"), one place for both.
-size_flags="-mcall-prologues -mrelax -fno-inline-small-functions -mstrict-X -fno-move-loop-invariants -fno-tree-dominator-opts"
+size_flags="-mcall-prologues -mrelax -fno-inline-small-functions -mstrict-X -fno-move-loop-invariants -fno-tree-dominator-opts -fno-early-inlining"
 cpp_extra="-std=gnu++14 -DDECIMAL_DIG=__DECIMAL_DIG__ $size_flags"
 elf_extra="$size_flags"
 

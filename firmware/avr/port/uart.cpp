@@ -5,6 +5,10 @@
 #include <avr/io.h>
 #include <util/atomic.h>
 
+// Timer0 overflows since power-on: Arduino's wiring.c, or the image's own
+// clock (sketches/mb2co-gateway/gateway_main.cpp).
+extern volatile unsigned long timer0_overflow_count;
+
 namespace mb2co {
 namespace avr {
 namespace {
@@ -27,6 +31,20 @@ volatile uint8_t tx_head;
 volatile uint8_t tx_tail;
 
 volatile UartCounters counters;
+
+// micros() / 4 in 16 bits, as the receive interrupt stamps a character
+// (interrupts off): Timer0 ticks every 4 us and its overflow count is the
+// rest of micros() (the core's wiring.c, or the image's own clock with the
+// same variable). Inline: a call from an interrupt saves every
+// call-clobbered register.
+inline uint16_t stamp4_in_isr() {
+  // Its low byte is all a 16-bit stamp keeps (little-endian: the first).
+  uint8_t overflows = *reinterpret_cast<volatile uint8_t*>(&timer0_overflow_count);
+  const uint8_t ticks = TCNT0;
+  // An overflow not yet counted: the counter wrapped (as micros() decides).
+  if ((TIFR0 & _BV(TOV0)) && ticks < 255) ++overflows;
+  return static_cast<uint16_t>((static_cast<uint16_t>(overflows) << 8) | ticks);
+}
 
 bool sink_write(void*, const uint8_t* data, uint16_t length) {
   return uart_write(data, length);
@@ -108,7 +126,7 @@ using namespace mb2co::avr;
 ISR(USART_RX_vect) {
   const uint8_t status = UCSR0A;  // error flags belong to the character in UDR0
   const uint8_t byte = UDR0;
-  const uint16_t stamp4 = static_cast<uint16_t>(micros() >> 2);
+  const uint16_t stamp4 = stamp4_in_isr();
   bool error = rx_lost_pending;
   if (status & _BV(DOR0)) {  // the hardware dropped characters before this one
     ++counters.rx_lost;

@@ -10,7 +10,13 @@
 //            (no answer from the MCP2515, error passive or bus-off).
 // Built by CMake (firmware/avr) or, through mb2co-gateway.ino, by the Arduino IDE
 // (firmware/avr/README.md).
+// The image brings its own main() and micros() (bottom of this file): the
+// Arduino core's main() pulls in init() and the Timer0 interrupt of
+// wiring.c, which also set up PWM timers, the ADC and millis() that the
+// gateway never uses (-200 B of flash, the room the Uno lacks).
 #include <Arduino.h>
+#include <avr/interrupt.h>
+#include <avr/io.h>
 
 #include "gateway/gateway.h"
 #include "mcp2515.h"
@@ -84,4 +90,36 @@ void loop() {
   can_port.poll(gw.node(), now_us);
   show_leds(gw.process(now_us, avr::read_pressed(kButtonPins, 3)));
   show_can_state();
+}
+
+// ---- the clock and main(), in place of the Arduino core's -------------------
+// Timer0 as the core's init() sets it (fast PWM, clock / 64: one tick 4 us,
+// an overflow every 1024 us) and micros() as the core's (wiring.c), without
+// millis(): the overflow interrupt only counts.
+// The core's name: port/uart.cpp reads it for its stamps.
+volatile unsigned long timer0_overflow_count = 0;
+
+ISR(TIMER0_OVF_vect) {
+  timer0_overflow_count = timer0_overflow_count + 1;
+}
+
+unsigned long micros() {
+  const uint8_t sreg = SREG;
+  cli();
+  uint32_t overflows = timer0_overflow_count;
+  const uint8_t ticks = TCNT0;
+  // An overflow not yet counted (interrupts are off): the counter wrapped.
+  if ((TIFR0 & _BV(TOV0)) && ticks < 255) ++overflows;
+  SREG = sreg;
+  return ((overflows << 8) + ticks) * (64 / clockCyclesPerMicrosecond());
+}
+
+int main() {
+  sei();
+  TCCR0A = _BV(WGM01) | _BV(WGM00);
+  TCCR0B = _BV(CS01) | _BV(CS00);
+  TIMSK0 = _BV(TOIE0);
+  UCSR0B = 0;  // the bootloader's use of the serial port ends here (as init())
+  setup();
+  for (;;) loop();
 }

@@ -13,6 +13,7 @@
 #include "canopen/sdo_block.h"
 #include "canopen/sdo_server.h"
 #include "ionode/io_node.h"
+#include "sdo_crc_reference.h"
 #include "test_fixture.h"
 #include "test_sdo_client_link.h"
 
@@ -24,18 +25,6 @@ using Bytes = std::vector<uint8_t>;
 
 // CRC-16/XMODEM written out independently of sdo_crc16 (byte-wise shifts of
 // the whole 16-bit register), pinned by the check value of the CRC catalogue.
-uint16_t crc_ref(const Bytes& data) {
-  uint32_t crc = 0;
-  for (uint8_t byte : data) {
-    crc ^= static_cast<uint32_t>(byte) << 8;
-    for (int bit = 0; bit < 8; ++bit) {
-      crc <<= 1;
-      if (crc & 0x10000u) crc ^= 0x11021u;
-    }
-  }
-  return static_cast<uint16_t>(crc);
-}
-
 Bytes bytes(const std::string& s) {
   return Bytes(s.begin(), s.end());
 }

@@ -12,6 +12,7 @@
 #include "canopen/od.h"
 #include "canopen/sdo_client.h"
 #include "frame_log.h"
+#include "sdo_crc_reference.h"
 
 namespace mb2co {
 namespace test {
@@ -20,19 +21,6 @@ namespace {
 using Frames = std::vector<std::string>;
 using Bytes = std::vector<uint8_t>;
 using canopen::SdoClient;
-
-// CRC-16/XMODEM (CiA 301 block CRC), written independently of sdo_crc16.
-uint16_t crc_ref(const Bytes& data) {
-  uint32_t crc = 0;
-  for (uint8_t byte : data) {
-    crc ^= static_cast<uint32_t>(byte) << 8;
-    for (int bit = 0; bit < 8; ++bit) {
-      crc <<= 1;
-      if (crc & 0x10000u) crc ^= 0x11021u;
-    }
-  }
-  return static_cast<uint16_t>(crc);
-}
 
 std::string hex_frame(uint16_t id, std::initializer_list<uint8_t> b) {
   CanFrame f = F(id, {0, 0, 0, 0, 0, 0, 0, 0});

@@ -1,0 +1,19 @@
+#!/bin/bash
+# ctest tests.registered: every area whose tests need a peer, a sandbox or a
+# program from another folder registers them; a CMake condition that turns
+# false (a target configured later, a tool not found) must not drop a whole
+# area in silence. Usage: registered_tests.sh BUILD_DIR
+set -u
+list=$(ctest --test-dir "${1:?usage: registered_tests.sh BUILD_DIR}" -N)
+missing=0
+for name in vcan.socketcan_port node.ring uno.vcan master.network master.transfers master.configure \
+            peers.npm_client_vs_node peers.npm_client_vs_npm_server peers.npm_listen_nmt_sync \
+            peers.master_vs_npm_server peers.block_by_hand labs.doc live.serial_operator; do
+  if ! grep -qE "Test +#[0-9]+: ${name//./\\.}\$" <<<"$list"; then
+    echo "not registered: $name" >&2
+    missing=$((missing + 1))
+  fi
+done
+total=$(grep -cE "Test +#[0-9]+:" <<<"$list")
+echo "$total tests registered, $missing of the required ones missing"
+exit $((missing > 0))

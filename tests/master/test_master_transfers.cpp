@@ -230,7 +230,12 @@ TEST(MasterWatchdog, ANodeKilledMidTransferAbortsWithinTheConsumerTimeTheOthersF
       << master.stderr_text();
   ASSERT_NE(last_heartbeat_us, 0u);
   const double abort_after_ms = static_cast<double>(candump_us(line) - last_heartbeat_us) / 1000.0;
-  EXPECT_GE(abort_after_ms, 1000.0) << "not before the consumer time";
+  // Not before the consumer time, less the clock-mapping tolerance: the
+  // master times the heartbeat by its own receive stamp (the kernel's wall
+  // clock mapped onto its monotonic clock, sampled once), candump by the
+  // wall clock; under user-mode Linux the two differ by up to a few ms
+  // (node.ring saw 2.5 ms).
+  EXPECT_GE(abort_after_ms, 1000.0 - 5.0) << "not before the consumer time";
   // Slack: the master's loop and candump under user-mode Linux on a busy host.
   EXPECT_LE(abort_after_ms, 1000.0 + 500.0) << "within the consumer time, long before the 10 s SDO timeout";
 

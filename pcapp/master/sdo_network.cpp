@@ -105,32 +105,31 @@ void SdoNetwork::on_monitor(void* ctx, uint8_t node, canopen::MonitorEvent e, ui
   if (e == canopen::kMonitorNodeLost) static_cast<SdoNetwork*>(ctx)->lost_.push_back(node);
 }
 
-void SdoNetwork::drop_queued(uint8_t node, canopen::SdoAbort code) {
-  Node& n = nodes_[node];
-  auto it = n.queue.begin();
-  if (it != n.queue.end() && (*it)->started_us != 0) ++it;  // running: it ends on its own
-  while (it != n.queue.end()) {
-    Transfer* t = *it;
+void SdoNetwork::end_queue(uint8_t id, size_t from, canopen::SdoAbort code, bool node_lost, bool notify) {
+  Node& n = nodes_[id];
+  while (n.queue.size() > from) {
+    Transfer* t = n.queue[from];
+    n.queue.erase(n.queue.begin() + static_cast<long>(from));
     t->finished = true;
     t->result = code;
+    t->node_lost = node_lost;
     t->ended_us = now_us_;
     --pending_;
-    it = n.queue.erase(it);
+    if (notify && t->on_done) t->on_done(*t);
   }
+}
+
+void SdoNetwork::drop_queued(uint8_t node, canopen::SdoAbort code) {
+  const Node& n = nodes_[node];
+  const bool running = !n.queue.empty() && n.queue.front()->started_us != 0;  // it ends on its own
+  end_queue(node, running ? 1 : 0, code, false, false);
 }
 
 void SdoNetwork::abort_all(canopen::SdoAbort code, const CanSink& sink) {
   for (uint8_t id = 1; id <= 127; ++id) {
     Node& n = nodes_[id];
     if (n.client.busy()) n.client.abort(code, sink);
-    while (!n.queue.empty()) {
-      Transfer* t = n.queue.front();
-      n.queue.pop_front();
-      t->finished = true;
-      t->result = code;
-      t->ended_us = now_us_;
-      --pending_;
-    }
+    end_queue(id, 0, code, false, false);
   }
 }
 
@@ -157,16 +156,7 @@ void SdoNetwork::process(uint32_t now_us, const CanSink& sink) {
     // The watchdog ends the running transfer and everything queued behind
     // it: the node is gone, asking it more would only wait for timeouts.
     if (n.client.busy()) n.client.abort(canopen::kAbortTimeout, sink);
-    while (!n.queue.empty()) {
-      Transfer* t = n.queue.front();
-      n.queue.pop_front();
-      t->finished = true;
-      t->result = canopen::kAbortTimeout;
-      t->node_lost = true;
-      t->ended_us = now_us;
-      --pending_;
-      if (t->on_done) t->on_done(*t);
-    }
+    end_queue(id, 0, canopen::kAbortTimeout, true, true);
   }
   lost_.clear();
   for (uint8_t id = 1; id <= 127; ++id) {

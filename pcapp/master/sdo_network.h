@@ -74,6 +74,10 @@ class SdoNetwork : public BusService {
     std::deque<Transfer*> queue;  ///< front(): running
     bool used = false;
   };
+  /// Ends the node's transfers from position `from` of its queue on with
+  /// `code` (nothing is sent: the caller aborts a running one);
+  /// `notify`: their on_done is called.
+  void end_queue(uint8_t id, size_t from, canopen::SdoAbort code, bool node_lost, bool notify);
   static void on_monitor(void* ctx, uint8_t node, canopen::MonitorEvent e, uint8_t, uint8_t);
   /// Starts the node's front transfer if its client is idle.
   void start_next(uint8_t id, uint32_t now_us, const CanSink& sink);

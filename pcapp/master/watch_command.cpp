@@ -170,8 +170,10 @@ class WatchService : public BusService {
               mapping->push_back(canopen::le32(m.data.data()));
               if (mapping->size() != entries) return;
               if (image_.configure_tpdo(node, n, static_cast<uint16_t>(cob_id & 0x7FF), mapping->data(),
-                                        entries))
+                                        entries)) {
                 mappings_[static_cast<uint32_t>(node) << 8 | n] = *mapping;
+                pdo_of_cob_[static_cast<uint16_t>(cob_id & 0x7FF)] = std::make_pair(node, n);
+              }
             };
           }
         };
@@ -190,40 +192,35 @@ class WatchService : public BusService {
   }
   /// "node 3 TPDO1 2100h/2=0x1 2100h/3=0x0 2120h/1=0x0"
   void decoded(const CanFrame& f) {
-    for (uint8_t node = 1; node <= 127; ++node) {
-      for (uint8_t n = 0; n < 4; ++n) {
-        const canopen::ImagePdo* p = image_.pdo(node, n, false);
-        if (!p || p->cob_id != f.id) continue;
-        std::string text;
-        char item[64];
-        std::string key;
-        for (uint8_t k = 0; k < p->count; ++k) {
-          if (p->entry[k] == canopen::ImagePdo::kDummy) continue;
-          // Entries by slot: find the one of this PDO's k-th mapping.
-          const canopen::ImageEntry* e = entry_of(node, p, k);
-          if (!e) continue;
-          if (json_)
-            std::snprintf(item, sizeof item, "%s\"%04X/%u\":\"0x%X\"", text.empty() ? "" : ",", e->index,
-                          e->sub, e->u32());
-          else
-            std::snprintf(item, sizeof item, " %04Xh/%u=0x%X", e->index, e->sub, e->u32());
-          text += item;
-        }
-        // Only changes: a cyclic PDO would flood the log.
-        std::string& last = decoded_[static_cast<uint16_t>(f.id)];
-        if (text == last) return;
-        last = text;
-        char head[64];
-        if (json_) {
-          std::snprintf(head, sizeof head, "{\"node\":%u,\"event\":\"tpdo\",\"n\":%u,\"values\":{", node,
-                        n + 1);
-          event((std::string(head) + text + "}}").c_str());
-        } else {
-          std::snprintf(head, sizeof head, "node %u TPDO%u", node, n + 1);
-          event((std::string(head) + text).c_str());
-        }
-        return;
-      }
+    const auto which = pdo_of_cob_.find(static_cast<uint16_t>(f.id));
+    if (which == pdo_of_cob_.end()) return;
+    const uint8_t node = which->second.first, n = which->second.second;
+    const canopen::ImagePdo* p = image_.pdo(node, n, false);
+    if (!p) return;
+    std::string text;
+    char item[64];
+    for (uint8_t k = 0; k < p->count; ++k) {
+      if (p->entry[k] == canopen::ImagePdo::kDummy) continue;
+      const canopen::ImageEntry* e = entry_of(node, p, k);
+      if (!e) continue;
+      if (json_)
+        std::snprintf(item, sizeof item, "%s\"%04X/%u\":\"0x%X\"", text.empty() ? "" : ",", e->index, e->sub,
+                      e->u32());
+      else
+        std::snprintf(item, sizeof item, " %04Xh/%u=0x%X", e->index, e->sub, e->u32());
+      text += item;
+    }
+    // Only changes: a cyclic PDO would flood the log.
+    std::string& last = decoded_[static_cast<uint16_t>(f.id)];
+    if (text == last) return;
+    last = text;
+    char head[64];
+    if (json_) {
+      std::snprintf(head, sizeof head, "{\"node\":%u,\"event\":\"tpdo\",\"n\":%u,\"values\":{", node, n + 1);
+      event((std::string(head) + text + "}}").c_str());
+    } else {
+      std::snprintf(head, sizeof head, "node %u TPDO%u", node, n + 1);
+      event((std::string(head) + text).c_str());
     }
   }
   /// The image entry the k-th mapping entry of `p` decodes into.
@@ -288,7 +285,9 @@ class WatchService : public BusService {
   std::deque<Transfer> transfers_;
   canopen::ProcessImage<64, 200> image_;
   std::map<uint16_t, std::string> decoded_;
-  std::vector<bool> shown_;                             ///< by node id; empty: every node
+  std::vector<bool> shown_;
+  std::map<uint16_t, std::pair<uint8_t, uint8_t>> pdo_of_cob_;  ///< TPDO COB-ID → (node, n) ///< by node id;
+                                                                ///< empty: every node
   std::map<uint32_t, std::vector<uint32_t>> mappings_;  ///< node << 8 | n → 1A0xh entries
   canopen::NodeMonitorTable<127> monitors_;
   canopen::EmcyConsumer<127> emcy_;

@@ -12,6 +12,7 @@
 
 #include "options.h"
 #include "plant/plant_config.h"
+#include "progress_bar.h"
 #include "report.h"
 #include "sim/scenarios.h"
 
@@ -19,28 +20,11 @@ namespace {
 
 using namespace mb2co;
 
-class ProgressBar {
- public:
-  explicit ProgressBar(bool on) : on_(on) {}
-  void show(const std::string& stage, double fraction) {
-    if (!on_) return;
-    const int width = 30;
-    const int filled = static_cast<int>(std::lround(fraction * width));
-    std::string bar(static_cast<size_t>(filled < 0 ? 0 : filled > width ? width : filled), '#');
-    bar.resize(width, ' ');
-    std::printf("\r[%s] %3d%% %-28s", bar.c_str(), static_cast<int>(std::lround(fraction * 100)),
-                stage.c_str());
-    std::fflush(stdout);
-  }
-  void clear() {
-    if (!on_) return;
-    std::printf("\r\033[K");
-    std::fflush(stdout);
-  }
-
- private:
-  bool on_;
-};
+uint64_t monotonic_ns() {
+  return static_cast<uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                   std::chrono::steady_clock::now().time_since_epoch())
+                                   .count());
+}
 
 Status write_file(const std::filesystem::path& path, const std::string& text) {
   std::ofstream f(path, std::ios::binary);
@@ -84,7 +68,7 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  ProgressBar bar(!o.quiet && isatty(STDOUT_FILENO));
+  lab::ProgressBar bar(!o.quiet && isatty(STDOUT_FILENO) ? stdout : nullptr);
   sim::EventLog log(true);
   std::string report = lab::report_header(o);
   std::vector<std::pair<std::string, std::string>> files;
@@ -94,8 +78,8 @@ int main(int argc, char** argv) {
   const bool all = o.scenario == lab::Scenario::kDefault;
 
   if (o.scenario == lab::Scenario::kRun) {
-    const sim::RunResult r =
-        sim::run_scenario(o.line, o.duration_s * sim::kNsPerS, &log, [&](double f) { bar.show("run", f); });
+    const sim::RunResult r = sim::run_scenario(o.line, o.duration_s * sim::kNsPerS, &log,
+                                               [&](double f) { bar.show("run", f, monotonic_ns()); });
     bar.clear();
     report += lab::run_section(r);
     files.push_back({"timeline-run.svg", lab::timeline_svg(r.line, o.line.stations, "run")});
@@ -103,7 +87,8 @@ int main(int argc, char** argv) {
     pass = pass && r.ok;
   }
   if (all || o.scenario == lab::Scenario::kStop2) {
-    const sim::Stop2Result r = sim::stop2_scenario(o.line, &log, [&](double f) { bar.show("stop2", f); });
+    const sim::Stop2Result r =
+        sim::stop2_scenario(o.line, &log, [&](double f) { bar.show("stop2", f, monotonic_ns()); });
     bar.clear();
     report += lab::stop2_section(r);
     files.push_back({"timeline-stop2.svg", lab::timeline_svg(r.line, o.line.stations, "stop2")});
@@ -118,7 +103,7 @@ int main(int argc, char** argv) {
       const std::string stage =
           sim::strf("latency %uk %s", lc.bitrate_kbit, lc.remote ? "canopen" : "modbus");
       results.push_back(sim::latency_scenario(o.line, lc, o.presses, &log, [&](double f) {
-        bar.show(stage, (static_cast<double>(i) + f) / static_cast<double>(cases));
+        bar.show(stage, (static_cast<double>(i) + f) / static_cast<double>(cases), monotonic_ns());
       }));
       simulated_s += static_cast<double>(results.back().duration_ns) / 1e9;
     }
@@ -131,7 +116,8 @@ int main(int argc, char** argv) {
       files.push_back({sim::strf("latency-%uk.svg", b), lab::latency_svg(results, b)});
   }
   if (o.scenario == lab::Scenario::kFaults) {
-    const sim::FaultsResult r = sim::faults_scenario(o.line, &log, [&](double f) { bar.show("faults", f); });
+    const sim::FaultsResult r =
+        sim::faults_scenario(o.line, &log, [&](double f) { bar.show("faults", f, monotonic_ns()); });
     bar.clear();
     report += lab::faults_section(r);
     files.push_back({"timeline-faults.svg", lab::timeline_svg(r.line, o.line.stations, "faults")});

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "plot_axis.h"
 #include "sim/event_log.h"
 
 namespace mb2co {
@@ -218,38 +219,54 @@ std::string latency_svg(const std::vector<sim::LatencyResult>& results, uint32_t
     x_max = std::max<uint64_t>(x_max, r.max_ns);
     if (r.bound.ok) x_max = std::max<uint64_t>(x_max, r.bound.bound.worst_ns);
   }
-  const double x_ms = static_cast<double>(x_max) / 1e6 * 1.05;
-  const int W = 900, panel_h = 220, left = 60, right = 20, top = 40;
+  // Round ticks (1, 2 or 5 x 10^k ms) and 100 bins over the whole axis.
+  const PlotAxis x_axis = round_axis(static_cast<double>(x_max) / 1e6 * 1.02, 10);
+  const double x_ms = x_axis.max();
+  const int W = 900, panel_h = 220, left = 70, right = 20, top = 40;
   const int H = top + static_cast<int>(cases.size()) * (panel_h + 40) + 20;
   const double pw = W - left - right;
+  const int kBins = 100;  // a round axis over 100 bins: round bin widths too
   std::string s = strf(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" font-family=\"sans-serif\" "
       "font-size=\"12\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n",
       W, H);
   s += strf(
-      "<text x=\"%d\" y=\"22\" font-size=\"15\">Button to LED latency at %u kbit/s: measured histogram, "
-      "analytical bounds (red)</text>\n",
-      left, bitrate_kbit);
-  const double bin_ms = x_ms / 120.0;
+      "<text x=\"%d\" y=\"22\" font-size=\"15\">Button to LED latency at %u kbit/s: measured histogram "
+      "(presses per %s ms bin), analytical bounds (red)</text>\n",
+      left, bitrate_kbit, strf("%g", x_ms / kBins).c_str());
+  const double bin_ms = x_ms / kBins;
   for (size_t k = 0; k < cases.size(); ++k) {
     const sim::LatencyResult& r = *cases[k];
     const int y0 = top + static_cast<int>(k) * (panel_h + 40) + 10;
-    std::vector<uint32_t> bins(121, 0);
+    std::vector<uint32_t> bins(kBins, 0);
     for (uint64_t v : r.samples_ns) {
       const size_t b = static_cast<size_t>(static_cast<double>(v) / 1e6 / bin_ms);
-      ++bins[std::min<size_t>(b, 120)];
+      ++bins[std::min<size_t>(b, kBins - 1)];
     }
     const uint32_t peak = std::max<uint32_t>(1, *std::max_element(bins.begin(), bins.end()));
+    const PlotAxis y_axis = round_axis(peak, 5);
     s += strf("<text x=\"%d\" y=\"%d\">%s: n=%zu, min %s, max %s ms</text>\n", left, y0 + 12,
               path_name(r.c.remote), r.samples_ns.size(), ms(r.min_ns).c_str(), ms(r.max_ns).c_str());
     const int base = y0 + panel_h;
+    const double ph = panel_h - 30;  // bar height of y_axis.max()
+    for (int t = 0; t <= y_axis.ticks; ++t) {
+      const double y = base - ph * t / y_axis.ticks;
+      s += strf("<line x1=\"%d\" y1=\"%.1f\" x2=\"%d\" y2=\"%.1f\" stroke=\"#e0e0e0\"/>\n", left, y,
+                W - right, y);
+      s += strf("<text x=\"%d\" y=\"%.1f\" text-anchor=\"end\">%s</text>\n", left - 6, y + 4,
+                y_axis.label(t).c_str());
+    }
+    s += strf("<text x=\"14\" y=\"%d\" text-anchor=\"middle\" transform=\"rotate(-90 14 %d)\">count</text>\n",
+              base - panel_h / 2, base - panel_h / 2);
     s += strf("<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", left, base, W - right,
+              base);
+    s += strf("<line x1=\"%d\" y1=\"%.1f\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", left, base - ph, left,
               base);
     for (size_t b = 0; b < bins.size(); ++b) {
       if (bins[b] == 0) continue;
-      const double h = (panel_h - 30) * static_cast<double>(bins[b]) / peak;
+      const double h = ph * static_cast<double>(bins[b]) / y_axis.max();
       s += strf("<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"%s\"/>\n",
-                left + pw * static_cast<double>(b) / 120.0, base - h, pw / 120.0, h,
+                left + pw * static_cast<double>(b) / kBins, base - h, pw / kBins, h,
                 r.c.remote ? "#e08020" : "#3070c0");
     }
     if (r.bound.ok) {
@@ -263,10 +280,10 @@ std::string latency_svg(const std::vector<sim::LatencyResult>& results, uint32_t
                   ms(v).c_str());
       }
     }
-    for (int t = 0; t <= 10; ++t) {
-      const double x = left + pw * t / 10.0;
-      s += strf("<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%.0f</text>\n", x, base + 15,
-                x_ms * t / 10.0);
+    for (int t = 0; t <= x_axis.ticks; ++t) {
+      const double x = left + pw * t / x_axis.ticks;
+      s += strf("<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%s</text>\n", x, base + 15,
+                x_axis.label(t).c_str());
     }
     s += strf("<text x=\"%d\" y=\"%d\" text-anchor=\"end\">ms</text>\n", W - right, base + 30);
   }
@@ -276,7 +293,8 @@ std::string latency_svg(const std::vector<sim::LatencyResult>& results, uint32_t
 std::string timeline_svg(const sim::LineSummary& line, int stations, const std::string& title) {
   const int W = 900, lane = 40, left = 80, right = 20, top = 40;
   const int H = top + stations * lane + 40;
-  const double t_max = std::max(1.0, static_cast<double>(line.duration_ns) / 1e9);
+  const PlotAxis t_axis = round_axis(static_cast<double>(line.duration_ns) / 1e9, 10);
+  const double t_max = t_axis.max();
   const double pw = W - left - right;
   auto X = [&](uint64_t t) { return left + pw * (static_cast<double>(t) / 1e9) / t_max; };
   std::string s = strf(
@@ -318,10 +336,10 @@ std::string timeline_svg(const sim::LineSummary& line, int stations, const std::
     }
   }
   const int base = top + stations * lane + 5;
-  for (int t = 0; t <= 10; ++t) {
-    const double x = left + pw * t / 10.0;
-    s += strf("<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%.1f</text>\n", x, base + 12,
-              t_max * t / 10.0);
+  for (int t = 0; t <= t_axis.ticks; ++t) {
+    const double x = left + pw * t / t_axis.ticks;
+    s += strf("<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%s</text>\n", x, base + 12,
+              t_axis.label(t).c_str());
   }
   s += strf("<text x=\"%d\" y=\"%d\" text-anchor=\"end\">s</text>\n", W - right, base + 26);
   return s + "</svg>\n";

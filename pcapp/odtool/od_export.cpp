@@ -173,7 +173,11 @@ std::string od_eds(const ObjectDictionary& od, const std::string& product) {
     const std::string idx = hex(first.index, 4);
     auto entry = [&](uint16_t row, const std::string& section, const std::string& name) {
       const OdEntry e = od.entry(row);
-      s += "[" + section + "]\nParameterName=" + name + "\nObjectType=0x7\n";
+      s += "[";
+      s += section;
+      s += "]\nParameterName=";
+      s += name;
+      s += "\nObjectType=0x7\n";
       s += "DataType=0x" + hex(e.type, 4) + "\nAccessType=" + access(e) + "\n";
       s += "DefaultValue=" + default_text(od, row, true) + "\n" + limit_lines(od, row);
       s += std::string("PDOMapping=") + ((e.attr & canopen::kAttrPdo) ? "1" : "0") + "\n\n";

@@ -60,6 +60,13 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "mb2co-lab: %s\n", usable.message().c_str());
     return 2;
   }
+  if (o.scenario == lab::Scenario::kRun && o.duration_s < sim::run_min_duration_s(o.line)) {
+    std::fprintf(stderr,
+                 "mb2co-lab: --duration %u is too short for the run scenario's criterion (every station "
+                 "fills a bottle): at least %u s with this plant\n",
+                 o.duration_s, sim::run_min_duration_s(o.line));
+    return 2;
+  }
   const std::filesystem::path out(o.out_dir);
   std::error_code ec;
   std::filesystem::create_directories(out, ec);

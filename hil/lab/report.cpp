@@ -95,9 +95,40 @@ std::string run_section(const sim::RunResult& r) {
   std::string s = "\n== run: bottles flow, RUN LEDs\n";
   s += stations_table(r.line);
   s += summary_lines(r.line);
-  s += strf("  every station running: %s; LEDs show own and neighbour RUN: %s\n", yes(r.all_running),
-            yes(r.leds_ok));
-  s += strf("verdict run: %s\n", r.ok ? "PASS" : "FAIL");
+  // Each criterion with what was measured, so a FAIL says which one and why.
+  unsigned fewest = UINT32_MAX, fewest_station = 0, overfilled = 0;
+  double spilled_ml = 0;
+  for (size_t i = 0; i < r.line.stations.size(); ++i) {
+    const sim::StationSummary& st = r.line.stations[i];
+    if (st.bottles_filled < fewest) {
+      fewest = st.bottles_filled;
+      fewest_station = static_cast<unsigned>(i + 1);
+    }
+    overfilled += st.overfilled;
+    spilled_ml += static_cast<double>(st.spilled_ul) / 1000.0;
+  }
+  const bool filled = fewest > 0 && fewest != UINT32_MAX;
+  const bool clean = overfilled == 0 && spilled_ml == 0;
+  struct Criterion {
+    const char* what;
+    bool ok;
+    std::string measured;
+  };
+  const Criterion criteria[] = {
+      {"every station running at the end", r.all_running, ""},
+      {"LEDs show own and neighbour RUN", r.leds_ok, ""},
+      {"every station filled a bottle", filled,
+       strf("fewest %u, station %u", fewest == UINT32_MAX ? 0 : fewest, fewest_station)},
+      {"no bottle overfilled or spilled", clean,
+       strf("%u overfilled, %.1f ml spilled", overfilled, spilled_ml)},
+  };
+  std::string failed;
+  for (const Criterion& c : criteria) {
+    s += strf("  %s: %s%s\n", c.what, yes(c.ok), c.measured.empty() ? "" : (" (" + c.measured + ")").c_str());
+    if (!c.ok) failed += std::string(failed.empty() ? "" : "; ") + c.what;
+  }
+  s += r.ok ? strf("verdict run: PASS (all %zu criteria met)\n", sizeof criteria / sizeof criteria[0])
+            : "verdict run: FAIL (not met: " + failed + ")\n";
   return s;
 }
 
@@ -116,7 +147,21 @@ std::string stop2_section(const sim::Stop2Result& r) {
     for (const std::string& e : c.led_errors) s += "     " + e + "\n";
   }
   s += summary_lines(r.line);
-  s += strf("verdict stop2: %s\n", r.ok ? "PASS" : "FAIL");
+  // A case passes when the stations expected (k and k+1) and only they
+  // stopped, the LEDs of k-1..k+2 showed it, the own LED came and START
+  // restarted the line.
+  std::string failed;
+  for (const sim::Stop2Case& c : r.cases) {
+    if (!c.ok) failed += strf("%s%d", failed.empty() ? "" : ", ", c.k + 1);
+  }
+  if (r.ok) {
+    s += strf("verdict stop2: PASS (%zu of %zu cases: expected stations stopped, LEDs right, restarted)\n",
+              r.cases.size(), r.cases.size());
+  } else if (failed.empty()) {
+    s += "verdict stop2: FAIL (the line did not come up running before the first press)\n";
+  } else {
+    s += "verdict stop2: FAIL (cases k = " + failed + ": see their rows)\n";
+  }
   return s;
 }
 
@@ -176,7 +221,18 @@ std::string faults_section(const sim::FaultsResult& r) {
   for (const std::string& n : r.notes) s += "  [note] " + n + "\n";
   s += stations_table(r.line);
   s += summary_lines(r.line);
-  s += strf("verdict faults: %s\n", r.ok ? "PASS" : "FAIL");
+  size_t failed = 0;
+  std::string first;
+  for (const sim::FaultCheck& c : r.checks) {
+    if (c.ok) continue;
+    if (failed++ == 0) first = c.what;
+  }
+  if (r.ok) {
+    s += strf("verdict faults: PASS (all %zu checks)\n", r.checks.size());
+  } else {
+    s += strf("verdict faults: FAIL (%zu of %zu checks failed, first: %s)\n", failed, r.checks.size(),
+              first.c_str());
+  }
   return s;
 }
 

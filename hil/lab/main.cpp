@@ -14,6 +14,7 @@
 #include "plant/plant_config.h"
 #include "progress_bar.h"
 #include "report.h"
+#include "sim/can_trace.h"
 #include "sim/scenarios.h"
 
 namespace {
@@ -77,6 +78,8 @@ int main(int argc, char** argv) {
 
   lab::ProgressBar bar(!o.quiet && isatty(STDOUT_FILENO) ? stdout : nullptr);
   sim::EventLog log(true);
+  sim::CanTrace trace;
+  if (!o.trace_path.empty()) log.set_can_trace(&trace);
   std::string report = lab::report_header(o);
   std::vector<std::pair<std::string, std::string>> files;
   bool pass = true;
@@ -139,6 +142,13 @@ int main(int argc, char** argv) {
   std::fputs(report.c_str(), stdout);
   std::fflush(stdout);
 
+  if (!o.trace_path.empty()) {
+    const Status written = write_file(o.trace_path, trace.text());
+    if (!written) {
+      std::fprintf(stderr, "mb2co-lab: %s\n", written.message().c_str());
+      return 1;
+    }
+  }
   files.push_back({"report.txt", report});
   files.push_back({"events.csv", std::string(sim::EventLog::header()) + log.text()});
   for (const auto& f : files) {

@@ -59,6 +59,7 @@ const char* usage() {
          "  --ring           stations in a ring instead of a chain\n"
          "  --can-rx-buffers N  frames the CAN controller holds between passes (default 2, MCP2515)\n"
          "  --out DIR        output directory (default out)\n"
+         "  --trace FILE     every CAN frame of the runs as a candump -L log (canplayer, Wireshark)\n"
          "  --quiet          no progress bar, no speed figure\n"
          "  --help           this text\n";
 }
@@ -183,6 +184,10 @@ Status parse_options(int argc, char** argv, Options* o) {
         return Status::failure("--out needs a directory");
       }
       o->out_dir = v;
+    } else if (a == "--trace") {
+      if (!(s = value(&v))) return s;
+      if (v.empty()) return Status::failure("--trace needs a file");
+      o->trace_path = v;
     } else {
       return Status::failure("unknown option \"" + a + "\" (see --help)");
     }

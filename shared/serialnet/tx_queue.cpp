@@ -1,0 +1,26 @@
+#include "serialnet/tx_queue.h"
+
+namespace mb2co {
+namespace serialnet {
+
+bool TxQueue::push(const CanFrame& f) {
+  if (count_ == kCapacity) return false;
+  uint8_t at = count_;
+  // After every frame with an id <= f.id: equal ids stay in arrival order.
+  while (at > 0 && frames_[at - 1].id > f.id) {
+    frames_[at] = frames_[at - 1];
+    --at;
+  }
+  frames_[at] = f;
+  ++count_;
+  return true;
+}
+
+void TxQueue::pop_front() {
+  if (count_ == 0) return;
+  --count_;
+  for (uint8_t i = 0; i < count_; ++i) frames_[i] = frames_[i + 1];
+}
+
+}  // namespace serialnet
+}  // namespace mb2co

@@ -1,0 +1,185 @@
+// One SYNC producer polls 15 real I/O nodes on a 7-bit segment (seed 003
+// §3.2.6): boot-ups, heartbeats, NMT, PDOs from node to node and SDO
+// uploads, every message inside its sender's window.
+#include <gtest/gtest.h>
+#include <string.h>
+
+#include <random>
+
+#include "segment.h"
+
+namespace mb2co {
+namespace test {
+namespace {
+
+using serialnet::IdBits;
+
+TEST(Polling, BootUpsHeartbeatsAndNmtOfFifteenNodesEachInItsWindow) {
+  Segment seg(IdBits::k7, 15, false);
+  seg.start(200);
+  seg.bus.run_for(100000);
+  // Every boot-up once, from its node, and heard by the others.
+  for (uint8_t id = 1; id <= 15; ++id) {
+    const auto boot = seg.sent_by(id, static_cast<uint16_t>(0x700u + id));
+    ASSERT_EQ(boot.size(), 1u) << "node " << int(id);
+    EXPECT_EQ(boot[0].msg.length, 1);
+    EXPECT_EQ(boot[0].msg.data[0], canopen::kNmtInitialising);
+  }
+  int boot_ups_heard = 0;
+  for (const auto& r : seg.node(1).received) {
+    if (r.second.id > 0x700u && r.second.dlc == 1 && r.second.data[0] == 0) ++boot_ups_heard;
+  }
+  EXPECT_EQ(boot_ups_heard, 14);
+
+  seg.nmt_start_all();
+  seg.bus.run_for(1000000);
+  for (uint8_t id = 1; id <= 15; ++id) {
+    EXPECT_EQ(seg.node(id).node().nmt_state(), canopen::kNmtOperational) << int(id);
+    // 200 ms heartbeats over ~1 s: 4..6 of them, state operational at the end.
+    const auto hb = seg.sent_by(id, static_cast<uint16_t>(0x700u + id));
+    EXPECT_GE(hb.size(), 5u) << int(id);
+    EXPECT_LE(hb.size(), 7u) << int(id);
+    EXPECT_EQ(hb.back().msg.data[0], canopen::kNmtOperational);
+    EXPECT_GT(seg.node(id).link.counters().windows, 15u);
+  }
+  EXPECT_GT(seg.check_windows(), 15 * 6);
+  EXPECT_EQ(seg.bus.collisions, 0);
+}
+
+TEST(Polling, PdosTravelNodeToNodeWithinTheCycleBound) {
+  Segment seg(IdBits::k7, 15, false);
+  seg.start(500);
+  seg.chain_pdos();
+  seg.nmt_start_all();
+  seg.bus.run_for(200000);
+  std::mt19937 rng(5);  // NOLINT: result_type is 32 bits wide
+  const uint32_t bound_us = seg.cycle_bound_us() + seg.config.window_us;
+  for (int round = 0; round < 20; ++round) {
+    // An input changes at a random moment on a random node; the next node's
+    // output follows, carried by a TPDO sent in the source's window.
+    seg.bus.run_for(static_cast<uint32_t>(rng() % 50000u));
+    const uint8_t src = static_cast<uint8_t>(1u + rng() % 14u);
+    const uint8_t value = static_cast<uint8_t>(round + 1);
+    const uint32_t t0 = seg.bus.now;
+    const size_t before = seg.sent_by(src, static_cast<uint16_t>(0x180u + src)).size();
+    seg.node(src).io.set_input(0, value);
+    uint32_t waited = 0;
+    while (seg.node(static_cast<uint8_t>(src + 1)).io.output(0) != value && waited < 2 * bound_us) {
+      seg.bus.run_for(100);
+      waited += 100;
+    }
+    ASSERT_EQ(seg.node(static_cast<uint8_t>(src + 1)).io.output(0), value) << "round " << round;
+    const auto pdos = seg.sent_by(src, static_cast<uint16_t>(0x180u + src));
+    ASSERT_EQ(pdos.size(), before + 1u);
+    EXPECT_EQ(pdos.back().msg.data[0], value);
+    EXPECT_LE(pdos.back().end_us - t0, bound_us) << "round " << round;
+  }
+  EXPECT_GT(seg.check_windows(), 20);
+  EXPECT_EQ(seg.bus.collisions, 0);
+}
+
+TEST(Polling, SdoExpeditedAndSegmentedUploadsFromAClient) {
+  Segment seg(IdBits::k7, 15, false);
+  seg.start(0);
+  seg.bus.run_for(100000);
+  Station& master = seg.node(1);
+  master.client_on = true;
+  // 1018h/1 (vendor id, 4 bytes: expedited) from node 7.
+  master.client.init(7);
+  uint8_t buf[64] = {};
+  ASSERT_TRUE(master.client.start_upload(0x1018, 1, canopen::kSdoAuto, buf, sizeof buf, seg.bus.now,
+                                         master.link.can_sink()));
+  for (int i = 0; i < 200 && master.client.busy(); ++i) seg.bus.run_for(1000);
+  ASSERT_EQ(master.client.status(), canopen::SdoClient::kDone);
+  uint8_t want[64] = {};
+  uint16_t want_len = 0;
+  ASSERT_EQ(seg.node(7).io.od().read(0x1018, 1, want, sizeof want, &want_len), canopen::kSdoOk);
+  EXPECT_EQ(master.client.transferred(), want_len);
+  EXPECT_EQ(memcmp(buf, want, want_len), 0);
+
+  // 1008h (the device name, 14 bytes: segmented) from node 12.
+  master.client.init(12);
+  memset(buf, 0, sizeof buf);
+  ASSERT_TRUE(master.client.start_upload(0x1008, 0, canopen::kSdoAuto, buf, sizeof buf, seg.bus.now,
+                                         master.link.can_sink()));
+  for (int i = 0; i < 1000 && master.client.busy(); ++i) seg.bus.run_for(1000);
+  ASSERT_EQ(master.client.status(), canopen::SdoClient::kDone);
+  ASSERT_EQ(seg.node(12).io.od().read(0x1008, 0, want, sizeof want, &want_len), canopen::kSdoOk);
+  ASSERT_GT(want_len, 7u);
+  EXPECT_EQ(master.client.transferred(), want_len);
+  EXPECT_EQ(std::string(reinterpret_cast<char*>(buf), want_len),
+            std::string(reinterpret_cast<char*>(want), want_len));
+  // Unused SDO bytes were left off on the line: some response was shorter
+  // than 8 bytes (the expedited one of 1018h/1 ends in the vendor id's bytes,
+  // the last segment of 1008h in its padding).
+  bool short_sdo = false;
+  for (const auto& m : seg.bus.log) {
+    if ((m.can_id == 0x587 || m.can_id == 0x58C || m.can_id == 0x607 || m.can_id == 0x60C) &&
+        m.msg.length < 8) {
+      short_sdo = true;
+    }
+  }
+  EXPECT_TRUE(short_sdo);
+  EXPECT_GT(seg.check_windows(), 10);
+  EXPECT_EQ(seg.bus.collisions, 0);
+}
+
+TEST(Polling, AMissingNodeOnlyLeavesItsWindowEmpty) {
+  Segment seg(IdBits::k7, 6, false);
+  seg.start(100);
+  seg.nmt_start_all();
+  seg.bus.run_for(300000);
+  seg.bus.detach(3);  // node 4 unplugged
+  const uint16_t windows5 = seg.node(5).link.counters().windows;
+  const uint32_t t_detach = seg.bus.now;
+  seg.bus.run_for(500000);
+  for (const auto& m : seg.bus.log) {
+    if (m.talker == 3) {
+      EXPECT_LE(static_cast<int32_t>(m.start_us - t_detach), 0) << "node 4 is gone";
+    }
+  }
+  EXPECT_GE(seg.node(5).link.counters().windows - windows5, 500000u / seg.cycle_bound_us());
+  EXPECT_GE(seg.sent_by(5, 0x705).size(), 7u);
+  seg.check_windows();
+  EXPECT_EQ(seg.bus.collisions, 0);
+}
+
+TEST(Polling, ATalkerOutsideItsWindowCorruptsBothMessages) {
+  Segment seg(IdBits::k7, 6, false);
+  seg.start(0);
+  seg.chain_pdos();
+  seg.nmt_start_all();
+  seg.bus.run_for(200000);
+  // Node 3 has a PDO waiting; the moment its window opens, node 5 blurts out
+  // an NMT "reset node" for everybody (not its window).
+  seg.node(3).io.set_input(0, 0x5A);
+  for (int i = 0; i < 1000 && !seg.node(3).link.in_window(); ++i) seg.bus.run_for(50);
+  ASSERT_TRUE(seg.node(3).link.in_window());
+  ASSERT_EQ(seg.node(3).link.queued(), 0) << "its TPDO is on the line";
+  uint8_t raw[serialnet::kMaxEncodedBytes];
+  serialnet::SerialMessage reset = {};
+  reset.id = 0;  // NMT
+  reset.length = 2;
+  reset.data[0] = canopen::kNmtResetNode;
+  const uint8_t n = serialnet::encode(seg.config.set, reset, raw, sizeof raw);
+  const serialnet::Decoder::Counters before = seg.node(1).link.decoder_counters();
+  seg.bus.inject(4, std::vector<uint8_t>(raw, raw + n));
+  seg.bus.run_for(100000);
+  EXPECT_EQ(seg.bus.collisions, 1);
+  // Neither arrived: no node reset (all still operational), node 4's output
+  // did not follow; the receivers counted the damage.
+  for (uint8_t id = 1; id <= 6; ++id) EXPECT_EQ(seg.node(id).node().nmt_state(), canopen::kNmtOperational);
+  EXPECT_NE(seg.node(4).io.output(0), 0x5A);
+  // (garbage without a flag is skipped; with one, it is a bad message).
+  const serialnet::Decoder::Counters& c = seg.node(1).link.decoder_counters();
+  EXPECT_GT(c.bad_crc + c.truncated + c.bad_length + c.bad_id + c.skipped_bytes,
+            before.bad_crc + before.truncated + before.bad_length + before.bad_id + before.skipped_bytes);
+  // Traffic goes on: the next change of node 3's input gets through.
+  seg.node(3).io.set_input(0, 0x5B);
+  seg.bus.run_for(200000);
+  EXPECT_EQ(seg.node(4).io.output(0), 0x5B);
+}
+
+}  // namespace
+}  // namespace test
+}  // namespace mb2co

@@ -68,6 +68,7 @@ void SerialLink::on_byte(uint8_t byte, uint32_t byte_us) {
 }
 
 void SerialLink::deliver(const SerialMessage& m, uint32_t at_us) {
+  settle(at_us);  // what we sent before this message came first
   uint16_t can_id = 0;
   if (serial_to_can(config_.set, m.id, &can_id) != MapResult::kOk) {
     bump(counters_.unmappable_rx);
@@ -141,23 +142,24 @@ void SerialLink::send_sync(uint8_t counter, uint32_t now_us) {
   sync_counter_ = counter;
 }
 
+void SerialLink::settle(uint32_t now_us) {
+  if (!busy_ || !time_reached(now_us, busy_until_us_)) return;
+  busy_ = false;
+  if (!sync_pending_) return;
+  // Our SYNC has left: the named node's window began at its end, and our
+  // own node sees the SYNC like every other (SYNC consumers, sync PDOs).
+  sync_pending_ = false;
+  begin_window(sync_counter_, busy_until_us_);
+  CanFrame f = {};
+  f.id = kCanSync;
+  f.dlc = 1;
+  f.data[0] = sync_counter_;
+  if (receiver_.receive != nullptr) receiver_.receive(receiver_.ctx, f, busy_until_us_);
+}
+
 void SerialLink::process(uint32_t now_us) {
-  if (busy_) {
-    if (!time_reached(now_us, busy_until_us_)) return;
-    busy_ = false;
-    if (sync_pending_) {
-      // Our SYNC has left: the named node's window begins now, and our own
-      // node sees the SYNC like every other (SYNC consumers, sync PDOs).
-      sync_pending_ = false;
-      begin_window(sync_counter_, busy_until_us_);
-      CanFrame f = {};
-      f.id = kCanSync;
-      f.dlc = 1;
-      f.data[0] = sync_counter_;
-      if (receiver_.receive != nullptr) receiver_.receive(receiver_.ctx, f, busy_until_us_);
-      if (busy_) return;  // (the receiver cannot make us talk: send() only queues)
-    }
-  }
+  settle(now_us);
+  if (busy_) return;
   const uint32_t window_end_us = window_start_us_ + config_.window_us;
   switch (config_.access) {
     case Access::kPolled:

@@ -137,6 +137,9 @@ class SerialLink {
     return config_.access == Access::kToken || config_.access == Access::kTokenStarter;
   }
   uint8_t next_node(uint8_t id) const;
+  /// Ends our message on the line if it ended by `now_us`; a SYNC of ours
+  /// then opens the window it names (even when process() ran late).
+  void settle(uint32_t now_us);
   /// A window begins at `at_us` (the end of SYNC(owner)).
   void begin_window(uint8_t owner, uint32_t at_us);
   /// Our last moment for data (window end less G, less T_sync in token mode).

@@ -1,0 +1,181 @@
+// Multiple SYNC producers (seed 003 §3.2.7): 15 real I/O nodes pass the
+// token (SYNC with the next node's id) when done or when their window ends;
+// node 1 starts it and recovers it when it is lost, within
+// SerialLink::token_recovery_bound_us().
+#include <gtest/gtest.h>
+#include <string.h>
+
+#include <random>
+
+#include "segment.h"
+
+namespace mb2co {
+namespace test {
+namespace {
+
+using serialnet::IdBits;
+
+// The longest time the line carried no valid message (from the end of one
+// to the end of the next), over messages that start at or after `from_us`.
+uint32_t longest_silence_us(const SerialBus& bus, uint32_t from_us, uint32_t* at_us = nullptr) {
+  uint32_t longest = 0;
+  const SerialBus::Sent* prev = nullptr;
+  for (const SerialBus::Sent& m : bus.log) {
+    if (m.collided) continue;
+    if (prev != nullptr && static_cast<int32_t>(m.start_us - from_us) >= 0 &&
+        m.end_us - prev->end_us > longest) {
+      longest = m.end_us - prev->end_us;
+      if (at_us != nullptr) *at_us = m.end_us;
+    }
+    prev = &m;
+  }
+  return longest;
+}
+
+TEST(TokenPassing, FifteenNodesBootBeatAndPassTheTokenEarlyWhenIdle) {
+  Segment seg(IdBits::k7, 15, true);
+  seg.start(200);
+  seg.nmt_start_all();
+  seg.bus.run_for(1000000);
+  for (uint8_t id = 1; id <= 15; ++id) {
+    EXPECT_EQ(seg.node(id).node().nmt_state(), canopen::kNmtOperational) << int(id);
+    ASSERT_EQ(seg.sent_by(id, static_cast<uint16_t>(0x700u + id)).front().msg.data[0],
+              canopen::kNmtInitialising);
+    const auto hb = seg.sent_by(id, static_cast<uint16_t>(0x700u + id));
+    EXPECT_GE(hb.size(), 5u) << int(id);
+    EXPECT_LE(hb.size(), 7u) << int(id);
+  }
+  // An idle holder passes at once: far more rounds than polling's fixed
+  // windows would give (1 s / cycle_bound).
+  const uint32_t polled_rounds = 1000000u / seg.cycle_bound_us();
+  for (uint8_t id = 1; id <= 15; ++id)
+    EXPECT_GT(seg.node(id).link.counters().windows, 4 * polled_rounds) << int(id);
+  EXPECT_GT(seg.check_windows(), 15 * 6);
+  EXPECT_EQ(seg.bus.collisions, 0);
+  EXPECT_EQ(seg.node(1).link.counters().token_recoveries, 0);
+  EXPECT_LE(longest_silence_us(seg.bus, 0), seg.config.window_us);
+}
+
+TEST(TokenPassing, PdosAndSdoUploadsRideTheToken) {
+  Segment seg(IdBits::k7, 15, true);
+  seg.start(0);
+  seg.chain_pdos();
+  seg.nmt_start_all();
+  seg.bus.run_for(100000);
+  std::mt19937 rng(9);
+  // A token round takes at most N windows: the PDO leaves in the next one.
+  const uint32_t bound_us = seg.count() * seg.config.window_us + seg.config.window_us;
+  for (int round = 0; round < 20; ++round) {
+    seg.bus.run_for(static_cast<uint32_t>(rng() % 30000u));
+    const uint8_t src = static_cast<uint8_t>(1u + rng() % 14u);
+    const uint8_t value = static_cast<uint8_t>(0x40 + round);
+    const uint32_t t0 = seg.bus.now;
+    seg.node(src).io.set_input(1, value);
+    seg.bus.run_for(bound_us);
+    EXPECT_EQ(seg.node(static_cast<uint8_t>(src + 1)).io.output(1), value) << "round " << round;
+    const auto pdos = seg.sent_by(src, static_cast<uint16_t>(0x180u + src));
+    ASSERT_FALSE(pdos.empty());
+    EXPECT_EQ(pdos.back().msg.data[1], value);
+    EXPECT_LE(pdos.back().end_us - t0, bound_us);
+  }
+  Station& master = seg.node(1);
+  master.client_on = true;
+  master.client.init(9);
+  uint8_t buf[64] = {};
+  ASSERT_TRUE(master.client.start_upload(0x1008, 0, canopen::kSdoAuto, buf, sizeof buf, seg.bus.now,
+                                         master.link.can_sink()));
+  for (int i = 0; i < 1000 && master.client.busy(); ++i) seg.bus.run_for(1000);
+  ASSERT_EQ(master.client.status(), canopen::SdoClient::kDone);
+  EXPECT_EQ(std::string(reinterpret_cast<char*>(buf), master.client.transferred()), "mb2co I/O node");
+  master.client.init(15);
+  uint8_t vendor[4] = {};
+  ASSERT_TRUE(master.client.start_upload(0x1018, 1, canopen::kSdoAuto, vendor, sizeof vendor, seg.bus.now,
+                                         master.link.can_sink()));
+  for (int i = 0; i < 1000 && master.client.busy(); ++i) seg.bus.run_for(1000);
+  ASSERT_EQ(master.client.status(), canopen::SdoClient::kDone);
+  EXPECT_EQ(master.client.transferred(), 4u);
+  EXPECT_GT(seg.check_windows(), 40);
+  EXPECT_EQ(seg.bus.collisions, 0);
+}
+
+TEST(TokenPassing, ANodeRemovedWhileHoldingTheTokenIsSkippedWithinTheBound) {
+  Segment seg(IdBits::k7, 15, true);
+  seg.start(100);
+  seg.nmt_start_all();
+  seg.bus.run_for(300000);
+  // Unplug node 6 in the middle of its window: the token dies with it.
+  for (int i = 0; i < 100000 && !seg.node(6).link.holds_token(); ++i) seg.bus.run_for(10);
+  ASSERT_TRUE(seg.node(6).link.holds_token());
+  const uint32_t t_remove = seg.bus.now;
+  const uint16_t windows7 = seg.node(7).link.counters().windows;
+  seg.bus.detach(5);
+  seg.bus.run_for(1000000);
+
+  const uint32_t bound = seg.node(1).link.token_recovery_bound_us();
+  EXPECT_EQ(bound, seg.config.window_us + seg.config.guard_us +
+                       seg.node(1).link.line_time_us(seg.node(1).link.sync_frame_bytes()));
+  uint32_t at = 0;
+  const uint32_t longest = longest_silence_us(seg.bus, t_remove, &at);
+  EXPECT_GT(longest, seg.config.window_us) << "a recovery happened";
+  EXPECT_LE(longest, bound) << "at " << at;
+  // Once per round (the ring still names node 6), never more.
+  const uint16_t recoveries = seg.node(1).link.counters().token_recoveries;
+  EXPECT_GE(recoveries, 1000000u / (seg.count() * seg.config.window_us + bound));
+  EXPECT_EQ(recoveries, seg.node(7).link.counters().windows - windows7);
+  // The others go on: node 7 (after the gap) and everyone's heartbeats.
+  EXPECT_GT(seg.node(7).link.counters().windows - windows7, 10);
+  for (uint8_t id = 1; id <= 15; ++id) {
+    if (id == 6) continue;
+    const auto hb = seg.sent_by(id, static_cast<uint16_t>(0x700u + id));
+    EXPECT_GE(hb.size(), 12u) << int(id);
+  }
+  seg.check_windows(t_remove);
+  EXPECT_EQ(seg.bus.collisions, 0);
+}
+
+TEST(TokenPassing, ALostPassIsRecoveredAndTheRingGoesOn) {
+  Segment seg(IdBits::k7, 8, true);
+  seg.start(100);
+  seg.nmt_start_all();
+  seg.bus.run_for(200000);
+  // Noise over node 3's pass: wait until node 3 holds the token and sent
+  // its SYNC, then jam it.
+  for (int i = 0; i < 100000 && !seg.node(3).link.holds_token(); ++i) seg.bus.run_for(10);
+  ASSERT_TRUE(seg.node(3).link.holds_token());
+  for (int i = 0; i < 1000 && seg.node(3).link.holds_token(); ++i) seg.bus.run_for(10);
+  const uint32_t t_jam = seg.bus.now;
+  seg.bus.inject(7, {0x55, 0x55, 0x55});
+  seg.bus.run_for(500000);
+  EXPECT_EQ(seg.bus.collisions, 1);
+  EXPECT_GE(seg.node(1).link.counters().token_recoveries, 1);
+  EXPECT_LE(longest_silence_us(seg.bus, t_jam), seg.node(1).link.token_recovery_bound_us());
+  for (uint8_t id = 1; id <= 8; ++id) {
+    const auto hb = seg.sent_by(id, static_cast<uint16_t>(0x700u + id));
+    ASSERT_FALSE(hb.empty());
+    EXPECT_GT(hb.back().end_us - t_jam, 300000u) << "node " << int(id) << " still beats";
+  }
+}
+
+TEST(TokenPassing, WorksInEveryShortSet) {
+  for (IdBits bits : {IdBits::k8, IdBits::k7, IdBits::k6, IdBits::k11}) {
+    const uint8_t nodes = bits == IdBits::k6 ? 7 : 5;
+    Segment seg(bits, nodes, true, 3000);
+    seg.start(100);
+    seg.chain_pdos();
+    seg.nmt_start_all();
+    seg.bus.run_for(300000);
+    seg.node(1).io.set_input(0, 0x33);
+    seg.bus.run_for(100000);
+    EXPECT_EQ(seg.node(2).io.output(0), 0x33) << int(bits);
+    for (uint8_t id = 1; id <= nodes; ++id) {
+      EXPECT_GE(seg.sent_by(id, static_cast<uint16_t>(0x700u + id)).size(), 3u)
+          << int(bits) << ":" << int(id);
+    }
+    seg.check_windows();
+    EXPECT_EQ(seg.bus.collisions, 0);
+  }
+}
+
+}  // namespace
+}  // namespace test
+}  // namespace mb2co

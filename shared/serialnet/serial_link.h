@@ -33,11 +33,17 @@
 //    T_sync is reserved at the end of every token window for the pass, so a
 //    holder's last SYNC ends at or before window start + W.
 //
+// What the nodes' ODs need: 1019h (SYNC counter overflow) not 0, so that a
+// SYNC with its counter byte is a SYNC to them and not a length error (EMCY
+// 8240h); the number of nodes is the natural value. A synchronous TPDO
+// (types 1..240) counts every poll SYNC. Heartbeat consumer times (1016h)
+// must allow for a window's wait: a cycle more than the producer's 1017h.
+//
 // Contract: call process() after the node core's process() in the same pass
 // (so what the core queued at this instant counts as pending), and at the
 // time next_deadline() gives. The port must not hand the device its own
 // bytes back (an RS-485 echo): the link knows what it sent. One context; no
-// heap; ~180 bytes of RAM on the AVR.
+// heap; 239 bytes of RAM on the AVR (112 of them the queue).
 #pragma once
 #include <stdint.h>
 

@@ -34,9 +34,7 @@ uint32_t longest_silence_us(const SerialBus& bus, uint32_t from_us, uint32_t* at
 
 TEST(TokenPassing, FifteenNodesBootBeatAndPassTheTokenEarlyWhenIdle) {
   Segment seg(IdBits::k7, 15, true);
-  seg.start(200);
-  seg.nmt_start_all();
-  seg.bus.run_for(1000000);
+  seg.bring_up(200, false, 1000000);
   for (uint8_t id = 1; id <= 15; ++id) {
     EXPECT_EQ(seg.node(id).node().nmt_state(), canopen::kNmtOperational) << int(id);
     ASSERT_EQ(seg.sent_by(id, static_cast<uint16_t>(0x700u + id)).front().msg.data[0],
@@ -58,10 +56,7 @@ TEST(TokenPassing, FifteenNodesBootBeatAndPassTheTokenEarlyWhenIdle) {
 
 TEST(TokenPassing, PdosAndSdoUploadsRideTheToken) {
   Segment seg(IdBits::k7, 15, true);
-  seg.start(0);
-  seg.chain_pdos();
-  seg.nmt_start_all();
-  seg.bus.run_for(100000);
+  seg.bring_up(0, true, 100000);
   std::mt19937 rng(9);
   // A token round takes at most N windows: the PDO leaves in the next one.
   const uint32_t bound_us = seg.count() * seg.config.window_us + seg.config.window_us;
@@ -78,34 +73,20 @@ TEST(TokenPassing, PdosAndSdoUploadsRideTheToken) {
     EXPECT_EQ(pdos.back().msg.data[1], value);
     EXPECT_LE(pdos.back().end_us - t0, bound_us);
   }
-  Station& master = seg.node(1);
-  master.client_on = true;
-  master.client.init(9);
-  uint8_t buf[64] = {};
-  ASSERT_TRUE(master.client.start_upload(0x1008, 0, canopen::kSdoAuto, buf, sizeof buf, seg.bus.now,
-                                         master.link.can_sink()));
-  for (int i = 0; i < 1000 && master.client.busy(); ++i) seg.bus.run_for(1000);
-  ASSERT_EQ(master.client.status(), canopen::SdoClient::kDone);
-  EXPECT_EQ(std::string(reinterpret_cast<char*>(buf), master.client.transferred()), "mb2co I/O node");
-  master.client.init(15);
+  uint8_t name[32] = {};
+  ASSERT_EQ(seg.upload(9, 0x1008, 0, name, sizeof name), 14);
+  EXPECT_EQ(std::string(reinterpret_cast<char*>(name), 14), "mb2co I/O node");
   uint8_t vendor[4] = {};
-  ASSERT_TRUE(master.client.start_upload(0x1018, 1, canopen::kSdoAuto, vendor, sizeof vendor, seg.bus.now,
-                                         master.link.can_sink()));
-  for (int i = 0; i < 1000 && master.client.busy(); ++i) seg.bus.run_for(1000);
-  ASSERT_EQ(master.client.status(), canopen::SdoClient::kDone);
-  EXPECT_EQ(master.client.transferred(), 4u);
+  EXPECT_EQ(seg.upload(15, 0x1018, 1, vendor, sizeof vendor), 4);
   EXPECT_GT(seg.check_windows(), 40);
   EXPECT_EQ(seg.bus.collisions, 0);
 }
 
 TEST(TokenPassing, ANodeRemovedWhileHoldingTheTokenIsSkippedWithinTheBound) {
   Segment seg(IdBits::k7, 15, true);
-  seg.start(100);
-  seg.nmt_start_all();
-  seg.bus.run_for(300000);
+  seg.bring_up(100, false, 300000);
   // Unplug node 6 in the middle of its window: the token dies with it.
-  for (int i = 0; i < 100000 && !seg.node(6).link.holds_token(); ++i) seg.bus.run_for(10);
-  ASSERT_TRUE(seg.node(6).link.holds_token());
+  ASSERT_TRUE(seg.run_until_token_at(6));
   const uint32_t t_remove = seg.bus.now;
   const uint16_t windows7 = seg.node(7).link.counters().windows;
   seg.bus.detach(5);
@@ -135,13 +116,10 @@ TEST(TokenPassing, ANodeRemovedWhileHoldingTheTokenIsSkippedWithinTheBound) {
 
 TEST(TokenPassing, ALostPassIsRecoveredAndTheRingGoesOn) {
   Segment seg(IdBits::k7, 8, true);
-  seg.start(100);
-  seg.nmt_start_all();
-  seg.bus.run_for(200000);
+  seg.bring_up(100, false, 200000);
   // Noise over node 3's pass: wait until node 3 holds the token and sent
   // its SYNC, then jam it.
-  for (int i = 0; i < 100000 && !seg.node(3).link.holds_token(); ++i) seg.bus.run_for(10);
-  ASSERT_TRUE(seg.node(3).link.holds_token());
+  ASSERT_TRUE(seg.run_until_token_at(3));
   for (int i = 0; i < 1000 && seg.node(3).link.holds_token(); ++i) seg.bus.run_for(10);
   const uint32_t t_jam = seg.bus.now;
   seg.bus.inject(7, {0x55, 0x55, 0x55});
@@ -156,24 +134,8 @@ TEST(TokenPassing, ALostPassIsRecoveredAndTheRingGoesOn) {
   }
 }
 
-TEST(TokenPassing, WorksInEveryShortSet) {
-  for (IdBits bits : {IdBits::k8, IdBits::k7, IdBits::k6, IdBits::k11}) {
-    const uint8_t nodes = bits == IdBits::k6 ? 7 : 5;
-    Segment seg(bits, nodes, true, 3000);
-    seg.start(100);
-    seg.chain_pdos();
-    seg.nmt_start_all();
-    seg.bus.run_for(300000);
-    seg.node(1).io.set_input(0, 0x33);
-    seg.bus.run_for(100000);
-    EXPECT_EQ(seg.node(2).io.output(0), 0x33) << int(bits);
-    for (uint8_t id = 1; id <= nodes; ++id) {
-      EXPECT_GE(seg.sent_by(id, static_cast<uint16_t>(0x700u + id)).size(), 3u)
-          << int(bits) << ":" << int(id);
-    }
-    seg.check_windows();
-    EXPECT_EQ(seg.bus.collisions, 0);
-  }
+TEST(TokenPassing, WorksInEveryConnectionSet) {
+  check_every_connection_set(true);
 }
 
 }  // namespace

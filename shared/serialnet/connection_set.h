@@ -78,5 +78,11 @@ inline bool is_default_sdo(uint16_t can_id) {
   return (can_id >= 0x581u && can_id <= 0x5FFu) || (can_id >= 0x601u && can_id <= 0x67Fu);
 }
 
+/// True for the CAN ids of PDOs in the default connection set (TPDO1 180h
+/// to RPDO4 57Fh): process data, where only the newest value matters.
+inline bool is_pdo(uint16_t can_id) {
+  return can_id >= 0x181u && can_id <= 0x57Fu;
+}
+
 }  // namespace serialnet
 }  // namespace mb2co

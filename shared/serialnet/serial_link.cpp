@@ -55,7 +55,11 @@ bool SerialLink::send(const CanFrame& f) {
     bump(counters_.unmappable_tx);
     return true;
   }
-  if (!queue_.push(f)) {
+  // Seed 003 §3.2.5: a PDO due (changed, or its timer expired) goes out in
+  // the next window, with the data it has by then; a second one due while
+  // the first waits replaces it instead of queueing stale values.
+  const bool queued = is_pdo(static_cast<uint16_t>(f.id)) ? queue_.replace_or_push(f) : queue_.push(f);
+  if (!queued) {
     bump(counters_.overflow);
     return false;
   }

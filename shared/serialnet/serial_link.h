@@ -3,7 +3,8 @@
 // bus access of seed 003 §3.2.5-3.2.7 that decides when this device talks.
 //
 // Frames the core sends (can_sink()) are mapped to the connection set and
-// queued in CAN priority order (TxQueue); they go out only in this node's
+// queued in CAN priority order (TxQueue; a PDO replaces a waiting one of the
+// same id: only the newest process data is sent); they go out only in this node's
 // window, highest priority first, and only when they end inside it: what
 // does not fit waits for the next window. Bytes from the line (on_byte) are
 // decoded, mapped back to CAN ids (default-SDO messages padded to 8 bytes)
@@ -94,8 +95,9 @@ class SerialLink {
   /// The CanSink for the node core: its send() queues (see send()).
   CanSink can_sink() { return CanSink{&SerialLink::sink_send, this}; }
 
-  /// A frame to transmit in our window. False when the queue is full (the
-  /// sender retries; counted as overflow). A frame that has no serial form
+  /// A frame to transmit in our window. A PDO replaces a waiting one with
+  /// the same id (its newest data leaves in the window). False when the
+  /// queue is full (the sender retries; each refusal counts as overflow). A frame that has no serial form
   /// (extended, remote, unmappable id) is dropped, counted, and reported as
   /// sent (true): retrying could not help.
   bool send(const CanFrame& f);

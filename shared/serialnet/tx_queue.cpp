@@ -16,6 +16,16 @@ bool TxQueue::push(const CanFrame& f) {
   return true;
 }
 
+bool TxQueue::replace_or_push(const CanFrame& f) {
+  for (uint8_t i = 0; i < count_; ++i) {
+    if (frames_[i].id == f.id) {
+      frames_[i] = f;
+      return true;
+    }
+  }
+  return push(f);
+}
+
 void TxQueue::pop_front() {
   if (count_ == 0) return;
   --count_;

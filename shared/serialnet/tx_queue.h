@@ -17,6 +17,9 @@ class TxQueue {
 
   /// False when full (nothing changes).
   bool push(const CanFrame& f);
+  /// When a frame with f.id waits already, f replaces it in its place (the
+  /// newest process data wins: it leaves in the same window); else push().
+  bool replace_or_push(const CanFrame& f);
   bool empty() const { return count_ == 0; }
   uint8_t size() const { return count_; }
   /// The highest-priority frame (lowest id); only when !empty().

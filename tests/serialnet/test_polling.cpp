@@ -75,6 +75,42 @@ TEST(Polling, PdosTravelNodeToNodeWithinTheCycleBound) {
   EXPECT_EQ(seg.bus.collisions, 0);
 }
 
+TEST(Polling, TimedAndSynchronousPdosLeaveOnlyInTheirWindow) {
+  Segment seg(IdBits::k7, 15, false);
+  seg.start(0);
+  // Node 4: TPDO1 with a 10 ms event timer (due several times a cycle).
+  // Node 9: TPDO1 synchronous, every 15th SYNC (once per poll cycle).
+  const uint8_t timer_ms[2] = {10, 0};
+  ASSERT_EQ(seg.node(4).io.od().write(0x1800, 5, timer_ms, 2), canopen::kSdoOk);
+  const uint8_t every_15th = 15;
+  ASSERT_EQ(seg.node(9).io.od().write(0x1800, 2, &every_15th, 1), canopen::kSdoOk);
+  seg.nmt_start_all();
+  seg.bus.run_for(100000);
+  const uint32_t t0 = seg.bus.now;
+  const uint16_t windows4 = seg.node(4).link.counters().windows;
+  const uint16_t windows9 = seg.node(9).link.counters().windows;
+  const size_t pdos4 = seg.sent_by(4, 0x184).size();
+  const size_t pdos9 = seg.sent_by(9, 0x189).size();
+  seg.bus.run_for(2000000);
+  const size_t timed = seg.sent_by(4, 0x184).size() - pdos4;
+  const size_t cycles4 = seg.node(4).link.counters().windows - windows4;
+  // The timer falls due several times a cycle; the PDOs wait for the
+  // window, where the newest of them leaves: one a window, and another when
+  // the timer falls due again inside the window (W / 10 ms of them), never
+  // outside it.
+  EXPECT_GE(timed + 1u, cycles4);
+  EXPECT_LE(timed, cycles4 + cycles4 * seg.config.window_us / 10000u + 2u);
+  EXPECT_GT(cycles4, 40u);
+  const size_t synced = seg.sent_by(9, 0x189).size() - pdos9;
+  const size_t cycles9 = seg.node(9).link.counters().windows - windows9;
+  EXPECT_GE(synced + 1u, cycles9);
+  EXPECT_LE(synced, cycles9 + 1u);
+  EXPECT_EQ(seg.node(4).link.counters().overflow, 0);
+  EXPECT_EQ(seg.node(9).link.counters().overflow, 0);
+  EXPECT_GE(seg.check_windows(t0), static_cast<int>(timed + synced));
+  EXPECT_EQ(seg.bus.collisions, 0);
+}
+
 TEST(Polling, SdoExpeditedAndSegmentedUploadsFromAClient) {
   Segment seg(IdBits::k7, 15, false);
   seg.start(0);

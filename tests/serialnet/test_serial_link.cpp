@@ -142,10 +142,29 @@ TEST(SerialLink, EqualIdsKeepTheirOrder) {
   for (uint8_t k = 0; k < 5; ++k) EXPECT_EQ(decode(link.config().set, line.out[k + 1u]).data[0], k);
 }
 
+TEST(SerialLink, AWaitingPdoIsReplacedByTheNewestOneOthersQueue) {
+  Line line;
+  SerialLink link(config7(Access::kPolled, 10000), 1, line.sink());
+  ASSERT_TRUE(link.send(frame(0x181, {1})));
+  ASSERT_TRUE(link.send(frame(0x081, {0x10, 0x81, 0x11, 0, 0, 0, 0, 0})));
+  ASSERT_TRUE(link.send(frame(0x181, {2})));                                // newer data of the same TPDO
+  ASSERT_TRUE(link.send(frame(0x081, {0x00, 0x00, 0x00, 0, 0, 0, 0, 0})));  // EMCY: an event each
+  ASSERT_TRUE(link.send(frame(0x201, {7})));
+  EXPECT_EQ(link.queued(), 4);
+  hear(link, sync_naming(1), 100);
+  run(link, line, 100, 10000);
+  ASSERT_EQ(line.out.size(), 4u);
+  EXPECT_EQ(decode(link.config().set, line.out[0]).data[0], 0x10);
+  EXPECT_EQ(decode(link.config().set, line.out[1]).data[0], 0x00);
+  EXPECT_EQ(decode(link.config().set, line.out[2]).id, (2u << 4) | 1u);
+  EXPECT_EQ(decode(link.config().set, line.out[2]).data[0], 2) << "only the newest TPDO1";
+  EXPECT_EQ(decode(link.config().set, line.out[3]).id, (3u << 4) | 1u);
+}
+
 TEST(SerialLink, FullQueueRefusesAndCountsAndUnmappableFramesAreDropped) {
   Line line;
   SerialLink link(config7(Access::kPolled), 1, line.sink());
-  for (uint8_t k = 0; k < TxQueue::kCapacity; ++k) ASSERT_TRUE(link.send(frame(0x181, {k})));
+  for (uint8_t k = 0; k < TxQueue::kCapacity; ++k) ASSERT_TRUE(link.send(frame(0x581, {0x00, k})));
   EXPECT_FALSE(link.send(frame(0x081, {})));
   EXPECT_EQ(link.counters().overflow, 1);
   // No serial form: TPDO3, a node id beyond 15, extended, remote.
@@ -272,10 +291,10 @@ TEST(SerialLink, TokenHolderPassesAtOnceWhenIdleAndAtItsWindowEndWhenBusy) {
   EXPECT_EQ(decode(link.config().set, line.out[0]).data[0], 1) << "after the last node, the first";
   EXPECT_FALSE(link.holds_token());
 
-  // Busy: 8 TPDOs of 8 bytes (13 on the line, 1131 µs): one ends before
-  // W - G - T_sync (3000 - 100 - 11 * 87 µs), a second would not; then the
-  // pass, ending inside the window. The other 7 wait for the next token.
-  for (uint8_t k = 0; k < 8; ++k) ASSERT_TRUE(link.send(frame(0x183, {k, 1, 2, 3, 4, 5, 6, 7})));
+  // Busy: 8 SDO segments of 8 bytes (13 on the line, 1131 µs): one ends
+  // before W - G - T_sync (3000 - 100 - 11 * 87 µs), a second would not;
+  // then the pass, ending inside the window. 7 wait for the next token.
+  for (uint8_t k = 0; k < 8; ++k) ASSERT_TRUE(link.send(frame(0x583, {k, 1, 2, 3, 4, 5, 6, 7})));
   hear(link, sync_naming(3), 10000);
   run(link, line, 10000, 14000);
   ASSERT_EQ(line.out.size(), 3u);

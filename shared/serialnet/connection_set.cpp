@@ -51,14 +51,18 @@ FunctionAssignment function_assignment(uint8_t code) {
   return flash_read(&kFunctions[code]);
 }
 
-MapResult can_to_serial(const ConnectionSet& set, uint16_t can_id, uint16_t* serial_id) {
+MapResult can_to_serial(const ConnectionSet& set, uint16_t can_id, uint16_t* serial_id, uint8_t node_offset) {
   if (can_id > 0x7FFu) return MapResult::kIdOutOfRange;
-  if (set.id_bits == 11) {
-    *serial_id = can_id;
+  const uint16_t function = can_id & kCanFunctionMask;
+  uint16_t node = can_id & kCanNodeMask;
+  if (node != 0) {
+    if (node <= node_offset) return MapResult::kNodeOutOfRange;
+    node = static_cast<uint16_t>(node - node_offset);
+  }
+  if (set.id_bits == 11) {  // CAN's own set: the function code stays
+    *serial_id = static_cast<uint16_t>(function | node);
     return MapResult::kOk;
   }
-  const uint16_t node = can_id & kCanNodeMask;
-  const uint16_t function = can_id & kCanFunctionMask;
   for (uint8_t code = 0; code < 8; ++code) {
     const FunctionAssignment a = function_assignment(code);
     // SYNC (080h) and EMCY (080h+n) share a base: node 0 picks the former.
@@ -71,19 +75,21 @@ MapResult can_to_serial(const ConnectionSet& set, uint16_t can_id, uint16_t* ser
   return MapResult::kNoFunctionCode;
 }
 
-MapResult serial_to_can(const ConnectionSet& set, uint16_t serial_id, uint16_t* can_id) {
+MapResult serial_to_can(const ConnectionSet& set, uint16_t serial_id, uint16_t* can_id, uint8_t node_offset) {
   if (serial_id >> set.id_bits) return MapResult::kIdOutOfRange;
+  const uint8_t node = node_id_of(set, serial_id);
+  if (node != 0 && node + node_offset > kCanNodeMask) return MapResult::kNodeOutOfRange;
+  const uint16_t can_node = node == 0 ? 0u : static_cast<uint16_t>(node + node_offset);
   if (set.id_bits == 11) {
-    *can_id = serial_id;
+    *can_id = static_cast<uint16_t>((serial_id & kCanFunctionMask) | can_node);
     return MapResult::kOk;
   }
   const FunctionAssignment a = function_assignment(function_code_of(set, serial_id));
-  const uint8_t node = node_id_of(set, serial_id);
   if (node == 0) {
     if (a.can_id_node0 == kReserved) return MapResult::kReservedCode;
     *can_id = a.can_id_node0;
   } else {
-    *can_id = static_cast<uint16_t>(a.can_base_node + node);
+    *can_id = static_cast<uint16_t>(a.can_base_node + can_node);
   }
   return MapResult::kOk;
 }

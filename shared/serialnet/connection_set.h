@@ -51,17 +51,21 @@ FunctionAssignment function_assignment(uint8_t code);
 /// Why an identifier did not map (kOk: it did).
 enum class MapResult : uint8_t {
   kOk,
-  kNotStandard,     ///< extended (29-bit) or remote frame: no serial form
   kNoFunctionCode,  ///< the set has no code for this CAN function (e.g. TPDO3)
-  kNodeOutOfRange,  ///< node id > the set's max_nodes
+  kNodeOutOfRange,  ///< node id outside 1..max_nodes of the set (after the offset)
   kReservedCode,    ///< serial id with a reserved code (3..7 with node id 0)
   kIdOutOfRange,    ///< id wider than the set's bits (or than 11)
 };
 
-/// CAN id (standard, < 800h) → serial id of `set`.
-MapResult can_to_serial(const ConnectionSet& set, uint16_t can_id, uint16_t* serial_id);
-/// Serial id of `set` → CAN id.
-MapResult serial_to_can(const ConnectionSet& set, uint16_t serial_id, uint16_t* can_id);
+/// CAN id (standard, < 800h) → serial id of `set`. `node_offset` is a
+/// bridge's (seed 003 §3.2.8): CAN node ids offset+1..offset+max_nodes are
+/// the segment's nodes 1..max_nodes; node id 0 (NMT, SYNC, TIME) stays 0.
+/// On a refusal *serial_id is left alone.
+MapResult can_to_serial(const ConnectionSet& set, uint16_t can_id, uint16_t* serial_id,
+                        uint8_t node_offset = 0);
+/// Serial id of `set` → CAN id (the node id plus `node_offset`, at most 127).
+MapResult serial_to_can(const ConnectionSet& set, uint16_t serial_id, uint16_t* can_id,
+                        uint8_t node_offset = 0);
 
 /// Function code and node id fields of a serial id (for bridges: seed 003
 /// §3.2.8 translates the code by table and offsets the node id).

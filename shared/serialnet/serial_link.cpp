@@ -14,6 +14,18 @@ const uint16_t kCanSync = 0x080;  // 3-bit code 1, node id 0: the same in every 
 
 }  // namespace
 
+ConfigError check_config(const BusConfig& c) {
+  if (c.baud == 0) return ConfigError::kBaud;
+  if (c.first_node == 0 || c.first_node > c.last_node || c.last_node > c.set.max_nodes) {
+    return ConfigError::kNodeRange;
+  }
+  const uint32_t byte_us = byte_time_us(c.baud);
+  const bool token = c.access == Access::kToken || c.access == Access::kTokenStarter;
+  const uint32_t needed_us =
+      c.guard_us + (token ? max_sync_bytes(c.set) * byte_us : 0u) + kMaxEncodedBytes * byte_us;
+  return c.window_us < needed_us ? ConfigError::kWindowTooShort : ConfigError::kOk;
+}
+
 SerialLink::SerialLink(const BusConfig& config, uint8_t node_id, const modbus::ByteSink& line)
     : config_(config),
       line_(line),
@@ -27,8 +39,7 @@ uint8_t SerialLink::next_node(uint8_t id) const {
 }
 
 uint8_t SerialLink::sync_frame_bytes() const {
-  // Flag, then id, length, counter and CRC, each possibly stuffed.
-  return static_cast<uint8_t>(1u + 2u * (id_bytes(config_.set) + 1u + 1u + 2u));
+  return max_sync_bytes(config_.set);
 }
 
 uint32_t SerialLink::token_recovery_bound_us() const {

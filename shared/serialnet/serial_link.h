@@ -79,6 +79,22 @@ struct BusConfig {
   uint32_t max_gap_us;  ///< Decoder: longest silence inside a message (0: no limit)
 };
 
+/// Why a BusConfig cannot work.
+enum class ConfigError : uint8_t {
+  kOk,
+  kBaud,            ///< 0: no byte time
+  kNodeRange,       ///< not 1 <= first_node <= last_node <= set.max_nodes
+  kWindowTooShort,  ///< W - G (- T_sync when passing a token) holds no longest message
+};
+/// Checks `config` before a link uses it (a port's command line, a test).
+ConfigError check_config(const BusConfig& config);
+
+/// Bytes of a SYNC message in `set` with the longest stuffing (T_sync).
+inline uint8_t max_sync_bytes(const ConnectionSet& set) {
+  // Flag, then id, length, counter and CRC, each possibly stuffed.
+  return static_cast<uint8_t>(1u + 2u * (id_bytes(set) + 1u + 1u + 2u));
+}
+
 /// Where decoded frames go: Node::receive (serial_node.h) or a bridge.
 struct CanReceiver {
   void (*receive)(void* ctx, const CanFrame& f, uint32_t now_us);

@@ -17,7 +17,7 @@ namespace test {
 /// the token starter (token passing), and has the SDO client.
 class Segment {
  public:
-  Segment(serialnet::IdBits bits, uint8_t nodes, bool token, uint32_t window_us = 2500,
+  Segment(serialnet::IdBits bits, uint8_t nodes, bool token, uint32_t window_us = 3600,
           uint32_t guard_us = 100, uint32_t baud = 115200)
       : bus(serialnet::connection_set(bits), baud) {
     config.set = serialnet::connection_set(bits);
@@ -34,6 +34,7 @@ class Segment {
       } else {
         c.access = i == 0 ? serialnet::Access::kPoller : serialnet::Access::kPolled;
       }
+      EXPECT_EQ(serialnet::check_config(c), serialnet::ConfigError::kOk);
       stations.emplace_back(new Station(bus, i, c, static_cast<uint8_t>(i + 1)));
     }
     token_ = token;
@@ -171,7 +172,7 @@ inline void check_every_connection_set(bool token) {
   for (serialnet::IdBits bits :
        {serialnet::IdBits::k8, serialnet::IdBits::k7, serialnet::IdBits::k6, serialnet::IdBits::k11}) {
     const uint8_t nodes = bits == serialnet::IdBits::k6 ? 7 : 5;
-    Segment seg(bits, nodes, token, 3000);
+    Segment seg(bits, nodes, token);
     seg.bring_up(100, true, 300000);
     seg.node(1).io.set_input(0, 0x33);
     seg.bus.run_for(100000);

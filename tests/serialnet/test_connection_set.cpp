@@ -129,6 +129,42 @@ TEST(ConnectionSet, ShortSetsRefuseWhatTheyCannotCarry) {
   EXPECT_EQ(out, (0u << 5) | 31u) << "a refusal leaves the output alone";
 }
 
+TEST(ConnectionSet, ABridgesNodeOffsetMovesTheSegmentsNodesOnCan) {
+  // A 7-bit segment seen on CAN at node ids 17..31 (offset 16), and a
+  // 6-bit one at 121..127 (offset 120): every node, every service.
+  const struct {
+    IdBits bits;
+    uint8_t offset;
+  } cases[] = {{IdBits::k7, 16}, {IdBits::k6, 120}, {IdBits::k8, 96}, {IdBits::k11, 0}};
+  for (const auto& c : cases) {
+    const ConnectionSet s = connection_set(c.bits);
+    for (const Service& svc : kServices) {
+      if (svc.node0) {
+        uint16_t serial = 0xFFFF, back = 0xFFFF;
+        ASSERT_EQ(can_to_serial(s, svc.can_base, &serial, c.offset), MapResult::kOk);
+        ASSERT_EQ(serial_to_can(s, serial, &back, c.offset), MapResult::kOk);
+        EXPECT_EQ(back, svc.can_base) << "broadcasts keep node id 0";
+        continue;
+      }
+      for (uint16_t node = 1; node <= s.max_nodes && node + c.offset <= 127u; ++node) {
+        const uint16_t can = static_cast<uint16_t>(svc.can_base + node + c.offset);
+        uint16_t serial = 0xFFFF, back = 0xFFFF;
+        ASSERT_EQ(can_to_serial(s, can, &serial, c.offset), MapResult::kOk) << can;
+        EXPECT_EQ(node_id_of(s, serial), node);
+        ASSERT_EQ(serial_to_can(s, serial, &back, c.offset), MapResult::kOk);
+        EXPECT_EQ(back, can);
+      }
+    }
+  }
+  const ConnectionSet s7 = connection_set(IdBits::k7);
+  uint16_t out = 0;
+  EXPECT_EQ(can_to_serial(s7, 0x190, &out, 16), MapResult::kNodeOutOfRange) << "node 16: below the segment";
+  EXPECT_EQ(can_to_serial(s7, 0x1A0, &out, 16), MapResult::kNodeOutOfRange) << "node 32: beyond it";
+  EXPECT_EQ(can_to_serial(s7, 0x191, &out, 16), MapResult::kOk);
+  EXPECT_EQ(out, (2u << 4) | 1u);
+  EXPECT_EQ(serial_to_can(s7, (2u << 4) | 15u, &out, 120), MapResult::kNodeOutOfRange) << "135 > 127";
+}
+
 TEST(ConnectionSet, DefaultSdoIds) {
   EXPECT_TRUE(is_default_sdo(0x581));
   EXPECT_TRUE(is_default_sdo(0x5FF));

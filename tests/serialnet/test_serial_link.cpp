@@ -342,6 +342,33 @@ TEST(SerialLink, StarterStartsTheTokenAndRecoversItAfterWindowPlusGuard) {
   EXPECT_EQ(starter.counters().token_recoveries, 1);
 }
 
+TEST(SerialLink, ConfigsThatCannotWorkAreNamed) {
+  BusConfig c = config7(Access::kPolled, 2500, 100);
+  EXPECT_EQ(check_config(c), ConfigError::kOk);
+  c.last_node = 16;  // the 7-bit set has 15
+  EXPECT_EQ(check_config(c), ConfigError::kNodeRange);
+  c.last_node = 3;
+  c.first_node = 0;
+  EXPECT_EQ(check_config(c), ConfigError::kNodeRange);
+  c.first_node = 4;
+  EXPECT_EQ(check_config(c), ConfigError::kNodeRange);
+  c.first_node = 1;
+  c.baud = 0;
+  EXPECT_EQ(check_config(c), ConfigError::kBaud);
+  c.baud = 115200;
+  // The longest message (27 bytes, 2349 µs) must fit in W - G, and in token
+  // passing the pass (11 bytes, 957 µs) too.
+  c.window_us = 100 + 27 * 87;
+  EXPECT_EQ(check_config(c), ConfigError::kOk);
+  c.window_us -= 1;
+  EXPECT_EQ(check_config(c), ConfigError::kWindowTooShort);
+  c.access = Access::kToken;
+  c.window_us = 100 + 27 * 87 + 11 * 87;
+  EXPECT_EQ(check_config(c), ConfigError::kOk);
+  c.window_us -= 1;
+  EXPECT_EQ(check_config(c), ConfigError::kWindowTooShort);
+}
+
 TEST(SerialLink, ARefusedWriteIsCountedAndRetried) {
   Line line;
   SerialLink link(config7(Access::kPolled), 1, line.sink());

@@ -4,9 +4,9 @@
 //
 // Frames the core sends (can_sink()) are mapped to the connection set and
 // queued in CAN priority order (TxQueue; a PDO replaces a waiting one of the
-// same id: only the newest process data is sent); they go out only in this node's
-// window, highest priority first, and only when they end inside it: what
-// does not fit waits for the next window. Bytes from the line (on_byte) are
+// same id: only the newest process data is sent); they go out only in this
+// node's window, highest priority first, and only when they end inside it:
+// what does not fit waits for the next window. Bytes from the line (on_byte) are
 // decoded, mapped back to CAN ids (default-SDO messages padded to 8 bytes)
 // and handed to the receiver (Node::receive) with the stamp of their last
 // byte. A window is opened by a SYNC carrying one counter byte, the id of the
@@ -32,7 +32,8 @@
 //    ring is first..last; nodes do not learn who is absent). A missing
 //    starter is not recovered: it must be on the segment.
 //    T_sync is reserved at the end of every token window for the pass, so a
-//    holder's last SYNC ends at or before window start + W.
+//    holder's last SYNC ends at or before window start + W: a token round
+//    takes at most (last - first + 1) * W, plus T_recover per missing node.
 //
 // What the nodes' ODs need: 1019h (SYNC counter overflow) not 0, so that a
 // SYNC with its counter byte is a SYNC to them and not a length error (EMCY
@@ -113,9 +114,9 @@ class SerialLink {
 
   /// A frame to transmit in our window. A PDO replaces a waiting one with
   /// the same id (its newest data leaves in the window). False when the
-  /// queue is full (the sender retries; each refusal counts as overflow). A frame that has no serial form
-  /// (extended, remote, unmappable id) is dropped, counted, and reported as
-  /// sent (true): retrying could not help.
+  /// queue is full (the sender retries; each refusal counts as overflow).
+  /// A frame that has no serial form (extended, remote, unmappable id) is
+  /// dropped, counted, and reported as sent (true): retrying cannot help.
   bool send(const CanFrame& f);
   /// A byte from the line, `byte_us` when it was complete.
   void on_byte(uint8_t byte, uint32_t byte_us);
@@ -145,7 +146,7 @@ class SerialLink {
   struct Counters {
     uint16_t sent;              ///< messages written to the line (SYNCs included)
     uint16_t received;          ///< messages handed to the receiver
-    uint16_t overflow;          ///< send() refused: queue full
+    uint16_t overflow;          ///< send() calls refused: queue full
     uint16_t unmappable_tx;     ///< frames with no serial form, dropped
     uint16_t unmappable_rx;     ///< messages with a reserved or foreign id, dropped
     uint16_t line_refused;      ///< the port's write refused a message (retried)

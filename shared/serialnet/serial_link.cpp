@@ -196,8 +196,9 @@ void SerialLink::process(uint32_t now_us) {
         if (!started_) {
           send_sync(config_.first_node, now_us);
         } else if (time_reached(now_us, last_activity_us_ + config_.window_us + config_.guard_us)) {
-          // Nothing valid on the line for W + G: the named node is missing
-          // or died in its window. The next one gets the token.
+          // Nothing for W + G since our last message or the last one received
+          // intact: the named node is missing, died in its window, or noise
+          // spoiled a pass. The next one gets the token.
           bump(counters_.token_recoveries);
           send_sync(next_node(owner_), now_us);
         }

@@ -23,10 +23,11 @@
 //    SYNC(next), next = id + 1, after last_node back to first_node: at once
 //    when its queue is empty, at the latest when its window ends. The
 //    kTokenStarter sends the first SYNC and watches the line: when nothing
-//    valid was received for W + G after the last valid message, the token is
-//    lost (the named node is missing, or died mid-window); it then sends
+//    valid was received for W + G after the last message it received or
+//    sent, the token is lost (the named node is missing, or died mid-window); it then sends
 //    SYNC(next of the last named node). Recovery bound, from the end of the
-//    last valid message on the line to the end of the starter's new SYNC:
+//    last message the starter received intact or sent itself (noise may
+//    have spoiled its own pass) to the end of the starter's new SYNC:
 //        T_recover = W + G + T_sync,  T_sync = sync_frame_bytes() * t_byte,
 //    t_byte = 10 bits / baud. A missing node costs that once per cycle (the
 //    ring is first..last; nodes do not learn who is absent). A missing

@@ -69,7 +69,7 @@ MapResult can_to_serial(const ConnectionSet& set, uint16_t can_id, uint16_t* ser
     const bool match = node == 0 ? a.can_id_node0 == can_id : a.can_base_node == function;
     if (!match) continue;
     if (node > set.max_nodes) return MapResult::kNodeOutOfRange;
-    *serial_id = static_cast<uint16_t>((code << set.node_bits) | node);
+    *serial_id = static_cast<uint16_t>((static_cast<uint16_t>(code) << set.node_bits) | node);
     return MapResult::kOk;
   }
   return MapResult::kNoFunctionCode;

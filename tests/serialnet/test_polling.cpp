@@ -160,6 +160,36 @@ TEST(Polling, AMissingNodeOnlyLeavesItsWindowEmpty) {
   EXPECT_EQ(seg.bus.collisions, 0);
 }
 
+TEST(Polling, AHeartbeatConsumerNoticesALostNodeAndSaysSoByEmcy) {
+  Segment seg(IdBits::k7, 6, false);
+  seg.start(100);
+  // Node 2 watches node 3: 100 ms heartbeats wait up to a poll cycle for
+  // their window, so the consumer allows 100 ms + 2 cycles.
+  const uint32_t consumer_ms = 100u + 2u * seg.cycle_bound_us() / 1000u;
+  uint8_t entry[4];
+  canopen::put_le32(entry, (3u << 16) | consumer_ms);
+  ASSERT_EQ(seg.node(2).io.od().write(0x1016, 1, entry, 4), canopen::kSdoOk);
+  seg.nmt_start_all();
+  seg.bus.run_for(1000000);
+  EXPECT_TRUE(seg.sent_by(2, 0x082).empty()) << "no EMCY while node 3 beats";
+  seg.bus.detach(2);  // node 3 unplugged
+  const uint32_t t_detach = seg.bus.now;
+  seg.bus.run_for(1000000);
+  const auto emcy = seg.sent_by(2, 0x082);
+  ASSERT_FALSE(emcy.empty());
+  EXPECT_EQ(emcy[0].msg.length, 8);
+  EXPECT_EQ(emcy[0].msg.data[0] | (emcy[0].msg.data[1] << 8), canopen::kEmcyLifeGuard);
+  // Within the consumer time after node 3's last heartbeat, plus the wait
+  // for node 2's window.
+  EXPECT_LE(emcy[0].end_us - t_detach, consumer_ms * 1000u + seg.cycle_bound_us() + seg.config.window_us);
+  // The others heard it (node 1's core got the EMCY frame).
+  bool heard = false;
+  for (const auto& r : seg.node(1).received) heard = heard || (r.second.id == 0x082 && r.second.dlc == 8);
+  EXPECT_TRUE(heard);
+  seg.check_windows();
+  EXPECT_EQ(seg.bus.collisions, 0);
+}
+
 TEST(Polling, ATalkerOutsideItsWindowCorruptsBothMessages) {
   Segment seg(IdBits::k7, 6, false);
   seg.bring_up(0, true, 200000);

@@ -1,53 +1,16 @@
 // The serial data link allocates nothing at run time: every allocation
-// function is hooked (operator new here, malloc & co. by the linker's
-// --wrap, as tests/canopen_noheap does for the core), and three I/O nodes
-// polled over SerialLinks (boot-up, NMT, heartbeats, a PDO from node to
-// node, SDO expedited and segmented uploads) must make zero calls. The line
-// here is a fixed array: the test itself does not allocate while counting.
+// function is hooked (tests/support/alloc_hooks.h, as for the core in
+// tests/canopen_noheap), and three I/O nodes polled over SerialLinks
+// (boot-up, NMT, heartbeats, a PDO from node to node, SDO expedited and
+// segmented uploads) must make zero calls. The line here is a fixed array:
+// the test itself does not allocate while counting.
 #include <gtest/gtest.h>
 #include <string.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
+#include "../../support/alloc_hooks.h"
 #include "canopen/sdo_client.h"
 #include "ionode/io_node.h"
 #include "serialnet/serial_link.h"
-
-static std::atomic<bool> g_counting{false};
-static std::atomic<int> g_calls{0};
-
-extern "C" {
-void* __real_malloc(size_t);
-void* __real_calloc(size_t, size_t);
-void* __real_realloc(void*, size_t);
-void* __wrap_malloc(size_t n) {
-  if (g_counting) ++g_calls;
-  return __real_malloc(n);
-}
-void* __wrap_calloc(size_t n, size_t m) {
-  if (g_counting) ++g_calls;
-  return __real_calloc(n, m);
-}
-void* __wrap_realloc(void* p, size_t n) {
-  if (g_counting) ++g_calls;
-  return __real_realloc(p, n);
-}
-}
-
-void* operator new(size_t n) {
-  if (g_counting) ++g_calls;
-  void* p = std::malloc(n);
-  if (p == nullptr) throw std::bad_alloc();
-  return p;
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, size_t) noexcept {
-  std::free(p);
-}
 
 namespace mb2co {
 namespace serialnet {

@@ -14,6 +14,22 @@ const uint16_t kCanSync = 0x080;  // 3-bit code 1, node id 0: the same in every 
 
 }  // namespace
 
+uint32_t window_of(const BusConfig& c, uint8_t node) {
+  if (c.node_windows_us == nullptr || node < c.first_node || node > c.last_node) return c.window_us;
+  return c.node_windows_us[node - c.first_node];
+}
+
+uint32_t longest_window(const BusConfig& c) {
+  uint32_t longest = c.window_us;
+  if (c.node_windows_us == nullptr) return longest;
+  longest = 0;
+  for (uint16_t n = c.first_node; n <= c.last_node; ++n) {
+    const uint32_t w = window_of(c, static_cast<uint8_t>(n));
+    if (w > longest) longest = w;
+  }
+  return longest;
+}
+
 ConfigError check_config(const BusConfig& c) {
   if (c.baud == 0) return ConfigError::kBaud;
   if (c.first_node == 0 || c.first_node > c.last_node || c.last_node > c.set.max_nodes) {
@@ -23,7 +39,10 @@ ConfigError check_config(const BusConfig& c) {
   const bool token = c.access == Access::kToken || c.access == Access::kTokenStarter;
   const uint32_t needed_us =
       c.guard_us + (token ? max_sync_bytes(c.set) * byte_us : 0u) + kMaxEncodedBytes * byte_us;
-  return c.window_us < needed_us ? ConfigError::kWindowTooShort : ConfigError::kOk;
+  for (uint16_t n = c.first_node; n <= c.last_node; ++n) {
+    if (window_of(c, static_cast<uint8_t>(n)) < needed_us) return ConfigError::kWindowTooShort;
+  }
+  return ConfigError::kOk;
 }
 
 SerialLink::SerialLink(const BusConfig& config, uint8_t node_id, const modbus::ByteSink& line)
@@ -31,6 +50,7 @@ SerialLink::SerialLink(const BusConfig& config, uint8_t node_id, const modbus::B
       line_(line),
       decoder_(config.set, config.max_gap_us),
       byte_us_(byte_time_us(config.baud)),
+      longest_window_us_(longest_window(config)),
       node_id_(node_id) {}
 
 uint8_t SerialLink::next_node(uint8_t id) const {
@@ -43,7 +63,7 @@ uint8_t SerialLink::sync_frame_bytes() const {
 }
 
 uint32_t SerialLink::token_recovery_bound_us() const {
-  return config_.window_us + config_.guard_us + line_time_us(sync_frame_bytes());
+  return longest_window_us_ + config_.guard_us + line_time_us(sync_frame_bytes());
 }
 
 bool SerialLink::to_message(const CanFrame& f, SerialMessage* m) const {
@@ -110,7 +130,7 @@ void SerialLink::begin_window(uint8_t owner, uint32_t at_us) {
 }
 
 uint32_t SerialLink::data_limit_us() const {
-  uint32_t limit = window_start_us_ + config_.window_us - config_.guard_us;
+  uint32_t limit = window_start_us_ + window_of(config_, owner_) - config_.guard_us;
   if (token_mode()) limit -= line_time_us(sync_frame_bytes());
   return limit;
 }
@@ -175,7 +195,7 @@ void SerialLink::settle(uint32_t now_us) {
 void SerialLink::process(uint32_t now_us) {
   settle(now_us);
   if (busy_) return;
-  const uint32_t window_end_us = window_start_us_ + config_.window_us;
+  const uint32_t window_end_us = window_start_us_ + window_of(config_, owner_);
   switch (config_.access) {
     case Access::kPolled:
       if (mine_ && time_reached(now_us, window_end_us)) mine_ = false;
@@ -195,7 +215,7 @@ void SerialLink::process(uint32_t now_us) {
       } else if (config_.access == Access::kTokenStarter) {
         if (!started_) {
           send_sync(config_.first_node, now_us);
-        } else if (time_reached(now_us, last_activity_us_ + config_.window_us + config_.guard_us)) {
+        } else if (time_reached(now_us, last_activity_us_ + longest_window_us_ + config_.guard_us)) {
           // Nothing for W + G since our last message or the last one received
           // intact: the named node is missing, died in its window, or noise
           // spoiled a pass. The next one gets the token.
@@ -210,7 +230,7 @@ void SerialLink::process(uint32_t now_us) {
 void SerialLink::next_deadline(NextDeadline& d) const {
   if (busy_) return d.at(busy_until_us_);
   const uint32_t now_us = d.now_us();
-  const uint32_t window_end_us = window_start_us_ + config_.window_us;
+  const uint32_t window_end_us = window_start_us_ + window_of(config_, owner_);
   uint8_t bytes[kMaxEncodedBytes];
   uint8_t n = 0;
   switch (config_.access) {
@@ -227,7 +247,7 @@ void SerialLink::next_deadline(NextDeadline& d) const {
       if (mine_) return d.now();  // talk or pass
       if (config_.access != Access::kTokenStarter) return;
       if (!started_) return d.now();
-      return d.at(last_activity_us_ + config_.window_us + config_.guard_us);
+      return d.at(last_activity_us_ + longest_window_us_ + config_.guard_us);
   }
 }
 

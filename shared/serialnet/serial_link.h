@@ -14,27 +14,29 @@
 //
 // Access methods (BusConfig::access):
 //  * Polling (one SYNC producer): the kPoller device sends SYNC(n) for
-//    n = first_node..last_node in turn, every window_us (W); node n (kPolled)
-//    may talk from the end of that SYNC until W - guard_us (G) later. The
-//    poller's own node id, if in the range, gets its window like the others.
-//    Cycle time = (last - first + 1) * (W + the SYNC's line time).
+//    n = first_node..last_node in turn, each W_n after the last (window_us,
+//    or node n's own length from node_windows_us); node n (kPolled) may talk
+//    from the end of that SYNC until W_n - guard_us (G) later. The poller's
+//    own node id, if in the range, gets its window like the others.
+//    Cycle time = sum over the nodes of (W_n + the SYNC's line time).
 //  * Token passing (multiple SYNC producers): the node named by a SYNC holds
 //    the token; it sends what it has (what fits before W - T_sync) and then
 //    SYNC(next), next = id + 1, after last_node back to first_node: at once
 //    when its queue is empty, at the latest when its window ends. The
 //    kTokenStarter sends the first SYNC and watches the line: when nothing
-//    valid was received for W + G after the last message it received or
-//    sent, the token is lost (the named node is missing, or died mid-window); it then sends
+//    valid was received for W_max + G (the longest W: a holder it did not
+//    hear named may have it) after the last message it received or sent,
+//    the token is lost (the named node is missing, or died mid-window); it then sends
 //    SYNC(next of the last named node). Recovery bound, from the end of the
 //    last message the starter received intact or sent itself (noise may
 //    have spoiled its own pass) to the end of the starter's new SYNC:
-//        T_recover = W + G + T_sync,  T_sync = sync_frame_bytes() * t_byte,
+//        T_recover = W_max + G + T_sync,  T_sync = sync_frame_bytes() * t_byte,
 //    t_byte = 10 bits / baud. A missing node costs that once per cycle (the
 //    ring is first..last; nodes do not learn who is absent). A missing
 //    starter is not recovered: it must be on the segment.
 //    T_sync is reserved at the end of every token window for the pass, so a
 //    holder's last SYNC ends at or before window start + W: a token round
-//    takes at most (last - first + 1) * W, plus T_recover per missing node.
+//    takes at most the sum of the W_n, plus T_recover per missing node.
 //
 // What the nodes' ODs need: 1019h (SYNC counter overflow) not 0, so that a
 // SYNC with its counter byte is a SYNC to them and not a length error (EMCY
@@ -46,7 +48,7 @@
 // (so what the core queued at this instant counts as pending), and at the
 // time next_deadline() gives. The port must not hand the device its own
 // bytes back (an RS-485 echo): the link knows what it sent. One context; no
-// heap; 239 bytes of RAM on the AVR (112 of them the queue).
+// heap; 245 bytes of RAM on the AVR (112 of them the queue).
 #pragma once
 #include <stdint.h>
 
@@ -74,9 +76,12 @@ struct BusConfig {
   ConnectionSet set;
   uint32_t baud;  ///< line bit rate (8-N-1: 10 bits per byte)
   Access access;
-  uint8_t first_node;   ///< node ids polled / in the token ring: first..last
-  uint8_t last_node;    ///< <= set.max_nodes
-  uint32_t window_us;   ///< W: one window per node per cycle, from the end of its SYNC
+  uint8_t first_node;  ///< node ids polled / in the token ring: first..last
+  uint8_t last_node;   ///< <= set.max_nodes
+  uint32_t window_us;  ///< W: one window per node per cycle, from the end of its SYNC
+  /// Optional: node n's own W at [n - first_node] (last - first + 1 entries,
+  /// caller-owned, constant, outliving the links); null: window_us for all.
+  const uint32_t* node_windows_us;
   uint32_t guard_us;    ///< G: silence kept before the window ends (turnaround, clock offsets)
   uint32_t max_gap_us;  ///< Decoder: longest silence inside a message (0: no limit)
 };
@@ -90,6 +95,11 @@ enum class ConfigError : uint8_t {
 };
 /// Checks `config` before a link uses it (a port's command line, a test).
 ConfigError check_config(const BusConfig& config);
+/// W of node `node` (its node_windows_us entry, else window_us; window_us
+/// for ids outside first..last).
+uint32_t window_of(const BusConfig& config, uint8_t node);
+/// The longest W of the segment.
+uint32_t longest_window(const BusConfig& config);
 
 /// Bytes of a SYNC message in `set` with the longest stuffing (T_sync).
 inline uint8_t max_sync_bytes(const ConnectionSet& set) {
@@ -186,6 +196,7 @@ class SerialLink {
   TxQueue queue_;
   Counters counters_ = {};
   uint32_t byte_us_;
+  uint32_t longest_window_us_;  ///< W_max, from the config at construction
   uint32_t busy_until_us_ = 0;  ///< end of our message on the line (valid while busy_)
   uint32_t window_start_us_ = 0;
   uint32_t last_activity_us_ = 0;  ///< end of the last valid message seen or sent

@@ -14,11 +14,12 @@ namespace mb2co {
 namespace test {
 
 /// Station i (index) is node i + 1. Station 0 is the poller (polling) or
-/// the token starter (token passing), and has the SDO client.
+/// the token starter (token passing), and has the SDO client. `node_windows`
+/// (optional, outliving the segment): node n's own window at [n - 1].
 class Segment {
  public:
   Segment(serialnet::IdBits bits, uint8_t nodes, bool token, uint32_t window_us = 3600,
-          uint32_t guard_us = 100, uint32_t baud = 115200)
+          const uint32_t* node_windows = nullptr, uint32_t guard_us = 100, uint32_t baud = 115200)
       : bus(serialnet::connection_set(bits), baud) {
     config.set = serialnet::connection_set(bits);
     config.baud = baud;
@@ -27,6 +28,7 @@ class Segment {
     config.window_us = window_us;
     config.guard_us = guard_us;
     config.max_gap_us = 0;
+    config.node_windows_us = node_windows;
     for (uint8_t i = 0; i < nodes; ++i) {
       serialnet::BusConfig c = config;
       if (token) {
@@ -118,7 +120,11 @@ class Segment {
 
   /// The SYNC's line time at most (longest stuffing) and the poll cycle.
   uint32_t sync_us() const { return stations[0]->link.line_time_us(stations[0]->link.sync_frame_bytes()); }
-  uint32_t cycle_bound_us() const { return count() * (config.window_us + sync_us()); }
+  uint32_t cycle_bound_us() const {
+    uint32_t sum = 0;
+    for (uint8_t id = 1; id <= count(); ++id) sum += serialnet::window_of(config, id) + sync_us();
+    return sum;
+  }
 
   /// Every message on the line was sent by the node whose window it was and
   /// ended inside that window; SYNCs came from the poller (polling) or from
@@ -136,14 +142,16 @@ class Segment {
           } else if (sync != nullptr && m.talker != 0) {
             EXPECT_EQ(m.talker + 1, sync->msg.data[0])
                 << "a token is passed by its holder, at " << m.start_us;
-            EXPECT_LE(m.end_us - sync->end_us, config.window_us) << "the pass ends inside the window";
+            EXPECT_LE(m.end_us - sync->end_us, serialnet::window_of(config, sync->msg.data[0]))
+                << "the pass ends inside the window";
           }
         } else if (sync != nullptr) {
           EXPECT_EQ(m.talker + 1, sync->msg.data[0])
               << "node " << m.talker + 1 << " talked in the window of node " << int(sync->msg.data[0])
               << " at " << m.start_us;
           EXPECT_GE(static_cast<int32_t>(m.start_us - sync->end_us), 0);
-          EXPECT_LE(m.end_us - sync->end_us, config.window_us - config.guard_us)
+          EXPECT_LE(m.end_us - sync->end_us,
+                    serialnet::window_of(config, sync->msg.data[0]) - config.guard_us)
               << "node " << m.talker + 1 << " overran its window at " << m.start_us;
           ++checked;
         }

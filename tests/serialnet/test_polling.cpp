@@ -223,6 +223,44 @@ TEST(Polling, ATalkerOutsideItsWindowCorruptsBothMessages) {
   EXPECT_EQ(seg.node(4).io.output(0), 0x5B);
 }
 
+TEST(Polling, EachNodeGetsItsOwnWindowLength) {
+  // Node 2 has a lot to say (a 12 ms window), the others 3.6 ms.
+  static const uint32_t windows[6] = {3600, 12000, 3600, 3600, 3600, 3600};
+  Segment seg(IdBits::k7, 6, false, 3600, windows);
+  seg.bring_up(50, true, 300000);
+  // The poller's SYNCs follow the table: SYNC(n + 1) leaves W_n after
+  // SYNC(n) ended.
+  const SerialBus::Sent* prev = nullptr;
+  int checked = 0;
+  for (const auto& m : seg.bus.log) {
+    if (m.can_id != 0x080) continue;
+    if (prev != nullptr) {
+      EXPECT_EQ(m.start_us - prev->end_us, windows[prev->msg.data[0] - 1])
+          << "after SYNC(" << int(prev->msg.data[0]) << ")";
+      ++checked;
+    }
+    prev = &m;
+  }
+  EXPECT_GT(checked, 50);
+  // Node 2 uses its long window: six EMCYs (an event each, none merged;
+  // 13 bytes, 1131 µs on the line) leave in one window of 12 ms, where a
+  // 3.6 ms window holds three.
+  for (uint8_t k = 0; k < 6; ++k) {
+    CanFrame f = {};
+    f.id = 0x082;
+    f.dlc = 8;
+    f.data[0] = static_cast<uint8_t>(k + 1);
+    ASSERT_TRUE(seg.node(2).link.send(f));
+  }
+  seg.bus.run_for(100000);
+  const auto emcy = seg.sent_by(2, 0x082);
+  ASSERT_EQ(emcy.size(), 6u);
+  EXPECT_EQ(emcy.back().msg.data[0], 6);
+  EXPECT_LE(emcy.back().end_us - emcy.front().start_us, windows[1]) << "all in one window";
+  EXPECT_GE(seg.check_windows(), 50);
+  EXPECT_EQ(seg.bus.collisions, 0);
+}
+
 TEST(Polling, WorksInEveryConnectionSet) {
   check_every_connection_set(false);
 }

@@ -367,6 +367,19 @@ TEST(SerialLink, ConfigsThatCannotWorkAreNamed) {
   EXPECT_EQ(check_config(c), ConfigError::kOk);
   c.window_us -= 1;
   EXPECT_EQ(check_config(c), ConfigError::kWindowTooShort);
+  // Per-node windows: each must hold it; the longest sets the bound.
+  const uint32_t windows[3] = {5000, 9000, 100 + 38 * 87 - 1};
+  c.node_windows_us = windows;
+  EXPECT_EQ(check_config(c), ConfigError::kWindowTooShort);
+  EXPECT_EQ(window_of(c, 2), 9000u);
+  EXPECT_EQ(window_of(c, 7), c.window_us) << "outside first..last";
+  EXPECT_EQ(longest_window(c), 9000u);
+  const uint32_t ok[3] = {5000, 9000, 100 + 38 * 87};
+  c.node_windows_us = ok;
+  EXPECT_EQ(check_config(c), ConfigError::kOk);
+  Line line;
+  SerialLink link(c, 1, line.sink());
+  EXPECT_EQ(link.token_recovery_bound_us(), 9000u + 100u + 11u * 87u);
 }
 
 TEST(SerialLink, ARefusedWriteIsCountedAndRetried) {

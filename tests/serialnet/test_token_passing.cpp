@@ -164,6 +164,24 @@ TEST(TokenPassing, NoiseBurstsNeverStallTheRingLongerThanTheBound) {
   }
 }
 
+TEST(TokenPassing, TheBoundUsesTheLongestWindow) {
+  static const uint32_t windows[8] = {4000, 4000, 4000, 9000, 4000, 4000, 4000, 4000};
+  Segment seg(IdBits::k7, 8, true, 4000, windows);
+  seg.bring_up(100, false, 200000);
+  EXPECT_EQ(seg.node(1).link.token_recovery_bound_us(),
+            9000u + seg.config.guard_us + seg.node(1).link.line_time_us(seg.node(1).link.sync_frame_bytes()));
+  ASSERT_TRUE(seg.run_until_token_at(6));
+  const uint32_t t_remove = seg.bus.now;
+  seg.bus.detach(5);
+  seg.bus.run_for(500000);
+  const uint32_t longest = longest_silence_us(seg.bus, t_remove);
+  EXPECT_GT(longest, 9000u) << "the starter waits W_max + G";
+  EXPECT_LE(longest, seg.node(1).link.token_recovery_bound_us());
+  EXPECT_GT(seg.node(1).link.counters().token_recoveries, 10);
+  seg.check_windows(t_remove);
+  EXPECT_EQ(seg.bus.collisions, 0);
+}
+
 TEST(TokenPassing, WorksInEveryConnectionSet) {
   check_every_connection_set(true);
 }

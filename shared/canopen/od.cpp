@@ -16,12 +16,24 @@ ObjectDictionary::ObjectDictionary(const OdDefinition& def, uint8_t* values)
   for (uint8_t t = 0; t <= kUnsigned32; ++t) type_bytes_[t] = static_cast<uint8_t>((type_bits(t) + 7) / 8);
 }
 
+uint32_t ObjectDictionary::def_at(const OdRow* e) const {
+  return flash_read(&def_.defaults[flash_read(&e->def_slot)]);
+}
+
+OdEntry ObjectDictionary::entry(uint16_t row) const {
+  const OdRow* e = &def_.rows[row];
+  OdEntry out;
+  flash_copy(static_cast<OdRow*>(&out), e, sizeof(OdRow));
+  out.def = def_at(e);
+  return out;
+}
+
 uint16_t ObjectDictionary::find(uint16_t index, uint8_t sub) const {
   uint16_t lo = 0;
   uint16_t hi = def_.row_count;
   while (lo < hi) {
     const uint16_t mid = static_cast<uint16_t>(lo + (hi - lo) / 2);
-    const OdEntry* r = &def_.rows[mid];
+    const OdRow* r = &def_.rows[mid];
     const uint16_t i = flash_read(&r->index);
     const uint8_t s = i == index ? flash_read(&r->sub) : 0;
     if (i == index && s == sub) return mid;
@@ -59,25 +71,25 @@ bool ObjectDictionary::has_index(uint16_t index) const {
 
 uint8_t ObjectDictionary::type_bits(uint8_t type) const {
   const uint16_t r = type == 0 || type > kUnsigned32 ? kNoRow : find(type, 0);
-  return r == kNoRow ? 0 : static_cast<uint8_t>(flash_read(&def_.rows[r].def));
+  return r == kNoRow ? 0 : static_cast<uint8_t>(def_at(&def_.rows[r]));
 }
 
 uint16_t ObjectDictionary::capacity_of(uint16_t row) const {
-  const OdEntry* e = &def_.rows[row];
-  if (flash_read(&e->attr) & kAttrString) return static_cast<uint16_t>(flash_read(&e->def) >> 16);
+  const OdRow* e = &def_.rows[row];
+  if (flash_read(&e->attr) & kAttrString) return static_cast<uint16_t>(def_at(e) >> 16);
   return numeric_size(e);
 }
 
 uint16_t ObjectDictionary::size_of(uint16_t row) const {
-  const OdEntry* e = &def_.rows[row];
+  const OdRow* e = &def_.rows[row];
   if (!(flash_read(&e->attr) & kAttrString)) return numeric_size(e);
   return string_length(row);
 }
 
 uint16_t ObjectDictionary::string_length(uint16_t row) const {
-  const OdEntry* e = &def_.rows[row];
+  const OdRow* e = &def_.rows[row];
   const uint8_t a = flash_read(&e->attr);
-  const uint32_t def = flash_read(&e->def);
+  const uint32_t def = def_at(e);
   const uint16_t cap = static_cast<uint16_t>(def >> 16);
   uint16_t n = 0;
   if (a & kAttrRam) {
@@ -98,10 +110,10 @@ uint32_t ObjectDictionary::default_of(const OdEntry& e) const {
 // three fields they need straight from the row and move the value with one
 // memcpy (values are little-endian, like both targets).
 uint32_t ObjectDictionary::get(uint16_t row) const {
-  const OdEntry* e = &def_.rows[row];
+  const OdRow* e = &def_.rows[row];
   const uint8_t a = flash_read(&e->attr);
   if (!(a & kAttrRam)) {
-    const uint32_t def = flash_read(&e->def);
+    const uint32_t def = def_at(e);
     return (a & kAttrNodeId) ? def + node_id_ : def;
   }
   // Strings (their current length decides) out of line: the numeric path
@@ -123,7 +135,7 @@ uint32_t ObjectDictionary::get(uint16_t row) const {
 }
 
 bool ObjectDictionary::set(uint16_t row, uint32_t value) {
-  const OdEntry* e = &def_.rows[row];
+  const OdRow* e = &def_.rows[row];
   if ((flash_read(&e->attr) & (kAttrRam | kAttrString)) != kAttrRam) return false;
   uint8_t* p = value_at(e);
   const uint8_t n = numeric_size(e);
@@ -138,25 +150,25 @@ bool ObjectDictionary::set(uint16_t row, uint32_t value) {
 }
 
 uint8_t* ObjectDictionary::ram(uint16_t row) {
-  const OdEntry* e = &def_.rows[row];
+  const OdRow* e = &def_.rows[row];
   touch();
   return (flash_read(&e->attr) & kAttrRam) ? value_at(e) : nullptr;
 }
 
 const uint8_t* ObjectDictionary::ram(uint16_t row) const {
-  const OdEntry* e = &def_.rows[row];
+  const OdRow* e = &def_.rows[row];
   return (flash_read(&e->attr) & kAttrRam) ? value_at(e) : nullptr;
 }
 
 uint16_t ObjectDictionary::copy_out(uint16_t row, uint8_t* buf, uint16_t cap) const {
-  const OdEntry* e = &def_.rows[row];
+  const OdRow* e = &def_.rows[row];
   const uint8_t a = flash_read(&e->attr);
   uint16_t n = size_of(row);
   if (n > cap) n = cap;
   if (a & kAttrRam) {
     memcpy(buf, value_at(e), n);
   } else if (a & kAttrString) {
-    const char* p = def_.strings + (flash_read(&e->def) & 0xFFFFu);
+    const char* p = def_.strings + (def_at(e) & 0xFFFFu);
     for (uint16_t i = 0; i < n; ++i) buf[i] = flash_byte(p + i);
   } else {
     const uint32_t v = get(row);

@@ -17,7 +17,9 @@ ObjectDictionary::ObjectDictionary(const OdDefinition& def, uint8_t* values)
 }
 
 uint32_t ObjectDictionary::def_at(const OdRow* e) const {
-  return flash_read(&def_.defaults[flash_read(&e->def_slot)]);
+  const uint8_t slot = flash_read(&e->def_slot);
+  if (slot & kOdLiteralDefaults) return static_cast<uint8_t>(slot & ~kOdLiteralDefaults);
+  return flash_read(&def_.defaults[slot]);
 }
 
 OdEntry ObjectDictionary::entry(uint16_t row) const {

@@ -40,7 +40,7 @@ namespace canopen {
 struct OdDefinition {
   const OdRow* rows;          ///< sorted by (index, sub); flash on AVR
   uint16_t row_count;
-  const uint32_t* defaults;   ///< the distinct defaults the rows name by slot; flash on AVR
+  const uint32_t* defaults;   ///< the distinct defaults >= kOdLiteralDefaults the rows name by slot; flash on AVR
   const char* strings;        ///< default texts, NUL-separated; flash on AVR
   const OdLimit* limits;      ///< flash on AVR
   uint8_t limit_count;
@@ -130,41 +130,49 @@ constexpr bool od_rows_sorted(const OdRow* rows, uint16_t count) {
   return true;
 }
 
-/// The distinct values of a default column (OdRow::def_slot): the pool is
-/// built at compile time from every row's default, in the order of first
-/// use, and each row holds the slot of its value.
+/// The distinct defaults of the rows (OdRow::def_slot): a default below
+/// kOdLiteralDefaults is in its slot itself, marked by the slot's top bit
+/// (counts, bit lengths, small times: most rows); the larger defaults are
+/// in a pool built at compile time from every row's default, in the order
+/// of first use, and slot k (top bit clear) names the pool's value k.
+const uint8_t kOdLiteralDefaults = 0x80;
+
 template <uint16_t kCount>
 struct OdDefaultPool {
-  uint32_t values[kCount];
+  uint32_t values[kCount > 0 ? kCount : 1];
 };
 
-/// Number of distinct values among `count` defaults (compile time only).
-constexpr uint16_t od_distinct_count(const uint32_t* defaults, uint16_t count) {
+/// Number of distinct defaults of `count` rows that need the pool (compile
+/// time only).
+constexpr uint16_t od_pooled_count(const uint32_t* defaults, uint16_t count) {
   uint16_t distinct = 0;
   for (uint16_t i = 0; i < count; ++i) {
-    bool seen = false;
+    bool seen = defaults[i] < kOdLiteralDefaults;
     for (uint16_t j = 0; j < i && !seen; ++j) seen = defaults[j] == defaults[i];
     if (!seen) ++distinct;
   }
   return distinct;
 }
 
-/// The pool of the distinct defaults, in the order of first use.
+/// The pool of the distinct defaults from kOdLiteralDefaults up, in the
+/// order of first use.
 template <uint16_t kCount>
 constexpr OdDefaultPool<kCount> od_default_pool(const uint32_t* defaults, uint16_t count) {
   OdDefaultPool<kCount> pool{};
   uint16_t used = 0;
   for (uint16_t i = 0; i < count; ++i) {
-    bool seen = false;
+    bool seen = defaults[i] < kOdLiteralDefaults;
     for (uint16_t k = 0; k < used && !seen; ++k) seen = pool.values[k] == defaults[i];
     if (!seen) pool.values[used++] = defaults[i];
   }
   return pool;
 }
 
-/// Slot of `value` in a pool that holds it (od_default_pool of every row).
+/// Slot of `value`: the value itself when small, else its place in the
+/// pool (od_default_pool of every row, which holds it).
 template <uint16_t kCount>
 constexpr uint8_t od_default_slot(const OdDefaultPool<kCount>& pool, uint32_t value) {
+  if (value < kOdLiteralDefaults) return static_cast<uint8_t>(kOdLiteralDefaults | value);
   uint16_t k = 0;
   while (k < kCount && pool.values[k] != value) ++k;
   return static_cast<uint8_t>(k);
@@ -316,9 +324,10 @@ constexpr uint8_t od_default_slot(const OdDefaultPool<kCount>& pool, uint32_t va
       0, LIST(MB2CO_OD_N_NONE, MB2CO_OD_S_POOLINIT)};                                           \
   /* every row's default, only for the compile-time pool below (no storage) */                \
   static constexpr uint32_t Name##RowDefaults[] = {LIST(MB2CO_OD_DEFAULT_N, MB2CO_OD_DEFAULT_S)}; \
-  static constexpr uint16_t Name##DefaultCount = ::mb2co::canopen::od_distinct_count(            \
+  static constexpr uint16_t Name##DefaultCount = ::mb2co::canopen::od_pooled_count(              \
       Name##RowDefaults, static_cast<uint16_t>(sizeof(Name##RowDefaults) / sizeof(uint32_t)));   \
-  static_assert(Name##DefaultCount <= 256, #Name ": a row names its default by one byte");      \
+  static_assert(Name##DefaultCount <= 256 - ::mb2co::canopen::kOdLiteralDefaults,                \
+                #Name ": a row names its default by one byte");                                 \
   static constexpr ::mb2co::canopen::OdDefaultPool<Name##DefaultCount> Name##ValuesDefaultPool  \
       MB2CO_FLASH = ::mb2co::canopen::od_default_pool<Name##DefaultCount>(                      \
           Name##RowDefaults, static_cast<uint16_t>(sizeof(Name##RowDefaults) / sizeof(uint32_t))); \

@@ -54,7 +54,8 @@ enum OdHook : uint8_t {
 /// sub-entry makes this the largest table of an image). The 32-bit default
 /// is not in the row: the rows share a pool of the distinct defaults
 /// (OdDefinition::defaults; PDO mappings, COB-IDs, zeros repeat, so there
-/// are far fewer than rows) and each holds its one-byte slot there. The
+/// are far fewer than rows) and each holds its one-byte slot there, or the
+/// default itself when it is small (od_define.h, kOdLiteralDefaults). The
 /// same 8 bytes on both targets (the slot fills the byte before `loc`).
 /// Invariant: a table of OdRow is sorted by (index, sub) with no duplicates.
 struct OdRow {
@@ -63,7 +64,8 @@ struct OdRow {
   uint8_t type : 4;  ///< DataType (all below 10h)
   uint8_t hook : 4;  ///< OdHook (all below 10h)
   uint8_t attr;      ///< OdAttr bits
-  uint8_t def_slot;  ///< the default: OdDefinition::defaults[def_slot]
+  uint8_t def_slot;  ///< the default: OdDefinition::defaults[def_slot], or with
+                     ///< the top bit set (kOdLiteralDefaults) the low 7 bits
   uint16_t loc;      ///< kAttrRam: byte offset in the value block
 };
 /// The byte holding `type` (low nibble: GCC allocates bit-fields from the

@@ -1,8 +1,8 @@
 // The OD rows name their 32-bit default by a slot in a pool of the distinct
-// defaults (OdRow::def_slot, built at compile time by MB2CO_OD_DEFINE): every
-// row of the gateway's OD must still read the default its list line gives,
-// and equal defaults must share one slot (the pool is what makes the rows
-// small on the Uno).
+// defaults, or hold a small one themselves (OdRow::def_slot, built at compile
+// time by MB2CO_OD_DEFINE): every row of the gateway's OD must still read the
+// default its list line gives, and equal defaults must share one slot (the
+// pool is what makes the rows small on the Uno).
 #include <gtest/gtest.h>
 
 #include <map>
@@ -50,22 +50,31 @@ TEST_F(OdDefaultPool, RestoredDefaultsAndConstantsReadAsTheList) {
   }
 }
 
-TEST_F(OdDefaultPool, EqualDefaultsShareOneSlotAndEverySlotIsOneValue) {
+TEST_F(OdDefaultPool, SmallDefaultsInTheRowEqualLargeOnesShareOneSlot) {
   std::map<uint32_t, uint8_t> slot_of_value;
   std::map<uint8_t, uint32_t> value_of_slot;
+  size_t literal = 0;
   for (uint16_t r = 0; r < od.row_count(); ++r) {
     const uint8_t slot = GatewayDefinition.rows[r].def_slot;
     const uint32_t value = od.entry(r).def;
+    if (value < kOdLiteralDefaults) {
+      // In the row itself, marked by the top bit.
+      EXPECT_EQ(slot, kOdLiteralDefaults | value) << std::hex << value;
+      ++literal;
+      continue;
+    }
+    ASSERT_EQ(slot & kOdLiteralDefaults, 0) << std::hex << value;
     EXPECT_EQ(GatewayDefinition.defaults[slot], value);
     const auto known = slot_of_value.emplace(value, slot);
     EXPECT_EQ(known.first->second, slot) << "two slots hold " << std::hex << value;
     value_of_slot.emplace(slot, value);
   }
-  // Slots 0..n-1 are used, each once per distinct value: no unused or
+  // Pool slots 0..n-1 are used, each by one distinct value: no unused or
   // duplicate pool entries.
   EXPECT_EQ(value_of_slot.size(), slot_of_value.size());
   EXPECT_EQ(value_of_slot.rbegin()->first + 1u, value_of_slot.size());
   EXPECT_LT(slot_of_value.size(), static_cast<size_t>(od.row_count()) / 2);
+  EXPECT_GT(literal, 0u);
 }
 
 }  // namespace

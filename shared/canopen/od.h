@@ -176,10 +176,14 @@ class ObjectDictionary {
     entry.value_ = value;
     touch();
   }
-  uint32_t default_of(const OdEntry& e) const;
   /// The row's 32-bit default from the pool (OdRow::def_slot). Out of line:
   /// six callers, the two reads each would cost more inline on the AVR.
   __attribute__((noinline)) uint32_t def_at(const OdRow* e) const;
+  /// A row's default as a value: node-id-relative ones with the node id
+  /// added (a constant row's value, a restored RAM row's). Out of line:
+  /// get()'s numeric path then holds nothing across a call (no register
+  /// saves on the AVR).
+  __attribute__((noinline)) uint32_t constant_at(const OdRow* e) const;
   /// Current text length of a string row (RAM or flash), at most its capacity.
   uint16_t string_length(uint16_t row) const;
   /// Bytes of a numeric row's value (0 for a type without a size entry).

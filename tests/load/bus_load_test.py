@@ -156,6 +156,28 @@ def run(args, tmp, log, children):
     return asked, answered, (ticks - ticks0) / hz, sleeps - sleeps0, wall, frames
 
 
+def due_times(heartbeats):
+    """When each heartbeat was due: phase + k x period, the phase that of the
+    earliest one. A heartbeat more than a period late restarts the node's
+    schedule from itself (ErrorControl), so a new phase begins after any
+    interval over 1.5 periods (where the node did not restart, the new
+    phase, again the earliest, comes out the same)."""
+    period = PERIOD_MS / 1000.0
+    starts = [0] + [k for k in range(1, len(heartbeats)) if heartbeats[k] - heartbeats[k - 1] > 1.5 * period]
+    due = []
+    for i, first in enumerate(starts):
+        last = starts[i + 1] if i + 1 < len(starts) else len(heartbeats)
+        # The restarting heartbeat itself was due one period after the last
+        # of the old schedule; the new schedule counts from the next one.
+        if i > 0:
+            due.append(due[-1] + period)
+            first += 1
+        if first < last:
+            phase = min(heartbeats[k] - (k - first) * period for k in range(first, last))
+            due.extend(phase + (k - first) * period for k in range(first, last))
+    return due
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("node")
@@ -198,10 +220,8 @@ def main():
         fail("too little in the log: %d heartbeats, %d reference frames" % (len(heartbeats), len(reference)))
 
     intervals = [(b - a) * 1000.0 for a, b in zip(heartbeats, heartbeats[1:])]
-    phase = min(t - k * PERIOD_MS / 1000.0 for k, t in enumerate(heartbeats))
     late_ms, stall_ms = [], []
-    for k, t in enumerate(heartbeats):
-        due = phase + k * PERIOD_MS / 1000.0
+    for k, t, due in zip(range(len(heartbeats)), heartbeats, due_times(heartbeats)):
         late_ms.append((t - due) * 1000.0)
         # The time the VM stood still between due time and sending: the parts
         # of reference gaps within it beyond the reference's 1 ms period

@@ -80,7 +80,9 @@ std::string option_label(const Option& o) {
 void append_option_line(std::string& out, const std::string& label, const std::string& help) {
   constexpr size_t kColumn = 28;
   std::string line = "  " + label;
-  line += line.size() + 2 <= kColumn ? std::string(kColumn - line.size(), ' ') : "  ";
+  // A label too long for the column gets its help on the next line.
+  line +=
+      line.size() + 2 <= kColumn ? std::string(kColumn - line.size(), ' ') : "\n" + std::string(kColumn, ' ');
   for (const char ch : help) {
     line += ch;
     if (ch == '\n') line += std::string(kColumn, ' ');
@@ -291,7 +293,7 @@ Parsed parse(const Program& program, int argc, const char* const* argv) {
       }
       return usage_error("unknown option " + a + " " + try_help(program, command));
     }
-    if (o->kind == Kind::kRefused) return usage_error(o->name + ": " + o->help);
+    if (o->kind == Kind::kRefused) return usage_error(o->name + " " + o->help);
     if (!o->takes_value() && inline_value) return usage_error(o->name + " takes no value");
     if (o->takes_value() && !inline_value) {
       if (i + 1 >= argc || is_option_word(argv[i + 1]) || std::string(argv[i + 1]) == "--") {

@@ -40,7 +40,7 @@ enum class Kind : uint8_t {
   kBitrates,  ///< parse_bitrate_list, each one of `bitrates`
   kParity,    ///< parse_parity
   kDuration,  ///< parse_duration_ms within [min, max] ms
-  kRefused,   ///< known but not ours: refused with `help` as the reason, hidden
+  kRefused,   ///< known but not ours: refused as "NAME `help`", hidden
 };
 
 struct Option {
@@ -71,7 +71,7 @@ Option bitrate_of(std::string name, std::vector<uint32_t> allowed_bps, std::stri
 Option bitrate_list(std::string name, std::vector<uint32_t> allowed_bps, std::string help);
 Option parity(std::string name, std::string help);
 Option duration(std::string name, uint64_t min_ms, uint64_t max_ms, std::string help);
-/// An option of another program, refused with `why` (not in --help).
+/// An option of another program, refused as "NAME `why`" (not in --help).
 Option refused(std::string name, std::string why);
 
 struct Command {

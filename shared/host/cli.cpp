@@ -17,14 +17,26 @@ const Command* find_command(const Program& p, const std::string& name) {
   return nullptr;
 }
 
-const Option* find_option(const Command& c, const std::string& name) {
-  for (const Option& o : c.options) {
+const Option* find_in(const std::vector<Option>& options, const std::string& name) {
+  for (const Option& o : options) {
     if (o.name == name ||
         (o.short_name != 0 && name.size() == 2 && name[0] == '-' && name[1] == o.short_name)) {
       return &o;
     }
   }
   return nullptr;
+}
+
+/// The command's own option, else a global one.
+const Option* find_option(const Program& p, const Command& c, const std::string& name) {
+  const Option* o = find_in(c.options, name);
+  return o != nullptr ? o : find_in(p.global_options, name);
+}
+
+/// The option word `a` without an "=value" part.
+std::string option_name(const std::string& a) {
+  const size_t eq = a.find('=');
+  return a[1] == '-' && eq != std::string::npos ? a.substr(0, eq) : a;
 }
 
 std::string command_names(const Program& p) {
@@ -237,12 +249,17 @@ uint64_t Args::duration_ms(const std::string& name, uint64_t fallback) const {
 
 Parsed parse(const Program& program, int argc, const char* const* argv) {
   Parsed r;
-  int first = 1;
-  const Command* command = has_commands(program) ? nullptr : &program.commands[0];
-  if (command == nullptr && argc > 1) {
-    command = find_command(program, argv[1]);
-    if (command != nullptr) first = 2;
+  // Global options may stand before the command's name: skip them (they are
+  // parsed with the command's own below).
+  int name_at = 1;
+  while (name_at < argc && is_option_word(argv[name_at])) {
+    const Option* g = find_in(program.global_options, option_name(argv[name_at]));
+    if (g == nullptr) break;
+    const bool inline_value = std::string(argv[name_at]).find('=') != std::string::npos;
+    name_at += g->takes_value() && !inline_value ? 2 : 1;
   }
+  const Command* command = has_commands(program) ? nullptr : &program.commands[0];
+  if (command == nullptr && name_at < argc) command = find_command(program, argv[name_at]);
   if (asked(argc, argv, 1, "--help", "-h")) {
     r.action = Action::kHelp;
     r.text = help_text(program, command);
@@ -259,14 +276,19 @@ Parsed parse(const Program& program, int argc, const char* const* argv) {
     return r;
   }
   if (command == nullptr) {
-    if (argc < 2)
+    if (name_at >= argc) {
       return usage_error("missing command (" + command_names(program) + ") " + try_help(program, nullptr));
-    return usage_error("unknown command \"" + std::string(argv[1]) + "\" (" + command_names(program) + ") " +
-                       try_help(program, nullptr));
+    }
+    if (is_option_word(argv[name_at])) {
+      return usage_error("unknown option " + option_name(argv[name_at]) + " " + try_help(program, nullptr));
+    }
+    return usage_error("unknown command \"" + std::string(argv[name_at]) + "\" (" + command_names(program) +
+                       ") " + try_help(program, nullptr));
   }
   r.args.command = command;
   std::map<std::string, bool> seen;
-  for (int i = first; i < argc; ++i) {
+  for (int i = 1; i < argc; ++i) {
+    if (has_commands(program) && i == name_at) continue;
     std::string a = argv[i];
     if (a == "--") {
       for (++i; i < argc; ++i) r.args.operands.push_back(argv[i]);
@@ -284,10 +306,10 @@ Parsed parse(const Program& program, int argc, const char* const* argv) {
       a.resize(eq);
       inline_value = true;
     }
-    const Option* o = find_option(*command, a);
+    const Option* o = find_option(program, *command, a);
     if (o == nullptr) {
       for (const Command& other : program.commands) {
-        if (find_option(other, a) != nullptr) {
+        if (find_in(other.options, a) != nullptr) {
           return usage_error(a + " is not an option of " + command->name + " " + try_help(program, command));
         }
       }
@@ -337,6 +359,7 @@ std::string help_text(const Program& p, const Command* c) {
     s += " COMMAND [options]\n" + p.description + "\ncommands:\n";
     for (const Command& cmd : p.commands) append_option_line(s, cmd.name, cmd.summary);
     s += "\n\"" + p.name + " COMMAND --help\" lists the options of COMMAND.\n";
+    for (const Option& o : p.global_options) append_option_line(s, option_label(o), o.help);
     append_option_line(s, "--help", "this text");
     append_option_line(s, "--version", std::string("print \"") + p.name + " " + version() + "\"");
     return s + p.footer;
@@ -345,8 +368,10 @@ std::string help_text(const Program& p, const Command* c) {
   s += " [options]";
   if (!c->operands.empty()) s += " " + c->operands;
   s += "\n" + (c->name.empty() ? p.description : c->summary + "\n") + "\noptions:\n";
-  for (const Option& o : c->options) {
-    if (o.kind != Kind::kRefused) append_option_line(s, option_label(o), o.help);
+  for (const std::vector<Option>* list : {&c->options, &p.global_options}) {
+    for (const Option& o : *list) {
+      if (o.kind != Kind::kRefused) append_option_line(s, option_label(o), o.help);
+    }
   }
   append_option_line(s, "-h, --help", "this text");
   append_option_line(s, "--version", std::string("print \"") + p.name + " " + version() + "\"");
@@ -357,9 +382,10 @@ std::string list_options(const Program& p, const Command* c) {
   std::string s;
   if (c == nullptr) {
     for (const Command& cmd : p.commands) s += cmd.name + "\n";
-    return s + "--help flag\n--version flag\n";
   }
-  for (const Option& o : c->options) {
+  std::vector<Option> options = p.global_options;
+  if (c != nullptr) options.insert(options.begin(), c->options.begin(), c->options.end());
+  for (const Option& o : options) {
     if (o.kind == Kind::kRefused) continue;
     s += o.name;
     switch (o.kind) {

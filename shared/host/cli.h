@@ -3,7 +3,7 @@
 // the bash completion (--list-options) all come, so they cannot disagree.
 // Host-only (std::string, std::vector).
 //
-//   PROGRAM [COMMAND] [--name VALUE | --name=VALUE | -x VALUE | --flag]... [OPERAND]...
+//   PROGRAM [GLOBAL OPTION]... [COMMAND] [--name VALUE | --name=VALUE | -x VALUE | --flag]... [OPERAND]...
 //
 // Values are checked against their kind while parsing (a bad bit rate is a
 // usage error before anything runs). Exit status: 0 done, 1 runtime error,
@@ -86,7 +86,10 @@ struct Program {
   std::string name;               ///< "mb2co-timing"
   std::string description;        ///< a few lines for --help
   std::vector<Command> commands;  ///< one Command named "" when there are no subcommands
-  std::string footer;             ///< exit statuses, notes (end of every --help)
+  /// Options of every command, also accepted before the command's name
+  /// ("mb2co-master -i can0 read ..."); in every command's --help.
+  std::vector<Option> global_options;
+  std::string footer;  ///< exit statuses, notes (end of every --help)
 };
 
 /// The options and operands of one invocation, checked against the table.

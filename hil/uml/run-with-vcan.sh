@@ -14,7 +14,8 @@
 #
 # Exit status: the command's (124 when --timeout hit it, 128+N for signal N);
 # 125 with one line on stderr when the sandbox could not be set up or an option
-# is bad (not 2: that may be the command's own); --help: this text, exit 0.
+# is bad (not 2: that may be the command's own); --help: this text, exit 0;
+# --version: the project's version (CMakeLists.txt), exit 0.
 # Environment: MB2CO_VCAN_MODE (same as --mode), MB2CO_UML_MEM (default 512M),
 # MB2CO_VCAN_KEEP=1 keeps the run's temp dir (request, console.log) for a look.
 set -euo pipefail
@@ -49,6 +50,7 @@ while (($#)); do
     --mode) mode=$2; shift 2 ;;
     --) shift; break ;;
     -h | --help) help ;;
+    --version) echo "run-with-vcan.sh $(sed -n 's/^project(mb2co VERSION \([0-9.]*\).*/\1/p' "$here/../../CMakeLists.txt")"; exit 0 ;;
     *) die "unknown option '$1' (the command goes after --)" ;;
   esac
 done

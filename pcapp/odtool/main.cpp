@@ -11,19 +11,24 @@
 
 namespace {
 
-const mb2co::cli::Program& program() {
-  static const mb2co::cli::Program p{
-      "mb2co-od",
+mb2co::cli::Program make_program() {
+  namespace cli = mb2co::cli;
+  cli::Program p;
+  p.name = "mb2co-od";
+  p.description =
       "Prints a node's Object Dictionary as Markdown, as an EDS file (CiA 306) or,\n"
-      "for the gateway, as its Modbus register map.\n",
-      {mb2co::cli::Command{"",
-                           "",
-                           "",
-                           0,
-                           {mb2co::cli::choice("--node", {"ionode", "gateway"}, "the node (default ionode)"),
-                            mb2co::cli::choice("--format", {"md", "eds", "registers"},
-                                               "md (default), eds, or registers (gateway only)")}}},
-      "\nexit status: 0 done, 2 usage error (one line on stderr)\n"};
+      "for the gateway, as its Modbus register map.\n";
+  cli::Command c;
+  c.options = {
+      cli::choice("--node", {"ionode", "gateway"}, "the node (default ionode)"),
+      cli::choice("--format", {"md", "eds", "registers"}, "md (default), eds, or registers (gateway only)")};
+  p.commands = {c};
+  p.footer = "\nexit status: 0 done, 2 usage error (one line on stderr)\n";
+  return p;
+}
+
+const mb2co::cli::Program& program() {
+  static const mb2co::cli::Program p = make_program();
   return p;
 }
 

@@ -110,9 +110,6 @@ Status frame_command(const Options& o, std::ostream& out) {
   Status s = frame_bits_option(o, &convention);
   if (s) s = format_option(o, &format);
   if (!s) return s;
-  if (!o.positional.empty()) {
-    return Status::failure("unexpected argument \"" + o.positional[0] + "\"");
-  }
   if (o.has("--id") || o.has("--data") || o.has("--rtr")) {
     return exact_frame(o, rate, convention, out, format);
   }

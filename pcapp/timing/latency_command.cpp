@@ -70,9 +70,6 @@ Status latency_command(const Options& o, std::ostream& out) {
   if (s) s = uint_option(o, "--button-node", 1, timing::kMaxStations, kDefaultButtonNode, &button_node);
   if (s) s = uint_option(o, "--pc-node", 1, timing::kMaxStations, kDefaultPcNode, &pc_node);
   if (!s) return s;
-  if (!o.positional.empty()) {
-    return Status::failure("unexpected argument \"" + o.positional[0] + "\"");
-  }
   p.inhibit_us = uint32_t{line.tpdo1_inhibit_100us} * 100u;
 
   const size_t capacity = timing::line_message_count(line);

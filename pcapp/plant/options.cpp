@@ -157,7 +157,7 @@ Status parse_options(const QStringList& args, AppOptions& o) {
             .toStdString());
   }
   cli::Parity par = cli::Parity::kNone;
-  const Status parity_ok = cli::parse_parity("--parity", p.value(parity).toStdString(), &par);
+  Status parity_ok = cli::parse_parity("--parity", p.value(parity).toStdString(), &par);
   if (!parity_ok) return parity_ok;
   o.parity = cli::parity_letter(par);
   if (p.isSet(no_reset)) {

@@ -48,7 +48,7 @@ Status message_set_option(const Options& o, std::vector<timing::MessageSpec>& se
   if (!o.has("--bitrate")) {
     return Status::failure("missing --bitrate B (bit/s) for " + o.positional[0]);
   }
-  const Status s = read_message_csv(o.positional[0], set);
+  Status s = read_message_csv(o.positional[0], set);
   if (!s) {
     *runtime_failure = true;
     return s;

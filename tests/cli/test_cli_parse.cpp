@@ -36,6 +36,7 @@ const Program& tool() {
 Parsed run(std::vector<std::string> words) {
   words.insert(words.begin(), "tool");
   std::vector<const char*> argv;
+  argv.reserve(words.size());
   for (const std::string& w : words) argv.push_back(w.c_str());
   return parse(tool(), static_cast<int>(argv.size()), argv.data());
 }

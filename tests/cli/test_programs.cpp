@@ -3,49 +3,19 @@
 // "unknown argument" for a known option without its value, and
 // "mb2co-lab --bitrates 500" meant kbit/s where other programs meant bit/s.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <cstdlib>
-#include <fstream>
-#include <sstream>
 #include <string>
+
+#include "program_run.h"
 
 namespace {
 
-struct Result {
-  int status = -1;
-  std::string out;
-  std::string err;
-};
+using Result = mb2co::test::ProgramResult;
+using mb2co::test::slurp;
 
-std::string slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-class Programs : public ::testing::Test {
+class Programs : public mb2co::test::ProgramTest {
  protected:
-  void SetUp() override {
-    char dir[] = "/tmp/mb2co_cli_programs_XXXXXX";
-    ASSERT_NE(mkdtemp(dir), nullptr);
-    dir_ = dir;
-  }
-  void TearDown() override { std::system(("rm -rf '" + dir_ + "'").c_str()); }
-
-  Result run(const std::string& exe, const std::string& args) {
-    const std::string out = dir_ + "/out", err = dir_ + "/err";
-    const int raw = std::system((exe + " " + args + " >" + out + " 2>" + err + " </dev/null").c_str());
-    Result r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-  }
-
-  std::string dir_;
+  Result run(const std::string& exe, const std::string& args) { return run_program(exe, args); }
 };
 
 const std::string kLab = MB2CO_LAB_EXE;

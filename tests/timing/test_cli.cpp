@@ -2,52 +2,22 @@
 // end to end, the output formats, the SVG, and one-line errors with exit 1
 // (runtime) or 2 (usage).
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <cstdlib>
-#include <fstream>
-#include <sstream>
 #include <string>
+
+#include "program_run.h"
 
 namespace {
 
 const std::string kExe = MB2CO_TIMING_EXE;
 const std::string kData = MB2CO_TIMING_DATA;
 
-struct Result {
-  int status = -1;
-  std::string out;
-  std::string err;
-};
+using Result = mb2co::test::ProgramResult;
+using mb2co::test::slurp;
 
-std::string slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-class Cli : public ::testing::Test {
+class Cli : public mb2co::test::ProgramTest {
  protected:
-  void SetUp() override {
-    char dir[] = "/tmp/mb2co_timing_cli_XXXXXX";
-    ASSERT_NE(mkdtemp(dir), nullptr);
-    dir_ = dir;
-  }
-  void TearDown() override { std::system(("rm -rf '" + dir_ + "'").c_str()); }
-
-  Result run(const std::string& args) {
-    const std::string out = dir_ + "/out", err = dir_ + "/err";
-    const int raw = std::system((kExe + " " + args + " >" + out + " 2>" + err + " </dev/null").c_str());
-    Result r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-  }
-
-  std::string dir_;
+  Result run(const std::string& args) { return run_program(kExe, args); }
 };
 
 // The JSON object of the row whose name is `name` (rows are printed one per

@@ -25,9 +25,6 @@
 namespace mb2co {
 namespace modbus {
 
-/// MEI type of the CANopen General Reference inside function 0x2B.
-constexpr uint8_t kMeiCanopenReference = 0x0D;
-
 namespace net {
 /// Protocol control bits (PDU byte 2).
 constexpr uint8_t kMoreFollows = 0x01;

@@ -11,19 +11,9 @@
 #include "gateway/gateway_od.h"
 #include "gateway/line_app.h"
 #include "gateway/od_register_bank.h"
+#include "modbus/net_switch.h"  // MB2CO_GATEWAY_NET
 #include "modbus/slave.h"
 #include "platform/device_port.h"  // GatewayPorts: the platform contract
-
-/// FC 2Bh/0Dh, the Modbus master's access to the whole CANopen network
-/// (gateway/network_service.h): on unless the build says otherwise. The Uno
-/// leaves it out by default (its flash); -DMB2CO_GATEWAY_NET=1 puts it in.
-#ifndef MB2CO_GATEWAY_NET
-#ifdef __AVR__
-#define MB2CO_GATEWAY_NET 0
-#else
-#define MB2CO_GATEWAY_NET 1
-#endif
-#endif
 #if MB2CO_GATEWAY_NET
 #include "gateway/network_service.h"
 #endif

@@ -2,9 +2,12 @@
 // gateway's own node id, remote SDO transfers through the SDO client with
 // data in the slave's frame buffer, and multi-part downloads (the server's
 // ack is held until the next part brings the bytes of the next segment).
-#include "gateway/network_service.h"
-
+#include "modbus/net_switch.h"
+#if MB2CO_GATEWAY_NET  // else the image leaves the service out (net_switch.h)
 #include <string.h>
+
+#include "canopen/frame_out.h"
+#include "gateway/network_service.h"
 
 namespace mb2co {
 namespace gateway {
@@ -36,7 +39,6 @@ NetworkService::NetworkService(Node& node, ObjectDictionary& od, modbus::SlaveCo
       sink_(sink),
       enabled_(enabled),
       handler_{&NetworkService::handle, this},
-      nmt_(sink),
       client_(),
       view_(),
       req_(),
@@ -90,8 +92,12 @@ uint16_t NetworkService::nmt(uint8_t* pdu, uint16_t capacity) {
   const uint8_t target = req_.node_id;
   // Built first: a reset of our own node must not find the request gone.
   const uint16_t length = modbus::build_net_response(pdu, capacity, req_);
-  if (target != node_.node_id()) nmt_.command(command, target);
-  if (target == NmtMaster::kAllNodes || target == node_.node_id()) node_.local_nmt(command, now_us_);
+  if (target != node_.node_id()) {
+    // CiA 301 NMT node control: COB-ID 000h, command, node id (0: all).
+    const uint8_t frame[2] = {static_cast<uint8_t>(command), target};
+    send_frame(sink_, 0x000, 2, frame);
+  }
+  if (target == 0u || target == node_.node_id()) node_.local_nmt(command, now_us_);
   return length;
 }
 
@@ -248,8 +254,8 @@ bool NetworkService::should_hold(const CanFrame& f) const {
 void NetworkService::hold(const CanFrame& f) {
   held_ = f;
   uint8_t tmp[sizeof carry_];
-  const uint32_t n = part_end_ - read_end_;  // < 7: a segment's worth
-  for (uint32_t i = 0; i < n; ++i) {
+  const uint8_t n = static_cast<uint8_t>(part_end_ - read_end_);  // < 7: a segment's worth
+  for (uint8_t i = 0; i < n; ++i) {
     if (!byte_at(read_end_ + i, tmp[i])) {  // the part is gone: the master sent another frame
       client_.abort(kAbortGeneral, sink_);
       return answer();
@@ -257,7 +263,7 @@ void NetworkService::hold(const CanFrame& f) {
   }
   memcpy(carry_, tmp, n);
   carry_start_ = read_end_;
-  carry_length_ = static_cast<uint8_t>(n);
+  carry_length_ = n;
   phase_ = kDownloadHeld;
   answer();
 }
@@ -327,3 +333,4 @@ void NetworkService::next_deadline(NextDeadline& d) const {
 
 }  // namespace gateway
 }  // namespace mb2co
+#endif  // MB2CO_GATEWAY_NET

@@ -19,7 +19,6 @@
 
 #include "canopen/can_frame.h"
 #include "canopen/clock.h"
-#include "canopen/master/nmt_master.h"
 #include "canopen/node.h"
 #include "canopen/od.h"
 #include "canopen/sdo_client.h"
@@ -94,7 +93,6 @@ class NetworkService {
   CanSink sink_;
   const uint8_t* enabled_;
   modbus::NetRequestHandler handler_;
-  canopen::NmtMaster nmt_;
   canopen::SdoClient client_;
   NetworkView view_;
   modbus::NetMessage req_;  ///< the request being served (data: none kept)

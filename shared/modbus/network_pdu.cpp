@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "modbus/crc16.h"
+#include "modbus/master_codec.h"
 
 namespace mb2co {
 namespace modbus {

@@ -79,6 +79,7 @@ SlaveCore::Reply SlaveCore::diagnostics(uint16_t pdu_length) {
   return Reply{5, Exception::kNone};
 }
 
+#if MB2CO_GATEWAY_NET
 // FC 2B / MEI 0D: the handler answers now (an exception PDU is answered by
 // the usual path, so that it is counted once) or later (send_deferred).
 SlaveCore::Reply SlaveCore::network_request(uint16_t pdu_length) {
@@ -93,10 +94,13 @@ SlaveCore::Reply SlaveCore::network_request(uint16_t pdu_length) {
   }
   return Reply{length, Exception::kNone};
 }
+#endif
 
 SlaveCore::Reply SlaveCore::device_identification(uint16_t pdu_length) {
   uint8_t* p = pdu();
+#if MB2CO_GATEWAY_NET
   if (pdu_length >= 2u && p[1] == kMeiCanopenReference) return network_request(pdu_length);
+#endif
   if (identity_ == nullptr) return Reply{0, Exception::kIllegalFunction};
   if (pdu_length < 2u) return Reply{0, Exception::kIllegalDataValue};
   if (p[1] != kMeiReadDeviceId) return Reply{0, Exception::kIllegalFunction};

@@ -9,6 +9,7 @@
 
 #include "line_harness.h"
 #include "modbus/crc16.h"
+#include "modbus/master_codec.h"
 #include "modbus/network_pdu.h"
 
 namespace mb2co {

@@ -59,10 +59,13 @@ uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, ui
     s.end_open_download(kAbortGeneral);  // the master moved on
   }
   s.req_ = m;
-  return s.on_request(pdu, capacity);
+  // How an open download ended between parts is news for its next part only.
+  const SdoAbort ended = s.open_result_;
+  s.open_result_ = kSdoOk;
+  return s.on_request(pdu, capacity, ended);
 }
 
-uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity) {
+uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, SdoAbort ended) {
   switch (req_.service) {
     case NetService::kNmt:
       return nmt(pdu, capacity);
@@ -71,8 +74,6 @@ uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity) {
     case NetService::kSdoDownload:
       // A later part with no download open: it continues nothing.
       if (req_.start != 0u) {
-        const SdoAbort ended = open_result_;
-        open_result_ = kSdoOk;
         if (ended != kSdoOk) return modbus::build_net_abort(pdu, ended);
         return exception_pdu(pdu, Exception::kIllegalDataValue);
       }

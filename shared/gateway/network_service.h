@@ -65,7 +65,8 @@ class NetworkService {
   enum Phase : uint8_t { kIdle, kUpload, kDownload, kDownloadHeld };
 
   static uint16_t handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, uint16_t capacity);
-  uint16_t on_request(uint8_t* pdu, uint16_t capacity);
+  /// `ended`: how the download open before this request ended (kSdoOk: none).
+  uint16_t on_request(uint8_t* pdu, uint16_t capacity, canopen::SdoAbort ended);
   uint16_t nmt(uint8_t* pdu, uint16_t capacity);
   uint16_t network_view(uint8_t* pdu, uint16_t capacity);
   uint16_t local_upload(uint8_t* pdu, uint16_t capacity);

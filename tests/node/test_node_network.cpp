@@ -48,17 +48,8 @@ class NodeNetwork : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new TempDir;
     candump_ = new LineChild;
-    ASSERT_TRUE(candump_->start({"candump", "-L", "vcan0"})) << candump_->error();
-    bool listening = false;
-    for (const auto deadline = std::chrono::steady_clock::now() + kUmlDeadline;
-         !listening && std::chrono::steady_clock::now() < deadline;) {
-      LineChild probe;
-      ASSERT_TRUE(probe.start({"cansend", "vcan0", "1FFFFFFF#"}));
-      ASSERT_EQ(probe.wait_exit(kUmlDeadline), 0);
-      listening = candump_->wait_line(
-          [](const std::string& l) { return l.find(" 1FFFFFFF#") != std::string::npos; }, 500ms);
-    }
-    ASSERT_TRUE(listening) << "candump never saw the probe";
+    std::string candump_error;
+    ASSERT_TRUE(start_candump_listening(*candump_, kUmlDeadline, &candump_error)) << candump_error;
     for (int i = 0; i < 2; ++i) {
       const std::string id = std::to_string(i + 1);
       node_[i] = new NodeProcess;

@@ -162,9 +162,12 @@ int main(int argc, char** argv) {
       for (size_t i = 0; i < n; ++i) gw.on_serial_byte(bytes[i], stamps[i]);
     }
     if (fds[3].revents & POLLIN) {
+      // At most 8 batches per pass: with the filter open (FC 2Bh/0Dh) a busy
+      // bus need not run dry, and process() (heartbeats, timers) must still run.
       linux_port::TimedCanFrame frames[linux_port::SocketCanPort::kBatch];
       size_t got = 0;
-      while ((got = can.receive(frames, linux_port::SocketCanPort::kBatch)) > 0) {
+      for (int batch = 0; batch < 8 && (got = can.receive(frames, linux_port::SocketCanPort::kBatch)) > 0;
+           ++batch) {
         for (size_t i = 0; i < got; ++i)
           gw.on_can_frame(frames[i].frame, static_cast<uint32_t>(frames[i].rx_time_us));
       }

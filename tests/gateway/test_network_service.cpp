@@ -4,6 +4,7 @@
 // virtual time, segmented and window reads of 1008h, multi-part downloads.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -310,6 +311,76 @@ TEST_F(NetworkService, ANextPartTooLateFindsTheTimeoutAbort) {
       ParseStatus::kException);
   EXPECT_EQ(r.abort_code, canopen::kAbortTimeout);
   EXPECT_EQ(line.od_get(1, 0x1006, 0), 0u);
+}
+
+// A DOMAIN 1F50h/1 at node 2 (as mb2co-node's program data): long enough for
+// parts whose bytes straddle the server's 7-byte segments.
+struct Domain {
+  std::vector<uint8_t> content, staging;
+  static bool owns(void*, uint16_t index, uint8_t sub) { return index == 0x1F50 && sub == 1; }
+  static uint32_t size(void* ctx, uint16_t, uint8_t) {
+    return static_cast<uint32_t>(static_cast<Domain*>(ctx)->content.size());
+  }
+  static canopen::SdoAbort read(void* ctx, uint16_t, uint8_t, uint32_t offset, uint8_t* buf, uint16_t n) {
+    const Domain& d = *static_cast<Domain*>(ctx);
+    std::copy(d.content.begin() + offset, d.content.begin() + offset + n, buf);
+    return canopen::kSdoOk;
+  }
+  static canopen::SdoAbort begin(void* ctx, uint16_t, uint8_t, uint32_t, bool) {
+    static_cast<Domain*>(ctx)->staging.clear();
+    return canopen::kSdoOk;
+  }
+  static canopen::SdoAbort write(void* ctx, uint16_t, uint8_t, uint32_t offset, const uint8_t* data,
+                                 uint16_t n) {
+    Domain& d = *static_cast<Domain*>(ctx);
+    if (offset != d.staging.size()) return canopen::kAbortGeneral;
+    d.staging.insert(d.staging.end(), data, data + n);
+    return canopen::kSdoOk;
+  }
+  static canopen::SdoAbort commit(void* ctx, uint16_t, uint8_t, uint32_t size) {
+    Domain& d = *static_cast<Domain*>(ctx);
+    if (size != d.staging.size()) return canopen::kAbortGeneral;
+    d.content = d.staging;
+    return canopen::kSdoOk;
+  }
+  canopen::SdoDomain table() {
+    return {&owns, &Domain::size, &Domain::read, &begin, &Domain::write, &commit, this};
+  }
+};
+
+TEST_F(NetworkService, MultiPartDownloadOfALongObjectCarriesStraddlingSegments) {
+  Domain domain;
+  domain.content.assign(3, 0xEE);
+  const canopen::SdoDomain table = domain.table();
+  line.gw(1).node().set_sdo_domain(&table);
+  std::vector<uint8_t> value(40);
+  for (size_t i = 0; i < value.size(); ++i) value[i] = static_cast<uint8_t>(0x30 + i);
+  // Parts of 5, 9, 1, 6 and 19 bytes: none ends on a 7-byte segment boundary.
+  const uint16_t parts[] = {5, 9, 1, 6, 19};
+  uint16_t at = 0;
+  for (const uint16_t n : parts) {
+    const bool more = at + n < value.size();
+    ASSERT_EQ(ask(modbus::build_net_download(req, sizeof req, kAddress, 2, 0x1F50, 1, 40, at,
+                                             value.data() + at, n, more)),
+              ParseStatus::kOk)
+        << "part at " << at;
+    EXPECT_EQ(r.message.count, n);
+    EXPECT_EQ(r.message.object_size, 40u);
+    if (more) {
+      EXPECT_EQ(domain.content.size(), 3u) << "the object keeps its content until the last part";
+    }
+    at = static_cast<uint16_t>(at + n);
+  }
+  EXPECT_EQ(domain.content, value);
+  // And read back in windows through the gateway.
+  std::string back;
+  for (uint16_t start = 0; start < 40; start = static_cast<uint16_t>(start + 16)) {
+    ASSERT_EQ(ask(modbus::build_net_upload(req, sizeof req, kAddress, 2, 0x1F50, 1, start, 16)),
+              ParseStatus::kOk);
+    back.append(r.message.data, r.message.data + r.message.data_length);
+  }
+  EXPECT_EQ(back, std::string(value.begin(), value.end()));
+  line.gw(1).node().set_sdo_domain(nullptr);
 }
 
 }  // namespace

@@ -4,8 +4,8 @@
 // the bus. The requests are bytes written here from docs/gateway-network.md
 // and sent with modbus_send_raw_request; libmodbus 3.1.6 cannot receive a
 // 2Bh response (it takes its length from the function code: checked below),
-// so the responses are read from the serial fd and checked byte by byte
-// here, not with shared/modbus.
+// so the responses are read from the serial fd (tests/support's
+// read_response) and checked byte by byte here, not with shared/modbus.
 #include <gtest/gtest.h>
 #include <poll.h>
 #include <unistd.h>
@@ -28,45 +28,6 @@ constexpr auto kUmlDeadline = 60s;  // bounds a failure only
 // that slack, the lower none.
 constexpr auto kSdoTimeout = 500ms;
 constexpr auto kSlack = 250ms;
-
-// One RTU response to slave 1, read as long as docs/gateway-network.md says
-// it is: an exception (5 bytes, or 9 with MEI 0Dh and an abort code), or a
-// 2Bh/0Dh response whose length follows from its service and number of
-// data. CRC checked and removed. Empty: not complete within `timeout`, or a
-// wrong CRC.
-Bytes read_frame(int fd, std::chrono::milliseconds timeout) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  Bytes got;
-  auto take = [&](size_t n) {
-    const size_t at = got.size();
-    got.resize(at + n);
-    const auto left =
-        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    return left.count() > 0 && read_exact(fd, got.data() + at, n, left);
-  };
-  if (!take(2)) return {};
-  if (got[1] & 0x80) {
-    if (!take(3)) return {};
-    // Exception 04 with an abort code: AB 04 0D + 4 bytes, 10 with address
-    // and CRC (the plain form's CRC is then wrong over the first 5).
-    if (got[2] == 0x04 && crc16_bitwise(got.data(), got.size()) != 0u && !take(5)) return {};
-  } else if (got[1] == 0x2B) {
-    if (!take(11)) return {};  // address, FC .. number of data
-    const uint8_t service = got[3] & 0xE0;
-    const size_t count = static_cast<size_t>(got[11] << 8 | got[12]);
-    size_t more = 0;
-    if (service == 0x00) more = 4 + count;  // upload: size + data
-    if (service == 0x20) more = 4;          // download: size
-    if (service == 0x60) more = 1;          // NMT: the command
-    if (service == 0x80) more = count;      // view: the entries
-    if (!take(more + 2)) return {};
-  } else if (!take(6)) {  // FC 03/04 etc. are read by libmodbus, not here
-    return {};
-  }
-  if (got.size() < 4u || crc16_bitwise(got.data(), got.size()) != 0u) return {};
-  got.resize(got.size() - 2u);
-  return got;
-}
 
 class NodeNetwork : public ::testing::Test {
  protected:
@@ -98,7 +59,8 @@ class NodeNetwork : public ::testing::Test {
   // Sends `pdu` to slave 1 with libmodbus (raw) and reads the response PDU.
   static Bytes transact(const Bytes& pdu, std::chrono::milliseconds timeout = 2s) {
     send(pdu);
-    const Bytes adu = read_frame(master_->fd(), timeout);
+    // read_response knows FC 2Bh/0Dh's lengths from docs/gateway-network.md.
+    const Bytes adu = read_response(master_->fd(), pdu.size(), timeout);
     if (adu.empty() || adu[0] != 1u) return {};
     return Bytes(adu.begin() + 1, adu.end());
   }

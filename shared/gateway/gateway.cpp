@@ -12,10 +12,12 @@ Gateway::Gateway(const GatewayPorts& ports)
       bank_(od_),
       identity_(od_),
       slave_(bank_, &identity_, ports.serial, 1, modbus::rtu_timing(ports.serial_baud)),
+      line_()
 #if MB2CO_GATEWAY_NET
-      net_(node_, od_, slave_, ports.can, &values_.x2000_10_networkAccess),
+      ,
+      net_(node_, od_, slave_, ports.can, &values_.x2000_10_networkAccess)
 #endif
-      line_() {
+{
 #if MB2CO_GATEWAY_NET
   net_.attach();
 #endif

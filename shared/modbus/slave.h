@@ -115,7 +115,51 @@ class SlaveCore {
     return framer_.deadline(*at_us);
   }
 
+  const DiagCounters& counters() const { return counters_; }
+  const LinkStats& stats() const { return stats_; }
+  bool listen_only() const { return listen_only_; }
+
+ private:
+  /// Outcome of executing one request PDU (buf_[1..]).
+  struct Reply {
+    uint16_t pdu_length;  ///< normal response PDU length (valid if exception == kNone)
+    Exception exception;
+  };
+
+  void handle_frame();
+  void handle_request(uint16_t pdu_length, bool broadcast);
+  void send(uint16_t pdu_length);
+  void clear_counters();
+
+  Reply execute(uint16_t pdu_length);
+  Reply read(uint16_t pdu_length, Table table);            // FC 01 02 03 04
+  Reply write_single_coil(uint16_t pdu_length);            // FC 05
+  Reply write_single_register(uint16_t pdu_length);        // FC 06
+  Reply write_multiple(uint16_t pdu_length, Table table);  // FC 0F 10
+  Reply write_checked(Table table, uint16_t start, uint16_t quantity, const uint8_t* values);
+  Reply read_write_registers(uint16_t pdu_length);
+  Reply diagnostics(uint16_t pdu_length);
+  Reply device_identification(uint16_t pdu_length);
+  /// 08/01 request valid and we are in listen-only mode: restart, no answer.
+  bool is_restart_request(uint16_t pdu_length) const;
+
+  uint8_t* pdu() { return framer_.buffer() + 1; }
+  /// True when a response PDU of `pdu_length` bytes fits the frame buffer.
+  bool fits(uint16_t pdu_length) const { return 1u + pdu_length + kCrcBytes <= framer_.capacity(); }
+
+  RegisterBank& bank_;
+  DeviceIdentity* identity_;
+  ByteSink sink_;
+  RtuFramer framer_;
+  DiagCounters counters_ = {};
+  LinkStats stats_ = {};
+  uint8_t address_;
+  bool listen_only_ = false;
+  bool restart_pending_ = false;  ///< 08/01 answered: restart after sending
+
 #if MB2CO_GATEWAY_NET
+  // FC 2Bh / MEI 0Dh (modbus/net_switch.h): the service and its deferred answer.
+ public:
   /// The FC 2Bh/0Dh service; null (the default): exception 01. Borrowed:
   /// it must outlive the slave or be cleared.
   void set_net_handler(const NetRequestHandler* handler) {
@@ -140,65 +184,9 @@ class SlaveCore {
   /// response_pdu(). False, nothing sent, when no answer is pending.
   bool send_deferred(uint16_t pdu_length);
 
-#endif
-  const DiagCounters& counters() const {
-    return counters_;
-  }
-  const LinkStats& stats() const {
-    return stats_;
-  }
-  bool listen_only() const {
-    return listen_only_;
-  }
-
  private:
-  /// Outcome of executing one request PDU (buf_[1..]).
-  struct Reply {
-    uint16_t pdu_length;  ///< normal response PDU length (valid if exception == kNone)
-    Exception exception;
-  };
-
-  void handle_frame();
-  void handle_request(uint16_t pdu_length, bool broadcast);
-  void send(uint16_t pdu_length);
-  void clear_counters();
-
-  Reply execute(uint16_t pdu_length);
-  Reply read(uint16_t pdu_length, Table table);            // FC 01 02 03 04
-  Reply write_single_coil(uint16_t pdu_length);            // FC 05
-  Reply write_single_register(uint16_t pdu_length);        // FC 06
-  Reply write_multiple(uint16_t pdu_length, Table table);  // FC 0F 10
-  Reply write_checked(Table table, uint16_t start, uint16_t quantity, const uint8_t* values);
-  Reply read_write_registers(uint16_t pdu_length);
-  Reply diagnostics(uint16_t pdu_length);
-  Reply device_identification(uint16_t pdu_length);
-#if MB2CO_GATEWAY_NET
-  Reply network_request(uint16_t pdu_length);  // FC 2B / MEI 0D
-#endif
-  /// 08/01 request valid and we are in listen-only mode: restart, no answer.
-  bool is_restart_request(uint16_t pdu_length) const;
-
-  uint8_t* pdu() {
-    return framer_.buffer() + 1;
-  }
-  /// True when a response PDU of `pdu_length` bytes fits the frame buffer.
-  bool fits(uint16_t pdu_length) const {
-    return 1u + pdu_length + kCrcBytes <= framer_.capacity();
-  }
-
-  RegisterBank& bank_;
-  DeviceIdentity* identity_;
-#if MB2CO_GATEWAY_NET
+  Reply network_request(uint16_t pdu_length);
   const NetRequestHandler* net_handler_ = nullptr;
-#endif
-  ByteSink sink_;
-  RtuFramer framer_;
-  DiagCounters counters_ = {};
-  LinkStats stats_ = {};
-  uint8_t address_;
-  bool listen_only_ = false;
-  bool restart_pending_ = false;  ///< 08/01 answered: restart after sending
-#if MB2CO_GATEWAY_NET
   bool answer_pending_ = false;  ///< a 2B/0D answer is deferred (see answer_pending())
 #endif
 };

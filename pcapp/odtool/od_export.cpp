@@ -223,7 +223,13 @@ std::string register_map_markdown(const ObjectDictionary& od) {
        "covers that many addresses), or the echo of an FC 08/00 with more than " +
        std::to_string(mb2co::gateway::kMapFrameBytes - 6) +
        " data bytes\n"
-       "(docs/performance.md).\n";
+       "(docs/performance.md).\n\n"
+       "## The rest of the CAN network (FC 2Bh / MEI 0Dh)\n\n"
+       "Beyond these registers, FC 2Bh with MEI type 0Dh (CANopen General Reference) reads\n"
+       "and writes any object of any node on the CAN bus by SDO, sends NMT commands to one\n"
+       "node or all, and lists the NMT state and heartbeat age of every node the gateway\n"
+       "hears. It answers when the CAN transfer is done (a master waits up to 1 s); 2000h/10 = 0\n"
+       "turns it off (exception 01). Layout, rules and examples: docs/gateway-network.md.\n";
   static const struct {
     uint16_t index;
     const char* title;

@@ -11,8 +11,12 @@
 #include "gateway/gateway_od.h"
 #include "gateway/line_app.h"
 #include "gateway/od_register_bank.h"
+#include "modbus/net_switch.h"  // MB2CO_GATEWAY_NET
 #include "modbus/slave.h"
 #include "platform/device_port.h"  // GatewayPorts: the platform contract
+#if MB2CO_GATEWAY_NET
+#include "gateway/network_service.h"
+#endif
 
 namespace mb2co {
 namespace gateway {
@@ -38,13 +42,11 @@ class Gateway {
   /// Power-on. Node id, bit rate and Modbus address come from the saved
   /// parameters (2000h), or `default_node_id` when none are saved.
   void start(uint32_t now_us, uint8_t default_node_id = 1);
-  void on_can_frame(const CanFrame& f, uint32_t now_us) {
-    // The time an RPDO callback stamps (2300h/3) is the frame's, not that of
-    // the last process(): a caller that skips idle passes stamps the same.
-    now_us_ = now_us;
-    node_.receive(f, now_us);
-  }
-  void on_serial_byte(uint8_t byte, uint32_t byte_us) { slave_.on_byte(byte, byte_us); }
+  /// A received frame: to the node, and to FC 2Bh/0Dh's service (its SDO
+  /// client's responses, the heartbeats of its view). Inline, below.
+  void on_can_frame(const CanFrame& f, uint32_t now_us);
+  /// A received character: to the Modbus slave. Inline, below.
+  void on_serial_byte(uint8_t byte, uint32_t byte_us);
   /// Runs everything due at `now_us` with the raw button levels (Button bits,
   /// 1 = pressed); returns the LED levels to drive (Led bits).
   uint8_t process(uint32_t now_us, uint8_t raw_buttons);
@@ -89,7 +91,35 @@ class Gateway {
   uint32_t now_us_ = 0;  ///< time of the frame or call being handled
   uint8_t default_node_id_ = 1;
   bool start_pending_ = false;  ///< self-starting (2000h/8): NMT start after boot-up
+
+#if MB2CO_GATEWAY_NET
+  // FC 2Bh / MEI 0Dh (modbus/net_switch.h): the whole network from Modbus.
+ public:
+  const NetworkService& network() const {
+    return net_;
+  }
+
+ private:
+  NetworkService net_;
+#endif
 };
+
+inline void Gateway::on_can_frame(const CanFrame& f, uint32_t now_us) {
+  // The time an RPDO callback stamps (2300h/3) is the frame's, not that of
+  // the last process(): a caller that skips idle passes stamps the same.
+  now_us_ = now_us;
+  node_.receive(f, now_us);
+#if MB2CO_GATEWAY_NET
+  net_.on_can_frame(f, now_us);
+#endif
+}
+
+inline void Gateway::on_serial_byte(uint8_t byte, uint32_t byte_us) {
+#if MB2CO_GATEWAY_NET
+  net_.set_now(byte_us);  // a late frame end runs a request from in here
+#endif
+  slave_.on_byte(byte, byte_us);
+}
 
 }  // namespace gateway
 }  // namespace mb2co

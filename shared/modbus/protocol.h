@@ -15,6 +15,7 @@ enum class Exception : uint8_t {
   kIllegalDataAddress = 0x02,   ///< some address of the request is not accessible
   kIllegalDataValue = 0x03,     ///< malformed request: quantity, byte count, length
   kServerDeviceFailure = 0x04,  ///< execution failed (value rejected, device error)
+  kServerDeviceBusy = 0x06,     ///< busy with a long request (FC 2Bh/0Dh: a remote transfer runs)
 };
 
 /// Function codes handled by this library.
@@ -37,6 +38,8 @@ enum : uint8_t {
 
 /// MEI type of "Read Device Identification" inside function 0x2B.
 constexpr uint8_t kMeiReadDeviceId = 0x0E;
+/// MEI type of the CANopen General Reference (modbus/network_pdu.h).
+constexpr uint8_t kMeiCanopenReference = 0x0D;
 
 /// Diagnostics (function 0x08) sub-function codes, serial line spec §6.1.
 namespace diag {

@@ -96,21 +96,10 @@ int64_t event_time(NodeProcess& node, const char* field, const std::string& pref
 
 TEST(Ring, Stop2StopsTwoStationsAndALostNodeShowsUnknown) {
   TempDir dir;
-  // candump first, and known to listen: it must see our probe (an extended
-  // id no CANopen node uses) before any node starts. A probe sent before
-  // candump has bound its socket is lost: send until one is seen.
+  // candump first, and known to listen before any node starts.
   LineChild candump;
-  ASSERT_TRUE(candump.start({"candump", "-L", "vcan0"})) << candump.error();
-  bool listening = false;
-  for (const auto deadline = std::chrono::steady_clock::now() + kUmlDeadline;
-       !listening && std::chrono::steady_clock::now() < deadline;) {
-    LineChild probe;
-    ASSERT_TRUE(probe.start({"cansend", "vcan0", "1FFFFFFF#"}));
-    ASSERT_EQ(probe.wait_exit(kUmlDeadline), 0);
-    listening = candump.wait_line(
-        [](const std::string& l) { return l.find(" 1FFFFFFF#") != std::string::npos; }, 500ms);
-  }
-  ASSERT_TRUE(listening) << "candump never saw the probe";
+  std::string candump_error;
+  ASSERT_TRUE(start_candump_listening(candump, kUmlDeadline, &candump_error)) << candump_error;
 
   NodeProcess node[kNodes];
   ModbusMaster master[kNodes];

@@ -76,6 +76,12 @@ class NodeProcess {
   std::string error_;
 };
 
+/// Starts `candump -L vcan0` in `candump` and makes sure it listens: it must
+/// see a probe (an extended id no CANopen node uses) before any node starts;
+/// a probe sent before candump has bound its socket is lost, so probes are
+/// sent until one is seen. False with the reason in *error.
+bool start_candump_listening(LineChild& candump, std::chrono::milliseconds timeout, std::string* error);
+
 /// A libmodbus RTU master (115200 8N1, slave 1) on `device`.
 class ModbusMaster {
  public:

@@ -55,11 +55,24 @@ Bytes read_response(int fd, size_t request_pdu_length, std::chrono::milliseconds
   bool ok = true;
   if (fc & 0x80) {
     ok = take(1);  // exception code
+    // FC 2Bh/0Dh (requests of 12 bytes or more; 2Bh/0Eh's are 4): exception
+    // 04 carries MEI 0Dh and the SDO abort code (docs/gateway-network.md).
+    if (ok && fc == 0xAB && rsp[2] == 0x04 && request_pdu_length >= 12) ok = take(5);
   } else if (fc == 0x08) {
     ok = request_pdu_length >= 1 && take(request_pdu_length - 1);
   } else if (fc == 0x2B) {
-    ok = take(6);  // MEI type, read code, conformity, more, next id, count
-    for (uint8_t i = 0; ok && i < rsp[7]; ++i) ok = take(2) && take(rsp.back());
+    ok = take(1);  // MEI type
+    if (ok && rsp[2] == 0x0D) {
+      // Control .. number of data; then per service: upload size + data,
+      // download size, NMT its command, view the entries.
+      ok = take(10);
+      const size_t count = ok ? static_cast<size_t>(rsp[11] << 8 | rsp[12]) : 0;
+      const uint8_t service = ok ? static_cast<uint8_t>(rsp[3] & 0xE0) : 0;
+      ok = ok && take(service == 0x00 ? 4 + count : service == 0x20 ? 4 : service == 0x60 ? 1 : count);
+    } else {
+      ok = ok && take(5);  // read code, conformity, more, next id, count
+      for (uint8_t i = 0; ok && i < rsp[7]; ++i) ok = take(2) && take(rsp.back());
+    }
   } else if ((fc >= 0x01 && fc <= 0x04) || fc == 0x17) {
     ok = take(1) && take(rsp[2]);  // byte count, data
   } else {

@@ -23,7 +23,8 @@ Bytes with_crc(Bytes adu);
 bool read_exact(int fd, uint8_t* out, size_t n, std::chrono::milliseconds timeout);
 /// Reads one response ADU whose length follows from its header: exception,
 /// FC 08 (echo of the request's `request_pdu_length` - 1 bytes), FC 2B/0E
-/// (objects), FC 01-04 (byte count), FC 05 06 0F 10 (4 bytes). Returns it
+/// (objects), FC 2B/0D (by service and number of data; its exception 04
+/// with the abort code), FC 01-04 (byte count), FC 05 06 0F 10 (4 bytes). Returns it
 /// without the CRC; empty on timeout or a wrong CRC.
 Bytes read_response(int fd, size_t request_pdu_length, std::chrono::milliseconds timeout);
 /// Discards and counts the bytes waiting on `fd` now (0: nothing was sent).

@@ -9,6 +9,7 @@
 #include "cli_options.h"
 #include "commands.h"
 #include "exit_codes.h"
+#include "gateway_transport.h"
 
 using namespace mb2co::master;
 
@@ -41,7 +42,12 @@ int main(int argc, char** argv) {
   }
   const std::string refusal = via_modbus_refusal(o);
   if (!refusal.empty()) return fail(std::cerr, kExitUsage, refusal);
-  if (!o.gateway_port.empty()) return fail(std::cerr, kExitUsage, "--via-modbus: not in this build yet");
+  if (!o.gateway_port.empty()) {
+    static GatewayTransport gateway;
+    const mb2co::Status opened = gateway.open(o);
+    if (!opened) return fail(std::cerr, kExitBus, opened.message());
+    return command->run(o, gateway, std::cout, std::cerr);
+  }
   static CanTransport bus;
   const mb2co::Status opened = bus.open(o.iface.c_str());
   if (!opened) return fail(std::cerr, kExitBus, opened.message());

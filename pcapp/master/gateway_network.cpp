@@ -20,6 +20,12 @@ std::string exception_text(modbus::Exception e) {
   return b;
 }
 
+/// Exception 01: the gateway has no network access at all.
+std::string no_network_access(const GatewayChannel& channel) {
+  return exception_text(modbus::Exception::kIllegalFunction) + ": " + channel.where() +
+         " has no FC 2Bh/0Dh (CANopen network access is off or not built in)";
+}
+
 }  // namespace
 
 Status gateway_nmt(GatewayChannel& channel, uint8_t slave, uint32_t timeout_ms, uint8_t command,
@@ -30,6 +36,7 @@ Status gateway_nmt(GatewayChannel& channel, uint8_t slave, uint32_t timeout_ms, 
   const GatewayChannel::Outcome got = channel.exchange(request, n, timeout_ms, &r);
   if (got == GatewayChannel::Outcome::kInterrupted) return Status::failure("interrupted");
   if (got != GatewayChannel::Outcome::kAnswered) return Status::failure(channel.last_error());
+  if (r.exception == modbus::Exception::kIllegalFunction) return Status::failure(no_network_access(channel));
   if (r.exception != modbus::Exception::kNone)
     return Status::failure(exception_text(r.exception) + " to the NMT command (" + channel.where() + ")");
   return Status::ok();
@@ -154,8 +161,7 @@ GatewayNetwork::Step GatewayNetwork::ask(Transfer* t, const uint8_t* request, ui
       continue;
     }
     if (r->exception == modbus::Exception::kIllegalFunction) {
-      link_down(t, exception_text(r->exception) + ": " + channel_.where() +
-                       " has no FC 2Bh/0Dh (CANopen network access is off or not built in)");
+      link_down(t, no_network_access(channel_));
       return Step::kFailed;
     }
     refuse(t, exception_text(r->exception) +

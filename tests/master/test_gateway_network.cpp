@@ -300,17 +300,27 @@ TEST(GatewayNetwork, SilentGatewayEndsEveryTransferAtOnceWithExit3) {
   EXPECT_EQ(net.pending(), 0u);
 }
 
+/// 1000h of nodes 3 and 4 through `gw`, the first request answered with
+/// `first_reply`; returns the network's link status.
+Status probe_two(ScriptedGateway& gw, ScriptedGateway::Reply first_reply, std::unique_ptr<Transfer>* a,
+                 std::unique_ptr<Transfer>* b) {
+  gw.script = {first_reply};
+  GatewayNetwork net(gw, kSlave, 3000);
+  *a = upload(3, 0x1000, 0);
+  *b = upload(4, 0x1000, 0);
+  net.queue(a->get());
+  net.queue(b->get());
+  EXPECT_TRUE(net.run(nullptr));
+  EXPECT_EQ(net.pending(), 0u);
+  return net.link_status();
+}
+
 TEST(GatewayNetwork, ExceptionOneMeansNoNetworkAccessAndEndsEverything) {
   ScriptedGateway gw;
-  gw.script = {ScriptedGateway::Reply::kException01};
-  GatewayNetwork net(gw, kSlave, 3000);
-  auto a = upload(3, 0x1000, 0);
-  auto b = upload(4, 0x1000, 0);
-  net.queue(a.get());
-  net.queue(b.get());
-  ASSERT_TRUE(net.run(nullptr));
-  EXPECT_FALSE(net.link_status());
-  EXPECT_NE(net.link_status().message().find("exception 01h"), std::string::npos);
+  std::unique_ptr<Transfer> a, b;
+  const Status link = probe_two(gw, ScriptedGateway::Reply::kException01, &a, &b);
+  EXPECT_FALSE(link);
+  EXPECT_NE(link.message().find("exception 01h"), std::string::npos);
   EXPECT_TRUE(b->link_down);
   EXPECT_EQ(gw.seen.size(), 1u);
 }
@@ -318,14 +328,8 @@ TEST(GatewayNetwork, ExceptionOneMeansNoNetworkAccessAndEndsEverything) {
 TEST(GatewayNetwork, ExceptionThreeRefusesOnlyThatTransfer) {
   ScriptedGateway gw;
   gw.od[ScriptedGateway::key(4, 0x1000, 0)] = {0x91, 0x01, 0x0F, 0x00};
-  gw.script = {ScriptedGateway::Reply::kException03};
-  GatewayNetwork net(gw, kSlave, 3000);
-  auto a = upload(3, 0x1000, 0);
-  auto b = upload(4, 0x1000, 0);
-  net.queue(a.get());
-  net.queue(b.get());
-  ASSERT_TRUE(net.run(nullptr));
-  EXPECT_TRUE(net.link_status());
+  std::unique_ptr<Transfer> a, b;
+  EXPECT_TRUE(probe_two(gw, ScriptedGateway::Reply::kException03, &a, &b));
   EXPECT_EQ(exit_code_of(*a), kExitRefused);
   EXPECT_NE(a->failure().find("node 3 1000h/0: the gateway answered exception 03h"), std::string::npos)
       << a->failure();

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "host/status.h"
+#include "modbus/master_codec.h"
 #include "modbus/network_pdu.h"
 
 typedef struct _modbus modbus_t;

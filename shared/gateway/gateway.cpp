@@ -12,7 +12,13 @@ Gateway::Gateway(const GatewayPorts& ports)
       bank_(od_),
       identity_(od_),
       slave_(bank_, &identity_, ports.serial, 1, modbus::rtu_timing(ports.serial_baud)),
+#if MB2CO_GATEWAY_NET
+      net_(node_, od_, slave_, ports.can, &values_.x2000_10_networkAccess),
+#endif
       line_() {
+#if MB2CO_GATEWAY_NET
+  net_.attach();
+#endif
   node_.set_storage(ports.storage);
   node_.set_can_control(ports.can_control);
   node_.set_app_hook(&Gateway::app_write, this);
@@ -98,7 +104,13 @@ HookResult Gateway::app_write(void* ctx, uint8_t, uint16_t index, uint8_t sub, c
 
 uint8_t Gateway::process(uint32_t now_us, uint8_t raw_buttons) {
   now_us_ = now_us;
+#if MB2CO_GATEWAY_NET
+  net_.set_now(now_us);
+#endif
   slave_.process(now_us);
+#if MB2CO_GATEWAY_NET
+  net_.process(now_us);
+#endif
   const uint8_t leds =
       line_.process(now_us, raw_buttons, node_.nmt_state(), slave_.counters().server_messages);
   node_.process(now_us);
@@ -117,6 +129,9 @@ bool Gateway::next_deadline(uint32_t now_us, uint32_t* at_us) const {
   if (slave_.next_deadline(now_us, &frame_end_us)) d.at(frame_end_us);
   line_.next_deadline(d, node_.nmt_state(), slave_.counters().server_messages);
   node_.next_deadline(d);
+#if MB2CO_GATEWAY_NET
+  net_.next_deadline(d);
+#endif
   return d.result(at_us);
 }
 

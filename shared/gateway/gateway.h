@@ -11,8 +11,12 @@
 #include "gateway/gateway_od.h"
 #include "gateway/line_app.h"
 #include "gateway/od_register_bank.h"
+#include "modbus/net_switch.h"  // MB2CO_GATEWAY_NET
 #include "modbus/slave.h"
 #include "platform/device_port.h"  // GatewayPorts: the platform contract
+#if MB2CO_GATEWAY_NET
+#include "gateway/network_service.h"
+#endif
 
 namespace mb2co {
 namespace gateway {
@@ -43,8 +47,16 @@ class Gateway {
     // the last process(): a caller that skips idle passes stamps the same.
     now_us_ = now_us;
     node_.receive(f, now_us);
+#if MB2CO_GATEWAY_NET
+    net_.on_can_frame(f, now_us);
+#endif
   }
-  void on_serial_byte(uint8_t byte, uint32_t byte_us) { slave_.on_byte(byte, byte_us); }
+  void on_serial_byte(uint8_t byte, uint32_t byte_us) {
+#if MB2CO_GATEWAY_NET
+    net_.set_now(byte_us);  // a late frame end runs a request from in here
+#endif
+    slave_.on_byte(byte, byte_us);
+  }
   /// Runs everything due at `now_us` with the raw button levels (Button bits,
   /// 1 = pressed); returns the LED levels to drive (Led bits).
   uint8_t process(uint32_t now_us, uint8_t raw_buttons);
@@ -64,13 +76,28 @@ class Gateway {
   /// passes (the line simulator); the Uno runs every pass.
   bool next_deadline(uint32_t now_us, uint32_t* at_us) const;
 
-  uint8_t node_id() const { return node_.node_id(); }
+  uint8_t node_id() const {
+    return node_.node_id();
+  }
   /// The CAN ids the gateway consumes (Node::consumed_ids: the gateway's
   /// services all sit on its node).
-  uint8_t consumed_ids(uint16_t* ids) const { return node_.consumed_ids(ids); }
-  canopen::Node& node() { return node_; }
-  canopen::ObjectDictionary& od() { return od_; }
-  modbus::SlaveCore& modbus_slave() { return slave_; }
+  uint8_t consumed_ids(uint16_t* ids) const {
+    return node_.consumed_ids(ids);
+  }
+  canopen::Node& node() {
+    return node_;
+  }
+  canopen::ObjectDictionary& od() {
+    return od_;
+  }
+  modbus::SlaveCore& modbus_slave() {
+    return slave_;
+  }
+#if MB2CO_GATEWAY_NET
+  const NetworkService& network() const {
+    return net_;
+  }
+#endif
 
  private:
   static canopen::HookResult app_write(void* ctx, uint8_t hook, uint16_t index, uint8_t sub,
@@ -85,6 +112,9 @@ class Gateway {
   OdRegisterBank bank_;
   OdDeviceIdentity identity_;
   modbus::SlaveWithFrame<kModbusFrameBytes> slave_;
+#if MB2CO_GATEWAY_NET
+  NetworkService net_;
+#endif
   LineApp line_;
   uint32_t now_us_ = 0;  ///< time of the frame or call being handled
   uint8_t default_node_id_ = 1;

@@ -44,7 +44,7 @@ const uint8_t kDiscreteMapSize = 8;
   MB2CO_OD_PDO_MAP4(N, 0x1A01, x1A01, kHookTpdoMap, 1, MB2CO_MAP(0x6000, 1, 8), 0, 0, 0, "TPDO2 mapping")                             \
   MB2CO_OD_PDO_MAP4(N, 0x1A02, x1A02, kHookTpdoMap, 0, 0, 0, 0, 0, "TPDO3 mapping")                                                   \
   MB2CO_OD_PDO_MAP4(N, 0x1A03, x1A03, kHookTpdoMap, 0, 0, 0, 0, 0, "TPDO4 mapping")                                                   \
-  N(0x2000, 0, x2000_0_highestSubIndex, U8, CONST, 0, kHookNone, 9, "Station configuration: highest sub-index")                       \
+  N(0x2000, 0, x2000_0_highestSubIndex, U8, CONST, 0, kHookNone, 10, "Station configuration: highest sub-index")                       \
   N(0x2000, 1, x2000_1_nodeId, U8, RW, 0, kHookApp, 1, "Station configuration: node id (from next reset)")                            \
   N(0x2000, 2, x2000_2_bitrateKbit, U16, RW, 0, kHookApp, 500, "Station configuration: CAN bit rate kbit/s (from next reset)")        \
   N(0x2000, 3, x2000_3_topology, U8, RW, 0, kHookNone, 1, "Station configuration: topology 0 chain, 1 ring")                          \
@@ -54,6 +54,7 @@ const uint8_t kDiscreteMapSize = 8;
   N(0x2000, 7, x2000_7_pdoConfigAsStored, U8, RW, 0, kHookNone, 0, "Station configuration: PDOs and 1016h 0 derived, 1 as stored")    \
   N(0x2000, 8, x2000_8_selfStarting, U8, RW, 0, kHookNone, 1, "Station configuration: 1 enter operational by itself, 0 wait for NMT") \
   N(0x2000, 9, x2000_9_modbusWatchdogMs, U16, RW, 0, kHookNone, 2000, "Station configuration: Modbus watchdog ms (0 off)")            \
+  N(0x2000, 10, x2000_10_networkAccess, U8, RW, 0, kHookNone, 1, "Station configuration: Modbus FC 2Bh/0Dh to the network 1 on, 0 off") \
   N(0x2001, 0, x2001_0_restartRequest, U8, RW, kAttrCommand, kHookApp, 0, "Restart request: 1 reset communication, 2 reset node")     \
   N(0x2002, 0, x2002_0_nmtState, U8, RO, 0, kHookNone, 0, "NMT state of this node")                                                   \
   N(0x2100, 0, x2100_0_highestSubIndex, U8, CONST, 0, kHookNone, 6, "Own station: highest sub-index")                                 \

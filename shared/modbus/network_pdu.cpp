@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "modbus/crc16.h"
+#include "modbus/master_codec.h"
 
 namespace mb2co {
 namespace modbus {
@@ -267,8 +268,10 @@ ParseStatus check_body(const uint8_t* q, const uint8_t* p, uint16_t pdu_length, 
   switch (m.service) {
     case NetService::kSdoUpload:
       if (m.count != m.data_length) return ParseStatus::kBadLength;
-      return static_cast<uint32_t>(m.start) + m.count <= m.object_size ? ParseStatus::kOk
-                                                                       : ParseStatus::kBadLength;
+      // A window beyond the object's end comes back empty.
+      if (m.count != 0u && static_cast<uint32_t>(m.start) + m.count > m.object_size)
+        return ParseStatus::kBadLength;
+      return ParseStatus::kOk;
     case NetService::kSdoDownload:
       if (m.data_length != 0u) return ParseStatus::kBadLength;
       return m.count == get_be16(q + 10) ? ParseStatus::kOk : ParseStatus::kMismatch;

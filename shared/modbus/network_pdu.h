@@ -19,14 +19,15 @@
 #pragma once
 #include <stdint.h>
 
-#include "modbus/master_codec.h"
 #include "modbus/protocol.h"
 
 namespace mb2co {
 namespace modbus {
 
-/// MEI type of the CANopen General Reference inside function 0x2B.
-constexpr uint8_t kMeiCanopenReference = 0x0D;
+/// Defined in modbus/master_codec.h (include it to use parse_net_response);
+/// not included here: the Arduino core's bit() macro clashes with it, and the
+/// Uno's sketch sees this header through the gateway.
+enum class ParseStatus : uint8_t;
 
 namespace net {
 /// Protocol control bits (PDU byte 2).

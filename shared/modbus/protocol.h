@@ -38,6 +38,8 @@ enum : uint8_t {
 
 /// MEI type of "Read Device Identification" inside function 0x2B.
 constexpr uint8_t kMeiReadDeviceId = 0x0E;
+/// MEI type of the CANopen General Reference (modbus/network_pdu.h).
+constexpr uint8_t kMeiCanopenReference = 0x0D;
 
 /// Diagnostics (function 0x08) sub-function codes, serial line spec §6.1.
 namespace diag {

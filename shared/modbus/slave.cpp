@@ -38,6 +38,12 @@ bool SlaveCore::set_address(uint8_t address) {
 
 void SlaveCore::on_char(uint8_t byte, uint32_t byte_us, bool error) {
   if (framer_.frame_due_before(byte_us)) handle_frame();
+#if MB2CO_GATEWAY_NET
+  if (answer_pending_) {  // the master sent something else: it gave the answer up
+    answer_pending_ = false;
+    ++counters_.no_responses;
+  }
+#endif
   framer_.push_char(byte, byte_us, error);
 }
 
@@ -102,9 +108,16 @@ void SlaveCore::handle_request(uint16_t pdu_length, bool broadcast) {
       pdu()[1] = static_cast<uint8_t>(reply.exception);
       send(2);
     }
+#if MB2CO_GATEWAY_NET
+  } else if (answer_pending_) {
+    // 2B/0D deferred: counted when it is sent or dropped.
+#endif
   } else if (broadcast || reply.pdu_length == 0u) {
     ++counters_.no_responses;  // broadcast, or 08/04 (never answered)
   } else {
+#if MB2CO_GATEWAY_NET
+    if ((pdu()[0] & fc::kExceptionFlag) != 0u) ++counters_.exceptions;  // 2B/0D: 04 with an abort code
+#endif
     send(reply.pdu_length);
   }
   if (restart_pending_) {  // 08/01: answered first, then restarted
@@ -113,6 +126,16 @@ void SlaveCore::handle_request(uint16_t pdu_length, bool broadcast) {
     clear_counters();
   }
 }
+
+#if MB2CO_GATEWAY_NET
+bool SlaveCore::send_deferred(uint16_t pdu_length) {
+  if (!answer_pending_) return false;
+  answer_pending_ = false;
+  if ((pdu()[0] & fc::kExceptionFlag) != 0u) ++counters_.exceptions;
+  send(pdu_length);
+  return true;
+}
+#endif
 
 void SlaveCore::send(uint16_t pdu_length) {
   uint8_t* adu = framer_.buffer();

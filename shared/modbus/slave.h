@@ -32,6 +32,7 @@
 #include <stdint.h>
 
 #include "modbus/byte_sink.h"
+#include "modbus/net_switch.h"
 #include "modbus/protocol.h"
 #include "modbus/register_bank.h"
 #include "modbus/rtu_framer.h"
@@ -39,6 +40,18 @@
 
 namespace mb2co {
 namespace modbus {
+
+/// The FC 2Bh / MEI 0Dh service behind a slave (gateway/network_service.h).
+/// `handle` gets the request PDU in the frame buffer (function code first,
+/// `pdu_length` bytes) and builds the response in place, at most
+/// `capacity` bytes. It returns the response PDU length to send now (an
+/// exception PDU has the exception flag in its first byte), or 0 when the
+/// answer comes later through SlaveCore::send_deferred(). Called from
+/// process()/on_char(); it must not call them.
+struct NetRequestHandler {
+  uint16_t (*handle)(void* ctx, uint8_t* pdu, uint16_t pdu_length, uint16_t capacity);
+  void* ctx;
+};
 
 /// Smallest frame buffer a slave takes: an empty FC 2B/0E response (12 bytes)
 /// and every fixed-size response (write echoes, FC 08: 8 bytes) fit.
@@ -102,9 +115,41 @@ class SlaveCore {
     return framer_.deadline(*at_us);
   }
 
-  const DiagCounters& counters() const { return counters_; }
-  const LinkStats& stats() const { return stats_; }
-  bool listen_only() const { return listen_only_; }
+#if MB2CO_GATEWAY_NET
+  /// The FC 2Bh/0Dh service; null (the default): exception 01. Borrowed:
+  /// it must outlive the slave or be cleared.
+  void set_net_handler(const NetRequestHandler* handler) {
+    net_handler_ = handler;
+  }
+  /// True while a deferred answer may still be sent: the handler deferred
+  /// it and no character has been received since (the master gave it up
+  /// once it sends anything else: a later answer could be taken for the
+  /// answer to its next request).
+  bool answer_pending() const {
+    return answer_pending_;
+  }
+  /// The frame buffer's PDU area: where a deferred response is built. Only
+  /// while answer_pending() (else a request may be arriving there).
+  uint8_t* response_pdu() {
+    return pdu();
+  }
+  uint16_t response_capacity() const {
+    return static_cast<uint16_t>(framer_.capacity() - 1u - kCrcBytes);
+  }
+  /// Sends the deferred response of `pdu_length` bytes built in
+  /// response_pdu(). False, nothing sent, when no answer is pending.
+  bool send_deferred(uint16_t pdu_length);
+
+#endif
+  const DiagCounters& counters() const {
+    return counters_;
+  }
+  const LinkStats& stats() const {
+    return stats_;
+  }
+  bool listen_only() const {
+    return listen_only_;
+  }
 
  private:
   /// Outcome of executing one request PDU (buf_[1..]).
@@ -127,15 +172,25 @@ class SlaveCore {
   Reply read_write_registers(uint16_t pdu_length);
   Reply diagnostics(uint16_t pdu_length);
   Reply device_identification(uint16_t pdu_length);
+#if MB2CO_GATEWAY_NET
+  Reply network_request(uint16_t pdu_length);  // FC 2B / MEI 0D
+#endif
   /// 08/01 request valid and we are in listen-only mode: restart, no answer.
   bool is_restart_request(uint16_t pdu_length) const;
 
-  uint8_t* pdu() { return framer_.buffer() + 1; }
+  uint8_t* pdu() {
+    return framer_.buffer() + 1;
+  }
   /// True when a response PDU of `pdu_length` bytes fits the frame buffer.
-  bool fits(uint16_t pdu_length) const { return 1u + pdu_length + kCrcBytes <= framer_.capacity(); }
+  bool fits(uint16_t pdu_length) const {
+    return 1u + pdu_length + kCrcBytes <= framer_.capacity();
+  }
 
   RegisterBank& bank_;
   DeviceIdentity* identity_;
+#if MB2CO_GATEWAY_NET
+  const NetRequestHandler* net_handler_ = nullptr;
+#endif
   ByteSink sink_;
   RtuFramer framer_;
   DiagCounters counters_ = {};
@@ -143,6 +198,9 @@ class SlaveCore {
   uint8_t address_;
   bool listen_only_ = false;
   bool restart_pending_ = false;  ///< 08/01 answered: restart after sending
+#if MB2CO_GATEWAY_NET
+  bool answer_pending_ = false;  ///< a 2B/0D answer is deferred (see answer_pending())
+#endif
 };
 
 /// Storage that must exist before SlaveCore is built from it (a base class).

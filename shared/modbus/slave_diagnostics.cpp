@@ -79,8 +79,28 @@ SlaveCore::Reply SlaveCore::diagnostics(uint16_t pdu_length) {
   return Reply{5, Exception::kNone};
 }
 
+#if MB2CO_GATEWAY_NET
+// FC 2B / MEI 0D: the handler answers now (an exception PDU is answered by
+// the usual path, so that it is counted once) or later (send_deferred).
+SlaveCore::Reply SlaveCore::network_request(uint16_t pdu_length) {
+  if (net_handler_ == nullptr) return Reply{0, Exception::kIllegalFunction};
+  const uint16_t length = net_handler_->handle(net_handler_->ctx, pdu(), pdu_length, response_capacity());
+  if (length == 0u) {
+    answer_pending_ = true;
+    return Reply{0, Exception::kNone};
+  }
+  if (length == 2u && (pdu()[0] & fc::kExceptionFlag) != 0u) {
+    return Reply{0, static_cast<Exception>(pdu()[1])};
+  }
+  return Reply{length, Exception::kNone};
+}
+#endif
+
 SlaveCore::Reply SlaveCore::device_identification(uint16_t pdu_length) {
   uint8_t* p = pdu();
+#if MB2CO_GATEWAY_NET
+  if (pdu_length >= 2u && p[1] == kMeiCanopenReference) return network_request(pdu_length);
+#endif
   if (identity_ == nullptr) return Reply{0, Exception::kIllegalFunction};
   if (pdu_length < 2u) return Reply{0, Exception::kIllegalDataValue};
   if (p[1] != kMeiReadDeviceId) return Reply{0, Exception::kIllegalFunction};

@@ -15,6 +15,7 @@
 #include "exit_codes.h"
 #include "gateway_network.h"
 #include "modbus/crc16.h"
+#include "modbus/master_codec.h"
 #include "modbus/network_pdu.h"
 #include "transfer_run.h"
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "modbus/crc16.h"
+#include "modbus/master_codec.h"
 #include "modbus/network_pdu.h"
 
 namespace mb2co {

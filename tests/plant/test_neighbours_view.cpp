@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "modbus/crc16.h"
+#include "modbus/master_codec.h"
 #include "modbus/network_pdu.h"
 #include "status_view.h"
 

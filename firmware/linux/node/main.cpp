@@ -100,7 +100,10 @@ int main(int argc, char** argv) {
   gateway::GatewayPorts ports{with_can ? can.sink() : CanSink{&can_discard, nullptr},
                               modbus::ByteSink{&serial_write, &serial},
                               opt.eeprom.empty() ? nullptr : &storage, opt.baud};
-  if (with_can) ports.can_control = &linux_port::SocketCanPort::kControl;  // kernel filters
+  // Kernel filters on the node's consumed ids, unless FC 2Bh/0Dh reaches the
+  // network: its SDO client takes 581h-5FFh and its view every heartbeat,
+  // which the node's list leaves out (the node ignores what it does not consume).
+  if (with_can && !MB2CO_GATEWAY_NET) ports.can_control = &linux_port::SocketCanPort::kControl;
   static gateway::Gateway gw(ports);  // static like on the Uno (and large)
   node::ControlChannel control(gw);
   // 1F50h/1: a large DOMAIN for segmented and block SDO transfers (program_data.h).

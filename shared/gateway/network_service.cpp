@@ -1,0 +1,336 @@
+// FC 2Bh / MEI 0Dh service: request dispatch, the local OD for the
+// gateway's own node id, remote SDO transfers through the SDO client with
+// data in the slave's frame buffer, and multi-part downloads (the server's
+// ack is held until the next part brings the bytes of the next segment).
+#include "modbus/net_switch.h"
+#if MB2CO_GATEWAY_NET  // else the image leaves the service out (net_switch.h)
+#include <string.h>
+
+#include "canopen/frame_out.h"
+#include "gateway/network_service.h"
+
+namespace mb2co {
+namespace gateway {
+
+using namespace canopen;
+using modbus::Exception;
+using modbus::NetMessage;
+using modbus::NetService;
+
+namespace {
+
+uint16_t exception_pdu(uint8_t* pdu, Exception code) {
+  pdu[0] = static_cast<uint8_t>(modbus::fc::kEncapsulatedInterface | modbus::fc::kExceptionFlag);
+  pdu[1] = static_cast<uint8_t>(code);
+  return 2;
+}
+
+uint32_t min32(uint32_t a, uint32_t b) {
+  return a < b ? a : b;
+}
+
+}  // namespace
+
+NetworkService::NetworkService(Node& node, ObjectDictionary& od, modbus::SlaveCore& slave,
+                               const CanSink& sink, const uint8_t* enabled)
+    : node_(node),
+      od_(od),
+      slave_(slave),
+      sink_(sink),
+      enabled_(enabled),
+      handler_{&NetworkService::handle, this},
+      client_(),
+      view_(),
+      req_(),
+      held_() {}
+
+uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, uint16_t capacity) {
+  NetworkService& s = *static_cast<NetworkService*>(ctx);
+  if (s.enabled_ != nullptr && *s.enabled_ == 0u) return exception_pdu(pdu, Exception::kIllegalFunction);
+  NetMessage m;
+  if (!modbus::parse_net_request(pdu, pdu_length, m)) return exception_pdu(pdu, Exception::kIllegalDataValue);
+  if (s.transfer_running()) return exception_pdu(pdu, Exception::kServerDeviceBusy);
+  if (s.phase_ == kDownloadHeld) {
+    if (s.continues_download(m)) {
+      s.req_ = m;
+      s.take_part();
+      return 0;
+    }
+    s.end_open_download(kAbortGeneral);  // the master moved on
+  }
+  s.req_ = m;
+  return s.on_request(pdu, capacity);
+}
+
+uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity) {
+  switch (req_.service) {
+    case NetService::kNmt:
+      return nmt(pdu, capacity);
+    case NetService::kNetworkView:
+      return network_view(pdu, capacity);
+    case NetService::kSdoDownload:
+      // A later part with no download open: it continues nothing.
+      if (req_.start != 0u) {
+        const SdoAbort ended = open_result_;
+        open_result_ = kSdoOk;
+        if (ended != kSdoOk) return modbus::build_net_abort(pdu, ended);
+        return exception_pdu(pdu, Exception::kIllegalDataValue);
+      }
+      if (req_.node_id == node_.node_id()) return local_download(pdu, capacity);
+      return start_remote(pdu, capacity);
+    case NetService::kSdoUpload:
+    default:
+      if (req_.node_id == node_.node_id()) return local_upload(pdu, capacity);
+      return start_remote(pdu, capacity);
+  }
+}
+
+// ---- immediate services ----------------------------------------------------
+
+uint16_t NetworkService::nmt(uint8_t* pdu, uint16_t capacity) {
+  const NmtCommand command = static_cast<NmtCommand>(modbus::net_nmt_command(req_));
+  const uint8_t target = req_.node_id;
+  // Built first: a reset of our own node must not find the request gone.
+  const uint16_t length = modbus::build_net_response(pdu, capacity, req_);
+  if (target != node_.node_id()) {
+    // CiA 301 NMT node control: COB-ID 000h, command, node id (0: all).
+    const uint8_t frame[2] = {static_cast<uint8_t>(command), target};
+    send_frame(sink_, 0x000, 2, frame);
+  }
+  if (target == 0u || target == node_.node_id()) node_.local_nmt(command, now_us_);
+  return length;
+}
+
+uint16_t NetworkService::network_view(uint8_t* pdu, uint16_t capacity) {
+  const uint16_t offset = modbus::net::kHeaderBytes;
+  const uint16_t room = static_cast<uint16_t>((capacity - offset) / modbus::net::kViewEntryBytes);
+  uint16_t count = 0;
+  bool more = false;
+  for (uint8_t id = req_.node_id == 0u ? 1u : req_.node_id; id <= 127u; ++id) {
+    modbus::NetViewEntry e = {id, 0, 0};
+    if (id == node_.node_id()) {
+      e.nmt_state = node_.nmt_state();
+    } else {
+      const NetworkView::Entry* heard = view_.find(id);
+      if (heard == nullptr) continue;
+      e.nmt_state = heard->state;
+      const uint32_t age_ms = (now_us_ - heard->heard_us) / 1000u;
+      e.age_ms =
+          age_ms > modbus::net::kAgeSaturated ? modbus::net::kAgeSaturated : static_cast<uint16_t>(age_ms);
+    }
+    if (count == room) {
+      more = true;
+      break;
+    }
+    modbus::put_net_view_entry(pdu + offset + modbus::net::kViewEntryBytes * count, e);
+    ++count;
+  }
+  NetMessage r = req_;
+  r.more_follows = more;
+  r.count = static_cast<uint16_t>(count * modbus::net::kViewEntryBytes);
+  r.data = pdu + offset;
+  r.data_length = r.count;
+  return modbus::build_net_response(pdu, capacity, r);
+}
+
+// The gateway's own node: the local OD, as its SDO server would answer.
+uint16_t NetworkService::local_upload(uint8_t* pdu, uint16_t capacity) {
+  const uint16_t offset = modbus::net::kSizedHeaderBytes;
+  const uint16_t room = static_cast<uint16_t>(capacity - offset);
+  uint16_t size = 0;
+  const SdoAbort code = od_.read(req_.index, req_.sub, pdu + offset, room, &size);
+  if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
+  const uint16_t want = req_.count == 0u || req_.count > room ? room : req_.count;
+  const uint16_t n = req_.start >= size ? 0u : static_cast<uint16_t>(min32(size - req_.start, want));
+  memmove(pdu + offset, pdu + offset + req_.start, n);
+  NetMessage r = req_;
+  r.count = n;
+  r.object_size = size;
+  r.more_follows = static_cast<uint32_t>(req_.start) + n < size;
+  r.data = pdu + offset;
+  r.data_length = n;
+  return modbus::build_net_response(pdu, capacity, r);
+}
+
+uint16_t NetworkService::local_download(uint8_t* pdu, uint16_t capacity) {
+  // No value of the gateway's OD is longer than one frame: one part only.
+  if (req_.more_follows) return modbus::build_net_abort(pdu, kAbortTooLong);
+  const SdoAbort code = od_.write(req_.index, req_.sub, req_.data, req_.count);
+  if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
+  NetMessage r = req_;
+  r.data_length = 0;
+  return modbus::build_net_response(pdu, capacity, r);
+}
+
+// ---- remote transfers -------------------------------------------------------
+
+uint16_t NetworkService::start_remote(uint8_t* pdu, uint16_t capacity) {
+  (void)pdu;
+  client_.init(req_.node_id);
+  client_.set_timeout_us(kNetSdoTimeoutUs);
+  const SdoData data = {&NetworkService::data_write, &NetworkService::data_read, this};
+  in_request_ = true;
+  if (req_.service == NetService::kSdoUpload) {
+    const uint16_t room = static_cast<uint16_t>(capacity - modbus::net::kSizedHeaderBytes);
+    const uint16_t want = req_.count == 0u || req_.count > room ? room : req_.count;
+    window_end_ = static_cast<uint32_t>(req_.start) + want;
+    phase_ = kUpload;
+    client_.start_upload(req_.index, req_.sub, kSdoAuto, data, 0xFFFFFFFFu, now_us_, sink_);
+  } else {
+    part_start_ = 0;
+    part_end_ = req_.count;
+    read_end_ = 0;
+    carry_length_ = 0;
+    phase_ = kDownload;
+    client_.start_download(req_.index, req_.sub, req_.more_follows ? kSdoSegmented : kSdoAuto, data,
+                           req_.object_size, now_us_, sink_);
+  }
+  in_request_ = false;
+  return 0;  // answered when the transfer ends (answer())
+}
+
+bool NetworkService::continues_download(const NetMessage& m) const {
+  return m.service == NetService::kSdoDownload && m.node_id == req_.node_id && m.index == req_.index &&
+         m.sub == req_.sub && m.object_size == req_.object_size && m.start == part_end_;
+}
+
+void NetworkService::take_part() {
+  part_start_ = req_.start;
+  part_end_ = static_cast<uint32_t>(req_.start) + req_.count;
+  phase_ = kDownload;
+  release_due_ = true;  // in process(), once the slave holds the answer open
+}
+
+void NetworkService::end_open_download(SdoAbort code) {
+  client_.abort(code, sink_);
+  phase_ = kIdle;
+}
+
+bool NetworkService::byte_at(uint32_t offset, uint8_t& b) const {
+  if (offset >= carry_start_ && offset - carry_start_ < carry_length_) {
+    b = carry_[offset - carry_start_];
+    return true;
+  }
+  if (offset < part_start_ || offset >= part_end_) return false;
+  // The part's data are in the request, still in the frame buffer only
+  // while the slave holds the answer open (or the request is in hand).
+  if (!in_request_ && !slave_.answer_pending()) return false;
+  b = slave_.response_pdu()[modbus::net::kSizedHeaderBytes + (offset - part_start_)];
+  return true;
+}
+
+SdoAbort NetworkService::data_read(void* ctx, uint32_t offset, uint8_t* buf, uint16_t n) {
+  NetworkService& s = *static_cast<NetworkService*>(ctx);
+  for (uint16_t i = 0; i < n; ++i) {
+    // Gone: the master sent another frame over this part's request.
+    if (!s.byte_at(offset + i, buf[i])) return kAbortGeneral;
+  }
+  if (offset + n > s.read_end_) s.read_end_ = offset + n;
+  return kSdoOk;
+}
+
+SdoAbort NetworkService::data_write(void* ctx, uint32_t offset, const uint8_t* data, uint16_t n) {
+  NetworkService& s = *static_cast<NetworkService*>(ctx);
+  if (!s.slave_.answer_pending()) return kSdoOk;  // answer dropped: the transfer runs on, unkept
+  uint8_t* window = s.slave_.response_pdu() + modbus::net::kSizedHeaderBytes;
+  for (uint16_t i = 0; i < n; ++i) {
+    const uint32_t at = offset + i;
+    if (at >= s.req_.start && at < s.window_end_) window[at - s.req_.start] = data[i];
+  }
+  return kSdoOk;
+}
+
+// The server acknowledged; the client would now read the next segment. Hold
+// the ack when that segment reaches beyond the part in hand.
+bool NetworkService::should_hold(const CanFrame& f) const {
+  if (f.dlc != 8u || f.rtr() || f.extended()) return false;
+  const uint8_t cmd = f.data[0];
+  if (cmd != 0x60u && (cmd & 0xE0u) != 0x20u) return false;
+  if (read_end_ >= req_.object_size) return false;
+  const uint32_t need = min32(7u, req_.object_size - read_end_);
+  return read_end_ + need > part_end_;
+}
+
+void NetworkService::hold(const CanFrame& f) {
+  held_ = f;
+  uint8_t tmp[sizeof carry_];
+  const uint8_t n = static_cast<uint8_t>(part_end_ - read_end_);  // < 7: a segment's worth
+  for (uint8_t i = 0; i < n; ++i) {
+    if (!byte_at(read_end_ + i, tmp[i])) {  // the part is gone: the master sent another frame
+      client_.abort(kAbortGeneral, sink_);
+      return answer();
+    }
+  }
+  memcpy(carry_, tmp, n);
+  carry_start_ = read_end_;
+  carry_length_ = n;
+  phase_ = kDownloadHeld;
+  answer();
+}
+
+void NetworkService::answer() {
+  const bool part = phase_ == kDownloadHeld;
+  if (!part) phase_ = kIdle;
+  if (!slave_.answer_pending()) return;  // the master gave it up
+  uint8_t* pdu = slave_.response_pdu();
+  const uint16_t capacity = slave_.response_capacity();
+  if (!part && client_.status() == SdoClient::kFailed) {
+    slave_.send_deferred(modbus::build_net_abort(pdu, client_.result()));
+    return;
+  }
+  NetMessage r = req_;
+  r.data_length = 0;
+  if (req_.service == NetService::kSdoUpload) {
+    const uint32_t size = client_.size();
+    const uint32_t end = min32(window_end_, size);
+    r.count = static_cast<uint16_t>(end > req_.start ? end - req_.start : 0u);
+    r.object_size = size;
+    r.more_follows = static_cast<uint32_t>(req_.start) + r.count < size;
+    r.data = pdu + modbus::net::kSizedHeaderBytes;
+    r.data_length = r.count;
+  }
+  slave_.send_deferred(modbus::build_net_response(pdu, capacity, r));
+}
+
+// ---- driving ------------------------------------------------------------------
+
+void NetworkService::on_can_frame(const CanFrame& f, uint32_t now_us) {
+  now_us_ = now_us;
+  view_.on_frame(f, now_us);
+  if (phase_ == kIdle || f.id != client_.response_id()) return;
+  if (phase_ == kDownload && !release_due_ && should_hold(f)) return hold(f);
+  client_.on_frame(f, now_us, sink_);
+  settle();
+}
+
+void NetworkService::process(uint32_t now_us) {
+  now_us_ = now_us;
+  if (release_due_) {
+    release_due_ = false;
+    if (should_hold(held_)) return hold(held_);  // the part was too short for a segment
+    client_.on_frame(held_, now_us, sink_);
+  }
+  if (phase_ != kIdle) client_.process(now_us, sink_);
+  settle();
+}
+
+// A transfer that ended is answered; an open download that ended between
+// parts (server abort, our timeout) leaves its code for the next part.
+void NetworkService::settle() {
+  if (phase_ == kIdle || client_.busy()) return;
+  if (phase_ == kDownloadHeld) {
+    open_result_ = client_.result();
+    phase_ = kIdle;
+    return;
+  }
+  answer();
+}
+
+void NetworkService::next_deadline(NextDeadline& d) const {
+  if (release_due_) d.now();
+  if (phase_ != kIdle) client_.next_deadline(d);
+}
+
+}  // namespace gateway
+}  // namespace mb2co
+#endif  // MB2CO_GATEWAY_NET

@@ -1,0 +1,115 @@
+// FC 2Bh / MEI 0Dh behind the gateway's Modbus slave: SDO upload/download
+// to any node through the portable SDO client, NMT commands to one node or
+// all, and the network view (docs/gateway-network.md has the bytes, the
+// rules and the timing).
+//
+// One request at a time, answered when done (the slave defers the answer):
+// while a remote transfer runs, the slave answers its own registers at once,
+// another 2Bh/0Dh gets exception 06, and the master's next frame drops the
+// pending answer (the transfer runs to its end or its timeout). The
+// gateway's own node id is served from the local OD without the bus.
+//
+// Memory: no data buffer of its own. Upload data go straight to the slave's
+// frame buffer where the response is built; a download's data are read
+// from the request in that buffer, and 7 bytes carry a segment's remainder
+// from one part of a multi-part download to the next. RAM: the SDO client,
+// the network view (kNetViewNodes) and ~40 bytes.
+#pragma once
+#include <stdint.h>
+
+#include "canopen/can_frame.h"
+#include "canopen/clock.h"
+#include "canopen/node.h"
+#include "canopen/od.h"
+#include "canopen/sdo_client.h"
+#include "gateway/network_view.h"
+#include "modbus/network_pdu.h"
+#include "modbus/slave.h"
+
+namespace mb2co {
+namespace gateway {
+
+/// The SDO client's time per step: a node that does not answer ends the
+/// request with abort 05040000h this long after the request (or after the
+/// previous segment).
+constexpr uint32_t kNetSdoTimeoutUs = 500000u;
+
+class NetworkService {
+ public:
+  /// All borrowed, outliving the service. `enabled` is the OD switch
+  /// (2000h/10): 0 answers every request with exception 01.
+  NetworkService(canopen::Node& node, canopen::ObjectDictionary& od, modbus::SlaveCore& slave,
+                 const CanSink& sink, const uint8_t* enabled);
+
+  /// Connects the service to the slave (the slave answers exception 01
+  /// before). Call once, after construction.
+  void attach() { slave_.set_net_handler(&handler_); }
+
+  /// The time of the call that may run a request next (the slave runs
+  /// requests from inside its process() and on_char()).
+  void set_now(uint32_t now_us) { now_us_ = now_us; }
+  /// Every frame the node receives (heartbeats for the view, SDO responses).
+  void on_can_frame(const CanFrame& f, uint32_t now_us);
+  /// Timeouts and answers due: call with every Gateway::process().
+  void process(uint32_t now_us);
+  /// Lowers `d` to the SDO client's timeout, or now when work waits.
+  void next_deadline(NextDeadline& d) const;
+
+  bool transfer_running() const { return phase_ == kUpload || phase_ == kDownload; }
+  /// True between the parts of a multi-part download (a segmented download
+  /// is open at the server).
+  bool download_open() const { return phase_ == kDownloadHeld; }
+  const NetworkView& view() const { return view_; }
+
+ private:
+  enum Phase : uint8_t { kIdle, kUpload, kDownload, kDownloadHeld };
+
+  static uint16_t handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, uint16_t capacity);
+  uint16_t on_request(uint8_t* pdu, uint16_t capacity);
+  uint16_t nmt(uint8_t* pdu, uint16_t capacity);
+  uint16_t network_view(uint8_t* pdu, uint16_t capacity);
+  uint16_t local_upload(uint8_t* pdu, uint16_t capacity);
+  uint16_t local_download(uint8_t* pdu, uint16_t capacity);
+  uint16_t start_remote(uint8_t* pdu, uint16_t capacity);
+  /// True when `m` is the next part of the open download.
+  bool continues_download(const modbus::NetMessage& m) const;
+  void take_part();
+  /// Byte `offset` of the download's object, from the carry or the part in
+  /// the frame buffer; false when it is in neither (or the buffer is gone).
+  bool byte_at(uint32_t offset, uint8_t& b) const;
+  void settle();
+  /// The answer to the transfer that ended (or to a part taken).
+  void answer();
+  bool should_hold(const CanFrame& f) const;
+  void hold(const CanFrame& f);
+  void end_open_download(canopen::SdoAbort code);
+
+  static canopen::SdoAbort data_write(void* ctx, uint32_t offset, const uint8_t* data, uint16_t n);
+  static canopen::SdoAbort data_read(void* ctx, uint32_t offset, uint8_t* buf, uint16_t n);
+
+  canopen::Node& node_;
+  canopen::ObjectDictionary& od_;
+  modbus::SlaveCore& slave_;
+  CanSink sink_;
+  const uint8_t* enabled_;
+  modbus::NetRequestHandler handler_;
+  canopen::SdoClient client_;
+  NetworkView view_;
+  modbus::NetMessage req_;  ///< the request being served (data: none kept)
+  CanFrame held_;           ///< a download's ack, held until the next part
+  uint32_t now_us_ = 0;
+  uint32_t window_end_ = 0;   ///< upload: end of the bytes wanted (start + room)
+  uint32_t part_start_ = 0;   ///< download: object offset of the part in the frame
+  uint32_t part_end_ = 0;     ///< download: end of the bytes available
+  uint32_t read_end_ = 0;     ///< download: end of the bytes the client has read
+  uint32_t carry_start_ = 0;  ///< download: object offset of carry_[0]
+  uint8_t carry_[7];          ///< a segment's bytes from the previous part
+  uint8_t carry_length_ = 0;
+  canopen::SdoAbort open_result_ = canopen::kSdoOk;  ///< how an open download ended between parts
+  Phase phase_ = kIdle;
+  bool release_due_ = false;  ///< a part arrived: hand the held ack to the client
+  bool in_request_ = false;   ///< inside handle(): the request is in the frame buffer
+};
+
+}  // namespace gateway
+}  // namespace mb2co

@@ -1,11 +1,12 @@
-// mb2co-master --via-modbus against a 3-station ring on vcan0: node 3 is the
-// gateway, reached over its pty (FC 2Bh/MEI 0Dh), nodes 4 and 5 are only on
-// CAN. Every command runs both ways, through the gateway and over
-// SocketCAN, and must print the same bytes and exit with the same code
-// (issue 12's must-show: scan finds all three, a dump of a remote node
-// equals the dump over SocketCAN, read/write/nmt agree). candump is the
-// witness that NMT through the gateway reached the line.
-// ctest runs this binary inside hil/uml/run-with-vcan.sh.
+// mb2co-master --via-modbus against a 3-station ring on vcan0 (--stations 3:
+// every station has both neighbours, so no LED blinks for a missing one and
+// a dump holds still): node 1 is the gateway, reached over its pty (FC
+// 2Bh/MEI 0Dh), nodes 2 and 3 are only on CAN. Every command runs both ways,
+// through the gateway and over SocketCAN, and must print the same bytes and
+// exit with the same code (issue 12's must-show: scan finds all three, a
+// dump of a remote node equals the dump over SocketCAN, read/write/nmt
+// agree). candump is the witness that NMT through the gateway reached the
+// line. ctest runs this binary inside hil/uml/run-with-vcan.sh.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -28,9 +29,10 @@ class ViaModbus : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new TempDir;
     for (int i = 0; i < 3; ++i) {
-      const std::string n = std::to_string(3 + i);
+      const std::string n = std::to_string(1 + i);
       nodes_[i] = new NodeProcess;
-      if (!nodes_[i]->start({"--can", "vcan0", "--node-id", n, "--pty", dir_->path("st" + n)}))
+      if (!nodes_[i]->start(
+              {"--can", "vcan0", "--node-id", n, "--stations", "3", "--pty", dir_->path("st" + n)}))
         failure_ += "node " + n + ": " + nodes_[i]->error() + "; ";
     }
   }
@@ -79,7 +81,7 @@ std::string file_text(const std::string& path) {
 TEST_F(ViaModbus, ScanFindsAllThreeStations) {
   const MasterRun run = both({"scan", "1", "6"});
   EXPECT_EQ(run.exit_code, 0) << run.err;
-  for (int id = 3; id <= 5; ++id)
+  for (int id = 1; id <= 3; ++id)
     EXPECT_NE(run.text().find("node " + std::to_string(id) + ": device type"), std::string::npos)
         << run.text();
   EXPECT_NE(run.text().find("scan: 3 of 6 node ids answered"), std::string::npos) << run.text();
@@ -87,15 +89,15 @@ TEST_F(ViaModbus, ScanFindsAllThreeStations) {
 
 TEST_F(ViaModbus, DumpOfARemoteNodeEqualsTheDumpOverSocketCan) {
   // A value that is not the EDS default, so both dumps must have uploaded it.
-  ASSERT_EQ(run_master({"write", "4", "1017", "0", "u16", "1500"}).exit_code, 0);
-  const MasterRun to_stdout = both({"--eds", kEds, "dump", "4"});
+  ASSERT_EQ(run_master({"write", "2", "1017", "0", "u16", "1500"}).exit_code, 0);
+  const MasterRun to_stdout = both({"--eds", kEds, "dump", "2"});
   EXPECT_EQ(to_stdout.exit_code, 0) << to_stdout.err;
   EXPECT_NE(to_stdout.text().find("ParameterValue=0x5DC"), std::string::npos)
       << "1017h = 1500 not in the DCF";
 
   const std::string over_can = dir_->path("can.dcf"), through_gw = dir_->path("gw.dcf");
-  const MasterRun can = run_master({"--eds", kEds, "dump", "4", over_can});
-  const MasterRun gw = run_master(via({"--eds", kEds, "dump", "4", through_gw}));
+  const MasterRun can = run_master({"--eds", kEds, "dump", "2", over_can});
+  const MasterRun gw = run_master(via({"--eds", kEds, "dump", "2", through_gw}));
   ASSERT_EQ(can.exit_code, 0) << can.err;
   ASSERT_EQ(gw.exit_code, 0) << gw.err;
   EXPECT_EQ(gw.text(), can.text());
@@ -104,23 +106,23 @@ TEST_F(ViaModbus, DumpOfARemoteNodeEqualsTheDumpOverSocketCan) {
 }
 
 TEST_F(ViaModbus, ReadAndWriteAgreeWithSocketCan) {
-  EXPECT_EQ(both({"read", "4", "1018", "1", "u32"}).exit_code, 0);
-  EXPECT_EQ(both({"read", "3", "1018", "2", "u32"}).exit_code, 0);   // the gateway's own OD
-  EXPECT_EQ(both({"read", "4,5", "1008", "0", "vs"}).exit_code, 0);  // segmented, two nodes
-  EXPECT_EQ(both({"--json", "read", "5", "1017", "0", "u16"}).exit_code, 0);
+  EXPECT_EQ(both({"read", "2", "1018", "1", "u32"}).exit_code, 0);
+  EXPECT_EQ(both({"read", "1", "1018", "2", "u32"}).exit_code, 0);   // the gateway's own OD
+  EXPECT_EQ(both({"read", "2,3", "1008", "0", "vs"}).exit_code, 0);  // segmented, two nodes
+  EXPECT_EQ(both({"--json", "read", "3", "1017", "0", "u16"}).exit_code, 0);
 
   // Written through the gateway, read back over SocketCAN, and the reverse.
-  const MasterRun w = run_master(via({"write", "5", "1017", "0", "u16", "750"}));
+  const MasterRun w = run_master(via({"write", "3", "1017", "0", "u16", "750"}));
   EXPECT_EQ(w.exit_code, 0) << w.err;
-  EXPECT_EQ(w.text(), "node 5 1017h/0: 2 bytes written\n");
-  EXPECT_EQ(run_master({"read", "5", "1017", "0", "u16"}).text(), "750\n");
-  ASSERT_EQ(run_master({"write", "5", "1017", "0", "u16", "1000"}).exit_code, 0);
-  EXPECT_EQ(run_master(via({"read", "5", "1017", "0", "u16"})).text(), "1000\n");
-  EXPECT_EQ(both({"write", "4", "1017", "0", "u16", "1000"}).exit_code, 0);
+  EXPECT_EQ(w.text(), "node 3 1017h/0: 2 bytes written\n");
+  EXPECT_EQ(run_master({"read", "3", "1017", "0", "u16"}).text(), "0x2EE\n");  // 750
+  ASSERT_EQ(run_master({"write", "3", "1017", "0", "u16", "1000"}).exit_code, 0);
+  EXPECT_EQ(run_master(via({"read", "3", "1017", "0", "u16"})).text(), "0x3E8\n");  // 1000
+  EXPECT_EQ(both({"write", "2", "1017", "0", "u16", "1000"}).exit_code, 0);
 
   // Refusals and silence: the same line, the same exit code.
-  EXPECT_EQ(both({"write", "4", "1000", "0", "u32", "5"}).exit_code, 1);         // read only
-  EXPECT_EQ(both({"read", "4", "2FFF", "0", "u8"}).exit_code, 1);                // no such object
+  EXPECT_EQ(both({"write", "2", "1000", "0", "u32", "5"}).exit_code, 1);         // read only
+  EXPECT_EQ(both({"read", "2", "2FFF", "0", "u8"}).exit_code, 1);                // no such object
   EXPECT_EQ(both({"-t", "500", "read", "9", "1000", "0", "u32"}).exit_code, 4);  // nobody there
 }
 
@@ -134,11 +136,11 @@ TEST_F(ViaModbus, LongObjectsGoInWindowsAndParts) {
     std::ofstream f(in, std::ios::binary);
     f << bytes;
   }
-  const MasterRun down = run_master(via({"download", "4", "1F50", "1", in}));
+  const MasterRun down = run_master(via({"download", "2", "1F50", "1", in}));
   ASSERT_EQ(down.exit_code, 0) << down.err;
-  ASSERT_EQ(run_master({"upload", "4", "1F50", "1", via_can}).exit_code, 0);
+  ASSERT_EQ(run_master({"upload", "2", "1F50", "1", via_can}).exit_code, 0);
   EXPECT_EQ(file_text(via_can), bytes);
-  const MasterRun up = run_master(via({"upload", "4", "1F50", "1", via_gw}));
+  const MasterRun up = run_master(via({"upload", "2", "1F50", "1", via_gw}));
   ASSERT_EQ(up.exit_code, 0) << up.err;
   EXPECT_EQ(file_text(via_gw), bytes);
 }
@@ -146,34 +148,34 @@ TEST_F(ViaModbus, LongObjectsGoInWindowsAndParts) {
 TEST_F(ViaModbus, NmtThroughTheGatewayReachesTheLine) {
   LineChild candump;
   ASSERT_TRUE(start_candump(&candump));
-  /// Waits for node 4's heartbeat saying `state`.
+  /// Waits for node 2's heartbeat saying `state`.
   const auto heartbeat = [&](unsigned state) {
     return candump.wait_line(
         [state](const std::string& line) {
           unsigned id = 0;
           std::vector<unsigned> data;
-          return parse_candump(line, &id, &data) && id == 0x704 && data.size() == 1 && data[0] == state;
+          return parse_candump(line, &id, &data) && id == 0x702 && data.size() == 1 && data[0] == state;
         },
         kVcanDeadline);
   };
-  MasterRun run = run_master(via({"nmt", "stop", "4"}));
+  MasterRun run = run_master(via({"nmt", "stop", "2"}));
   EXPECT_EQ(run.exit_code, 0) << run.err;
-  EXPECT_EQ(run.text(), "nmt stop 4\n");
-  EXPECT_TRUE(heartbeat(0x04)) << "node 4 never said stopped";
+  EXPECT_EQ(run.text(), "nmt stop 2\n");
+  EXPECT_TRUE(heartbeat(0x04)) << "node 2 never said stopped";
   run = run_master(via({"nmt", "start", "all"}));
   EXPECT_EQ(run.exit_code, 0) << run.err;
   EXPECT_EQ(run.text(), "nmt start all\n");
-  EXPECT_TRUE(heartbeat(0x05)) << "node 4 never said operational";
+  EXPECT_TRUE(heartbeat(0x05)) << "node 2 never said operational";
   // The same words and exit code as over SocketCAN.
-  EXPECT_EQ(both({"--json", "nmt", "preop", "5"}).exit_code, 0);
-  EXPECT_EQ(both({"nmt", "start", "5"}).exit_code, 0);
+  EXPECT_EQ(both({"--json", "nmt", "preop", "3"}).exit_code, 0);
+  EXPECT_EQ(both({"nmt", "start", "3"}).exit_code, 0);
 }
 
 TEST_F(ViaModbus, RawCanCommandsAreUsageErrors) {
   for (const std::vector<std::string>& args : {std::vector<std::string>{"watch"},
                                                {"sync"},
-                                               {"upload", "4", "1F50", "1", "/dev/null", "--block"},
-                                               {"--heartbeat", "500", "read", "4", "1000", "0"}}) {
+                                               {"upload", "2", "1F50", "1", "/dev/null", "--block"},
+                                               {"--heartbeat", "500", "read", "2", "1000", "0"}}) {
     const MasterRun run = run_master(via(args));
     EXPECT_EQ(run.exit_code, 2) << args[0];
     EXPECT_TRUE(run.out.empty());
@@ -184,9 +186,9 @@ TEST_F(ViaModbus, RawCanCommandsAreUsageErrors) {
 }
 
 TEST_F(ViaModbus, NoGatewayOnThePortIsExit3) {
-  // Node 4's pty: a Modbus slave at address 1, but ask address 9 (nobody).
+  // Node 2's pty: a Modbus slave at address 1, but ask address 9 (nobody).
   const MasterRun run =
-      run_master({"-t", "200", "--via-modbus", nodes_[1]->device() + ":9", "read", "4", "1000", "0"});
+      run_master({"-t", "200", "--via-modbus", nodes_[1]->device() + ":9", "read", "2", "1000", "0", "u32"});
   EXPECT_EQ(run.exit_code, 3) << run.err;
   EXPECT_NE(run.err.find("no answer from slave 9 on " + nodes_[1]->device()), std::string::npos) << run.err;
 }

@@ -13,6 +13,9 @@
 #include <fstream>
 #include <iterator>
 
+#include "eds_reader.h"
+#include "eds_value.h"
+#include "eds_writer.h"
 #include "master_cli.h"
 #include "node_harness.h"
 
@@ -169,6 +172,35 @@ TEST_F(ViaModbus, NmtThroughTheGatewayReachesTheLine) {
   // The same words and exit code as over SocketCAN.
   EXPECT_EQ(both({"--json", "nmt", "preop", "3"}).exit_code, 0);
   EXPECT_EQ(both({"nmt", "start", "3"}).exit_code, 0);
+}
+
+TEST_F(ViaModbus, ConfigureThroughTheGatewayThenBothWaysAgree) {
+  // Node 3's DCF: heartbeat, debounce, TPDO1 event timer (a PDO parameter:
+  // configure invalidates the PDO around it, more requests in order).
+  eds::ParseResult parsed = eds::parse_file(kEds);
+  ASSERT_TRUE(parsed) << parsed.error.text();
+  eds::DeviceDescription model = *parsed.model;
+  const struct {
+    uint16_t index;
+    uint8_t sub;
+    const char* value;
+  } settings[] = {{0x1017, 0, "1200"}, {0x2000, 6, "0x20"}, {0x1800, 5, "500"}};
+  for (const auto& s : settings)
+    for (eds::SubObject& x : model.objects[s.index].subs)
+      if (x.sub == s.sub) x.parameter_value = eds::parse_value(x.type, s.value).value;
+  {
+    std::ofstream f(dir_->path("node3.dcf"), std::ios::binary);
+    f << eds::write_dcf(model, 3);
+    std::ofstream n(dir_->path("net.cpj"), std::ios::binary);
+    n << "[Topology]\nNodes=1\nNode3Present=1\nNode3DCFName=node3.dcf\n";
+  }
+  const MasterRun first = run_master(via({"configure", dir_->path("net.cpj")}));
+  EXPECT_EQ(first.exit_code, 0) << first.err;
+  EXPECT_EQ(first.text(), "node 3: configured: 3 written, 0 equal, 0 read-only skipped, started\n");
+  EXPECT_EQ(run_master({"read", "3", "1017", "0", "u16"}).text(), "0x4B0\n");  // 1200, over SocketCAN
+  const MasterRun again = both({"configure", dir_->path("net.cpj")});
+  EXPECT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(again.text(), "node 3: configured: 0 written, 3 equal, 0 read-only skipped, started\n");
 }
 
 TEST_F(ViaModbus, RawCanCommandsAreUsageErrors) {

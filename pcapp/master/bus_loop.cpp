@@ -1,26 +1,16 @@
 #include "bus_loop.h"
 
 #include <poll.h>
-#include <signal.h>
 #include <time.h>
 #include <unistd.h>
+
+#include "stop_signal.h"
 
 namespace mb2co {
 namespace master {
 
-namespace {
-// Set by the handler, read by the loop: a signal only ends the current wait.
-volatile sig_atomic_t g_signalled = 0;
-extern "C" void on_signal(int) {
-  g_signalled = 1;
-}
-}  // namespace
-
 Status BusLoop::open(const char* ifname) {
-  struct sigaction sa = {};
-  sa.sa_handler = on_signal;  // no SA_RESTART: poll() returns EINTR at once
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  catch_stop_signals();
   return port_.open(ifname);
 }
 
@@ -60,7 +50,7 @@ void BusLoop::pass(uint32_t end) {
   poll(&fd, 1, wait_ms);  // EINTR when a signal came during the wait
   // A signal that came between two waits only set the flag: read it here,
   // or a SIGINT outside poll() would be lost.
-  if (g_signalled) interrupted_ = true;
+  if (stop_signalled()) interrupted_ = true;
   if (fd.revents & POLLIN) {
     linux_port::TimedCanFrame frames[linux_port::SocketCanPort::kBatch];
     size_t got = 0;

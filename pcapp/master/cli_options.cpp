@@ -8,7 +8,11 @@ namespace mb2co {
 namespace master {
 
 const char* usage_text() {
-  return "usage: mb2co-master [-i IFACE] [-t TIMEOUT_MS] [--heartbeat MS] [--json] [--eds FILE] COMMAND ...\n"
+  return "usage: mb2co-master [-i IFACE | --via-modbus PORT[:SLAVE] [--baud N]] [-t TIMEOUT_MS] [--heartbeat "
+         "MS]\n"
+         "                    [--json] [--eds FILE] COMMAND ...\n"
+         "  --via-modbus: SDO and NMT through an mb2co gateway on a serial port (FC 2Bh/0Dh), no CAN\n"
+         "  interface needed: scan read write upload download nmt dump configure (no block transfer)\n"
          "  -t MS: SDO timeout (default 1000); --heartbeat MS: end the transfers of a node whose\n"
          "  heartbeats stop for MS (the watchdog); NODE may be a list: 2,3,5-7; INDEX is hexadecimal\n"
          "  (1018, 0x1018, 1018h), SUB and NODE decimal unless 0x...\n"
@@ -114,6 +118,44 @@ bool take_option(std::vector<std::string>* words, const std::string& name, bool 
   return false;
 }
 
+namespace {
+
+/// "PORT" or "PORT:SLAVE" (1..247); a colon followed by something that is
+/// not a number stays part of the path.
+Status parse_gateway(const std::string& text, Options* out) {
+  const size_t colon = text.rfind(':');
+  std::string port = text;
+  if (colon != std::string::npos && colon + 1 < text.size() &&
+      std::all_of(text.begin() + static_cast<long>(colon) + 1, text.end(),
+                  [](char c) { return isdigit(c); })) {
+    uint64_t slave = 0;
+    Status s = parse_number(text.substr(colon + 1), 247, "Modbus slave address", &slave);
+    if (!s) return s;
+    if (slave == 0) return Status::failure("Modbus slave address 0 is the broadcast: a gateway is 1..247");
+    out->gateway_slave = static_cast<uint8_t>(slave);
+    port = text.substr(0, colon);
+  }
+  if (port.empty()) return Status::failure("--via-modbus wants PORT[:SLAVE]");
+  out->gateway_port = port;
+  return Status::ok();
+}
+
+}  // namespace
+
+std::string needs_can_frames(const std::string& what) {
+  return what + " needs raw CAN frames: not through a gateway (--via-modbus), use -i IFACE";
+}
+
+std::string via_modbus_refusal(const Options& o) {
+  if (o.gateway_port.empty()) return std::string();
+  if (o.command == "watch" || o.command == "sync") return needs_can_frames(o.command);
+  if (o.heartbeat_ms) return needs_can_frames("--heartbeat (the watchdog listens to heartbeats)");
+  const bool block = std::find(o.words.begin(), o.words.end(), "--block") != o.words.end();
+  if ((o.command == "upload" || o.command == "download") && block)
+    return needs_can_frames(o.command + " --block (block transfer)");
+  return std::string();
+}
+
 Status parse_options(int argc, char** argv, Options* out) {
   int i = 1;
   for (; i < argc; ++i) {
@@ -143,6 +185,19 @@ Status parse_options(int argc, char** argv, Options* out) {
       s = parse_number(v, 65535, "heartbeat consumer time", &ms);
       if (!s) return s;
       out->heartbeat_ms = static_cast<uint16_t>(ms);
+    } else if (a == "--via-modbus") {
+      Status s = value(&v);
+      if (!s) return s;
+      s = parse_gateway(v, out);
+      if (!s) return s;
+    } else if (a == "--baud") {
+      Status s = value(&v);
+      if (!s) return s;
+      uint64_t baud = 0;
+      s = parse_number(v, 4000000, "baud rate", &baud);
+      if (!s) return s;
+      if (baud < 1200) return Status::failure("baud rate '" + v + "' below 1200");
+      out->baud = static_cast<uint32_t>(baud);
     } else if (a == "--json") {
       out->json = true;
     } else if (a == "--eds") {

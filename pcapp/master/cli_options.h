@@ -18,6 +18,11 @@ struct Options {
   bool json = false;           ///< --json: one JSON object per line
   uint16_t heartbeat_ms = 0;   ///< --heartbeat MS: watchdog consumer time for SDO (0: none)
   std::string eds;             ///< --eds FILE: types for read/write
+  /// --via-modbus PORT[:SLAVE]: the gateway's serial device ("": SocketCAN)
+  /// and its Modbus address; --baud: the line's rate (8N1).
+  std::string gateway_port;
+  uint8_t gateway_slave = 1;
+  uint32_t baud = 115200;
   std::string command;
   std::vector<std::string> words;  ///< the command's arguments and options, in order
 };
@@ -25,6 +30,12 @@ struct Options {
 /// Parses argv. Fails with one line (no newline) for an unknown option, a
 /// missing command or a bad number.
 Status parse_options(int argc, char** argv, Options* out);
+/// Why a command (or option) cannot run through a gateway: one line,
+/// "watch needs raw CAN frames (...)"; "" when it can.
+std::string via_modbus_refusal(const Options& o);
+/// The same reason for a command that needs the SocketCAN loop.
+std::string needs_can_frames(const std::string& what);
+
 /// The usage text (printed for --help and after a usage error).
 const char* usage_text();
 

@@ -1,25 +1,26 @@
-// mb2co-master's commands. Each parses its own words, runs on an open bus
+// mb2co-master's commands. Each parses its own words, runs on an open
+// transport (SocketCAN or a gateway)
 // and returns an ExitCode; results go to `out` (plain lines or, with
 // --json, one JSON object per line), the one-line error to `err`.
 #pragma once
 #include <ostream>
 
-#include "bus_loop.h"
 #include "cli_options.h"
+#include "transport.h"
 
 namespace mb2co {
 namespace master {
 
-int scan_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
-int read_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
-int write_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
-int upload_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
-int download_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
-int nmt_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
-int sync_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
-int watch_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
-int dump_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
-int configure_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err);
+int scan_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
+int read_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
+int write_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
+int upload_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
+int download_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
+int nmt_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
+int sync_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
+int watch_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
+int dump_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
+int configure_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
 
 /// Prints "mb2co-master: WHY" and returns `code` (the one error style).
 int fail(std::ostream& err, int code, const std::string& why);

@@ -24,7 +24,6 @@
 #include <memory>
 
 #include "abort_text.h"
-#include "canopen/master/nmt_master.h"
 #include "commands.h"
 #include "eds_reader.h"
 #include "eds_value.h"
@@ -80,7 +79,7 @@ class NodeJob {
  public:
   enum Outcome { kRunning, kConfigured, kRefused, kMissing };
 
-  NodeJob(const NetworkNode& node, eds::DeviceDescription dcf, SdoNetwork* net, bool save)
+  NodeJob(const NetworkNode& node, eds::DeviceDescription dcf, TransferNetwork* net, bool save)
       : node_(node), dcf_(std::move(dcf)), net_(net), save_(save) {}
 
   /// Called once when the job ended, whatever the outcome.
@@ -296,7 +295,7 @@ class NodeJob {
 
   NetworkNode node_;
   eds::DeviceDescription dcf_;
-  SdoNetwork* net_;
+  TransferNetwork* net_;
   bool save_;
   std::deque<Transfer> transfers_;
   std::deque<Entry> entries_;
@@ -320,7 +319,7 @@ std::string json_text(const std::string& s) {
 
 }  // namespace
 
-int configure_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+int configure_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
   std::vector<std::string> w = o.words;
   const bool save = take_option(&w, "--save", true, nullptr);
   const bool no_start = take_option(&w, "--no-start", true, nullptr);
@@ -332,7 +331,7 @@ int configure_command(const Options& o, BusLoop& bus, std::ostream& out, std::os
   if (!s) return fail(err, kExitUsage, "configure: " + s.message());
   if (net.nodes.empty()) return fail(err, kExitUsage, "configure: " + w[0] + ": no node is present");
 
-  TransferRun run(o, bus);
+  TransferRun run(o, transport);
   std::vector<std::unique_ptr<NodeJob>> jobs;
   for (const NetworkNode& n : net.nodes) {
     const eds::ParseResult dcf = eds::parse_file(n.dcf_path);
@@ -355,17 +354,16 @@ int configure_command(const Options& o, BusLoop& bus, std::ostream& out, std::os
   }
   if (!run.run())
     return fail(err, kExitInterrupted, "configure: interrupted: transfers aborted (08000000h sent)");
+  const Status link = run.network().link_status();
+  if (!link) return fail(err, kExitBus, "configure: " + link.message());
 
-  canopen::NmtMaster nmt(bus.sink());
   bool refused = false, missing = false;
   for (auto& j : jobs) {
     bool started = false;
     if (j->outcome() == NodeJob::kConfigured && !no_start) {
-      started = nmt.start(j->id());
-      if (!started)
-        return fail(
-            err, kExitBus,
-            "configure: the CAN interface refused NMT start: " + std::string(bus.port().last_io_error()));
+      const Status sent = transport.nmt(canopen::kNmtStart, j->id());
+      if (!sent) return fail(err, kExitBus, "configure: NMT start: " + sent.message());
+      started = true;
     }
     refused |= j->outcome() == NodeJob::kRefused;
     missing |= j->outcome() == NodeJob::kMissing || j->outcome() == NodeJob::kRunning;

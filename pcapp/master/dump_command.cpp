@@ -48,7 +48,7 @@ eds::Value value_of(const eds::SubObject& s, const std::vector<uint8_t>& bytes, 
 
 }  // namespace
 
-int dump_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+int dump_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
   if (o.words.empty() || o.words.size() > 2) return fail(err, kExitUsage, "dump: want NODE [FILE.dcf]");
   uint8_t node = 0;
   Status s = parse_node_id(o.words[0], false, &node);
@@ -65,7 +65,7 @@ int dump_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream
   };
   std::deque<Upload> uploads;  // a deque: queued Transfers must not move
   unsigned write_only = 0;
-  TransferRun run(o, bus);
+  TransferRun run(o, transport);
   for (auto& p : model.objects) {
     for (eds::SubObject& sub : p.second.subs) {
       sub.parameter_value.reset();  // only what the node says goes in
@@ -85,10 +85,12 @@ int dump_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream
   // only wait out one SDO timeout each, so everything queued is dropped.
   for (Upload& u : uploads)
     u.t.on_done = [&](Transfer& t) {
-      if (!t.ok() && !t.by_server) run.network().abort_all(canopen::kAbortTimeout, bus.sink());
+      if (!t.ok() && !t.by_server) run.network().abort_all(canopen::kAbortTimeout);
     };
   for (Upload& u : uploads) run.network().queue(&u.t);
   if (!run.run()) return fail(err, kExitInterrupted, "dump: interrupted: transfers aborted (08000000h sent)");
+  const Status link = run.network().link_status();
+  if (!link) return fail(err, kExitBus, "dump: " + link.message());
 
   unsigned values = 0;
   std::vector<std::string> refused;

@@ -9,7 +9,8 @@ enum ExitCode : int {
   kExitOk = 0,
   kExitRefused = 1,        ///< a node refused: SDO abort (its code is printed), wrong identity
   kExitUsage = 2,          ///< bad command line or file (EDS/DCF/network file, value)
-  kExitBus = 3,            ///< the CAN interface cannot be opened or refuses frames
+  kExitBus = 3,            ///< the CAN interface cannot be opened or refuses frames; --via-modbus: the
+                           ///< port cannot be opened, the gateway does not answer or has no FC 2Bh/0Dh
   kExitNoAnswer = 4,       ///< a node did not answer in time (SDO timeout, node missing)
   kExitInterrupted = 130,  ///< SIGINT/SIGTERM ended a transfer (it was aborted on the bus)
 };

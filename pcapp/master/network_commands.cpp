@@ -1,7 +1,7 @@
 // nmt and sync: the two unconfirmed services a master sends on its own.
 #include <cstdio>
 
-#include "canopen/master/nmt_master.h"
+#include "bus_loop.h"
 #include "canopen/master/sync_producer.h"
 #include "commands.h"
 #include "exit_codes.h"
@@ -59,7 +59,7 @@ class SyncService : public BusService {
 
 }  // namespace
 
-int nmt_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+int nmt_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
   if (o.words.size() != 2)
     return fail(err, kExitUsage, "nmt: want nmt start|stop|preop|reset|reset-comm NODE|all");
   const NmtName* name = nullptr;
@@ -71,10 +71,8 @@ int nmt_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream&
   uint8_t node = 0;
   const Status s = parse_node_id(o.words[1], true, &node);
   if (!s) return fail(err, kExitUsage, "nmt: " + s.message());
-  canopen::NmtMaster nmt(bus.sink());
-  if (!nmt.command(name->command, node))
-    return fail(err, kExitBus,
-                "nmt: the CAN interface refused the frame: " + std::string(bus.port().last_io_error()));
+  const Status sent = transport.nmt(name->command, node);
+  if (!sent) return fail(err, kExitBus, "nmt: " + sent.message());
   const std::string who = node == 0 ? "all" : std::to_string(node);
   if (o.json)
     out << "{\"nmt\":\"" << name->word << "\",\"node\":" << (node == 0 ? "\"all\"" : who) << "}\n";
@@ -83,7 +81,9 @@ int nmt_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream&
   return kExitOk;
 }
 
-int sync_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+int sync_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
+  if (!transport.bus()) return fail(err, kExitUsage, "sync: " + needs_can_frames("sync"));
+  BusLoop& bus = *transport.bus();
   std::vector<std::string> w = o.words;
   std::string v;
   uint64_t period_ms = 0, count = 1, overflow = 0, cob_id = 0x80;

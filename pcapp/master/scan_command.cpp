@@ -40,7 +40,7 @@ std::string text_of(const Transfer* t) {
 
 }  // namespace
 
-int scan_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+int scan_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
   if (o.words.size() > 2) return fail(err, kExitUsage, "scan: want scan [FIRST [LAST]]");
   uint8_t first = 1, last = 127;
   if (!o.words.empty()) {
@@ -50,7 +50,7 @@ int scan_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream
     if (!s) return fail(err, kExitUsage, "scan: " + s.message());
     if (last < first) return fail(err, kExitUsage, "scan: LAST below FIRST");
   }
-  TransferRun run(o, bus);
+  TransferRun run(o, transport);
   std::map<uint8_t, Found> found;
   auto make = [](uint8_t node, uint16_t index, uint8_t sub) {
     std::unique_ptr<Transfer> t(new Transfer);
@@ -76,6 +76,8 @@ int scan_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream
     run.network().queue(probes[node].get());
   }
   if (!run.run()) return fail(err, kExitInterrupted, "scan: interrupted");
+  const Status link = run.network().link_status();
+  if (!link) return fail(err, kExitBus, "scan: " + link.message());
   for (auto& p : found) {
     const uint8_t node = p.first;
     Found& f = p.second;

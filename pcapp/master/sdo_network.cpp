@@ -1,23 +1,9 @@
 #include "sdo_network.h"
 
-#include <cstdio>
 #include <cstring>
-
-#include "abort_text.h"
 
 namespace mb2co {
 namespace master {
-
-std::string Transfer::failure() const {
-  if (!finished || result == canopen::kSdoOk) return std::string();
-  char line[240];
-  const char* why = node_lost   ? "node lost (no heartbeat within the consumer time), transfer aborted"
-                    : by_server ? "SDO abort"
-                                : "SDO abort sent";
-  std::snprintf(line, sizeof line, "node %u %04Xh/%u: %s %08Xh (%s)", node, index, sub, why,
-                static_cast<unsigned>(result), abort_text(result));
-  return line;
-}
 
 SdoNetwork::SdoNetwork(uint32_t timeout_us, uint16_t heartbeat_ms)
     : timeout_us_(timeout_us), heartbeat_ms_(heartbeat_ms) {

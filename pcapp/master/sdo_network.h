@@ -8,40 +8,15 @@
 #include <stdint.h>
 
 #include <deque>
-#include <functional>
-#include <string>
 #include <vector>
 
 #include "bus_loop.h"
 #include "canopen/master/node_monitor.h"
 #include "canopen/sdo_client.h"
+#include "transfer_network.h"
 
 namespace mb2co {
 namespace master {
-
-/// One SDO transfer and, once done(), how it ended. Owned by the caller;
-/// must stay put (not move) while queued or running.
-struct Transfer {
-  uint8_t node = 0;
-  uint16_t index = 0;
-  uint8_t sub = 0;
-  bool upload = true;
-  canopen::SdoMode mode = canopen::kSdoAuto;
-  std::vector<uint8_t> data;  ///< download: the bytes to write; upload: what came
-  /// Called when it ended (may queue more transfers for the same node).
-  std::function<void(Transfer&)> on_done;
-
-  bool finished = false;
-  canopen::SdoAbort result = canopen::kSdoOk;
-  bool by_server = false;  ///< result is the server's abort code
-  bool node_lost = false;  ///< ended by the watchdog (heartbeat lost)
-  bool crc = false;        ///< a block transfer with CRC
-  uint32_t started_us = 0;
-  uint32_t ended_us = 0;
-  bool ok() const { return finished && result == canopen::kSdoOk; }
-  /// "node 3 1018h/1: SDO abort 06020000h (object does not exist ...)" or "".
-  std::string failure() const;
-};
 
 class SdoNetwork : public BusService {
  public:

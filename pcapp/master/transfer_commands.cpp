@@ -42,12 +42,15 @@ canopen::SdoMode take_mode(std::vector<std::string>* w) {
 
 /// Queues one transfer per node and runs them all; the first failure's exit
 /// code (each failure printed), kExitOk when all succeeded.
-int run_all(const Options& o, BusLoop& bus, std::vector<std::unique_ptr<Transfer>>& ts, std::ostream& err) {
-  TransferRun run(o, bus);
+int run_all(const Options& o, Transport& transport, std::vector<std::unique_ptr<Transfer>>& ts,
+            std::ostream& err) {
+  TransferRun run(o, transport);
   for (auto& t : ts) run.network().queue(t.get());
   if (ts.size() == 1 && !o.json && isatty(STDERR_FILENO) && &err == &std::cerr)
     run.show_progress(ts[0]->node, &err);
   if (!run.run()) return fail(err, kExitInterrupted, "interrupted: transfers aborted (08000000h sent)");
+  const Status link = run.network().link_status();
+  if (!link) return fail(err, kExitBus, link.message());
   int code = kExitOk;
   for (auto& t : ts) {
     if (t->ok()) continue;
@@ -83,7 +86,7 @@ std::string hex_word(uint32_t v, int digits) {
 
 }  // namespace
 
-int read_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+int read_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
   Target target;
   Status s = parse_target(o.words, &target);
   if (!s || o.words.size() > 4)
@@ -92,7 +95,7 @@ int read_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream
   s = resolve_type(o.words.size() == 4 ? o.words[3] : std::string(), o.eds, target.index, target.sub, &type);
   if (!s) return fail(err, kExitUsage, "read: " + s.message());
   std::vector<std::unique_ptr<Transfer>> ts = transfers_for(target, true, canopen::kSdoAuto);
-  int code = run_all(o, bus, ts, err);
+  int code = run_all(o, transport, ts, err);
   for (auto& t : ts) {
     if (!t->ok()) continue;
     eds::Value v;
@@ -119,7 +122,7 @@ int read_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream
   return code;
 }
 
-int write_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+int write_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
   Target target;
   Status s = parse_target(o.words, &target);
   if (!s || o.words.size() < 4 || o.words.size() > 5)
@@ -130,7 +133,7 @@ int write_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostrea
   const eds::ValueResult v = eds::parse_value(type, o.words.back());
   if (!v.value) return fail(err, kExitUsage, "write: " + v.error);
   std::vector<std::unique_ptr<Transfer>> ts = transfers_for(target, false, canopen::kSdoAuto, v.value->bytes);
-  const int code = run_all(o, bus, ts, err);
+  const int code = run_all(o, transport, ts, err);
   for (auto& t : ts) {
     if (!t->ok()) continue;
     if (o.json)
@@ -170,7 +173,7 @@ void file_result(std::ostream& out, const Transfer& t, const std::string& path, 
 
 }  // namespace
 
-int upload_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+int upload_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
   std::vector<std::string> w = o.words;
   const canopen::SdoMode mode = take_mode(&w);
   Target target;
@@ -178,7 +181,7 @@ int upload_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostre
   if (!s || w.size() != 4)
     return fail(err, kExitUsage, "upload: " + (s ? "want NODE INDEX SUB FILE" : s.message()));
   std::vector<std::unique_ptr<Transfer>> ts = transfers_for(target, true, mode);
-  const int code = run_all(o, bus, ts, err);
+  const int code = run_all(o, transport, ts, err);
   for (auto& t : ts) {
     if (!t->ok()) continue;
     // One file per node when several; written whole under a temporary name
@@ -200,7 +203,7 @@ int upload_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostre
   return code;
 }
 
-int download_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+int download_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
   std::vector<std::string> w = o.words;
   const canopen::SdoMode mode = take_mode(&w);
   Target target;
@@ -211,7 +214,7 @@ int download_command(const Options& o, BusLoop& bus, std::ostream& out, std::ost
   if (!f) return fail(err, kExitUsage, "download: cannot read " + w[3]);
   const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
   std::vector<std::unique_ptr<Transfer>> ts = transfers_for(target, false, mode, bytes);
-  const int code = run_all(o, bus, ts, err);
+  const int code = run_all(o, transport, ts, err);
   for (auto& t : ts) {
     if (!t->ok()) continue;
     file_result(out, *t, w[3], false, o.json);

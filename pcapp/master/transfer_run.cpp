@@ -2,17 +2,17 @@
 
 #include <cstdio>
 
+#include "canopen/clock.h"
 #include "exit_codes.h"
 
 namespace mb2co {
 namespace master {
 
 /// Redraws "[#####     ] 52%  68/131 KiB  97 KiB/s" every 200 ms.
-class TransferRun::Progress : public BusService {
+class TransferRun::Progress : public ProgressHook {
  public:
-  Progress(SdoNetwork* net, uint8_t node, std::ostream* out) : net_(net), node_(node), out_(out) {}
-  void on_frame(const CanFrame&, uint32_t, const CanSink&) override {}
-  void process(uint32_t now_us, const CanSink&) override {
+  Progress(const TransferNetwork* net, uint8_t node, std::ostream* out) : net_(net), node_(node), out_(out) {}
+  void update(uint32_t now_us) override {
     if (start_us_ == 0) start_us_ = now_us | 1u;
     if (!time_reached(now_us, next_us_)) return;
     next_us_ = now_us + 200000u;
@@ -32,13 +32,13 @@ class TransferRun::Progress : public BusService {
     *out_ << line << std::flush;
     drawn_ = true;
   }
-  void next_deadline(NextDeadline& d) const override { d.at(next_us_); }
+  uint32_t next_us() const override { return next_us_; }
   void end() {
     if (drawn_) *out_ << "\n" << std::flush;
   }
 
  private:
-  SdoNetwork* net_;
+  const TransferNetwork* net_;
   uint8_t node_;
   std::ostream* out_;
   uint32_t start_us_ = 0;
@@ -46,23 +46,12 @@ class TransferRun::Progress : public BusService {
   bool drawn_ = false;
 };
 
-TransferRun::TransferRun(const Options& o, BusLoop& bus)
-    : bus_(bus), network_(o.timeout_ms * 1000u, o.heartbeat_ms) {
-  bus_.add(&network_);
-}
-
 bool TransferRun::run() {
-  Progress progress(&network_, progress_node_, progress_out_);
-  const bool show = progress_out_ != nullptr;
-  if (show) bus_.add(&progress);
-  const auto done = [this] { return network_.pending() == 0; };
-  while (!done() && !bus_.interrupted()) bus_.run_until(done, BusLoop::kLongestRunUs);
-  if (show) {
-    progress.end();
-    bus_.remove(&progress);
-  }
-  if (!done()) {
-    network_.abort_all(canopen::kAbortGeneral, bus_.sink());
+  Progress progress(network_.get(), progress_node_, progress_out_);
+  const bool done = network_->run(progress_out_ ? &progress : nullptr);
+  progress.end();
+  if (!done) {
+    network_->abort_all(canopen::kAbortGeneral);
     return false;
   }
   return true;
@@ -70,6 +59,8 @@ bool TransferRun::run() {
 
 int exit_code_of(const Transfer& t) {
   if (t.ok()) return kExitOk;
+  if (t.link_down) return kExitBus;
+  if (!t.gateway_error.empty()) return kExitRefused;
   if (t.node_lost || (t.result == canopen::kAbortTimeout && !t.by_server)) return kExitNoAnswer;
   return kExitRefused;
 }

@@ -1,21 +1,22 @@
-// Running queued SDO transfers to their end on the bus, with a progress bar
-// on a terminal and a clean abort on SIGINT (the nodes are told: 08000000h).
+// Running a command's queued SDO transfers to their end, over whatever
+// transport carries them, with a progress bar on a terminal and a clean
+// abort on SIGINT (the nodes are told: 08000000h).
 #pragma once
+#include <memory>
 #include <ostream>
 
-#include "bus_loop.h"
 #include "cli_options.h"
-#include "sdo_network.h"
+#include "transfer_network.h"
+#include "transport.h"
 
 namespace mb2co {
 namespace master {
 
-/// The SDO side of a command: the network of clients, added to `bus`.
-/// `heartbeat_ms` from the --heartbeat option (0: no watchdog).
+/// The SDO side of a command: the transport's network of transfers.
 class TransferRun {
  public:
-  TransferRun(const Options& o, BusLoop& bus);
-  SdoNetwork& network() { return network_; }
+  TransferRun(const Options& o, Transport& transport) : network_(transport.transfers(o)) {}
+  TransferNetwork& network() { return *network_; }
   /// Runs until nothing is queued or running. False when interrupted
   /// (everything was aborted).
   bool run();
@@ -27,8 +28,7 @@ class TransferRun {
 
  private:
   class Progress;
-  BusLoop& bus_;
-  SdoNetwork network_;
+  std::unique_ptr<TransferNetwork> network_;
   uint8_t progress_node_ = 0;
   std::ostream* progress_out_ = nullptr;
 };

@@ -297,7 +297,9 @@ class WatchService : public BusService {
 
 }  // namespace
 
-int watch_command(const Options& o, BusLoop& bus, std::ostream& out, std::ostream& err) {
+int watch_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
+  if (!transport.bus()) return fail(err, kExitUsage, "watch: " + needs_can_frames("watch"));
+  BusLoop& bus = *transport.bus();
   std::vector<std::string> w = o.words;
   std::string v;
   std::vector<uint8_t> nodes;

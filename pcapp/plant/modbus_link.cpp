@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "modbus/master_codec.h"
+#include "modbus/network_pdu.h"
 
 namespace mb2co {
 namespace pcapp {
@@ -118,6 +119,8 @@ LinkResult ModbusLink::raw(const uint8_t* request, uint16_t length, uint8_t* res
     got = 0;
     const int64_t deadline = now_ms() + settings_.timeout_ms;
     modbus::Response parsed;
+    modbus::NetResponse net_parsed;  // FC 2Bh/0Dh has its own codec
+    const bool net = modbus::is_net_pdu(request + 1, static_cast<uint16_t>(length - 1));
     modbus::ParseStatus st = modbus::ParseStatus::kTooShort;
     while (st != modbus::ParseStatus::kOk && st != modbus::ParseStatus::kException) {
       const int64_t left = deadline - now_ms();
@@ -130,17 +133,48 @@ LinkResult ModbusLink::raw(const uint8_t* request, uint16_t length, uint8_t* res
                                    std::string("read: ") + (n == 0 ? "end of file" : std::strerror(errno)));
       }
       got = static_cast<uint16_t>(got + n);
-      st = modbus::parse_response(request, length, response, got, parsed);
+      st = net ? modbus::parse_net_response(request, length, response, got, net_parsed)
+               : modbus::parse_response(request, length, response, got, parsed);
       if (got == capacity) break;
     }
     if (st == modbus::ParseStatus::kOk) return LinkResult::done();
     if (st == modbus::ParseStatus::kException) {
-      return LinkResult::failure(LinkStatus::exception,
-                                 "exception " + std::to_string(static_cast<int>(parsed.exception)));
+      const modbus::Exception e = net ? net_parsed.exception : parsed.exception;
+      return LinkResult::failure(LinkStatus::exception, "exception " + std::to_string(static_cast<int>(e)));
     }
     why = got == 0 ? "no answer" : "bad answer (" + std::to_string(got) + " bytes)";
   }
   return LinkResult::failure(LinkStatus::failed, why);
+}
+
+LinkResult ModbusLink::network_view(std::vector<modbus::NetViewEntry>& view, bool& unsupported) {
+  unsupported = false;
+  if (ctx_ == nullptr) return LinkResult::failure(LinkStatus::failed, "FC 2B/0D: port closed");
+  view.clear();
+  const uint8_t slave = static_cast<uint8_t>(settings_.slave);
+  uint8_t request[32];
+  uint8_t response[modbus::kMaxAduBytes];
+  uint8_t first = 1;
+  // A response lists at most kMaxViewEntries nodes; "more follows" asks
+  // for the rest from the node after the last one listed.
+  for (;;) {
+    const uint16_t n = modbus::build_net_view(request, sizeof request, slave, first);
+    uint16_t got = 0;
+    const LinkResult s = raw(request, n, response, sizeof response, got);
+    modbus::NetResponse r;
+    if (s.outcome == LinkStatus::exception) {
+      modbus::parse_net_response(request, n, response, got, r);
+      unsupported = r.exception == modbus::Exception::kIllegalFunction;
+    }
+    if (!s.ok()) return LinkResult::failure(s.outcome, "FC 2B/0D network view: " + s.status.message());
+    modbus::parse_net_response(request, n, response, got, r);
+    const size_t before = view.size();
+    if (!append_view_entries(r.message, &view))
+      return LinkResult::failure(LinkStatus::failed, "FC 2B/0D network view: not whole entries");
+    if (!r.message.more_follows || view.size() == before || view.back().node_id >= 127) break;
+    first = static_cast<uint8_t>(view.back().node_id + 1);
+  }
+  return LinkResult::done();
 }
 
 LinkResult ModbusLink::identify(std::string& identity) {

@@ -17,9 +17,11 @@
 #include <stdint.h>
 
 #include <string>
+#include <vector>
 
 #include "host/status.h"
 #include "station_io.h"
+#include "status_view.h"
 #include "transaction_plan.h"
 
 typedef struct _modbus modbus_t;
@@ -80,6 +82,12 @@ class ModbusLink {
   /// The plan's write blocks from `out` (FC 06 / FC 10h), also for a
   /// read_write plan (used at shutdown).
   LinkResult write(const TransactionPlan& plan, const RegisterImage& out);
+
+  /// The gateway's view of the CANopen network (FC 2Bh/MEI 0Dh): every node
+  /// it hears, with NMT state and heartbeat age, in node id order. An
+  /// exception comes back as LinkStatus::exception; `unsupported` tells
+  /// exception 01 (a gateway without the service, or with it switched off).
+  LinkResult network_view(std::vector<modbus::NetViewEntry>& view, bool& unsupported);
 
   /// Attempts that timed out or were corrupt and were repeated (only grows).
   uint64_t retries_used() const { return retries_used_; }

@@ -51,6 +51,9 @@ class PlantApp : public QObject {
   void log_cycle(bool link_up, uint32_t modbus_us);
   double seconds() const { return static_cast<double>(clock_.nsecsElapsed()) / 1e9; }
   void log_event(const QString& text);
+  /// Once a second in the station mode: the gateway's network view into
+  /// neighbours_ (changes as events). Stops for good at exception 01.
+  void poll_neighbours(int64_t now_ns);
   std::string cycle_summary() const;
 
   AppOptions options_;
@@ -78,6 +81,9 @@ class PlantApp : public QObject {
   std::string last_exception_;  ///< reported once until the next good cycle
   bool shutting_down_ = false;
   bool link_was_up_ = false;  ///< the gateway was reached: its outputs are ours to make safe
+  NeighboursView neighbours_;
+  bool neighbours_asked_ = true;  ///< false once the gateway said it has no network view
+  int64_t last_view_ns_ = 0;
 };
 
 }  // namespace pcapp

@@ -1,0 +1,25 @@
+// The master on its own SocketCAN interface: the poll() loop of bus_loop.h
+// with the network of SDO clients (sdo_network.h) and NMT frames sent
+// directly.
+#pragma once
+#include "bus_loop.h"
+#include "transport.h"
+
+namespace mb2co {
+namespace master {
+
+class CanTransport : public Transport {
+ public:
+  /// Opens `ifname` (see BusLoop::open).
+  Status open(const char* ifname) { return bus_.open(ifname); }
+
+  std::unique_ptr<TransferNetwork> transfers(const Options& o) override;
+  Status nmt(canopen::NmtCommand command, uint8_t node) override;
+  BusLoop* bus() override { return &bus_; }
+
+ private:
+  BusLoop bus_;
+};
+
+}  // namespace master
+}  // namespace mb2co

@@ -64,7 +64,7 @@ bool from_kernel_frame(const struct ::can_frame& in, CanFrame& out) {
 }
 
 SocketCanPort::SocketCanPort()
-    : fd_(-1), rcvbuf_bytes_(0), last_rx_overflows_(0), counters_{}, ifname_{}, error_{} {}
+    : fd_(-1), rcvbuf_bytes_(0), last_rx_overflows_(0), counters_{}, ifname_{}, error_{}, also_{}, also_count_(0) {}
 
 SocketCanPort::~SocketCanPort() {
   close();
@@ -166,19 +166,35 @@ Status SocketCanPort::accept_all() {
   return set_filters(all, 2);
 }
 
+Status SocketCanPort::set_also_accepted(const CanAcceptance* ranges, size_t count) {
+  if (count > kMaxAlsoAccepted) return fail("more than 4 extra filter ranges", 0);
+  for (size_t i = 0; i < count; ++i) {
+    if (ranges[i].extended || !id_fits(ranges[i].id, false) || !id_fits(ranges[i].mask, false))
+      return fail("extra filter range out of range", 0);
+    also_[i] = ranges[i];
+  }
+  also_count_ = count;
+  return Status::ok();
+}
+
 Status SocketCanPort::set_consumed_ids(const uint16_t* ids, uint8_t count) {
   if (fd_ < 0) return fail("not open", 0);
-  can_filter kernel[256 + 1];
+  can_filter kernel[256 + 1 + kMaxAlsoAccepted];
+  size_t n = 0;
   for (uint8_t i = 0; i < count; ++i) {
-    kernel[i].can_id = ids[i] & CAN_SFF_MASK;
-    kernel[i].can_mask = CAN_SFF_MASK | CAN_EFF_FLAG;
+    kernel[n].can_id = ids[i] & CAN_SFF_MASK;
+    kernel[n++].can_mask = CAN_SFF_MASK | CAN_EFF_FLAG;
   }
   // Every standard remote frame as well: the node answers RTRs for its
   // TPDOs (transmission types 252/253), which consumed_ids leaves out (the
   // MCP2515 port filters them, RTR being deprecated; here they stay).
-  kernel[count].can_id = CAN_RTR_FLAG;
-  kernel[count].can_mask = CAN_RTR_FLAG | CAN_EFF_FLAG;
-  const socklen_t bytes = static_cast<socklen_t>((count + 1u) * sizeof(can_filter));
+  kernel[n].can_id = CAN_RTR_FLAG;
+  kernel[n++].can_mask = CAN_RTR_FLAG | CAN_EFF_FLAG;
+  for (size_t i = 0; i < also_count_; ++i) {
+    kernel[n].can_id = also_[i].id;
+    kernel[n++].can_mask = also_[i].mask | CAN_EFF_FLAG;
+  }
+  const socklen_t bytes = static_cast<socklen_t>(n * sizeof(can_filter));
   if (setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, kernel, bytes) != 0) return fail("CAN_RAW_FILTER", errno);
   return Status::ok();
 }

@@ -90,9 +90,16 @@ class SocketCanPort {
   Status set_filters(const CanAcceptance* filters, size_t count);
   /// Back to receiving every frame.
   Status accept_all();
-  /// Receives the standard ids[0..count) (CanControl::set_filters) and every
-  /// standard remote frame (RTRs for TPDOs, not in Node::consumed_ids).
+  /// Receives the standard ids[0..count) (CanControl::set_filters), every
+  /// standard remote frame (RTRs for TPDOs, not in Node::consumed_ids) and
+  /// the ranges of set_also_accepted().
   Status set_consumed_ids(const uint16_t* ids, uint8_t count);
+  /// Id/mask ranges that set_consumed_ids() lets through as well, from its
+  /// next call on: services beside the node core that take frames the
+  /// core's list leaves out (the gateway's SDO client and network view:
+  /// 580h-5FFh, 700h-77Fh). At most kMaxAlsoAccepted; copied.
+  static const size_t kMaxAlsoAccepted = 4;
+  Status set_also_accepted(const CanAcceptance* ranges, size_t count);
 
   /// Takes up to `capacity` waiting frames without blocking; returns how many
   /// (0 when none are waiting or on a read error, counted in io_errors).
@@ -134,6 +141,8 @@ class SocketCanPort {
   SocketCanCounters counters_;
   char ifname_[16];
   char error_[160];
+  CanAcceptance also_[kMaxAlsoAccepted];
+  size_t also_count_;
 };
 
 }  // namespace linux_port

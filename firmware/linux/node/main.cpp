@@ -114,10 +114,18 @@ int main(int argc, char** argv) {
   gateway::GatewayPorts ports{with_can ? can.sink() : CanSink{&can_discard, nullptr},
                               modbus::ByteSink{&serial_write, &serial},
                               opt.eeprom.empty() ? nullptr : &storage, opt.baud};
-  // Kernel filters on the node's consumed ids, unless FC 2Bh/0Dh reaches the
-  // network: its SDO client takes 581h-5FFh and its view every heartbeat,
-  // which the node's list leaves out (the node ignores what it does not consume).
-  if (with_can && !MB2CO_GATEWAY_NET) ports.can_control = &linux_port::SocketCanPort::kControl;
+  // Kernel filters on the node's consumed ids (a flood of other frames never
+  // reaches the loop), and with FC 2Bh/0Dh the two ranges its network
+  // service takes that the node's list leaves out: the SDO client's
+  // responses (581h-5FFh) and every heartbeat for the network view.
+  if (with_can) {
+    if (MB2CO_GATEWAY_NET) {
+      const linux_port::CanAcceptance network[] = {{0x580, 0x780, false}, {0x700, 0x780, false}};
+      const Status also = can.set_also_accepted(network, 2);
+      if (!also) return fail(also.message());
+    }
+    ports.can_control = &linux_port::SocketCanPort::kControl;
+  }
   static gateway::Gateway gw(ports);  // static like on the Uno (and large)
   node::ControlChannel control(gw);
   // 1F50h/1: a large DOMAIN for segmented and block SDO transfers (program_data.h).
@@ -179,9 +187,6 @@ int main(int argc, char** argv) {
       for (size_t i = 0; i < n; ++i) gw.on_serial_byte(bytes[i], stamps[i]);
     }
     if (fds[3].revents & POLLIN) {
-      // At most kMaxFramesPerPass per pass: with the filter open (FC 2Bh/0Dh)
-      // a busy bus need not run dry, and process() (heartbeats, timers) must
-      // still run.
       linux_port::TimedCanFrame frames[linux_port::SocketCanPort::kBatch];
       size_t got = 0;
       for (size_t taken = 0; taken < kMaxFramesPerPass; taken += got) {

@@ -98,6 +98,9 @@ HookResult Gateway::app_write(void* ctx, uint8_t, uint16_t index, uint8_t sub, c
 
 uint8_t Gateway::process(uint32_t now_us, uint8_t raw_buttons) {
   now_us_ = now_us;
+  // 2003h for Modbus and SDO: the node counts at its resets (start(), an NMT
+  // command, a pending reset), each followed by a pass that runs at once.
+  values_.x2003_0_storageDamageCount = node_.storage_damage_count();
   slave_.process(now_us);
   const uint8_t leds =
       line_.process(now_us, raw_buttons, node_.nmt_state(), slave_.counters().server_messages);

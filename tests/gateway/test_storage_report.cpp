@@ -137,5 +137,52 @@ TEST(StorageReport, TheCounterCountsEveryResetThatFindsDamage) {
   EXPECT_EQ(s.input_register(kIrDamageCount), 2u) << "the count never goes down";
 }
 
+/// Writes that fail from the n-th on: power lost in the middle of a save.
+struct CutPower {
+  static int writes_left;
+  static bool (*write)(void*, uint16_t, const uint8_t*, uint16_t);
+  static bool cut_write(void* ctx, uint16_t at, const uint8_t* data, uint16_t n) {
+    if (writes_left == 0) return false;
+    --writes_left;
+    return write(ctx, at, data, n);
+  }
+};
+int CutPower::writes_left = 0;
+bool (*CutPower::write)(void*, uint16_t, const uint8_t*, uint16_t) = nullptr;
+
+// A save after damage was found writes into the damaged slot, not over the
+// only valid set: power lost at any write of that save still leaves set A
+// (or the new set) to load, never the defaults.
+TEST(StorageReport, ASaveCutOffAfterDamageNeverLosesTheValidSet) {
+  int writes = 0;
+  for (int cut = 0;; ++cut) {
+    SCOPED_TRACE(cut);
+    Station s;
+    s.eeprom()[sd::kSlot + sd::kHeader + 20] ^= 0x01;  // the newer set damaged
+    s.line.power_on(0);
+    s.line.run_ms(20);
+    ASSERT_EQ(s.line.gw(0).node_id(), 9);
+    canopen::ParamStorage& storage = s.line.station(0).storage;
+    CutPower::write = storage.write;
+    CutPower::writes_left = cut;
+    storage.write = &CutPower::cut_write;
+    write_u8(s.line.gw(0).od(), 0x2000, 1, 7);
+    uint8_t b[4];
+    canopen::put_le32(b, canopen::kSaveSignature);
+    const bool saved = s.line.gw(0).od().write(0x1010, 1, b, 4) == canopen::kSdoOk;
+    storage.write = CutPower::write;
+    s.line.power_on(0);
+    s.line.run_ms(20);
+    const uint8_t id = s.line.gw(0).node_id();
+    EXPECT_TRUE(id == 9 || id == 7) << "node id " << int(id) << " after a save cut at write " << cut;
+    if (saved) {
+      EXPECT_EQ(id, 7);
+      writes = cut;
+      break;
+    }
+  }
+  EXPECT_GT(writes, 3) << "a save is several writes";
+}
+
 }  // namespace
 }  // namespace mb2co

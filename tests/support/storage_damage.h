@@ -95,7 +95,8 @@ inline size_t crc_at(const std::vector<uint8_t>& image, size_t slot) {
 inline const std::vector<Kind>& kinds() {
   static const std::vector<Kind> all = {
       {"empty", Verdict::kNoSet, [](std::vector<uint8_t>& im) { return cut(im, 0); }},
-      {"cut inside the first header", Verdict::kDefaults, [](std::vector<uint8_t>& im) { return cut(im, 3); }},
+      {"cut inside the first header", Verdict::kDefaults,
+       [](std::vector<uint8_t>& im) { return cut(im, 3); }},
       {"cut inside the older set", Verdict::kDefaults,
        [](std::vector<uint8_t>& im) { return cut(im, kHeader + payload_length(im, 0) / 2); }},
       {"cut inside the newer set", Verdict::kOlderSet,

@@ -13,10 +13,12 @@
 #include <time.h>
 
 #include <cstdio>
+#include <fstream>
 #include <memory>
 #include <set>
 
 #include "node_harness.h"
+#include "storage_damage.h"
 
 namespace mb2co {
 namespace test {
@@ -91,23 +93,27 @@ int64_t event_time(NodeProcess& node, const char* field, const std::string& pref
   return seen ? static_cast<int64_t>(at_us_of(line)) : -1;
 }
 
+/// Starts candump on vcan0 and makes sure it listens: it must see our probe
+/// (an extended id no CANopen node uses) before any node starts. A probe
+/// sent before candump has bound its socket is lost: send until one is seen.
+::testing::AssertionResult start_candump(LineChild& candump) {
+  if (!candump.start({"candump", "-L", "vcan0"})) return ::testing::AssertionFailure() << candump.error();
+  for (const auto deadline = std::chrono::steady_clock::now() + kUmlDeadline;
+       std::chrono::steady_clock::now() < deadline;) {
+    LineChild probe;
+    if (!probe.start({"cansend", "vcan0", "1FFFFFFF#"}) || probe.wait_exit(kUmlDeadline) != 0)
+      return ::testing::AssertionFailure() << "cansend failed";
+    if (candump.wait_line([](const std::string& l) { return l.find(" 1FFFFFFF#") != std::string::npos; },
+                          500ms))
+      return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << "candump never saw the probe";
+}
+
 TEST(Ring, Stop2StopsTwoStationsAndALostNodeShowsUnknown) {
   TempDir dir;
-  // candump first, and known to listen: it must see our probe (an extended
-  // id no CANopen node uses) before any node starts. A probe sent before
-  // candump has bound its socket is lost: send until one is seen.
-  LineChild candump;
-  ASSERT_TRUE(candump.start({"candump", "-L", "vcan0"})) << candump.error();
-  bool listening = false;
-  for (const auto deadline = std::chrono::steady_clock::now() + kUmlDeadline;
-       !listening && std::chrono::steady_clock::now() < deadline;) {
-    LineChild probe;
-    ASSERT_TRUE(probe.start({"cansend", "vcan0", "1FFFFFFF#"}));
-    ASSERT_EQ(probe.wait_exit(kUmlDeadline), 0);
-    listening = candump.wait_line(
-        [](const std::string& l) { return l.find(" 1FFFFFFF#") != std::string::npos; }, 500ms);
-  }
-  ASSERT_TRUE(listening) << "candump never saw the probe";
+  LineChild candump;  // first, and known to listen
+  ASSERT_TRUE(start_candump(candump));
 
   NodeProcess node[kNodes];
   ModbusMaster master[kNodes];
@@ -197,6 +203,40 @@ TEST(Ring, Stop2StopsTwoStationsAndALostNodeShowsUnknown) {
     EXPECT_LE(after_hb, kConsumerUs + kSlackUs);
     EXPECT_LE(after_kill, kConsumerUs + kSlackUs);
   }
+}
+
+// Issue 16 item 6 on the bus: a node whose saved parameters are damaged
+// sends its boot-up, then EMCY 5530h with error register bit 0 (generic).
+TEST(Ring, DamagedSavedParametersSendEmcy5530AfterTheBootUp) {
+  TempDir dir;
+  std::vector<uint8_t> image;
+  for (const storage_damage::Kind& kind : storage_damage::kinds()) {
+    if (std::string(kind.name) == "random bytes") {
+      ASSERT_TRUE(kind.apply(image));
+    }
+  }
+  ASSERT_EQ(image.size(), 1024u);
+  {
+    std::ofstream f(dir.path("eeprom"), std::ios::binary);
+    f.write(reinterpret_cast<const char*>(image.data()), static_cast<std::streamsize>(image.size()));
+  }
+  LineChild candump;
+  ASSERT_TRUE(start_candump(candump));
+  NodeProcess node;
+  ASSERT_TRUE(node.start(
+      {"--can", "vcan0", "--node-id", "5", "--pty", dir.path("5.pty"), "--eeprom", dir.path("eeprom")},
+      kUmlDeadline))
+      << node.error();
+  EXPECT_TRUE(candump.wait_line([](const std::string& l) { return l.find(" 705#00") != std::string::npos; },
+                                kUmlDeadline))
+      << "boot-up of node 5 (the defaults: the damaged id is not used)";
+  EXPECT_TRUE(candump.wait_line(
+      [](const std::string& l) { return l.find(" 085#305501") != std::string::npos; }, kUmlDeadline))
+      << "EMCY 5530h, error register 01h, after the boot-up";
+  EXPECT_EQ(node.stop(), 0);
+  EXPECT_NE(node.child.stderr_text().find("damaged"), std::string::npos);
+  ASSERT_TRUE(candump.signal(SIGINT));
+  EXPECT_EQ(candump.wait_exit(kUmlDeadline), 0);
 }
 
 // Inside the same sandbox, where CAN exists: a missing interface is a

@@ -12,35 +12,20 @@
 
 #include "options.h"
 #include "plant/plant_config.h"
+#include "progress_bar.h"
 #include "report.h"
+#include "sim/can_trace.h"
 #include "sim/scenarios.h"
 
 namespace {
 
 using namespace mb2co;
 
-class ProgressBar {
- public:
-  explicit ProgressBar(bool on) : on_(on) {}
-  void show(const std::string& stage, double fraction) {
-    if (!on_) return;
-    const int width = 30;
-    const int filled = static_cast<int>(std::lround(fraction * width));
-    std::string bar(static_cast<size_t>(filled < 0 ? 0 : filled > width ? width : filled), '#');
-    bar.resize(width, ' ');
-    std::printf("\r[%s] %3d%% %-28s", bar.c_str(), static_cast<int>(std::lround(fraction * 100)),
-                stage.c_str());
-    std::fflush(stdout);
-  }
-  void clear() {
-    if (!on_) return;
-    std::printf("\r\033[K");
-    std::fflush(stdout);
-  }
-
- private:
-  bool on_;
-};
+uint64_t monotonic_ns() {
+  return static_cast<uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                   std::chrono::steady_clock::now().time_since_epoch())
+                                   .count());
+}
 
 Status write_file(const std::filesystem::path& path, const std::string& text) {
   std::ofstream f(path, std::ios::binary);
@@ -76,6 +61,13 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "mb2co-lab: %s\n", usable.message().c_str());
     return 2;
   }
+  if (o.scenario == lab::Scenario::kRun && o.duration_s < sim::run_min_duration_s(o.line)) {
+    std::fprintf(stderr,
+                 "mb2co-lab: --duration %u is too short for the run scenario's criterion (every station "
+                 "fills a bottle): at least %u s with this plant\n",
+                 o.duration_s, sim::run_min_duration_s(o.line));
+    return 2;
+  }
   const std::filesystem::path out(o.out_dir);
   std::error_code ec;
   std::filesystem::create_directories(out, ec);
@@ -84,8 +76,10 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  ProgressBar bar(!o.quiet && isatty(STDOUT_FILENO));
+  lab::ProgressBar bar(!o.quiet && isatty(STDOUT_FILENO) ? stdout : nullptr);
   sim::EventLog log(true);
+  sim::CanTrace trace;
+  if (!o.trace_path.empty()) log.set_can_trace(&trace);
   std::string report = lab::report_header(o);
   std::vector<std::pair<std::string, std::string>> files;
   bool pass = true;
@@ -94,8 +88,8 @@ int main(int argc, char** argv) {
   const bool all = o.scenario == lab::Scenario::kDefault;
 
   if (o.scenario == lab::Scenario::kRun) {
-    const sim::RunResult r =
-        sim::run_scenario(o.line, o.duration_s * sim::kNsPerS, &log, [&](double f) { bar.show("run", f); });
+    const sim::RunResult r = sim::run_scenario(o.line, o.duration_s * sim::kNsPerS, &log,
+                                               [&](double f) { bar.show("run", f, monotonic_ns()); });
     bar.clear();
     report += lab::run_section(r);
     files.push_back({"timeline-run.svg", lab::timeline_svg(r.line, o.line.stations, "run")});
@@ -103,7 +97,8 @@ int main(int argc, char** argv) {
     pass = pass && r.ok;
   }
   if (all || o.scenario == lab::Scenario::kStop2) {
-    const sim::Stop2Result r = sim::stop2_scenario(o.line, &log, [&](double f) { bar.show("stop2", f); });
+    const sim::Stop2Result r =
+        sim::stop2_scenario(o.line, &log, [&](double f) { bar.show("stop2", f, monotonic_ns()); });
     bar.clear();
     report += lab::stop2_section(r);
     files.push_back({"timeline-stop2.svg", lab::timeline_svg(r.line, o.line.stations, "stop2")});
@@ -118,7 +113,7 @@ int main(int argc, char** argv) {
       const std::string stage =
           sim::strf("latency %uk %s", lc.bitrate_kbit, lc.remote ? "canopen" : "modbus");
       results.push_back(sim::latency_scenario(o.line, lc, o.presses, &log, [&](double f) {
-        bar.show(stage, (static_cast<double>(i) + f) / static_cast<double>(cases));
+        bar.show(stage, (static_cast<double>(i) + f) / static_cast<double>(cases), monotonic_ns());
       }));
       simulated_s += static_cast<double>(results.back().duration_ns) / 1e9;
     }
@@ -131,7 +126,8 @@ int main(int argc, char** argv) {
       files.push_back({sim::strf("latency-%uk.svg", b), lab::latency_svg(results, b)});
   }
   if (o.scenario == lab::Scenario::kFaults) {
-    const sim::FaultsResult r = sim::faults_scenario(o.line, &log, [&](double f) { bar.show("faults", f); });
+    const sim::FaultsResult r =
+        sim::faults_scenario(o.line, &log, [&](double f) { bar.show("faults", f, monotonic_ns()); });
     bar.clear();
     report += lab::faults_section(r);
     files.push_back({"timeline-faults.svg", lab::timeline_svg(r.line, o.line.stations, "faults")});
@@ -146,6 +142,13 @@ int main(int argc, char** argv) {
   std::fputs(report.c_str(), stdout);
   std::fflush(stdout);
 
+  if (!o.trace_path.empty()) {
+    const Status written = write_file(o.trace_path, trace.text());
+    if (!written) {
+      std::fprintf(stderr, "mb2co-lab: %s\n", written.message().c_str());
+      return 1;
+    }
+  }
   files.push_back({"report.txt", report});
   files.push_back({"events.csv", std::string(sim::EventLog::header()) + log.text()});
   for (const auto& f : files) {

@@ -51,13 +51,15 @@ const char* usage() {
          "  --seed N         random seed (default 1): same seed, same report\n"
          "  --bitrates LIST  CAN bit rates for latency, kbit/s: 125,250,500,1000 (default all)\n"
          "  --presses N      button presses per latency case (default 1000)\n"
-         "  --duration S     simulated seconds of the run scenario (default 30)\n"
+         "  --duration S     simulated seconds of the run scenario (default 30; a run too\n"
+         "                   short for every station to fill a bottle is refused)\n"
          "  --pc-cycle-ms N  PC control cycle (default 20)\n"
          "  --pc-jitter-us N PC cycle start jitter, 0..cycle (default 1000)\n"
          "  --firmware F     uno (ATmega328P pass times, default) | fast (1 ms loop)\n"
          "  --ring           stations in a ring instead of a chain\n"
          "  --can-rx-buffers N  frames the CAN controller holds between passes (default 2, MCP2515)\n"
          "  --out DIR        output directory (default out)\n"
+         "  --trace FILE     every CAN frame of the runs as a candump -L log (canplayer, Wireshark)\n"
          "  --quiet          no progress bar, no speed figure\n"
          "  --help           this text\n";
 }
@@ -182,6 +184,10 @@ Status parse_options(int argc, char** argv, Options* o) {
         return Status::failure("--out needs a directory");
       }
       o->out_dir = v;
+    } else if (a == "--trace") {
+      if (!(s = value(&v))) return s;
+      if (v.empty()) return Status::failure("--trace needs a file");
+      o->trace_path = v;
     } else {
       return Status::failure("unknown option \"" + a + "\" (see --help)");
     }

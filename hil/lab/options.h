@@ -18,6 +18,7 @@ struct Options {
   std::vector<uint32_t> bitrates = {125, 250, 500, 1000};
   uint32_t presses = 1000;
   std::string out_dir = "out";
+  std::string trace_path;        ///< --trace: the bus as a candump -L log ("" none)
   uint32_t duration_s = 30;      ///< run scenario
   std::string firmware = "uno";  ///< uno | fast
   bool quiet = false;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "plot_axis.h"
 #include "sim/event_log.h"
 
 namespace mb2co {
@@ -94,9 +95,40 @@ std::string run_section(const sim::RunResult& r) {
   std::string s = "\n== run: bottles flow, RUN LEDs\n";
   s += stations_table(r.line);
   s += summary_lines(r.line);
-  s += strf("  every station running: %s; LEDs show own and neighbour RUN: %s\n", yes(r.all_running),
-            yes(r.leds_ok));
-  s += strf("verdict run: %s\n", r.ok ? "PASS" : "FAIL");
+  // Each criterion with what was measured, so a FAIL says which one and why.
+  unsigned fewest = UINT32_MAX, fewest_station = 0, overfilled = 0;
+  double spilled_ml = 0;
+  for (size_t i = 0; i < r.line.stations.size(); ++i) {
+    const sim::StationSummary& st = r.line.stations[i];
+    if (st.bottles_filled < fewest) {
+      fewest = st.bottles_filled;
+      fewest_station = static_cast<unsigned>(i + 1);
+    }
+    overfilled += st.overfilled;
+    spilled_ml += static_cast<double>(st.spilled_ul) / 1000.0;
+  }
+  const bool filled = fewest > 0 && fewest != UINT32_MAX;
+  const bool clean = overfilled == 0 && spilled_ml == 0;
+  struct Criterion {
+    const char* what;
+    bool ok;
+    std::string measured;
+  };
+  const Criterion criteria[] = {
+      {"every station running at the end", r.all_running, ""},
+      {"LEDs show own and neighbour RUN", r.leds_ok, ""},
+      {"every station filled a bottle", filled,
+       strf("fewest %u, station %u", fewest == UINT32_MAX ? 0 : fewest, fewest_station)},
+      {"no bottle overfilled or spilled", clean,
+       strf("%u overfilled, %.1f ml spilled", overfilled, spilled_ml)},
+  };
+  std::string failed;
+  for (const Criterion& c : criteria) {
+    s += strf("  %s: %s%s\n", c.what, yes(c.ok), c.measured.empty() ? "" : (" (" + c.measured + ")").c_str());
+    if (!c.ok) failed += std::string(failed.empty() ? "" : "; ") + c.what;
+  }
+  s += r.ok ? strf("verdict run: PASS (all %zu criteria met)\n", sizeof criteria / sizeof criteria[0])
+            : "verdict run: FAIL (not met: " + failed + ")\n";
   return s;
 }
 
@@ -115,7 +147,21 @@ std::string stop2_section(const sim::Stop2Result& r) {
     for (const std::string& e : c.led_errors) s += "     " + e + "\n";
   }
   s += summary_lines(r.line);
-  s += strf("verdict stop2: %s\n", r.ok ? "PASS" : "FAIL");
+  // A case passes when the stations expected (k and k+1) and only they
+  // stopped, the LEDs of k-1..k+2 showed it, the own LED came and START
+  // restarted the line.
+  std::string failed;
+  for (const sim::Stop2Case& c : r.cases) {
+    if (!c.ok) failed += strf("%s%d", failed.empty() ? "" : ", ", c.k + 1);
+  }
+  if (r.ok) {
+    s += strf("verdict stop2: PASS (%zu of %zu cases: expected stations stopped, LEDs right, restarted)\n",
+              r.cases.size(), r.cases.size());
+  } else if (failed.empty()) {
+    s += "verdict stop2: FAIL (the line did not come up running before the first press)\n";
+  } else {
+    s += "verdict stop2: FAIL (cases k = " + failed + ": see their rows)\n";
+  }
   return s;
 }
 
@@ -175,7 +221,18 @@ std::string faults_section(const sim::FaultsResult& r) {
   for (const std::string& n : r.notes) s += "  [note] " + n + "\n";
   s += stations_table(r.line);
   s += summary_lines(r.line);
-  s += strf("verdict faults: %s\n", r.ok ? "PASS" : "FAIL");
+  size_t failed = 0;
+  std::string first;
+  for (const sim::FaultCheck& c : r.checks) {
+    if (c.ok) continue;
+    if (failed++ == 0) first = c.what;
+  }
+  if (r.ok) {
+    s += strf("verdict faults: PASS (all %zu checks)\n", r.checks.size());
+  } else {
+    s += strf("verdict faults: FAIL (%zu of %zu checks failed, first: %s)\n", failed, r.checks.size(),
+              first.c_str());
+  }
   return s;
 }
 
@@ -218,38 +275,54 @@ std::string latency_svg(const std::vector<sim::LatencyResult>& results, uint32_t
     x_max = std::max<uint64_t>(x_max, r.max_ns);
     if (r.bound.ok) x_max = std::max<uint64_t>(x_max, r.bound.bound.worst_ns);
   }
-  const double x_ms = static_cast<double>(x_max) / 1e6 * 1.05;
-  const int W = 900, panel_h = 220, left = 60, right = 20, top = 40;
+  // Round ticks (1, 2 or 5 x 10^k ms) and 100 bins over the whole axis.
+  const PlotAxis x_axis = round_axis(static_cast<double>(x_max) / 1e6 * 1.02, 10);
+  const double x_ms = x_axis.max();
+  const int W = 900, panel_h = 220, left = 70, right = 20, top = 40;
   const int H = top + static_cast<int>(cases.size()) * (panel_h + 40) + 20;
   const double pw = W - left - right;
+  const int kBins = 100;  // a round axis over 100 bins: round bin widths too
   std::string s = strf(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" font-family=\"sans-serif\" "
       "font-size=\"12\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n",
       W, H);
   s += strf(
-      "<text x=\"%d\" y=\"22\" font-size=\"15\">Button to LED latency at %u kbit/s: measured histogram, "
-      "analytical bounds (red)</text>\n",
-      left, bitrate_kbit);
-  const double bin_ms = x_ms / 120.0;
+      "<text x=\"%d\" y=\"22\" font-size=\"15\">Button to LED latency at %u kbit/s: measured histogram "
+      "(presses per %s ms bin), analytical bounds (red)</text>\n",
+      left, bitrate_kbit, strf("%g", x_ms / kBins).c_str());
+  const double bin_ms = x_ms / kBins;
   for (size_t k = 0; k < cases.size(); ++k) {
     const sim::LatencyResult& r = *cases[k];
     const int y0 = top + static_cast<int>(k) * (panel_h + 40) + 10;
-    std::vector<uint32_t> bins(121, 0);
+    std::vector<uint32_t> bins(kBins, 0);
     for (uint64_t v : r.samples_ns) {
       const size_t b = static_cast<size_t>(static_cast<double>(v) / 1e6 / bin_ms);
-      ++bins[std::min<size_t>(b, 120)];
+      ++bins[std::min<size_t>(b, kBins - 1)];
     }
     const uint32_t peak = std::max<uint32_t>(1, *std::max_element(bins.begin(), bins.end()));
+    const PlotAxis y_axis = round_axis(peak, 5);
     s += strf("<text x=\"%d\" y=\"%d\">%s: n=%zu, min %s, max %s ms</text>\n", left, y0 + 12,
               path_name(r.c.remote), r.samples_ns.size(), ms(r.min_ns).c_str(), ms(r.max_ns).c_str());
     const int base = y0 + panel_h;
+    const double ph = panel_h - 30;  // bar height of y_axis.max()
+    for (int t = 0; t <= y_axis.ticks; ++t) {
+      const double y = base - ph * t / y_axis.ticks;
+      s += strf("<line x1=\"%d\" y1=\"%.1f\" x2=\"%d\" y2=\"%.1f\" stroke=\"#e0e0e0\"/>\n", left, y,
+                W - right, y);
+      s += strf("<text x=\"%d\" y=\"%.1f\" text-anchor=\"end\">%s</text>\n", left - 6, y + 4,
+                y_axis.label(t).c_str());
+    }
+    s += strf("<text x=\"14\" y=\"%d\" text-anchor=\"middle\" transform=\"rotate(-90 14 %d)\">count</text>\n",
+              base - panel_h / 2, base - panel_h / 2);
     s += strf("<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", left, base, W - right,
+              base);
+    s += strf("<line x1=\"%d\" y1=\"%.1f\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", left, base - ph, left,
               base);
     for (size_t b = 0; b < bins.size(); ++b) {
       if (bins[b] == 0) continue;
-      const double h = (panel_h - 30) * static_cast<double>(bins[b]) / peak;
+      const double h = ph * static_cast<double>(bins[b]) / y_axis.max();
       s += strf("<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"%s\"/>\n",
-                left + pw * static_cast<double>(b) / 120.0, base - h, pw / 120.0, h,
+                left + pw * static_cast<double>(b) / kBins, base - h, pw / kBins, h,
                 r.c.remote ? "#e08020" : "#3070c0");
     }
     if (r.bound.ok) {
@@ -263,10 +336,10 @@ std::string latency_svg(const std::vector<sim::LatencyResult>& results, uint32_t
                   ms(v).c_str());
       }
     }
-    for (int t = 0; t <= 10; ++t) {
-      const double x = left + pw * t / 10.0;
-      s += strf("<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%.0f</text>\n", x, base + 15,
-                x_ms * t / 10.0);
+    for (int t = 0; t <= x_axis.ticks; ++t) {
+      const double x = left + pw * t / x_axis.ticks;
+      s += strf("<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%s</text>\n", x, base + 15,
+                x_axis.label(t).c_str());
     }
     s += strf("<text x=\"%d\" y=\"%d\" text-anchor=\"end\">ms</text>\n", W - right, base + 30);
   }
@@ -276,7 +349,8 @@ std::string latency_svg(const std::vector<sim::LatencyResult>& results, uint32_t
 std::string timeline_svg(const sim::LineSummary& line, int stations, const std::string& title) {
   const int W = 900, lane = 40, left = 80, right = 20, top = 40;
   const int H = top + stations * lane + 40;
-  const double t_max = std::max(1.0, static_cast<double>(line.duration_ns) / 1e9);
+  const PlotAxis t_axis = round_axis(static_cast<double>(line.duration_ns) / 1e9, 10);
+  const double t_max = t_axis.max();
   const double pw = W - left - right;
   auto X = [&](uint64_t t) { return left + pw * (static_cast<double>(t) / 1e9) / t_max; };
   std::string s = strf(
@@ -318,10 +392,10 @@ std::string timeline_svg(const sim::LineSummary& line, int stations, const std::
     }
   }
   const int base = top + stations * lane + 5;
-  for (int t = 0; t <= 10; ++t) {
-    const double x = left + pw * t / 10.0;
-    s += strf("<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%.1f</text>\n", x, base + 12,
-              t_max * t / 10.0);
+  for (int t = 0; t <= t_axis.ticks; ++t) {
+    const double x = left + pw * t / t_axis.ticks;
+    s += strf("<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%s</text>\n", x, base + 12,
+              t_axis.label(t).c_str());
   }
   s += strf("<text x=\"%d\" y=\"%d\" text-anchor=\"end\">s</text>\n", W - right, base + 26);
   return s + "</svg>\n";

@@ -3,7 +3,7 @@ channel and mb2co-plant's event lines (formats in docs/mb2co-node.md and
 docs/mb2co-plant.md), and what the RUN LEDs of a line must show."""
 import re
 
-LEDS_RX = re.compile(r"^leds self=(\d) prev=(\d) next=(\d) lab=(\d) at_us=(\d+)$")
+LEDS_RX = re.compile(r"^leds self=(\d) prev=(\d|blink) next=(\d|blink) lab=(\d) at_us=(\d+)$")
 STATE_RX = re.compile(r"^state node=(\d+) nmt=(\d+) run=(\d+) cause=(\d+) stop2=(\d+) "
                       r"prev=(\d+):(\d+):(\d+) next=(\d+):(\d+):(\d+) at_us=(\d+)$")
 READY_RX = re.compile(r"^ready node=(\d+) can=(\S+) serial=(\S+)(?: link=(\S+))?$")
@@ -58,13 +58,15 @@ class NodeView:
     def on_line(self, text):
         m = LEDS_RX.match(text)
         if m:
-            v = [int(x) for x in m.groups()]
+            # "blink": that neighbour is unknown (never equal to an expected 0/1).
+            v = [x if x == "blink" else int(x) for x in m.groups()]
             self.leds = dict(self=v[0], prev=v[1], next=v[2], lab=v[3], at_us=v[4])
             self.events.append(("leds", self.leds))
             return
         m = STATE_RX.match(text)
         if m:
-            v = [int(x) for x in m.groups()]
+            # "blink": that neighbour is unknown (never equal to an expected 0/1).
+            v = [x if x == "blink" else int(x) for x in m.groups()]
             self.state = dict(node=v[0], nmt=v[1], run=v[2], cause=v[3], stop2=v[4], prev=tuple(v[5:8]),
                               next=tuple(v[8:11]), at_us=v[11])
             self.events.append(("state", self.state))

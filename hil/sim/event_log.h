@@ -7,6 +7,7 @@
 
 #include <string>
 
+#include "sim/can_trace.h"
 #include "sim/event_queue.h"
 
 namespace mb2co {
@@ -19,7 +20,15 @@ class EventLog {
   explicit EventLog(bool enabled = true) : enabled_(enabled) {}
   bool enabled() const { return enabled_; }
   /// Name of the run in progress (column 2), e.g. "stop2" or "latency-125k-canopen".
-  void set_run(const std::string& run) { run_ = run; }
+  /// A new run restarts the simulated clock: the CAN trace continues after it.
+  void set_run(const std::string& run) {
+    run_ = run;
+    if (can_trace_ != nullptr) can_trace_->start_run();
+  }
+  /// Where the lines built with this log write the frames of their bus
+  /// (candump -L); nullptr: nowhere. Not owned; must outlive the runs.
+  void set_can_trace(CanTrace* trace) { can_trace_ = trace; }
+  CanTrace* can_trace() const { return can_trace_; }
   /// station < 0: the bus / the line as a whole.
   void add(SimNs t, int station, const char* event, const std::string& detail);
   const std::string& text() const { return text_; }
@@ -29,6 +38,7 @@ class EventLog {
   bool enabled_;
   std::string run_;
   std::string text_;
+  CanTrace* can_trace_ = nullptr;
   uint64_t lines_ = 0;
 };
 

@@ -167,7 +167,9 @@ void Line::note(int station, const char* event, const std::string& detail) {
 
 void Line::wire_log() {
   const bool logging = log_ != nullptr && log_->enabled();
-  bus_->observer = [this, logging](const CanAttempt& a) {
+  CanTrace* trace = log_ != nullptr ? log_->can_trace() : nullptr;
+  bus_->observer = [this, logging, trace](const CanAttempt& a) {
+    if (trace != nullptr && !a.error) trace->frame(a.end_ns, a.frame);
     if (logging) {
       log_->add(a.end_ns, a.sender, a.error ? "can_error" : "can",
                 strf("id=%03X dlc=%u data=%s sof_ns=%llu bits=%u stuff=%u rx=%d", a.frame.id, a.frame.dlc,

@@ -61,6 +61,14 @@ RunResult run_scenario(const LineConfig& c, SimNs duration_ns, EventLog* log, co
   return r;
 }
 
+uint32_t run_min_duration_s(const LineConfig& c) {
+  const plant::PlantConfig p = plant_config(c);
+  const uint64_t start_ms = 1200;
+  const uint64_t travel_ms = 1000ull * p.valve_position_mm / p.conveyor_speed_mm_s;
+  const uint64_t fill_ms = 1000ull * p.fill_level_ml / p.fill_flow_ml_s;
+  return static_cast<uint32_t>((start_ms + travel_ms + fill_ms + 1000 + 999) / 1000);
+}
+
 // ---- stop2 -----------------------------------------------------------------
 
 Stop2Result stop2_scenario(const LineConfig& c, EventLog* log, const Progress& progress) {

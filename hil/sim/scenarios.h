@@ -67,6 +67,11 @@ struct RunResult {
   bool ok = false;
 };
 RunResult run_scenario(const LineConfig& c, SimNs duration_ns, EventLog* log, const Progress& progress);
+/// The shortest run (whole simulated seconds) in which the run scenario's
+/// criterion "every station fills a bottle" can be met: START (pressed up to
+/// 1.2 s after power-on), the first bottle's way to the valve and its filling
+/// with this configuration's plant, and 1 s of slack. Shorter runs are refused.
+uint32_t run_min_duration_s(const LineConfig& c);
 
 // ---- stop2 -----------------------------------------------------------------
 struct Stop2Case {

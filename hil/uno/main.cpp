@@ -15,6 +15,7 @@
 #include <string>
 
 #include "eeprom_image.h"
+#include "host/candump_text.h"
 #include "pacer.h"
 #include "serial_port.h"
 #include "socketcan_port.h"
@@ -49,19 +50,6 @@ void say(const std::string& line) {
   fputs(line.c_str(), stdout);
   fputc('\n', stdout);
   fflush(stdout);
-}
-
-/// candump's compact form: "701#05", "1FFFFFFF#R".
-std::string can_text(const CanFrame& f) {
-  char text[40];
-  int n = snprintf(text, sizeof text, f.extended() ? "%08X#" : "%03X#", static_cast<unsigned>(f.id));
-  if (f.rtr()) {
-    snprintf(text + n, sizeof text - static_cast<size_t>(n), "R");
-  } else {
-    for (uint8_t i = 0; i < f.dlc && i < 8; ++i)
-      n += snprintf(text + n, sizeof text - static_cast<size_t>(n), "%02X", f.data[i]);
-  }
-  return text;
 }
 
 }  // namespace
@@ -152,7 +140,7 @@ int main(int argc, char** argv) {
       if (with_can) can.send(s.frame);
       if (opt.trace_can) {
         const uint64_t sent_us = s.end_cycle / (uno::UnoBoard::kCpuHz / 1000000u);
-        say("can " + can_text(s.frame) + " sim_us=" + std::to_string(sent_us) +
+        say("can " + candump_frame_text(s.frame) + " sim_us=" + std::to_string(sent_us) +
             " at_us=" + std::to_string(at_us(sent_us)));
       }
     }

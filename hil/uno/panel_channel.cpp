@@ -1,54 +1,39 @@
 #include "panel_channel.h"
 
-#include <stdlib.h>
-
 #include <sstream>
+
+#include "host/panel_command.h"
 
 namespace mb2co {
 namespace uno {
-namespace {
-
-int button_index(const std::string& name) {
-  if (name == "START") return 0;
-  if (name == "STOP") return 1;
-  if (name == "STOP2") return 2;
-  return -1;
-}
-
-}  // namespace
 
 std::string PanelChannel::handle(const std::string& line, uint64_t now_us, uint32_t at_us) {
-  std::istringstream in(line);
-  std::string cmd, arg, extra;
-  in >> cmd >> arg;
-  if (cmd.empty()) return std::string();
-  if (cmd == "leds?" && arg.empty()) return leds_line(at_us);
-  if (cmd == "quit" && arg.empty()) {
-    quit_ = true;
-    return "bye";
+  const PanelCommand c = parse_panel_command(line);
+  if (c.kind == PanelCommand::kBlank) return std::string();
+  if (c.kind == PanelCommand::kError) return "error " + c.error;
+  if (c.kind == PanelCommand::kOther) {
+    if (!c.rest.empty()) return "error unexpected '" + c.rest + "'";
+    if (c.word == "leds?") return leds_line(at_us);
+    if (c.word == "help") {
+      return std::string(panel_help_lines()) + "\nhelp leds? | stack? | quit | help   (docs/uno-sim.md)";
+    }
+    if (c.word == "quit") {
+      quit_ = true;
+      return "bye";
+    }
+    if (c.word == "state?" || c.word == "counters?") {
+      return "error " + c.word + " needs the gateway's memory: on the Uno image read it over Modbus";
+    }
+    return "error unknown command '" + c.word + "' (help lists them)";
   }
-  if (cmd == "state?" || cmd == "counters?") {
-    return "error " + cmd + " needs the gateway's memory: on the Uno image read it over Modbus";
-  }
-  if (cmd != "press" && cmd != "release" && cmd != "click") return "error unknown command '" + cmd + "'";
-  const int b = button_index(arg);
-  if (b < 0) return "error unknown button '" + arg + "' (START, STOP, STOP2)";
-  const uint8_t bit = static_cast<uint8_t>(1u << b);
-  long ms = 100;
-  if (cmd == "click" && (in >> extra)) {
-    char* end = nullptr;
-    ms = strtol(extra.c_str(), &end, 10);
-    if (*end != '\0' || ms < 1 || ms > 60000) return "error bad click time '" + extra + "' (1..60000 ms)";
-  } else if (in >> extra) {
-    return "error unexpected '" + extra + "'";
-  }
-  if (cmd == "release") {
+  const uint8_t bit = static_cast<uint8_t>(1u << c.button);
+  if (c.action == PanelCommand::kRelease) {
     buttons_ = static_cast<uint8_t>(buttons_ & ~bit);
     clicked_ = static_cast<uint8_t>(clicked_ & ~bit);
   } else {
     buttons_ = static_cast<uint8_t>(buttons_ | bit);
-    clicked_ = static_cast<uint8_t>(cmd == "click" ? (clicked_ | bit) : (clicked_ & ~bit));
-    release_at_us_[b] = now_us + static_cast<uint64_t>(ms) * 1000u;
+    clicked_ = static_cast<uint8_t>(c.action == PanelCommand::kClick ? (clicked_ | bit) : (clicked_ & ~bit));
+    release_at_us_[c.button] = now_us + static_cast<uint64_t>(c.hold_ms) * 1000u;
   }
   return "ok";
 }

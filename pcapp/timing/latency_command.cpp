@@ -72,8 +72,9 @@ Status latency_command(const Options& o, std::ostream& out) {
   if (s) s = line_config_option(o, &line);
   if (s) s = serial_options(o, p);
   if (s) s = time_options(o, p);
-  if (s) s = uint_option(o, "--button-node", 1, timing::kMaxStations, 2, false, &button_node);
-  if (s) s = uint_option(o, "--pc-node", 1, timing::kMaxStations, 1, false, &pc_node);
+  if (s)
+    s = uint_option(o, "--button-node", 1, timing::kMaxStations, kDefaultButtonNode, false, &button_node);
+  if (s) s = uint_option(o, "--pc-node", 1, timing::kMaxStations, kDefaultPcNode, false, &pc_node);
   if (!s) return s;
   if (!o.positional.empty()) {
     return Status::failure("unexpected argument \"" + o.positional[0] + "\"");

@@ -1,6 +1,9 @@
 #include "options.h"
 
+#include <cstdio>
 #include <cstring>
+
+#include "timing/latency.h"
 
 namespace mb2co {
 namespace timing_cli {
@@ -224,8 +227,16 @@ std::string line_status_text(timing::LineStatus status) {
   return "invalid line configuration";
 }
 
-const char* usage_text() {
-  return R"(usage: mb2co-timing COMMAND [options]
+std::string usage_text() {
+  // Defaults are printed from the structs the commands start from, so the
+  // help cannot drift from the code (it did: DLC 2, 500 ms, 1000 ms).
+  const timing::LineCanConfig line;
+  const timing::LatencyParams lat;
+  const char* parity = lat.serial.parity == timing::Parity::kEven  ? "even"
+                       : lat.serial.parity == timing::Parity::kOdd ? "odd"
+                                                                   : "none";
+  char text[2048];
+  std::snprintf(text, sizeof text, R"(usage: mb2co-timing COMMAND [options]
 Timing analysis of a CAN/CANopen line (seed 000 §2.9-2.13, §11).
 
 commands:
@@ -239,10 +250,10 @@ commands:
            [--check] (exit 3 unless all deadlines met)
            [--svg OUT.svg --message NAME] (worst-case busy period of NAME)
   latency  button-to-LED bound, Modbus only and Modbus + CANopen
-           [line options] [--button-node 2] [--pc-node 1] [--baud 115200]
-           [--parity even|none|odd] [--stop-bits 1|2] [--debounce-us 20000]
-           [--fw-loop-us 1000] [--pc-cycle-us 10000] [--pc-compute-us 0]
-           [--master-end-us 0] [--no-t35]
+           [line options] [--button-node %u] [--pc-node %u] [--baud %lu]
+           [--parity even|none|odd (%s)] [--stop-bits 1|2 (%u)] [--debounce-us %lu]
+           [--fw-loop-us %lu] [--pc-cycle-us %lu] [--pc-compute-us %lu]
+           [--master-end-us %lu] [--no-t35]
 
 common options:
   --frame-bits course|davis   worst-case stuffing bound (default davis)
@@ -250,13 +261,22 @@ common options:
   --bitrate B                 bit/s, k and M suffixes allowed (125k, 1M)
 
 line options (the CANopen configuration of N stations, node IDs 1..N):
-  --line N (default 3)  --no-tpdo1  --tpdo-dlc 2  --tpdo-inhibit-100us 100
-  --tpdo-event-ms 500  --tpdo-deadline-us 0  --heartbeat-ms 1000
-  --sync-us 0  --sync-tpdos 0  --sync-dlc 8  --sync-type 1  --jitter-us 0
+  --line N (default %u)  --no-tpdo1  --tpdo-dlc %u  --tpdo-inhibit-100us %u
+  --tpdo-event-ms %u  --tpdo-deadline-us %lu  --heartbeat-ms %u
+  --sync-us %lu  --sync-tpdos %u  --sync-dlc %u  --sync-type %u  --jitter-us %lu
 
 CSV columns: name,id,ext,dlc,period_us[,deadline_us,jitter_us,c_us,bits]
 exit status: 0 done, 1 error (one line on stderr), 3 --check found a miss
-)";
+)",
+                kDefaultButtonNode, kDefaultPcNode, static_cast<unsigned long>(lat.serial.baud), parity,
+                lat.serial.stop_bits, static_cast<unsigned long>(lat.debounce_us),
+                static_cast<unsigned long>(lat.fw_loop_us), static_cast<unsigned long>(lat.pc_cycle_us),
+                static_cast<unsigned long>(lat.pc_compute_us), static_cast<unsigned long>(lat.master_end_us),
+                line.stations, line.tpdo1_dlc, line.tpdo1_inhibit_100us, line.tpdo1_event_timer_ms,
+                static_cast<unsigned long>(line.tpdo1_deadline_us), line.heartbeat_ms,
+                static_cast<unsigned long>(line.sync_period_us), line.sync_tpdos, line.sync_tpdo_dlc,
+                line.sync_transmission_type, static_cast<unsigned long>(line.queue_jitter_us));
+  return text;
 }
 
 }  // namespace timing_cli

@@ -48,8 +48,12 @@ Status line_config_option(const Options& o, timing::LineCanConfig* cfg);
 /// Human-readable reason for a LineStatus.
 std::string line_status_text(timing::LineStatus status);
 
-/// The usage text printed by --help.
-const char* usage_text();
+/// Node ids of `latency` when --button-node / --pc-node are not given.
+constexpr unsigned kDefaultButtonNode = 2;
+constexpr unsigned kDefaultPcNode = 1;
+
+/// The usage text printed by --help, defaults taken from the code's structs.
+std::string usage_text();
 
 }  // namespace timing_cli
 }  // namespace mb2co

@@ -72,6 +72,14 @@ void Tpdos::build_and_send(uint8_t n, uint32_t cob, const CanSink& sink, uint32_
   send(n, cob, data, len, sink, now_us);
 }
 
+Tpdos::SendNow Tpdos::send_now(uint8_t n, const CanSink& sink, uint32_t now_us) {
+  uint32_t cob;
+  if (n >= kPdoCount || !valid(n, &cob)) return kSendNowInvalid;
+  const uint16_t failures = send_failures_;
+  build_and_send(n, cob, sink, now_us);
+  return send_failures_ == failures ? kSentNow : kSendNowRefused;
+}
+
 void Tpdos::process(uint32_t now_us, const CanSink& sink) {
   // While the OD is unchanged every payload is what it was at the previous
   // call, and so are validity and type (kEventType). A PDO whose last payload

@@ -28,6 +28,11 @@ class Tpdos {
   void on_sync(uint8_t counter, const CanSink& sink, uint32_t now_us);
   /// An RTR on one of our COB-IDs; returns true if it was for a TPDO.
   bool on_rtr(const CanFrame& f, const CanSink& sink, uint32_t now_us);
+  /// Builds TPDO `n` from its mapping and sends it now, whatever its
+  /// transmission type and timers say (the lab's pdo_send). kSendNowInvalid
+  /// when its COB-ID is marked invalid or nothing is mapped.
+  enum SendNow : uint8_t { kSentNow, kSendNowInvalid, kSendNowRefused };
+  SendNow send_now(uint8_t n, const CanSink& sink, uint32_t now_us);
   /// Event-driven transmissions (change of data, event timer, inhibit).
   void process(uint32_t now_us, const CanSink& sink);
   /// Lowers `d` to when process() does something again: now after an OD

@@ -104,15 +104,9 @@ void LineApp::on_rpdo(uint8_t n, uint32_t now_us) {
 
 namespace {
 
-// A neighbour whose RUN state is not known: no heartbeat, or alive but no
-// TPDO1 heard yet (kNeighbourNotHeard). Its LED blinks.
-bool shown_unknown(uint8_t status) {
-  return status != kNeighbourAlive && status != kNeighbourNone;
-}
-
 // LED of a neighbour: its RUN state while alive and heard, `blink` while unknown.
 bool led_for(uint8_t status, uint8_t run, bool blink) {
-  return status == kNeighbourAlive ? run != 0 : shown_unknown(status) && blink;
+  return status == kNeighbourAlive ? run != 0 : neighbour_shown_unknown(status) && blink;
 }
 
 // The LED bits to drive at `now_us` with RUN state `run`. Inlined into
@@ -200,7 +194,7 @@ void LineApp::next_deadline(NextDeadline& d, uint8_t nmt_state, uint16_t modbus_
   for (uint8_t i = 0, bit = 1; i < 3; ++i, bit = static_cast<uint8_t>(bit << 1)) {
     if ((raw_ ^ stable_) & bit) d.at(raw_since_us_[i] + debounce_us);
   }
-  if (shown_unknown(v.x2110_3_prevStatus) || shown_unknown(v.x2120_3_nextStatus)) {
+  if (neighbour_shown_unknown(v.x2110_3_prevStatus) || neighbour_shown_unknown(v.x2120_3_nextStatus)) {
     // The next multiple of the half period; past the last one before the
     // clock wraps, the phase turns at the wrap (0).
     const uint32_t phase = now_us / kBlinkHalfPeriodUs + 1u;

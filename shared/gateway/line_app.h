@@ -37,6 +37,11 @@ enum NeighbourStatus : uint8_t {
   /// sent). A PC counts no STOP2 events from a counter read with it set.
   kNeighbourNotHeard = 0x80,
 };
+/// A neighbour whose RUN state is not known: no heartbeat, or alive but no
+/// TPDO1 heard yet (kNeighbourNotHeard); neither alive nor none. Its LED blinks.
+inline bool neighbour_shown_unknown(uint8_t status) {
+  return status != kNeighbourAlive && status != kNeighbourNone;
+}
 
 /// Plain data without initialisers: its owner value-initialises it (all
 /// zero, which a static object on the Uno is without code), then init().

@@ -1,49 +1,11 @@
 // The core allocates nothing at run time: every allocation function is hooked
-// (operator new/delete here, malloc & co. by the linker's --wrap), and a full
-// NMT / SDO (expedited + segmented) / PDO / SYNC / EMCY / heartbeat scenario
-// must make zero calls.
+// (tests/support/alloc_hooks.h), and a full NMT / SDO (expedited +
+// segmented) / PDO / SYNC / EMCY / heartbeat scenario must make zero calls.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
 #include "../canopen/frame_log.h"
+#include "../support/alloc_hooks.h"
 #include "ionode/io_node.h"
-
-static std::atomic<bool> g_counting{false};
-static std::atomic<int> g_calls{0};
-
-extern "C" {
-void* __real_malloc(size_t);
-void* __real_calloc(size_t, size_t);
-void* __real_realloc(void*, size_t);
-void* __wrap_malloc(size_t n) {
-  if (g_counting) ++g_calls;
-  return __real_malloc(n);
-}
-void* __wrap_calloc(size_t n, size_t m) {
-  if (g_counting) ++g_calls;
-  return __real_calloc(n, m);
-}
-void* __wrap_realloc(void* p, size_t n) {
-  if (g_counting) ++g_calls;
-  return __real_realloc(p, n);
-}
-}
-
-void* operator new(size_t n) {
-  if (g_counting) ++g_calls;
-  void* p = std::malloc(n);
-  if (p == nullptr) throw std::bad_alloc();
-  return p;
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, size_t) noexcept {
-  std::free(p);
-}
 
 namespace mb2co {
 namespace {

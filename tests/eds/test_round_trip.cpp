@@ -4,6 +4,7 @@
 // for the docs files as DCFs and for a model with every data type.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include "canopen/od.h"
@@ -39,6 +40,30 @@ DeviceDescription read_doc(const char* file) {
   return r.model.value_or(DeviceDescription{});
 }
 
+/// CiA 306 tools show a record's subs under the record: a sub carries its own
+/// name (the OD's flat name less "<record>: "), sub 0 CiA 301's name.
+std::string expected_name(const co::ObjectDictionary& od, uint16_t row, bool in_record) {
+  const std::string flat = od.definition().names[row];
+  if (!in_record) return flat;
+  if (od.entry(row).sub == 0) return "Highest sub-index supported";
+  const size_t colon = flat.find(": ");
+  return colon == std::string::npos ? flat : flat.substr(colon + 2);
+}
+
+const co::OdLimit* limit_of(const co::ObjectDictionary& od, uint16_t index, uint8_t sub) {
+  for (uint8_t i = 0; i < od.definition().limit_count; ++i) {
+    const co::OdLimit& l = od.definition().limits[i];
+    if (l.index == index && l.sub == sub) return &l;
+  }
+  return nullptr;
+}
+
+Bytes little_endian(int32_t v, size_t n) {
+  Bytes b(n);
+  for (size_t i = 0; i < n; ++i) b[i] = static_cast<uint8_t>(static_cast<uint32_t>(v) >> (8 * i));
+  return b;
+}
+
 AccessType expected_access(uint8_t attr) {
   if (attr & co::kAttrConst) return AccessType::kConst;
   const bool r = attr & co::kAttrRead, w = attr & co::kAttrWrite;
@@ -60,7 +85,7 @@ void expect_model_is_od(const DeviceDescription& m, const co::ObjectDictionary& 
     const bool single =
         od.first_row(e.index) == r && (r + 1 == od.row_count() || od.index_of(r + 1) != e.index);
     EXPECT_EQ(o->type, single && e.sub == 0 ? ObjectType::kVar : ObjectType::kRecord);
-    EXPECT_EQ(s->name, od.definition().names[r]);
+    EXPECT_EQ(s->name, expected_name(od, r, o->type == ObjectType::kRecord));
     EXPECT_EQ(static_cast<uint16_t>(s->type), e.type);
     EXPECT_EQ(s->access, expected_access(e.attr));
     EXPECT_EQ(s->pdo_mapping, (e.attr & co::kAttrPdo) != 0);
@@ -76,6 +101,36 @@ void expect_model_is_od(const DeviceDescription& m, const co::ObjectDictionary& 
       EXPECT_EQ(s->default_value->node_id_relative, (e.attr & co::kAttrNodeId) != 0);
     }
     EXPECT_FALSE(s->parameter_value);
+    // LowLimit/HighLimit exactly where the node enforces limits beyond the type.
+    const co::OdLimit* lim = limit_of(od, e.index, e.sub);
+    ASSERT_EQ(s->low_limit.has_value(), lim != nullptr);
+    ASSERT_EQ(s->high_limit.has_value(), lim != nullptr);
+    if (lim != nullptr) {
+      EXPECT_EQ(s->low_limit->bytes, little_endian(lim->min, type_info(s->type).bytes));
+      EXPECT_EQ(s->high_limit->bytes, little_endian(lim->max, type_info(s->type).bytes));
+    }
+  }
+  // Every object is in one of the three object lists (data types too).
+  for (const auto& o : m.objects) {
+    const uint16_t i = o.first;
+    const auto lists = std::count(m.mandatory_objects.begin(), m.mandatory_objects.end(), i) +
+                       std::count(m.optional_objects.begin(), m.optional_objects.end(), i) +
+                       std::count(m.manufacturer_objects.begin(), m.manufacturer_objects.end(), i);
+    EXPECT_EQ(lists, 1) << std::hex << i;
+  }
+  // [DeviceInfo] numbers are 1018h's (a library reading only the EDS shows them).
+  const struct {
+    const char* key;
+    uint8_t sub;
+  } numbers[] = {{"VendorNumber", 1}, {"ProductNumber", 2}, {"RevisionNumber", 3}};
+  for (const auto& n : numbers) {
+    const auto kv =
+        std::find_if(m.device_info.begin(), m.device_info.end(),
+                     [&](const std::pair<std::string, std::string>& p) { return p.first == n.key; });
+    ASSERT_NE(kv, m.device_info.end()) << n.key;
+    const std::optional<uint64_t> v = parse_unsigned(kv->second, UINT32_MAX);
+    ASSERT_TRUE(v) << kv->second;
+    EXPECT_EQ(*v, od.entry(od.find(0x1018, n.sub)).def) << n.key;
   }
 }
 

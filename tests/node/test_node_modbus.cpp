@@ -230,10 +230,20 @@ TEST_F(Libmodbus, ButtonsAndLedsThroughTheControlChannel) {
       "leds ", [&](const std::string& l) { return static_cast<int32_t>(at_us_of(l) - asked_at) >= 0; }, 10s,
       &leds));
   EXPECT_EQ(field_of(leds, "self"), "1") << leds;
+  // No CAN: both neighbours are unknown, their LEDs blink; the line says so
+  // instead of changing at every toggle.
+  EXPECT_EQ(field_of(leds, "prev"), "blink") << leds;
+  EXPECT_EQ(field_of(leds, "next"), "blink") << leds;
+
+  // Words in any letter case; help lists the commands.
+  EXPECT_EQ(node_.ask("Click start 30", "ok"), "ok");
+  EXPECT_TRUE(master_.wait_input(kIrStartCount, 2, 10s)) << "the lower-case START counted too";
+  EXPECT_EQ(node_.ask("help", "help ").rfind("help press B", 0), 0u);
+  EXPECT_EQ(node_.ask("leds? now", "error"), "error unexpected 'now'");
 
   EXPECT_EQ(node_.ask("press FOO", "error"), "error unknown button 'FOO' (START, STOP, STOP2)");
   EXPECT_EQ(node_.ask("click STOP 0", "error"), "error bad click duration '0' (1..60000 ms)");
-  EXPECT_EQ(node_.ask("jump", "error"), "error unknown command 'jump'");
+  EXPECT_EQ(node_.ask("jump", "error"), "error unknown command 'jump' (help lists them)");
   EXPECT_EQ(node_.ask("quit", "bye"), "bye");
   EXPECT_EQ(node_.child.wait_exit(10s), 0) << "quit ends the node";
   EXPECT_NE(access(dir_.path("peer.pty").c_str(), F_OK), 0) << "pty link removed";

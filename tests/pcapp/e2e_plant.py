@@ -150,6 +150,9 @@ class Setup:
         return plant
 
     def node_run_led(self, on):
+        # Ask as well: the LED's own event line may have come before a line the
+        # test waited for (the node prints leds before state in one pass).
+        self.node.send("leds?")
         self.node.expect(r"^leds self=%d" % (1 if on else 0), "RUN-self LED %s" % ("on" if on else "off"))
 
     def node_state(self):

@@ -94,9 +94,12 @@ TEST(UnoCli, ControlChannelAnswersEveryLine) {
   EXPECT_EQ(uno.ask("press START", "ok"), "ok");
   EXPECT_EQ(uno.ask("release START", "ok"), "ok");
   EXPECT_EQ(uno.ask("press FOO", "error").rfind("error unknown button", 0), 0u);
-  EXPECT_EQ(uno.ask("click STOP 0", "error").rfind("error bad click time", 0), 0u);
+  EXPECT_EQ(uno.ask("click STOP 0", "error").rfind("error bad click duration", 0), 0u);
   EXPECT_EQ(uno.ask("state?", "error").rfind("error state?", 0), 0u);
-  EXPECT_EQ(uno.ask("jump", "error"), "error unknown command 'jump'");
+  EXPECT_EQ(uno.ask("jump", "error"), "error unknown command 'jump' (help lists them)");
+  EXPECT_EQ(uno.ask("press stop2", "ok"), "ok") << "button names in any letter case";
+  EXPECT_EQ(uno.ask("RELEASE Stop2", "ok"), "ok");
+  EXPECT_EQ(uno.ask("help", "help ").rfind("help press B", 0), 0u);
   const std::string leds = uno.ask("leds?", "leds ");
   EXPECT_EQ(field_of(leds, "self"), "0");
   EXPECT_NE(at_us_of(leds), 0u);

@@ -3,6 +3,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "host/candump_text.h"
+
 namespace mb2co {
 namespace test {
 
@@ -29,17 +31,7 @@ long parse_hex(const std::string& text, size_t count) {
 }  // namespace
 
 std::string to_text(const CanFrame& frame) {
-  char out[40];
-  int n = snprintf(out, sizeof out, frame.extended() ? "%08X#" : "%03X#", static_cast<unsigned>(frame.id));
-  if (frame.rtr()) {
-    snprintf(out + n, sizeof out - static_cast<size_t>(n), frame.dlc ? "R%u" : "R",
-             static_cast<unsigned>(frame.dlc));
-    return out;
-  }
-  for (unsigned i = 0; i < frame.dlc && i < 8; ++i) {
-    n += snprintf(out + n, sizeof out - static_cast<size_t>(n), "%02X", static_cast<unsigned>(frame.data[i]));
-  }
-  return out;
+  return candump_frame_text(frame);
 }
 
 bool from_text(const std::string& text, CanFrame& frame) {

@@ -1,9 +1,9 @@
 #include "control_channel.h"
 
-#include <cstdlib>
 #include <sstream>
 
 #include "canopen/clock.h"
+#include "host/panel_command.h"
 
 namespace mb2co {
 namespace node {
@@ -11,14 +11,6 @@ namespace node {
 namespace {
 
 const uint8_t kButtons[3] = {gateway::kStart, gateway::kStop, gateway::kStop2};
-const char* const kButtonNames[3] = {"START", "STOP", "STOP2"};
-
-int button_index(const std::string& name) {
-  for (int i = 0; i < 3; ++i) {
-    if (name == kButtonNames[i]) return i;
-  }
-  return -1;
-}
 
 std::string stamped(const std::string& text, uint32_t now_us) {
   return text + " at_us=" + std::to_string(now_us);
@@ -27,10 +19,20 @@ std::string stamped(const std::string& text, uint32_t now_us) {
 }  // namespace
 
 std::string ControlChannel::leds_text(uint8_t leds) {
+  // A neighbour's LED blinks while that neighbour is unknown (no heartbeat,
+  // or no TPDO1 of it yet): "blink", so the line changes when the status
+  // does, not at every toggle (4 a second).
+  canopen::ObjectDictionary& od = gw_.od();
+  namespace e = gateway::od::GatewayEntry;
+  auto led = [&](canopen::OdKey status, uint8_t bit) -> const char* {
+    if (gateway::neighbour_shown_unknown(static_cast<uint8_t>(od.get(od.find(status))))) return "blink";
+    return (leds & bit) ? "1" : "0";
+  };
   std::ostringstream s;
   s << "leds self=" << ((leds & gateway::kLedRunSelf) ? 1 : 0)
-    << " prev=" << ((leds & gateway::kLedRunPrev) ? 1 : 0)
-    << " next=" << ((leds & gateway::kLedRunNext) ? 1 : 0) << " lab=" << ((leds & gateway::kLedLab) ? 1 : 0);
+    << " prev=" << led(e::x2110_3_prevStatus, gateway::kLedRunPrev)
+    << " next=" << led(e::x2120_3_nextStatus, gateway::kLedRunNext)
+    << " lab=" << ((leds & gateway::kLedLab) ? 1 : 0);
   return s.str();
 }
 
@@ -68,41 +70,39 @@ std::string ControlChannel::events(uint8_t leds, uint32_t now_us) {
 }
 
 std::string ControlChannel::handle(const std::string& line, uint32_t now_us) {
-  std::istringstream in(line);
-  std::string cmd, arg;
-  in >> cmd >> arg;
-  if (cmd.empty()) return std::string();
-  if (cmd == "leds?") {
-    const canopen::ObjectDictionary& od = gw_.od();
-    return stamped(leds_text(static_cast<uint8_t>(od.get(od.find(gateway::od::GatewayEntry::x2200_0_leds)))),
-                   now_us);
+  const PanelCommand c = parse_panel_command(line);
+  if (c.kind == PanelCommand::kBlank) return std::string();
+  if (c.kind == PanelCommand::kError) return "error " + c.error;
+  if (c.kind == PanelCommand::kOther) {
+    if (!c.rest.empty()) return "error unexpected '" + c.rest + "'";
+    if (c.word == "leds?") {
+      const canopen::ObjectDictionary& od = gw_.od();
+      return stamped(
+          leds_text(static_cast<uint8_t>(od.get(od.find(gateway::od::GatewayEntry::x2200_0_leds)))), now_us);
+    }
+    if (c.word == "state?") return stamped(state_text(), now_us);
+    if (c.word == "counters?") return counters_text();
+    if (c.word == "help") {
+      return std::string(panel_help_lines()) +
+             "\nhelp leds? | state? | counters? | quit | help   (docs/mb2co-node.md)";
+    }
+    if (c.word == "quit") {
+      quit_ = true;
+      return "bye";
+    }
+    return "error unknown command '" + c.word + "' (help lists them)";
   }
-  if (cmd == "state?") return stamped(state_text(), now_us);
-  if (cmd == "counters?") return counters_text();
-  if (cmd == "quit") {
-    quit_ = true;
-    return "bye";
-  }
-  if (cmd != "press" && cmd != "release" && cmd != "click") return "error unknown command '" + cmd + "'";
-  const int i = button_index(arg);
-  if (i < 0) return "error unknown button '" + arg + "' (START, STOP, STOP2)";
-  const uint8_t bit = kButtons[i];
-  if (cmd == "release") {
+  const uint8_t bit = kButtons[c.button];
+  if (c.action == PanelCommand::kRelease) {
     buttons_ = static_cast<uint8_t>(buttons_ & ~bit);
     clicked_ = static_cast<uint8_t>(clicked_ & ~bit);
     return "ok";
   }
-  if (cmd == "click") {
-    long ms = 100;  // without a duration
-    std::string word;
-    if (in >> word) {
-      char* end = nullptr;
-      ms = std::strtol(word.c_str(), &end, 10);
-      if (*end != '\0' || ms < 1 || ms > 60000)
-        return "error bad click duration '" + word + "' (1..60000 ms)";
-    }
+  if (c.action == PanelCommand::kClick) {
     clicked_ = static_cast<uint8_t>(clicked_ | bit);
-    release_at_us_[i] = now_us + static_cast<uint32_t>(ms) * 1000u;
+    release_at_us_[c.button] = now_us + c.hold_ms * 1000u;
+  } else {
+    clicked_ = static_cast<uint8_t>(clicked_ & ~bit);
   }
   buttons_ = static_cast<uint8_t>(buttons_ | bit);
   return "ok";

@@ -1,12 +1,15 @@
 // The test/bench control channel of mb2co-node: one command per line on
 // stdin; replies and events on stdout, one line each (docs/mb2co-node.md).
+// Command words and button names in any letter case.
 //   press B | release B | click B [ms]   (B: START, STOP, STOP2) -> "ok"
-//   leds?     -> "leds self=1 prev=0 next=1 lab=0 at_us=T"
+//   leds?     -> "leds self=1 prev=0 next=1 lab=0 at_us=T" (prev/next "blink"
+//                while that neighbour is unknown: its LED blinks at 2 Hz)
 //   state?    -> "state node=1 nmt=5 run=1 cause=0 stop2=0 prev=3:1:1 next=2:1:1 at_us=T"
 //                (prev/next: node id : status 0 unknown, 1 alive, 2 none : RUN state)
 //   counters? -> "counters bus=N comm=N exc=N srv=N noresp=N ovr=N" (Modbus 08/0B..0F, 12)
+//   help      -> the commands, lines starting "help "
 //   quit      -> "bye", then the node exits
-// Events: a "leds ..." line whenever the LED outputs change and a "state ..."
+// Events: a "leds ..." line whenever that text changes and a "state ..."
 // line whenever the state changes, both stamped with the node's own clock
 // (at_us: CLOCK_MONOTONIC in µs, truncated to 32 bits) at the loop pass that
 // saw the change. Unknown input gets "error <reason>".
@@ -34,7 +37,7 @@ class ControlChannel {
   bool quit() const { return quit_; }
 
  private:
-  static std::string leds_text(uint8_t leds);
+  std::string leds_text(uint8_t leds);
   std::string state_text();
   std::string counters_text();
 

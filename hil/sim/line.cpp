@@ -36,8 +36,13 @@ void map_pdo(canopen::ObjectDictionary& od, uint16_t comm_index, uint16_t map_in
   write(od, comm_index, 1, cob_id, 4);
 }
 
+// 2110h/3, 2120h/3 (gateway::NeighbourStatus).
 const char* status_name(uint8_t s) {
-  return s == 0 ? "unknown" : s == 1 ? "alive" : "none";
+  return s == 0      ? "unknown"
+         : s == 1    ? "alive"
+         : s == 2    ? "none"
+         : s == 0x80 ? "unknown-unheard"
+                     : "alive-unheard";
 }
 
 std::string hex_bytes(const uint8_t* d, size_t n) {

@@ -41,7 +41,7 @@ struct NodeState {
   uint8_t nmt = 0;
   uint8_t run = 0;           ///< 2100h/2
   uint16_t stop2_count = 0;  ///< 2100h/3
-  uint8_t prev_status = 0;   ///< 2110h/3 (0 unknown, 1 alive, 2 none)
+  uint8_t prev_status = 0;   ///< 2110h/3 (0 unknown, 1 alive, 2 none; +80h no TPDO1 yet)
   uint8_t next_status = 0;   ///< 2120h/3
   uint8_t prev_run = 0;      ///< 2110h/1
   uint8_t next_run = 0;      ///< 2120h/1

@@ -61,6 +61,7 @@ uint16_t PlantProgram::on_response(const modbus::Response* r, uint8_t* out, uint
   in.stop2_pressed = (buttons & gateway::kStop2) != 0;
   in.local_stop2_events = reg(regs::kIrStop2Count);
   in.prev_stop2_events = reg(regs::kIrPrevStop2);
+  in.prev_stop2_known = (reg(regs::kIrPrevStatus) & gateway::kNeighbourNotHeard) == 0;
   in.prev_run = neighbour(reg(regs::kIrPrevStatus), reg(regs::kIrPrevRun));
   in.next_run = neighbour(reg(regs::kIrNextStatus), reg(regs::kIrNextRun));
   in.plant = plant_.sensors();

@@ -214,7 +214,21 @@ std::string register_map_markdown(const ObjectDictionary& od) {
        "it, and a station always starts stopped. The Modbus watchdog (2000h/09, ms; 0 off)\n"
        "runs from power-on: with no request for that long the station latches a stop (stop\n"
        "cause 4). A latched stop holds until the PC writes RUN command 0; RUN 1 then runs.\n"
-       "docs/od-gateway.md shows which entries are saved.\n\n";
+       "docs/od-gateway.md shows which entries are saved.\n\n"
+       "Neighbours (2110h previous, 2120h next station): the status register (2110h/03,\n"
+       "2120h/03) is 0 unknown (no heartbeat, or lost), 1 alive, 2 none (end of a chain), plus\n"
+       "80h while no TPDO1 of that station has arrived since this gateway's reset. With 80h set\n"
+       "its RUN state and STOP2 counter read 0 as placeholders, not values it sent: take the\n"
+       "neighbour as unknown and count no STOP2 events from that counter (compare the next\n"
+       "value without 80h with the last one without it). The flag goes with the first TPDO1\n"
+       "and does not come back when the heartbeat is lost later (the values are then the last\n"
+       "it sent; status 0 says they may be stale).\n\n"
+       "Saved parameters found damaged (2003h): the resets since power-on that found a saved\n"
+       "set damaged (CRC, or a value beyond its limits) and fell back to the older set or to\n"
+       "the defaults. Each such reset also sends EMCY 5530h after the boot-up and sets bit 0\n"
+       "of the error register (1001h) until a save succeeds. A blank EEPROM (never saved, all\n"
+       "FFh, or invalidated by 1011h) is no damage. The count never goes down; it starts at 0\n"
+       "at power-on.\n\n";
   s += "On the Arduino Uno the Modbus frame buffer holds " + std::to_string(mb2co::gateway::kMapFrameBytes) +
        " bytes, not the protocol's 256: enough for\n"
        "every request the maps can cover and its answer, even with every map entry 32 bits\n"

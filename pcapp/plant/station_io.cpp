@@ -63,7 +63,9 @@ plant::NeighbourState neighbour_state(uint8_t status, uint8_t run) {
     case gateway::kNeighbourNone:
       return plant::NeighbourState::absent;
     default:
-      return plant::NeighbourState::unknown;  // lost, or a status we do not know: never "running"
+      // Lost, not heard since the gateway's reset (kNeighbourNotHeard), or a
+      // status we do not know: never "running".
+      return plant::NeighbourState::unknown;
   }
 }
 
@@ -77,6 +79,7 @@ plant::ControllerInputs controller_inputs(const Panel& panel, bool run_confirmed
   in.stop2_pressed = (panel.buttons & gateway::kStop2) != 0;
   in.local_stop2_events = panel.stop2_count;
   in.prev_stop2_events = panel.prev_stop2;
+  in.prev_stop2_known = (panel.prev_status & gateway::kNeighbourNotHeard) == 0;
   in.prev_run = neighbour_state(panel.prev_status, panel.prev_run);
   in.next_run = neighbour_state(panel.next_status, panel.next_run);
   in.plant = sensors;

@@ -38,10 +38,12 @@ struct Panel {
 Panel decode_panel(const RegisterLayout& layout, const RegisterImage& image);
 
 /// A neighbour as the controller sees it: status 1 (alive) gives its RUN
-/// state, 0 unknown (heartbeat lost), 2 none (end of the chain) absent.
+/// state, 0 unknown (heartbeat lost), 2 none (end of the chain) absent; with
+/// the flag kNeighbourNotHeard (no TPDO1 yet) unknown.
 plant::NeighbourState neighbour_state(uint8_t status, uint8_t run);
 
-/// The controller's inputs. `run_confirmed`: the RUN command 1 was written
+/// The controller's inputs; the previous STOP2 counter counts only when
+/// heard (prev_status without kNeighbourNotHeard). `run_confirmed`: the RUN command 1 was written
 /// before the previous read already, so a firmware RUN state 0 with stop
 /// cause "STOP button" is a latched STOP press; it counts as STOP held, and
 /// a click shorter than one cycle (never seen as a level) still stops.

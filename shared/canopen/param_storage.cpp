@@ -107,8 +107,12 @@ bool params_save(ObjectDictionary& od, const ParamStorage& st) {
   const uint8_t newest = read_headers(st, headers);
   const bool had_set = le16(headers[newest]) == kMagic;
   const uint16_t sequence = had_set ? static_cast<uint16_t>(le16(headers[newest] + 2) + 1u) : 1u;
-  // The target is the other slot; with no set at all, slot 0.
-  const uint16_t at = had_set && newest == 0 ? kSlotBytes : 0;
+  // The target is the other slot, unless the newest header's set fails its
+  // CRC (damaged, or the remains of a cut save): then that slot, as the other
+  // may hold the only loadable set. With no set at all, slot 0.
+  uint8_t target = newest;
+  if (had_set && crc_right(od, st, newest ? kSlotBytes : 0, headers[newest])) target ^= 1u;
+  const uint16_t at = target ? kSlotBytes : 0;
   uint8_t* header = headers[0];
   header[0] = header[1] = 0;  // magic 0: not valid while the payload changes
   if (!st.write(st.ctx, at, header, 2) || !barrier(st)) return false;

@@ -109,6 +109,9 @@ uint8_t Gateway::process(uint32_t now_us, uint8_t raw_buttons) {
 #if MB2CO_GATEWAY_NET
   net_.set_now(now_us);
 #endif
+  // 2003h for Modbus and SDO: the node counts at its resets (start(), an NMT
+  // command, a pending reset), each followed by a pass that runs at once.
+  values_.x2003_0_storageDamageCount = node_.storage_damage_count();
   slave_.process(now_us);
 #if MB2CO_GATEWAY_NET
   net_.process(now_us);

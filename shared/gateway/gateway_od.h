@@ -14,7 +14,7 @@ namespace gateway {
 
 /// Capacities of the Modbus maps (sub-entries of 2400h–2403h).
 const uint8_t kHoldingMapSize = 12;
-const uint8_t kInputMapSize = 20;
+const uint8_t kInputMapSize = 21;
 const uint8_t kCoilMapSize = 2;
 const uint8_t kDiscreteMapSize = 8;
 
@@ -57,6 +57,7 @@ const uint8_t kDiscreteMapSize = 8;
   N(0x2000, 10, x2000_10_networkAccess, U8, RW, 0, kHookNone, 1, "Station configuration: Modbus FC 2Bh/0Dh to the network 1 on, 0 off") \
   N(0x2001, 0, x2001_0_restartRequest, U8, RW, kAttrCommand, kHookApp, 0, "Restart request: 1 reset communication, 2 reset node")     \
   N(0x2002, 0, x2002_0_nmtState, U8, RO, 0, kHookNone, 0, "NMT state of this node")                                                   \
+  N(0x2003, 0, x2003_0_storageDamageCount, U8, RO, 0, kHookNone, 0, "Resets since power-on that found a damaged saved set")        \
   N(0x2100, 0, x2100_0_highestSubIndex, U8, CONST, 0, kHookNone, 6, "Own station: highest sub-index")                                 \
   N(0x2100, 1, x2100_1_runCommand, U8, RW, kAttrCommand, kHookApp, 0, "Own station: RUN command from the PC")                         \
   N(0x2100, 2, x2100_2_runState, U8, RO, kAttrPdo, kHookNone, 0, "Own station: RUN state")                                            \
@@ -67,12 +68,12 @@ const uint8_t kDiscreteMapSize = 8;
   N(0x2110, 0, x2110_0_highestSubIndex, U8, CONST, 0, kHookNone, 4, "Previous station: highest sub-index")                            \
   N(0x2110, 1, x2110_1_prevRunState, U8, RW, kAttrPdo | kAttrCommand, kHookNone, 0, "Previous station: RUN state")                    \
   N(0x2110, 2, x2110_2_prevStop2Count, U16, RW, kAttrPdo | kAttrCommand, kHookNone, 0, "Previous station: STOP2 event counter")       \
-  N(0x2110, 3, x2110_3_prevStatus, U8, RO, 0, kHookNone, 0, "Previous station: status 0 unknown, 1 alive, 2 none")                    \
+  N(0x2110, 3, x2110_3_prevStatus, U8, RO, 0, kHookNone, 0, "Previous station: status 0 unknown, 1 alive, 2 none; +80h no TPDO1 yet")\
   N(0x2110, 4, x2110_4_prevNodeId, U8, RO, 0, kHookNone, 0, "Previous station: node id")                                              \
   N(0x2120, 0, x2120_0_highestSubIndex, U8, CONST, 0, kHookNone, 4, "Next station: highest sub-index")                                \
   N(0x2120, 1, x2120_1_nextRunState, U8, RW, kAttrPdo | kAttrCommand, kHookNone, 0, "Next station: RUN state")                        \
   N(0x2120, 2, x2120_2_nextStop2Count, U16, RW, kAttrPdo | kAttrCommand, kHookNone, 0, "Next station: STOP2 event counter")           \
-  N(0x2120, 3, x2120_3_nextStatus, U8, RO, 0, kHookNone, 0, "Next station: status 0 unknown, 1 alive, 2 none")                        \
+  N(0x2120, 3, x2120_3_nextStatus, U8, RO, 0, kHookNone, 0, "Next station: status 0 unknown, 1 alive, 2 none; +80h no TPDO1 yet")    \
   N(0x2120, 4, x2120_4_nextNodeId, U8, RO, 0, kHookNone, 0, "Next station: node id")                                                  \
   N(0x2130, 0, x2130_0_highestSubIndex, U8, CONST, 0, kHookNone, 2, "Remote buttons: highest sub-index")                              \
   N(0x2130, 1, x2130_1_remoteButtons, U8, RW, kAttrPdo | kAttrCommand, kHookNone, 0, "Remote buttons: levels of the watched station") \
@@ -99,7 +100,7 @@ const uint8_t kDiscreteMapSize = 8;
   MB2CO_GW_MAP_ENTRY(N, 0x2400, 10, x2400_10_holdingMap10, kHookApp, MB2CO_MAP(0x1006, 0, 32), "HR map 10")                           \
   MB2CO_GW_MAP_ENTRY(N, 0x2400, 11, x2400_11_holdingMap11, kHookApp, MB2CO_MAP(0x1010, 1, 32), "HR map 11")                           \
   MB2CO_GW_MAP_ENTRY(N, 0x2400, 12, x2400_12_holdingMap12, kHookApp, MB2CO_MAP(0x2001, 0, 8), "HR map 12")                            \
-  N(0x2401, 0, x2401_0_inputMapCount, U8, RW, 0, kHookApp, 20, "Modbus input registers: mapped entries")                              \
+  N(0x2401, 0, x2401_0_inputMapCount, U8, RW, 0, kHookApp, 21, "Modbus input registers: mapped entries")                              \
   MB2CO_GW_MAP_ENTRY(N, 0x2401, 1, x2401_1_inputMap1, kHookApp, MB2CO_MAP(0x6000, 1, 8), "IR map 1")                                  \
   MB2CO_GW_MAP_ENTRY(N, 0x2401, 2, x2401_2_inputMap2, kHookApp, MB2CO_MAP(0x2100, 2, 8), "IR map 2")                                  \
   MB2CO_GW_MAP_ENTRY(N, 0x2401, 3, x2401_3_inputMap3, kHookApp, MB2CO_MAP(0x2100, 3, 16), "IR map 3")                                 \
@@ -120,6 +121,7 @@ const uint8_t kDiscreteMapSize = 8;
   MB2CO_GW_MAP_ENTRY(N, 0x2401, 18, x2401_18_inputMap18, kHookApp, MB2CO_MAP(0x2110, 4, 8), "IR map 18")                              \
   MB2CO_GW_MAP_ENTRY(N, 0x2401, 19, x2401_19_inputMap19, kHookApp, MB2CO_MAP(0x2120, 4, 8), "IR map 19")                              \
   MB2CO_GW_MAP_ENTRY(N, 0x2401, 20, x2401_20_inputMap20, kHookApp, MB2CO_MAP(0x2002, 0, 8), "IR map 20")                              \
+  MB2CO_GW_MAP_ENTRY(N, 0x2401, 21, x2401_21_inputMap21, kHookApp, MB2CO_MAP(0x2003, 0, 8), "IR map 21")                              \
   N(0x2402, 0, x2402_0_coilMapCount, U8, RW, 0, kHookApp, 2, "Modbus coils: mapped entries")                                          \
   MB2CO_GW_MAP_ENTRY(N, 0x2402, 1, x2402_1_coilMap1, kHookApp, MB2CO_MAP(0x2100, 1, 1), "coil map 1")                                 \
   MB2CO_GW_MAP_ENTRY(N, 0x2402, 2, x2402_2_coilMap2, kHookApp, MB2CO_MAP(0x6200, 1, 1), "coil map 2")                                 \

@@ -46,8 +46,10 @@ void LineApp::on_reset(uint8_t node_id) {
   neighbour_config(node_id, &prev, &next);
   v.x2110_4_prevNodeId = prev;
   v.x2120_4_nextNodeId = next;
-  v.x2110_3_prevStatus = prev ? kNeighbourUnknown : kNeighbourNone;
-  v.x2120_3_nextStatus = next ? kNeighbourUnknown : kNeighbourNone;
+  // Until their TPDO1 comes, the neighbours' RUN states and counters are
+  // the defaults just restored, not values they sent.
+  v.x2110_3_prevStatus = prev ? kNeighbourUnknown | kNeighbourNotHeard : kNeighbourNone;
+  v.x2120_3_nextStatus = next ? kNeighbourUnknown | kNeighbourNotHeard : kNeighbourNone;
   prev_stop2_known_ = false;
   if (v.x2000_7_pdoConfigAsStored != 0) return;  // PDOs and 1016h as stored
   // Derived: subscribe to the neighbours' TPDO1 (line state) and to the
@@ -67,12 +69,14 @@ void LineApp::on_reset(uint8_t node_id) {
 
 void LineApp::on_heartbeat(uint8_t node_id, canopen::HbEvent event) {
   const bool alive = event == canopen::kHbStarted || event == canopen::kHbStateChanged;
-  const uint8_t status = alive ? kNeighbourAlive : kNeighbourUnknown;
+  static_assert(kNeighbourUnknown == 0 && kNeighbourAlive == 1, "the status is `alive`");
+  // The kNeighbourNotHeard flag stays: a heartbeat is not a TPDO1.
   if (node_id == v_->x2110_4_prevNodeId) {
-    v_->x2110_3_prevStatus = status;
+    v_->x2110_3_prevStatus = static_cast<uint8_t>((v_->x2110_3_prevStatus & kNeighbourNotHeard) | alive);
     if (!alive) prev_stop2_known_ = false;  // its counter restarts or is stale
   }
-  if (node_id == v_->x2120_4_nextNodeId) v_->x2120_3_nextStatus = status;
+  if (node_id == v_->x2120_4_nextNodeId)
+    v_->x2120_3_nextStatus = static_cast<uint8_t>((v_->x2120_3_nextStatus & kNeighbourNotHeard) | alive);
 }
 
 void LineApp::latch_stop(StopCause cause) {
@@ -81,6 +85,11 @@ void LineApp::latch_stop(StopCause cause) {
 }
 
 void LineApp::on_rpdo(uint8_t n, uint32_t now_us) {
+  // RPDO1 and RPDO2 carry the previous and next station's TPDO1: heard now.
+  if (n < 2) {
+    uint8_t& status = n == 0 ? v_->x2110_3_prevStatus : v_->x2120_3_nextStatus;
+    status &= static_cast<uint8_t>(~kNeighbourNotHeard);
+  }
   if (n == 0) {
     // A changed STOP2 counter of the previous station: new STOP2 events. The
     // first value heard is only a baseline.
@@ -95,9 +104,9 @@ void LineApp::on_rpdo(uint8_t n, uint32_t now_us) {
 
 namespace {
 
-// LED of a neighbour: its RUN state while alive, `blink` while unknown.
+// LED of a neighbour: its RUN state while alive and heard, `blink` while unknown.
 bool led_for(uint8_t status, uint8_t run, bool blink) {
-  return status == kNeighbourAlive ? run != 0 : status == kNeighbourUnknown && blink;
+  return status == kNeighbourAlive ? run != 0 : neighbour_shown_unknown(status) && blink;
 }
 
 // The LED bits to drive at `now_us` with RUN state `run`. Inlined into
@@ -185,7 +194,7 @@ void LineApp::next_deadline(NextDeadline& d, uint8_t nmt_state, uint16_t modbus_
   for (uint8_t i = 0, bit = 1; i < 3; ++i, bit = static_cast<uint8_t>(bit << 1)) {
     if ((raw_ ^ stable_) & bit) d.at(raw_since_us_[i] + debounce_us);
   }
-  if (v.x2110_3_prevStatus == kNeighbourUnknown || v.x2120_3_nextStatus == kNeighbourUnknown) {
+  if (neighbour_shown_unknown(v.x2110_3_prevStatus) || neighbour_shown_unknown(v.x2120_3_nextStatus)) {
     // The next multiple of the half period; past the last one before the
     // clock wraps, the phase turns at the wrap (0).
     const uint32_t phase = now_us / kBlinkHalfPeriodUs + 1u;

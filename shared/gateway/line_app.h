@@ -25,7 +25,23 @@ namespace gateway {
 
 enum Button : uint8_t { kStart = 0x01, kStop = 0x02, kStop2 = 0x04 };
 enum Led : uint8_t { kLedRunSelf = 0x01, kLedRunPrev = 0x02, kLedRunNext = 0x04, kLedLab = 0x08 };
-enum NeighbourStatus : uint8_t { kNeighbourUnknown = 0, kNeighbourAlive = 1, kNeighbourNone = 2 };
+/// 2110h/3, 2120h/3: a neighbour's status (low bits) and a flag.
+enum NeighbourStatus : uint8_t {
+  kNeighbourUnknown = 0,  ///< no heartbeat (lost, or not yet heard): never "running"
+  kNeighbourAlive = 1,
+  kNeighbourNone = 2,  ///< end of a chain: no such station
+  /// Flag beside the status: no TPDO1 of this neighbour since this gateway's
+  /// reset, so its RUN state and STOP2 counter (2110h/1-2, 2120h/1-2) are
+  /// placeholders (0), not values it sent. Cleared by its first TPDO1; a
+  /// lost heartbeat does not set it again (the values then are the last it
+  /// sent). A PC counts no STOP2 events from a counter read with it set.
+  kNeighbourNotHeard = 0x80,
+};
+/// A neighbour whose RUN state is not known: no heartbeat, or alive but no
+/// TPDO1 heard yet (kNeighbourNotHeard); neither alive nor none. Its LED blinks.
+inline bool neighbour_shown_unknown(uint8_t status) {
+  return status != kNeighbourAlive && status != kNeighbourNone;
+}
 
 /// Plain data without initialisers: its owner value-initialises it (all
 /// zero, which a static object on the Uno is without code), then init().
@@ -82,7 +98,7 @@ class LineApp {
   uint8_t raw_;     ///< last raw levels
   uint8_t stable_;  ///< debounced levels
   uint8_t leds_;
-  bool prev_stop2_known_;  ///< a baseline of the previous STOP2 counter
+  bool prev_stop2_known_;  ///< a baseline of the previous STOP2 counter (see kNeighbourNotHeard)
   bool stop_latched_;
   /// Modbus watchdog: armed at power-on and by every request; silence for
   /// 2000h/9 ms latches one stop (2000h/9 = 0: a station without a PC).

@@ -19,7 +19,7 @@ const ControllerOutputs& Controller::step(const ControllerInputs& in) {
   // Sample every edge and counter every cycle, so none is lost or invented
   // whatever state the controller is in.
   const uint16_t local_events = local_stop2_.update(in.local_stop2_events);
-  const uint16_t prev_events = prev_stop2_.update(in.prev_stop2_events);
+  const uint16_t prev_events = in.prev_stop2_known ? prev_stop2_.update(in.prev_stop2_events) : 0u;
   counters_.local_stop2_events += local_events;
   counters_.prev_stop2_events += prev_events;
   const bool start_edge = start_.update(in.start_pressed);

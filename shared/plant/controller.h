@@ -66,6 +66,11 @@ struct ControllerInputs {
   bool stop2_pressed = false;
   uint16_t local_stop2_events = 0;  ///< this panel's STOP2 event counter (wraps)
   uint16_t prev_stop2_events = 0;   ///< previous station's STOP2 event counter (wraps)
+  /// False while the gateway has not heard the previous station's counter
+  /// since its reset (gateway::kNeighbourNotHeard): prev_stop2_events is a
+  /// placeholder then. Nothing is counted from it; the next known value is
+  /// compared with the last known one, so events meanwhile count once.
+  bool prev_stop2_known = true;
   NeighbourState prev_run = NeighbourState::absent;
   NeighbourState next_run = NeighbourState::absent;
   Sensors plant;

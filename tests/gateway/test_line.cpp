@@ -146,6 +146,46 @@ TEST(Line, ARebootedPreviousStationDoesNotFakeAStop2) {
   EXPECT_EQ(line.od_get(1, 0x2110, 3), gateway::kNeighbourAlive);
 }
 
+// Issue 16 item 8: after a reboot, a gateway's copy of its neighbours' RUN
+// state and STOP2 counter is 0 until their TPDO1 comes. Status bit 80h says
+// so; a heartbeat alone does not clear it; the first TPDO1 does, and a lost
+// heartbeat later does not set it again (the copy holds what was sent).
+TEST(Line, ANeighbourNotYetHeardIsFlaggedUntilItsTpdo1) {
+  Line line(3, [](canopen::ObjectDictionary& od, int) { ring_of(od, 3); });
+  line.run_ms(300);
+  all_running(line, 3);
+  press(line, 0, kStop2);  // node 1's counter: 1
+  line.run_ms(100);
+  // Node 2 reboots; node 1's TPDO1 is held back, its heartbeats are not.
+  bool hold = true;
+  line.filter = [&](const CanFrame& f, int from) { return !(hold && from == 0 && f.id == 0x181); };
+  line.station(1).powered = false;
+  line.run_ms(50);
+  line.power_on(1);
+  EXPECT_EQ(line.od_get(1, 0x2110, 3), gateway::kNeighbourUnknown | gateway::kNeighbourNotHeard);
+  EXPECT_EQ(line.od_get(1, 0x2120, 3), gateway::kNeighbourUnknown | gateway::kNeighbourNotHeard);
+  line.run_ms(300);
+  EXPECT_EQ(line.od_get(1, 0x2110, 3), gateway::kNeighbourAlive | gateway::kNeighbourNotHeard)
+      << "alive by heartbeat, counter not heard";
+  EXPECT_EQ(line.od_get(1, 0x2110, 2), 0u) << "the placeholder the flag warns of";
+  EXPECT_EQ(line.od_get(1, 0x2120, 3), gateway::kNeighbourAlive) << "node 3's TPDO1 came";
+  // Its LED shows the previous station as unknown (blinks), not as stopped.
+  bool on = false, off = false;
+  for (int k = 0; k < 60; ++k) {
+    line.run_ms(10);
+    (line.station(1).leds & gateway::kLedRunPrev ? on : off) = true;
+  }
+  EXPECT_TRUE(on && off);
+  hold = false;
+  line.run_ms(150);  // TPDO1 event timer: 100 ms
+  EXPECT_EQ(line.od_get(1, 0x2110, 3), gateway::kNeighbourAlive);
+  EXPECT_EQ(line.od_get(1, 0x2110, 2), 1u);
+  line.station(0).powered = false;  // node 1 lost: unknown, its last values kept
+  line.run_ms(400);
+  EXPECT_EQ(line.od_get(1, 0x2110, 3), gateway::kNeighbourUnknown);
+  EXPECT_EQ(line.od_get(1, 0x2110, 2), 1u);
+}
+
 TEST(Line, ChainEndsHaveNoNeighbourThere) {
   Line line(3, [](canopen::ObjectDictionary& od, int) {
     ring_of(od, 3);

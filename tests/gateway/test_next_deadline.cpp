@@ -128,7 +128,8 @@ TEST_F(GatewayDeadline, ButtonDebounce) {
 
 TEST_F(GatewayDeadline, UnknownNeighbourBlinks) {
   set(0x2000, 9, 0);  // no watchdog stop in the way
-  ASSERT_EQ(get(0x2110, 3), gateway::kNeighbourUnknown);
+  // Never heard since the reset: no heartbeat, no TPDO1 (flag 80h).
+  ASSERT_EQ(get(0x2110, 3), gateway::kNeighbourUnknown | gateway::kNeighbourNotHeard);
   std::vector<uint32_t> changes;
   uint8_t before = leds & gateway::kLedRunPrev;
   step_until([&] {
@@ -154,10 +155,11 @@ TEST_F(GatewayDeadline, ALostNeighbourIsShownByTheNextPass) {
   gw.on_can_frame(hb, now);
   const uint32_t heard = now;
   step();
-  ASSERT_EQ(get(0x2120, 3), gateway::kNeighbourAlive);
+  // Alive by its heartbeat; no TPDO1 of it yet (flag 80h stays).
+  ASSERT_EQ(get(0x2120, 3), gateway::kNeighbourAlive | gateway::kNeighbourNotHeard);
   // The consumer time runs out inside the node's process() (the status is
   // written by its callback, after the line application ran in that pass).
-  step_until([&] { return get(0x2120, 3) == gateway::kNeighbourUnknown; });
+  step_until([&] { return get(0x2120, 3) == (gateway::kNeighbourUnknown | gateway::kNeighbourNotHeard); });
   EXPECT_EQ(now, heard + consumer_ms * 1000u);
 }
 

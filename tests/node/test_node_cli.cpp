@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <iterator>
 
 #include "node_harness.h"
 #include "rtu_frames.h"
@@ -132,16 +133,26 @@ TEST(Cli, ServesAnExistingTtyAtItsBaudRate) {
 // one FC 10h), survives a restart of the process; a restart request (HR 13)
 // applies a saved id at once.
 // A parameter file the node could never save to is refused at start: one
-// line naming it, exit 1, no pty link left.
+// line naming it, exit 1 (a resource it cannot use, like a missing tty), no
+// pty link left, and nothing written: a directory, a missing directory, a
+// path under a regular file, a device, a read-only file (refused by its
+// mode, so also when root could write it; its contents stay as they were).
 TEST(Eeprom, AnUnusablePathExits1WithOneLine) {
   TempDir dir;
-  for (const std::string& path : {dir.path(""), dir.path("missing/eeprom")}) {
+  std::ofstream(dir.path("plain")) << "x";
+  std::ofstream(dir.path("read-only")) << "C2 kept as it is";
+  ASSERT_EQ(chmod(dir.path("read-only").c_str(), 0444), 0);
+  for (const std::string& path : {dir.path(""), dir.path("missing/eeprom"), dir.path("plain/eeprom"),
+                                  std::string("/dev/null"), dir.path("read-only")}) {
     std::string err;
     EXPECT_EQ(run_to_exit({"--can", "none", "--pty", dir.path("x.pty"), "--eeprom", path}, &err), 1) << path;
     EXPECT_TRUE(one_line(err)) << err;
     EXPECT_NE(err.find(path), std::string::npos) << err;
     EXPECT_FALSE(is_symlink(dir.path("x.pty")));
   }
+  std::ifstream kept(dir.path("read-only"));
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(kept), std::istreambuf_iterator<char>()),
+            "C2 kept as it is");
 }
 
 // A damaged parameter file is reported by one warning line on stderr; the

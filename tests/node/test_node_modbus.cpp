@@ -20,7 +20,7 @@ namespace {
 
 // Defaults of the gateway's maps (docs/register-map.md).
 constexpr int kHoldingCount = 14;
-constexpr int kInputCount = 23;
+constexpr int kInputCount = 24;
 constexpr int kCoilCount = 2;
 constexpr int kDiscreteCount = 7;
 constexpr int kHrRunCommand = 0, kHrLabLed = 1, kHrNodeId = 2, kHrBitrate = 3, kHrDebounce = 7,

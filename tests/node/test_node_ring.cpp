@@ -13,10 +13,12 @@
 #include <time.h>
 
 #include <cstdio>
+#include <fstream>
 #include <memory>
 #include <set>
 
 #include "node_harness.h"
+#include "storage_damage.h"
 
 namespace mb2co {
 namespace test {
@@ -189,6 +191,41 @@ TEST(Ring, Stop2StopsTwoStationsAndALostNodeShowsUnknown) {
     EXPECT_LE(after_hb, kConsumerUs + kSlackUs);
     EXPECT_LE(after_kill, kConsumerUs + kSlackUs);
   }
+}
+
+// Issue 16 item 6 on the bus: a node whose saved parameters are damaged
+// sends its boot-up, then EMCY 5530h with error register bit 0 (generic).
+TEST(Ring, DamagedSavedParametersSendEmcy5530AfterTheBootUp) {
+  TempDir dir;
+  std::vector<uint8_t> image;
+  for (const storage_damage::Kind& kind : storage_damage::kinds()) {
+    if (std::string(kind.name) == "random bytes") {
+      ASSERT_TRUE(kind.apply(image));
+    }
+  }
+  ASSERT_EQ(image.size(), 1024u);
+  {
+    std::ofstream f(dir.path("eeprom"), std::ios::binary);
+    f.write(reinterpret_cast<const char*>(image.data()), static_cast<std::streamsize>(image.size()));
+  }
+  LineChild candump;
+  std::string candump_error;
+  ASSERT_TRUE(start_candump_listening(candump, kUmlDeadline, &candump_error)) << candump_error;
+  NodeProcess node;
+  ASSERT_TRUE(node.start(
+      {"--can", "vcan0", "--node-id", "5", "--pty", dir.path("5.pty"), "--eeprom", dir.path("eeprom")},
+      kUmlDeadline))
+      << node.error();
+  EXPECT_TRUE(candump.wait_line([](const std::string& l) { return l.find(" 705#00") != std::string::npos; },
+                                kUmlDeadline))
+      << "boot-up of node 5 (the defaults: the damaged id is not used)";
+  EXPECT_TRUE(candump.wait_line(
+      [](const std::string& l) { return l.find(" 085#305501") != std::string::npos; }, kUmlDeadline))
+      << "EMCY 5530h, error register 01h, after the boot-up";
+  EXPECT_EQ(node.stop(), 0);
+  EXPECT_NE(node.child.stderr_text().find("damaged"), std::string::npos);
+  ASSERT_TRUE(candump.signal(SIGINT));
+  EXPECT_EQ(candump.wait_exit(kUmlDeadline), 0);
 }
 
 // Inside the same sandbox, where CAN exists: a missing interface is a

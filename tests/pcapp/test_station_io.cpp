@@ -51,6 +51,26 @@ TEST(StationIo, LatchedStopCountsOnlyOnceRunWasConfirmed) {
   EXPECT_FALSE(controller_inputs(p, true, s).stop_pressed);
 }
 
+// 80h in a neighbour's status: the gateway has heard no TPDO1 of it since
+// its reset, so its RUN state and STOP2 counter are placeholders.
+TEST(StationIo, ANotYetHeardNeighbourIsUnknownAndItsCounterNotKnown) {
+  Panel p;
+  p.prev_stop2 = 0;
+  p.prev_run = 0;
+  p.prev_status = gateway::kNeighbourAlive | gateway::kNeighbourNotHeard;
+  p.next_status = gateway::kNeighbourUnknown | gateway::kNeighbourNotHeard;
+  plant::ControllerInputs in = controller_inputs(p, false, plant::Sensors{});
+  EXPECT_FALSE(in.prev_stop2_known);
+  EXPECT_EQ(in.prev_run, NeighbourState::unknown) << "alive, but its RUN state is not heard yet";
+  EXPECT_EQ(in.next_run, NeighbourState::unknown);
+  p.prev_status = gateway::kNeighbourAlive;
+  in = controller_inputs(p, false, plant::Sensors{});
+  EXPECT_TRUE(in.prev_stop2_known);
+  EXPECT_EQ(in.prev_run, NeighbourState::stopped);
+  p.prev_status = gateway::kNeighbourUnknown;  // lost after it was heard: its last values
+  EXPECT_TRUE(controller_inputs(p, false, plant::Sensors{}).prev_stop2_known);
+}
+
 TEST(StationIo, ButtonsAndCountersReachTheController) {
   Panel p;
   p.buttons = gateway::kStop;
@@ -65,6 +85,7 @@ TEST(StationIo, ButtonsAndCountersReachTheController) {
   EXPECT_FALSE(in.stop2_pressed);
   EXPECT_EQ(in.local_stop2_events, 7);
   EXPECT_EQ(in.prev_stop2_events, 9);
+  EXPECT_TRUE(in.prev_stop2_known);
   EXPECT_EQ(in.prev_run, NeighbourState::running);
   EXPECT_EQ(in.next_run, NeighbourState::absent);
 }

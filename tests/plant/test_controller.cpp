@@ -456,6 +456,44 @@ TEST_F(ControllerTest, ARestartedStop2CounterIsANewBaselineNotThousandsOfEvents)
   EXPECT_EQ(ctl.counters().prev_stop2_events, 1u);
 }
 
+// Issue 16 item 8: a rebooted gateway shows the previous station's counter
+// as 0 until that station's TPDO1 arrives; the PC reads it as not known.
+TEST_F(ControllerTest, ACounterNotYetHeardCountsNothingAndTheNextKnownValueCountsOnce) {
+  in.prev_stop2_events = 7;
+  to_moving();
+  in.prev_stop2_events = 0;  // the gateway rebooted: a placeholder, not a value
+  in.prev_stop2_known = false;
+  for (int i = 0; i < 5; ++i) cycle();
+  EXPECT_TRUE(ctl.running()) << "a placeholder is no STOP2 event";
+  EXPECT_EQ(ctl.counters().prev_stop2_events, 0u);
+  in.prev_stop2_events = 7;  // heard again, unchanged: nothing happened meanwhile
+  in.prev_stop2_known = true;
+  cycle();
+  EXPECT_TRUE(ctl.running());
+  EXPECT_EQ(ctl.counters().prev_stop2_events, 0u) << "7 -> 0 -> 7 would count 2^16 - 7 + 7 events";
+  in.prev_stop2_events = 0;  // not known again; meanwhile one real press there
+  in.prev_stop2_known = false;
+  cycle();
+  in.prev_stop2_events = 8;
+  in.prev_stop2_known = true;
+  cycle();
+  EXPECT_EQ(ctl.counters().prev_stop2_events, 1u) << "the press during the gap counts once";
+  EXPECT_EQ(ctl.state(), State::stopped);
+}
+
+TEST_F(ControllerTest, TheFirstKnownValueIsTheBaseline) {
+  in.prev_stop2_known = false;  // the PC starts while the gateway has not heard it
+  cycle();
+  in.prev_stop2_events = 12;
+  in.prev_stop2_known = true;
+  to_moving();
+  EXPECT_EQ(ctl.counters().prev_stop2_events, 0u) << "events from before are not ours";
+  in.prev_stop2_events = 13;
+  cycle();
+  EXPECT_EQ(ctl.counters().prev_stop2_events, 1u);
+  EXPECT_EQ(ctl.state(), State::stopped);
+}
+
 TEST_F(ControllerTest, ForceSafeNeedsAFreshStartPress) {
   to_moving();
   in.start_pressed = true;  // held through the outage

@@ -20,11 +20,11 @@ namespace test {
 namespace {
 
 constexpr int kHoldingCount = 14;
-constexpr int kInputCount = 23;
+constexpr int kInputCount = 24;
 constexpr int kHrRunCommand = 0, kHrNodeId = 2, kHrBitrate = 3, kHrStations = 5, kHrDebounce = 7,
               kHrHeartbeat = 8, kHrSave = 11, kHrRestart = 13;
 constexpr int kIrInputs = 0, kIrRunState = 1, kIrStop2Count = 2, kIrStopCause = 3, kIrLeds = 11,
-              kIrPrevId = 20, kIrNextId = 21, kIrNmt = 22;
+              kIrPrevId = 20, kIrNextId = 21, kIrNmt = 22, kIrStorageDamage = 23;
 
 class UnoModbus : public RtuPeerTest<UnoProcess> {
  protected:
@@ -38,7 +38,7 @@ class UnoModbus : public RtuPeerTest<UnoProcess> {
 
 TEST_F(UnoModbus, ReadsTheInputAndHoldingMaps) {
   uint16_t ir[kInputCount];
-  ASSERT_EQ(modbus_read_input_registers(ctx_, 0, kInputCount, ir), kInputCount);  // FC 04, all 23 at once
+  ASSERT_EQ(modbus_read_input_registers(ctx_, 0, kInputCount, ir), kInputCount);  // FC 04, all 24 at once
   EXPECT_EQ(ir[kIrInputs], 0) << "no button pressed";
   EXPECT_EQ(ir[kIrRunState], 0);
   EXPECT_EQ(ir[kIrStop2Count], 0);
@@ -46,6 +46,7 @@ TEST_F(UnoModbus, ReadsTheInputAndHoldingMaps) {
   EXPECT_EQ(ir[kIrPrevId], 4) << "previous station of node 1 in the default ring of 4";
   EXPECT_EQ(ir[kIrNextId], 2);
   EXPECT_EQ(ir[kIrNmt], 5) << "self-started: operational";
+  EXPECT_EQ(ir[kIrStorageDamage], 0) << "an erased EEPROM is no damage";
   uint16_t hr[kHoldingCount];
   ASSERT_EQ(modbus_read_registers(ctx_, 0, kHoldingCount, hr), kHoldingCount);  // FC 03
   EXPECT_EQ(hr[kHrRunCommand], 0);

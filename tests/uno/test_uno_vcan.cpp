@@ -395,14 +395,15 @@ TEST_F(UnoOnVcan, SlowHeartbeatKeepsTheNeighboursInTheConsumerEntries) {
   EXPECT_EQ(sdo_read(can_, 0x1017, 0), 30000u);
   EXPECT_EQ(sdo_read(can_, 0x1016, 1), 0x0004FFFFu) << "previous station: node 4";
   EXPECT_EQ(sdo_read(can_, 0x1016, 2), 0x0002FFFFu) << "next station: node 2";
-  // Node 4's heartbeats (as its producer sends them) make it alive (2110h/3).
+  // Node 4's heartbeats (as its producer sends them) make it alive (2110h/3
+  // = 1; with 80h: no TPDO1 of it heard, only its heartbeats are sent here).
   ModbusMaster m;
   ASSERT_TRUE(m.open(uno.device(), 1000ms)) << m.error();
   bool alive = false;
   const auto deadline = std::chrono::steady_clock::now() + kDeadline;
   while (!alive && std::chrono::steady_clock::now() < deadline) {
     ASSERT_TRUE(can_.send(0x704, {0x05}));
-    alive = m.wait_input(kIrPrevStatus, 1, 100ms);
+    alive = m.wait_input(kIrPrevStatus, 0x81, 100ms);
   }
   EXPECT_TRUE(alive) << "node 4's heartbeats did not reach the previous station's status";
   m.close();

@@ -19,12 +19,13 @@ std::string stamped(const std::string& text, uint32_t now_us) {
 }  // namespace
 
 std::string ControlChannel::leds_text(uint8_t leds) {
-  // A neighbour's LED blinks while that neighbour is unknown: "blink", so
-  // the line changes when the status does, not at every toggle (4 a second).
+  // A neighbour's LED blinks while that neighbour is unknown (no heartbeat,
+  // or no TPDO1 of it yet): "blink", so the line changes when the status
+  // does, not at every toggle (4 a second).
   canopen::ObjectDictionary& od = gw_.od();
   namespace e = gateway::od::GatewayEntry;
   auto led = [&](canopen::OdKey status, uint8_t bit) -> const char* {
-    if (od.get(od.find(status)) == gateway::kNeighbourUnknown) return "blink";
+    if (gateway::neighbour_shown_unknown(static_cast<uint8_t>(od.get(od.find(status))))) return "blink";
     return (leds & bit) ? "1" : "0";
   };
   std::ostringstream s;

@@ -2,6 +2,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -12,11 +13,16 @@ namespace node {
 bool EepromFile::read(void* ctx, uint16_t offset, uint8_t* data, uint16_t len) {
   const EepromFile& e = *static_cast<EepromFile*>(ctx);
   if (offset + len > kSize) return false;
+  // What the file does not hold (never written: it grows with the saves, or
+  // it was cut) reads as an erased EEPROM cell does: FFh. So a file cut
+  // inside a set fails that set's CRC, like damaged EEPROM bytes would.
+  std::memset(data, 0xFF, len);
   const int fd = open(e.path_.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return false;  // never saved: no image
+  if (fd < 0) return errno == ENOENT;  // never saved: all erased
   const ssize_t n = pread(fd, data, len, offset);
   close(fd);
-  return n == len;
+  if (n > 0 && n < len) std::memset(data + n, 0xFF, static_cast<size_t>(len - n));
+  return n >= 0;
 }
 
 bool EepromFile::write(void* ctx, uint16_t offset, const uint8_t* data, uint16_t len) {
@@ -30,6 +36,19 @@ bool EepromFile::write(void* ctx, uint16_t offset, const uint8_t* data, uint16_t
 }
 
 bool EepromFile::usable(std::string* reason) const {
+  struct stat st;
+  if (stat(path_.c_str(), &st) == 0) {
+    // Checked by its mode, not by access(): as root a read-only file would
+    // pass access(W_OK), and a node must not overwrite what was set read-only.
+    if (!S_ISREG(st.st_mode)) {
+      *reason = path_ + ": not a regular file";
+      return false;
+    }
+    if ((st.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)) == 0) {
+      *reason = path_ + ": read-only file, saves would fail";
+      return false;
+    }
+  }
   const int fd = open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd < 0) {
     *reason = path_ + ": cannot open for reading and writing: " + std::strerror(errno);

@@ -3,6 +3,8 @@
 // fsyncs, so a crash never leaves a header that declares a payload valid
 // before the payload is on disk (a few per save, not one per entry: ~150
 // fsyncs took longer than a Modbus master waits for the answer to "save").
+// The file grows with the saves; bytes it does not hold read as FFh, as an
+// erased EEPROM cell does, so a cut file is one whose tail is erased.
 #pragma once
 #include <string>
 
@@ -26,8 +28,9 @@ class EepromFile {
 
  public:
   /// False, with a one-line reason, when the file cannot be read and
-  /// written (a directory, no permission, a missing directory): a node must
-  /// not run with parameters it could never save.
+  /// written (a directory or another non-regular file, a file without write
+  /// permission, a missing directory): a node must not run with parameters
+  /// it could never save. Creates an empty file (nothing saved) if none.
   bool usable(std::string* reason) const;
 
  private:

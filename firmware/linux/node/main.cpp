@@ -92,6 +92,12 @@ int main(int argc, char** argv) {
   sigaction(SIGTERM, &sa, nullptr);
   signal(SIGPIPE, SIG_IGN);
 
+  // A parameter file it could never save to is refused before anything is
+  // opened or created (no pty link, no CAN socket).
+  node::EepromFile eeprom(opt.eeprom);
+  std::string eeprom_error;
+  if (!opt.eeprom.empty() && !eeprom.usable(&eeprom_error)) return fail(eeprom_error);
+
   port::SerialPort serial;
   const port::Parity parity = opt.parity == 'E'   ? port::Parity::kEven
                               : opt.parity == 'O' ? port::Parity::kOdd
@@ -107,9 +113,6 @@ int main(int argc, char** argv) {
     if (!bound) return fail(bound.message());
   }
 
-  node::EepromFile eeprom(opt.eeprom);
-  std::string eeprom_error;
-  if (!opt.eeprom.empty() && !eeprom.usable(&eeprom_error)) return fail(eeprom_error);
   canopen::ParamStorage storage = eeprom.storage();
   gateway::GatewayPorts ports{with_can ? can.sink() : CanSink{&can_discard, nullptr},
                               modbus::ByteSink{&serial_write, &serial},

@@ -4,10 +4,14 @@
 # bridge to vcan0 with offset 0x20; candump must see their boot-ups and
 # heartbeats at CAN node ids 21h-23h, and an SDO upload of 1018h sub 2 sent
 # with cansend to CAN node 22h must be answered by serial node 2 through the
-# bridge. Usage: bridge_vcan_test.sh HUB BRIDGE NODE poll|token
+# bridge. The bridge is mb2co-bridge (linux) or the Uno image mb2co-bridge.elf
+# in simavr (uno: mb2co-uno with its USART0 pty joined to the hub; the
+# image's segment settings are built in: poll, as below).
+# Usage: bridge_vcan_test.sh HUB NODE poll|token linux MB2CO_BRIDGE
+#        bridge_vcan_test.sh HUB NODE poll uno MB2CO_UNO BRIDGE_ELF
 set -u
-hub=${1:?usage: bridge_vcan_test.sh HUB BRIDGE NODE poll|token}
-bridge=${2:?} node=${3:?} access=${4:?}
+usage="usage: bridge_vcan_test.sh HUB NODE poll|token linux|uno BRIDGE_PROGRAM [ELF]"
+hub=${1:?$usage} node=${2:?$usage} access=${3:?$usage} kind=${4:?$usage} bridge=${5:?$usage} elf=${6:-}
 dir=$(mktemp -d)
 pids=()
 cleanup() {
@@ -17,7 +21,7 @@ cleanup() {
 }
 trap cleanup EXIT
 fail() {
-  echo "FAIL ($access): $*" >&2
+  echo "FAIL ($kind $access): $*" >&2
   echo "--- candump (last 40 lines)" >&2
   tail -n 40 "$dir/can.log" >&2
   for f in "$dir"/*.err; do [[ -s $f ]] && { echo "--- $f" >&2; cat "$f" >&2; }; done
@@ -33,7 +37,18 @@ wait_for() {
   return 1
 }
 
-"$hub" "$dir/n1" "$dir/n2" "$dir/n3" "$dir/br" >"$dir/hub.out" 2>"$dir/hub.err" &
+seg=(--bits 8 --access "$access" --nodes 1-3 --window-us 20000 --guard-us 5000)
+if [[ $kind == uno ]]; then
+  # The simulated Uno makes its own pty for USART0: the hub joins it.
+  "$bridge" --elf "$elf" --can vcan0 --pty "$dir/uno" >"$dir/bridge.out" 2>"$dir/bridge.err" &
+  pids+=($!)
+  for ((i = 0; i < 200; i++)); do [[ -e $dir/uno ]] && break; sleep 0.05; done
+  [[ -e $dir/uno ]] || fail "mb2co-uno made no pty"
+  member=@$dir/uno
+else
+  member=$dir/br
+fi
+"$hub" "$dir/n1" "$dir/n2" "$dir/n3" "$member" >"$dir/hub.out" 2>"$dir/hub.err" &
 pids+=($!)
 for ((i = 0; i < 200; i++)); do grep -q ready "$dir/hub.out" && break; sleep 0.05; done
 grep -q ready "$dir/hub.out" || fail "the hub did not start"
@@ -48,9 +63,10 @@ for ((i = 0; i < 100; i++)); do
 done
 grep -q ' 7FF#A5' "$dir/can.log" || fail "candump did not start"
 
-seg=(--bits 8 --access "$access" --nodes 1-3 --window-us 20000 --guard-us 5000)
-"$bridge" --serial "$dir/br" --can vcan0 --offset 32 --verbose "${seg[@]}" >"$dir/bridge.out" 2>"$dir/bridge.err" &
-pids+=($!)
+if [[ $kind == linux ]]; then
+  "$bridge" --serial "$dir/br" --can vcan0 --offset 32 --verbose "${seg[@]}" >"$dir/bridge.out" 2>"$dir/bridge.err" &
+  pids+=($!)
+fi
 for n in 1 2 3; do
   "$node" --serial "$dir/n$n" --node-id "$n" --heartbeat-ms 200 "${seg[@]}" >"$dir/node$n.out" 2>"$dir/node$n.err" &
   pids+=($!)
@@ -71,5 +87,5 @@ wait_for 10 ' 5A2#4[23]18100201040000$' || fail "no SDO answer of serial node 2 
 cansend vcan0 623#4018100100000000
 wait_for 10 ' 5A3#4[23]181001' || fail "no SDO answer of serial node 3 at 5A3h"
 
-echo "PASS ($access): $(grep -cE ' 72[123]#' "$dir/can.log") boot-ups/heartbeats at 721h-723h, SDO answered at 5A2h and 5A3h"
+echo "PASS ($kind $access): $(grep -cE ' 72[123]#' "$dir/can.log") boot-ups/heartbeats at 721h-723h, SDO answered at 5A2h and 5A3h"
 exit 0

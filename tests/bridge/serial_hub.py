@@ -14,11 +14,17 @@ import tty
 def main():
     links = sys.argv[1:]
     if len(links) < 2:
-        sys.stderr.write("usage: serial_hub.py LINK LINK [LINK...]\n")
+        sys.stderr.write("usage: serial_hub.py MEMBER MEMBER [MEMBER...] (MEMBER: LINK or @PATH)\n")
         return 2
     masters = []
     keep = []
+    made = []
     for link in links:
+        if link.startswith("@"):
+            fd = os.open(link[1:], os.O_RDWR | os.O_NOCTTY | os.O_NONBLOCK)
+            tty.setraw(fd)
+            masters.append(fd)
+            continue
         master, slave = os.openpty()
         tty.setraw(slave)
         tty.setraw(master)
@@ -28,6 +34,7 @@ def main():
         os.symlink(os.ttyname(slave), link)
         masters.append(master)
         keep.append(slave)
+        made.append(link)
     stop = []
     signal.signal(signal.SIGTERM, lambda *_: stop.append(1))
     signal.signal(signal.SIGINT, lambda *_: stop.append(1))
@@ -50,7 +57,7 @@ def main():
                         except OSError:
                             pass  # a member's queue is full or closed: its bytes are lost, as on a line
     finally:
-        for link in links:
+        for link in made:
             if os.path.islink(link):
                 os.unlink(link)
     return 0

@@ -98,7 +98,7 @@ class Bridge {
   struct Counters {
     uint16_t to_can;        ///< frames handed to the CAN side
     uint16_t to_serial;     ///< frames handed to the segment's link
-    uint16_t polls;         ///< the segment's SYNCs (polls, token passes): not forwarded
+    uint16_t polls;         ///< the segment's SYNCs (polls, token passes, the bridge's own): not forwarded
     uint16_t can_syncs;     ///< CAN SYNCs held back from the segment
     uint16_t not_consumed;  ///< no route: the other side does not consume it
     uint16_t unmappable;    ///< no serial form (code missing in the set, RTR, extended)

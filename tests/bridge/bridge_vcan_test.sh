@@ -7,10 +7,12 @@
 # bridge. The bridge is mb2co-bridge (linux) or the Uno image mb2co-bridge.elf
 # in simavr (uno: mb2co-uno with its USART0 pty joined to the hub; the
 # image's segment settings are built in: poll, as below).
-# Usage: bridge_vcan_test.sh HUB NODE poll|token linux MB2CO_BRIDGE
+# linux_echo: mb2co-bridge --echo on a hub port that echoes its bytes back
+# (an RS-485 adapter), which must be taken out.
+# Usage: bridge_vcan_test.sh HUB NODE poll|token linux|linux_echo MB2CO_BRIDGE
 #        bridge_vcan_test.sh HUB NODE poll uno MB2CO_UNO BRIDGE_ELF
 set -u
-usage="usage: bridge_vcan_test.sh HUB NODE poll|token linux|uno BRIDGE_PROGRAM [ELF]"
+usage="usage: bridge_vcan_test.sh HUB NODE poll|token linux|linux_echo|uno BRIDGE_PROGRAM [ELF]"
 hub=${1:?$usage} node=${2:?$usage} access=${3:?$usage} kind=${4:?$usage} bridge=${5:?$usage} elf=${6:-}
 dir=$(mktemp -d)
 pids=()
@@ -22,6 +24,8 @@ cleanup() {
 trap cleanup EXIT
 fail() {
   echo "FAIL ($kind $access): $*" >&2
+  # The bridge's counters (mb2co-bridge --verbose prints them when it ends).
+  [[ -n ${bridge_pid:-} ]] && kill "$bridge_pid" && wait "$bridge_pid" 2>/dev/null
   echo "--- candump (last 40 lines)" >&2
   tail -n 40 "$dir/can.log" >&2
   for f in "$dir"/*.err; do [[ -s $f ]] && { echo "--- $f" >&2; cat "$f" >&2; }; done
@@ -45,6 +49,8 @@ if [[ $kind == uno ]]; then
   for ((i = 0; i < 200; i++)); do [[ -e $dir/uno ]] && break; sleep 0.05; done
   [[ -e $dir/uno ]] || fail "mb2co-uno made no pty"
   member=@$dir/uno
+elif [[ $kind == linux_echo ]]; then
+  member=+$dir/br
 else
   member=$dir/br
 fi
@@ -63,8 +69,11 @@ for ((i = 0; i < 100; i++)); do
 done
 grep -q ' 7FF#A5' "$dir/can.log" || fail "candump did not start"
 
-if [[ $kind == linux ]]; then
-  "$bridge" --serial "$dir/br" --can vcan0 --offset 32 --verbose "${seg[@]}" >"$dir/bridge.out" 2>"$dir/bridge.err" &
+if [[ $kind == linux* ]]; then
+  echo_opt=()
+  [[ $kind == linux_echo ]] && echo_opt=(--echo)
+  "$bridge" --serial "$dir/br" --can vcan0 --offset 32 --verbose "${echo_opt[@]}" "${seg[@]}" >"$dir/bridge.out" 2>"$dir/bridge.err" &
+  bridge_pid=$!
   pids+=($!)
 fi
 for n in 1 2 3; do
@@ -87,5 +96,19 @@ wait_for 10 ' 5A2#4[23]18100201040000$' || fail "no SDO answer of serial node 2 
 cansend vcan0 623#4018100100000000
 wait_for 10 ' 5A3#4[23]181001' || fail "no SDO answer of serial node 3 at 5A3h"
 
-echo "PASS ($kind $access): $(grep -cE ' 72[123]#' "$dir/can.log") boot-ups/heartbeats at 721h-723h, SDO answered at 5A2h and 5A3h"
+if [[ $kind == linux* ]]; then
+  # The bridge's counters at exit: everything crossed, nothing was dropped,
+  # and with an echoing adapter its own bytes were taken out.
+  kill "$bridge_pid"
+  wait "$bridge_pid" 2>/dev/null
+  counters=$(grep -o 'to_can=.*' "$dir/bridge.err")
+  [[ -n $counters ]] || fail "no counters from mb2co-bridge"
+  grep -q ' overflow=0 ' <<<"$counters" || fail "frames dropped: $counters"
+  if [[ $kind == linux_echo ]]; then
+    grep -qE 'echo_dropped=[1-9]' <<<"$counters" || fail "no echo taken out: $counters"
+  else
+    grep -q 'echo_dropped=0' <<<"$counters" || fail "echo taken out without --echo: $counters"
+  fi
+fi
+echo "PASS ($kind $access): $(grep -cE ' 72[123]#' "$dir/can.log") boot-ups/heartbeats at 721h-723h, SDO answered at 5A2h and 5A3h${counters:+; bridge: $counters}"
 exit 0

@@ -19,7 +19,11 @@ def main():
     masters = []
     keep = []
     made = []
+    echoing = set()
     for link in links:
+        if link.startswith("+"):
+            link = link[1:]
+            echoing.add(len(masters))
         if link.startswith("@"):
             fd = os.open(link[1:], os.O_RDWR | os.O_NOCTTY | os.O_NONBLOCK)
             tty.setraw(fd)
@@ -50,8 +54,8 @@ def main():
                     data = os.read(m, 4096)
                 except (BlockingIOError, OSError):
                     continue
-                for other in masters:
-                    if other != m:
+                for i, other in enumerate(masters):
+                    if other != m or i in echoing:
                         try:
                             os.write(other, data)
                         except OSError:

@@ -15,31 +15,53 @@ bool SegmentLine::write(void* ctx, const uint8_t* data, uint16_t length) {
     ++l.write_failures_;
     return false;
   }
-  if (l.echo_) {
-    for (uint16_t i = 0; i < length; ++i) {
-      if (l.expected_count_ == kEchoCapacity) {  // no echo came back: forget the oldest
-        l.expected_head_ = (l.expected_head_ + 1u) % kEchoCapacity;
-        --l.expected_count_;
-      }
-      l.expected_[(l.expected_head_ + l.expected_count_) % kEchoCapacity] = data[i];
-      ++l.expected_count_;
-    }
+  if (l.echo_ && length <= kMaxMessage) {
+    if (l.expected_count_ == kMaxExpected) l.drop_front();  // no echo came back: forget the oldest
+    Expected& e = l.expected_[(l.expected_head_ + l.expected_count_) % kMaxExpected];
+    for (uint16_t i = 0; i < length; ++i) e.bytes[i] = data[i];
+    e.length = static_cast<uint8_t>(length);
+    e.written_us = port::monotonic_us();
+    ++l.expected_count_;
   }
   return true;
 }
 
-bool SegmentLine::is_echo(uint8_t byte) {
-  if (!echo_ || expected_count_ == 0) return false;
-  if (expected_[expected_head_] != byte) {
-    // Not our echo (a collision spoiled it, or the adapter dropped it): stop
-    // expecting, so that others' bytes are not eaten.
-    expected_count_ = 0;
-    return false;
-  }
-  expected_head_ = (expected_head_ + 1u) % kEchoCapacity;
+void SegmentLine::drop_front() {
+  expected_head_ = (expected_head_ + 1u) % kMaxExpected;
   --expected_count_;
-  ++echo_dropped_;
-  return true;
+  matched_ = 0;
+}
+
+void SegmentLine::filter(uint8_t byte, uint32_t stamp_us, void (*on_byte)(void*, uint8_t, uint32_t),
+                         void* ctx) {
+  while (expected_count_ != 0 && matched_ == 0 &&
+         stamp_us - expected_[expected_head_].written_us > kEchoTimeoutUs &&
+         static_cast<int32_t>(stamp_us - expected_[expected_head_].written_us) > 0) {
+    drop_front();
+  }
+  if (expected_count_ == 0) {
+    on_byte(ctx, byte, stamp_us);
+    return;
+  }
+  const Expected& e = expected_[expected_head_];
+  if (byte == e.bytes[matched_]) {
+    held_stamps_[matched_++] = stamp_us;
+    if (matched_ == e.length) {  // the whole message came back: our echo
+      echo_dropped_ += e.length;
+      drop_front();
+    }
+    return;
+  }
+  // Not our echo (yet): what was held back was someone else's, then this byte
+  // (which may begin our echo).
+  const size_t held = matched_;
+  matched_ = 0;
+  for (size_t i = 0; i < held; ++i) on_byte(ctx, e.bytes[i], held_stamps_[i]);
+  if (byte == e.bytes[0]) {
+    held_stamps_[matched_++] = stamp_us;
+    return;
+  }
+  on_byte(ctx, byte, stamp_us);
 }
 
 Status SegmentLine::read(void (*on_byte)(void* ctx, uint8_t byte, uint32_t byte_us), void* ctx) {
@@ -51,7 +73,11 @@ Status SegmentLine::read(void (*on_byte)(void* ctx, uint8_t byte, uint32_t byte_
     if (!got) return got;
     if (n == 0) return Status::ok();
     for (size_t i = 0; i < n; ++i) {
-      if (!is_echo(bytes[i])) on_byte(ctx, bytes[i], stamps[i]);
+      if (echo_) {
+        filter(bytes[i], stamps[i], on_byte, ctx);
+      } else {
+        on_byte(ctx, bytes[i], stamps[i]);
+      }
     }
   }
 }

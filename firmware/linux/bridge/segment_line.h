@@ -2,6 +2,14 @@
 // link's ByteSink, bytes handed on stamped with CLOCK_MONOTONIC, and the echo
 // of an RS-485 adapter (it hands back every byte we send) taken out, because
 // the link must not hear itself (serial_link.h's contract).
+//
+// Echo: each message we write is expected back whole and in one run (our
+// UART sends it without gaps; bytes of others cannot be inside it without a
+// collision). Bytes that read before it (others' messages that were in the
+// input queue when we wrote) are passed on: while incoming bytes match the
+// front message's start they are held back; a mismatch releases them, in
+// order, with their stamps. A message whose echo does not begin within
+// kEchoTimeoutUs is no longer expected (the adapter does not echo it).
 #pragma once
 #include <stddef.h>
 #include <stdint.h>
@@ -34,14 +42,25 @@ class SegmentLine {
 
  private:
   static bool write(void* ctx, const uint8_t* data, uint16_t length);
-  bool is_echo(uint8_t byte);
+  /// One byte from the port through the echo filter to `on_byte`.
+  void filter(uint8_t byte, uint32_t stamp_us, void (*on_byte)(void*, uint8_t, uint32_t), void* ctx);
+  void drop_front();
 
-  static const size_t kEchoCapacity = 512;
+  static const size_t kMaxMessage = 64;  ///< longest stuffed message, with room
+  static const size_t kMaxExpected = 16;
+  static const uint32_t kEchoTimeoutUs = 200000;
+  struct Expected {
+    uint8_t bytes[kMaxMessage];
+    uint8_t length;
+    uint32_t written_us;
+  };
   port::SerialPort port_;
   bool echo_ = false;
-  uint8_t expected_[kEchoCapacity];  ///< our bytes whose echo is still to come, ring
+  Expected expected_[kMaxExpected];  ///< our messages whose echo is still to come, ring
   size_t expected_head_ = 0;
   size_t expected_count_ = 0;
+  size_t matched_ = 0;  ///< bytes of the front message matched (held back)
+  uint32_t held_stamps_[kMaxMessage];
   uint32_t echo_dropped_ = 0;
   uint32_t write_failures_ = 0;
 };

@@ -4,10 +4,7 @@
 // --heartbeat-ms. It sets 1019h to the windows per cycle (a poll SYNC carries
 // its counter) and 1017h, then runs like the bridge: one poll() loop.
 #include <errno.h>
-#include <fcntl.h>
 #include <poll.h>
-#include <signal.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <cstring>
@@ -18,13 +15,9 @@
 #include "segment_options.h"
 #include "serialnet/serial_link.h"
 #include "serialnet/serial_node.h"
+#include "stop_signal.h"
 
 namespace {
-
-volatile sig_atomic_t g_stop = 0;
-void on_signal(int) {
-  g_stop = 1;
-}
 
 void to_link(void* ctx, uint8_t byte, uint32_t byte_us) {
   static_cast<mb2co::serialnet::SerialLink*>(ctx)->on_byte(byte, byte_us);
@@ -67,10 +60,7 @@ int main(int argc, char** argv) {
       seg, seg.token ? serialnet::Access::kToken : serialnet::Access::kPolled, &config);
   if (!checked) return usage_error(checked.message());
 
-  struct sigaction sa = {};
-  sa.sa_handler = on_signal;
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  bridge::catch_stop_signals();
 
   bridge::SegmentLine line;
   const Status opened = line.open(seg);
@@ -93,18 +83,15 @@ int main(int argc, char** argv) {
   std::printf("ready node=%ld serial=%s\n", node_id, line.port().path().c_str());
   std::fflush(stdout);
 
-  while (!g_stop) {
+  while (!bridge::stop_requested()) {
     NextDeadline d(port::monotonic_us());
     io.node().next_deadline(d);
     link.next_deadline(d);
-    uint32_t at = 0;
-    int timeout = 100;
-    if (d.result(&at)) {
-      const uint32_t wait_us = time_until(d.now_us(), at);
-      if (wait_us < 100000u) timeout = static_cast<int>((wait_us + 999u) / 1000u);
-    }
     pollfd fd = {line.fd(), POLLIN, 0};
-    if (poll(&fd, 1, timeout) < 0 && errno != EINTR) return 1;
+    if (poll(&fd, 1, bridge::poll_timeout_ms(d)) < 0) {
+      if (errno == EINTR) continue;
+      return 1;
+    }
     if (fd.revents & (POLLIN | POLLERR | POLLHUP)) {
       const Status got = line.read(&to_link, &link);
       if (!got) {

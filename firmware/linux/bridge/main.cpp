@@ -3,10 +3,7 @@
 // thread, one poll() loop that sleeps until a byte, a frame or the bridge's
 // next deadline (its polls and windows are timed in CLOCK_MONOTONIC µs).
 #include <errno.h>
-#include <fcntl.h>
 #include <poll.h>
-#include <signal.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <cstring>
@@ -16,16 +13,9 @@
 #include "segment_line.h"
 #include "serialnet/bridge.h"
 #include "socketcan_port.h"
+#include "stop_signal.h"
 
 namespace {
-
-int g_signal_pipe[2] = {-1, -1};
-
-void on_signal(int) {
-  const char b = 1;
-  const ssize_t n = write(g_signal_pipe[1], &b, 1);
-  (void)n;
-}
 
 int fail(const std::string& what) {
   std::fprintf(stderr, "mb2co-bridge: %s\n", what.c_str());
@@ -36,14 +26,10 @@ void to_bridge(void* ctx, uint8_t byte, uint32_t byte_us) {
   static_cast<mb2co::serialnet::Bridge*>(ctx)->on_byte(byte, byte_us);
 }
 
-/// Milliseconds poll() may sleep: until the deadline (rounded up), at most 100.
 int poll_timeout_ms(const mb2co::serialnet::Bridge& bridge, uint32_t now) {
   mb2co::NextDeadline d(now);
   bridge.next_deadline(d);
-  uint32_t at = 0;
-  if (!d.result(&at)) return 100;
-  const uint32_t wait_us = mb2co::time_until(now, at);
-  return wait_us >= 100000u ? 100 : static_cast<int>((wait_us + 999u) / 1000u);
+  return mb2co::bridge::poll_timeout_ms(d);
 }
 
 }  // namespace
@@ -68,14 +54,7 @@ int main(int argc, char** argv) {
     return 0;
   }
 
-  if (pipe2(g_signal_pipe, O_CLOEXEC | O_NONBLOCK) != 0)
-    return fail(std::string("pipe: ") + std::strerror(errno));
-  struct sigaction sa = {};
-  sa.sa_handler = on_signal;
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-  signal(SIGPIPE, SIG_IGN);
-
+  bridge::catch_stop_signals();
   bridge::SegmentLine line;
   const Status opened = line.open(opt.segment);
   if (!opened) return fail(opened.message());
@@ -90,12 +69,12 @@ int main(int argc, char** argv) {
               opt.segment.token ? "token" : "poll");
   std::fflush(stdout);
 
-  for (;;) {
-    pollfd fds[3] = {{line.fd(), POLLIN, 0}, {can.fd(), POLLIN, 0}, {g_signal_pipe[0], POLLIN, 0}};
-    const int timeout = poll_timeout_ms(br, port::monotonic_us());
-    if (poll(fds, 3, timeout) < 0 && errno != EINTR)
+  while (!bridge::stop_requested()) {
+    pollfd fds[2] = {{line.fd(), POLLIN, 0}, {can.fd(), POLLIN, 0}};
+    if (poll(fds, 2, poll_timeout_ms(br, port::monotonic_us())) < 0) {
+      if (errno == EINTR) continue;
       return fail(std::string("poll: ") + std::strerror(errno));
-    if (fds[2].revents & POLLIN) break;
+    }
     if (fds[0].revents & (POLLIN | POLLERR | POLLHUP)) {
       const Status got = line.read(&to_bridge, &br);
       if (!got) return fail(got.message());

@@ -6,11 +6,11 @@
 set -u
 list=$(ctest --test-dir "${1:?usage: registered_tests.sh BUILD_DIR}" -N)
 missing=0
-for name in vcan.socketcan_port node.ring uno.vcan master.network master.transfers master.configure \
+for name in vcan.socketcan_port node.ring load.bus_flood uno.vcan master.network master.transfers master.configure \
             peers.npm_client_vs_node peers.npm_client_vs_npm_server peers.npm_listen_nmt_sync \
             peers.master_vs_npm_server peers.block_by_hand labs.doc live.serial_operator \
-            serialnet.avr_compile.serial_link bridge.vcan_poll bridge.vcan_token \
-            bridge.vcan_echo bridge.uno_vcan; do
+            serialnet.avr_compile.serial_link cli.table_up_to_date cli.install_tree \
+            bridge.vcan_poll bridge.vcan_token bridge.vcan_echo bridge.uno_vcan; do
   if ! grep -qE "Test +#[0-9]+: ${name//./\\.}\$" <<<"$list"; then
     echo "not registered: $name" >&2
     missing=$((missing + 1))

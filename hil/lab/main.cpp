@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <string>
 
 #include "options.h"
@@ -38,15 +39,14 @@ Status write_file(const std::filesystem::path& path, const std::string& text) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  const cli::Parsed parsed = cli::parse(lab::program(), argc, argv);
+  const int early = cli::finish_early(lab::program(), parsed, std::cout, std::cerr);
+  if (early >= 0) return early;
   lab::Options o;
-  const Status parsed = lab::parse_options(argc, argv, &o);
-  if (!parsed) {
-    std::fprintf(stderr, "mb2co-lab: %s\n", parsed.message().c_str());
+  const Status applied = lab::apply_options(parsed.args, &o);
+  if (!applied) {
+    std::fprintf(stderr, "mb2co-lab: %s\n", applied.message().c_str());
     return 2;
-  }
-  if (o.help) {
-    std::fputs(lab::usage(), stdout);
-    return 0;
   }
   Status usable = sim::check_line_config(o.line);
   if (usable && o.scenario != lab::Scenario::kLatency) {

@@ -13,7 +13,9 @@
 # die when it ends. Its stdout/stderr reach ours.
 #
 # Exit status: the command's (124 when --timeout hit it, 128+N for signal N);
-# 125 with one line on stderr when the sandbox could not be set up.
+# 125 with one line on stderr when the sandbox could not be set up or an option
+# is bad (not 2: that may be the command's own); --help: this text, exit 0;
+# --version: the project's version (CMakeLists.txt), exit 0.
 # Environment: MB2CO_VCAN_MODE (same as --mode), MB2CO_UML_MEM (default 512M),
 # MB2CO_VCAN_KEEP=1 keeps the run's temp dir (request, console.log) for a look.
 set -euo pipefail
@@ -28,18 +30,27 @@ die() {
   echo "run-with-vcan: $*" >&2
   exit 125
 }
+usage_line="usage: run-with-vcan.sh [--ifaces vcan0,vcan1] [--timeout SEC] [--mode auto|host|uml] -- COMMAND [ARGS...]"
 usage() {
-  echo "usage: run-with-vcan.sh [--ifaces vcan0,vcan1] [--timeout SEC] [--mode auto|host|uml] -- COMMAND [ARGS...]" >&2
+  echo "$usage_line" >&2
   exit 125
+}
+# --help is an answer, not an error (docs/cli.md): the usage on stdout, exit 0.
+help() {
+  echo "$usage_line"
+  sed -n '2,/^set -euo/{/^set -euo/d;s/^# \{0,1\}//;p}' "${BASH_SOURCE[0]}" | sed '1,/^Usage/{/^Usage/d;d}' | sed '1,/^$/d'
+  exit 0
 }
 
 while (($#)); do
   case $1 in
-    --ifaces) (($# >= 2)) || usage; ifaces=$2; shift 2 ;;
-    --timeout) (($# >= 2)) || usage; timeout_s=$2; shift 2 ;;
-    --mode) (($# >= 2)) || usage; mode=$2; shift 2 ;;
+    --ifaces | --timeout | --mode) (($# >= 2)) || die "$1 needs a value" ;;&
+    --ifaces) ifaces=$2; shift 2 ;;
+    --timeout) timeout_s=$2; shift 2 ;;
+    --mode) mode=$2; shift 2 ;;
     --) shift; break ;;
-    -h | --help) usage ;;
+    -h | --help) help ;;
+    --version) echo "run-with-vcan.sh $(sed -n 's/^project(mb2co VERSION \([0-9.]*\).*/\1/p' "$here/../../CMakeLists.txt")"; exit 0 ;;
     *) die "unknown option '$1' (the command goes after --)" ;;
   esac
 done

@@ -12,6 +12,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <iostream>
 #include <string>
 
 #include "eeprom_image.h"
@@ -55,21 +56,12 @@ void say(const std::string& line) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  const cli::Parsed parsed = cli::parse(uno::program(), argc, argv);
+  const int early = cli::finish_early(uno::program(), parsed, std::cout, std::cerr);
+  if (early >= 0) return early;
   uno::UnoOptions opt;
   opt.elf = MB2CO_UNO_DEFAULT_ELF;
-  const Status parsed = uno::parse_options(argc, argv, &opt);
-  if (!parsed) {
-    fprintf(stderr, "mb2co-uno: %s\n", parsed.message().c_str());
-    return 2;
-  }
-  if (opt.help) {
-    fputs(uno::usage(), stdout);
-    return 0;
-  }
-  if (opt.version) {
-    puts("mb2co-uno 0.1.0");
-    return 0;
-  }
+  uno::apply_options(parsed.args, &opt);
 
   if (pipe2(g_signal_pipe, O_CLOEXEC | O_NONBLOCK) != 0) return fail(std::string("pipe: ") + strerror(errno));
   struct sigaction sa = {};

@@ -1,11 +1,11 @@
-// Command line of mb2co-uno. Parsing is apart from main so that bad input
-// gives one line and exit 2, and tests can call it directly.
+// Command line of mb2co-uno (docs/cli.md, shared/host/cli.h): bad input gives
+// one line and exit 2.
 #pragma once
 #include <stdint.h>
 
 #include <string>
 
-#include "host/status.h"
+#include "host/cli.h"
 
 namespace mb2co {
 namespace uno {
@@ -18,13 +18,12 @@ struct UnoOptions {
   uint32_t duration_ms = 0;   ///< --duration S: stop after S simulated seconds (0: run on)
   bool unpaced = false;       ///< --unpaced: as fast as simavr can (measurements)
   bool trace_can = false;     ///< --trace-can: a "can" line per frame the chip sends
-  bool help = false;
-  bool version = false;
 };
 
-/// Parses argv; a failure says why in one line.
-Status parse_options(int argc, const char* const* argv, UnoOptions* out);
-const char* usage();
+/// The option table of mb2co-uno (help, parser and completion come from it).
+const cli::Program& program();
+/// Fills `out` from a parse of program() (fields not given keep their value).
+void apply_options(const cli::Args& args, UnoOptions* out);
 
 }  // namespace uno
 }  // namespace mb2co

@@ -1,36 +1,48 @@
 // mb2co-od: prints a node's Object Dictionary as Markdown or as an EDS file.
-//   mb2co-od --node ionode --format md|eds
+//   mb2co-od --node ionode|gateway --format md|eds|registers
 #include <cstdio>
-#include <cstring>
+#include <iostream>
 #include <string>
 
 #include "gateway/gateway.h"
+#include "host/cli.h"
 #include "ionode/io_node.h"
 #include "od_export.h"
 
+namespace {
+
+mb2co::cli::Program make_program() {
+  namespace cli = mb2co::cli;
+  cli::Program p;
+  p.name = "mb2co-od";
+  p.description =
+      "Prints a node's Object Dictionary as Markdown, as an EDS file (CiA 306) or,\n"
+      "for the gateway, as its Modbus register map.\n";
+  cli::Command c;
+  c.options = {
+      cli::choice("--node", {"ionode", "gateway"}, "the node (default ionode)"),
+      cli::choice("--format", {"md", "eds", "registers"}, "md (default), eds, or registers (gateway only)")};
+  p.commands = {c};
+  p.footer = "\nexit status: 0 done, 2 usage error (one line on stderr)\n";
+  return p;
+}
+
+const mb2co::cli::Program& program() {
+  static const mb2co::cli::Program p = make_program();
+  return p;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  std::string node = "ionode";
-  std::string format = "md";
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if ((a == "--node" || a == "--format") && i + 1 < argc) {
-      (a == "--node" ? node : format) = argv[++i];
-    } else if (a == "--help" || a == "-h") {
-      std::printf("usage: mb2co-od [--node ionode|gateway] [--format md|eds|registers]\n");
-      return 0;
-    } else {
-      std::fprintf(stderr, "mb2co-od: unknown argument '%s' (try --help)\n", a.c_str());
-      return 2;
-    }
-  }
-  if (node != "ionode" && node != "gateway") {
-    std::fprintf(stderr, "mb2co-od: unknown node '%s' (ionode or gateway)\n", node.c_str());
-    return 2;
-  }
-  if (format != "md" && format != "eds" && !(format == "registers" && node == "gateway")) {
-    std::fprintf(stderr, "mb2co-od: unknown format '%s' (md, eds; registers for the gateway)\n",
-                 format.c_str());
-    return 2;
+  const mb2co::cli::Parsed parsed = mb2co::cli::parse(program(), argc, argv);
+  const int early = mb2co::cli::finish_early(program(), parsed, std::cout, std::cerr);
+  if (early >= 0) return early;
+  const std::string node = parsed.args.get("--node", "ionode");
+  const std::string format = parsed.args.get("--format", "md");
+  if (format == "registers" && node != "gateway") {
+    std::fprintf(stderr, "mb2co-od: --format registers is the gateway's (add --node gateway)\n");
+    return mb2co::cli::kExitUsage;
   }
   const mb2co::CanSink nowhere{[](void*, const mb2co::CanFrame&) { return true; }, nullptr};
   static mb2co::ionode::IoNode io(nowhere);

@@ -15,7 +15,7 @@ int main(int argc, char** argv) {
   using namespace mb2co::pcapp;
   QCoreApplication app(argc, argv);
   QCoreApplication::setApplicationName("mb2co-plant");
-  QCoreApplication::setApplicationVersion("0.1.0");
+  QCoreApplication::setApplicationVersion(MB2CO_VERSION);
 
   AppOptions options;
   const mb2co::Status parsed = parse_options(QCoreApplication::arguments(), options);

@@ -4,6 +4,8 @@
 #include <QCoreApplication>
 #include <type_traits>
 
+#include "host/cli_values.h"
+
 namespace mb2co {
 namespace pcapp {
 
@@ -42,7 +44,7 @@ Status parse_options(const QStringList& args, AppOptions& o) {
                                 "PATH");
   const QCommandLineOption list("list-ports", "List serial ports (Arduinos marked) and exit.");
   const QCommandLineOption baud("baud", "Baud rate (default 115200).", "N", "115200");
-  const QCommandLineOption parity("parity", "Parity N, E or O (default N).", "P", "N");
+  const QCommandLineOption parity("parity", "Parity N, E or O, or none, even, odd (default N).", "P", "N");
   const QCommandLineOption slave("slave", "Modbus address of the gateway 1..247 (default 1).", "N", "1");
   const QCommandLineOption cycle("cycle-ms",
                                  "Control cycle = plant step in ms, 1..1000 (default: the config's "
@@ -71,10 +73,29 @@ Status parse_options(const QStringList& args, AppOptions& o) {
                                   "START");
   const QCommandLineOption presses("presses", "latency: stop after N measured presses.", "N");
   const QCommandLineOption csv("csv", "latency: CSV of every press.", "FILE");
-  p.addOptions({port, list, baud, parity, slave, cycle, config, timeout, retries, boot, no_reset, reconnect,
-                log, plain, cycles, remote, button, presses, csv});
+  // Bash completion asks for the words (docs/cli.md); not in --help.
+  QCommandLineOption list_options("list-options", "Words for bash completion.");
+  list_options.setFlags(QCommandLineOption::HiddenFromHelp);
+  const QList<QCommandLineOption> all = {port,    list,    baud,   parity,   slave,     cycle, config,
+                                         timeout, retries, boot,   no_reset, reconnect, log,   plain,
+                                         cycles,  remote,  button, presses,  csv};
+  p.addOptions(all);
+  p.addOption(list_options);
 
+  // The wording of docs/cli.md, not Qt's: "unknown option --x", "--x needs a value".
   if (!p.parse(args)) {
+    if (!p.unknownOptionNames().isEmpty()) {
+      const QString name = p.unknownOptionNames().front();
+      return Status::failure(
+          QString((name.size() == 1 ? "unknown option -" : "unknown option --") + name + " (try --help)")
+              .toStdString());
+    }
+    const QString missing = "Missing value after '";
+    if (p.errorText().startsWith(missing)) {
+      QString name = p.errorText().mid(missing.size());
+      name.chop(2);  // "'."
+      return Status::failure(QString(name + " needs a value").toStdString());
+    }
     return Status::failure(QString(p.errorText() + " (try --help)").toStdString());
   }
   if (p.isSet(help)) {
@@ -84,6 +105,19 @@ Status parse_options(const QStringList& args, AppOptions& o) {
   if (p.isSet(version)) {
     o.exit_text = QCoreApplication::applicationName() + " " + QCoreApplication::applicationVersion() + "\n";
     return Status::ok();
+  }
+  if (p.isSet(list_options)) {
+    o.exit_text = "station\nlatency\n";
+    for (const QCommandLineOption& opt : all) {
+      o.exit_text += "--" + opt.names().back() + (opt.valueName().isEmpty() ? " flag\n" : " value\n");
+    }
+    o.exit_text += "--help flag\n--version flag\n";
+    return Status::ok();
+  }
+  for (const QCommandLineOption& opt : all) {
+    if (p.values(opt).size() > 1) {
+      return Status::failure(QString("--" + opt.names().back() + " given twice").toStdString());
+    }
   }
   const QStringList pos = p.positionalArguments();
   if (pos.size() > 1 || (pos.size() == 1 && pos[0] != "station" && pos[0] != "latency")) {
@@ -122,11 +156,10 @@ Status parse_options(const QStringList& args, AppOptions& o) {
         QString("bad --baud '" + p.value(baud) + "' (a standard rate such as 9600, 19200, 115200)")
             .toStdString());
   }
-  const QString par = p.value(parity).toUpper();
-  if (par != "N" && par != "E" && par != "O") {
-    return Status::failure(QString("bad --parity '" + p.value(parity) + "' (N, E or O)").toStdString());
-  }
-  o.parity = par.at(0).toLatin1();
+  cli::Parity par = cli::Parity::kNone;
+  Status parity_ok = cli::parse_parity("--parity", p.value(parity).toStdString(), &par);
+  if (!parity_ok) return parity_ok;
+  o.parity = cli::parity_letter(par);
   if (p.isSet(no_reset)) {
     if (p.isSet(boot)) {
       return Status::failure("--no-reset-wait and --boot-wait-ms exclude each other");

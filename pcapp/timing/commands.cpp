@@ -17,7 +17,8 @@ const char* const kLineOptions[] = {"--no-tpdo1",      "--tpdo-dlc",         "--
 
 }  // namespace
 
-Status message_set_option(const Options& o, std::vector<timing::MessageSpec>& set, uint32_t* bitrate_bps) {
+Status message_set_option(const Options& o, std::vector<timing::MessageSpec>& set, uint32_t* bitrate_bps,
+                          bool* runtime_failure) {
   if (o.has("--line")) {
     if (!o.positional.empty()) {
       return Status::failure("give FILE.csv or --line N, not both");
@@ -47,54 +48,43 @@ Status message_set_option(const Options& o, std::vector<timing::MessageSpec>& se
   if (!o.has("--bitrate")) {
     return Status::failure("missing --bitrate B (bit/s) for " + o.positional[0]);
   }
-  uint64_t bitrate = 0;
-  Status s = uint_option(o, "--bitrate", 1, timing::kMaxBitrateBps, 0, true, &bitrate);
-  if (!s) return s;
-  if (!(s = read_message_csv(o.positional[0], set))) return s;
+  Status s = read_message_csv(o.positional[0], set);
+  if (!s) {
+    *runtime_failure = true;
+    return s;
+  }
   timing::sort_by_priority(set.data(), set.size());
-  *bitrate_bps = static_cast<uint32_t>(bitrate);
+  *bitrate_bps = o.args.bitrate_bps("--bitrate", 0);
   return Status::ok();
 }
 
 int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
-  const std::string program = "mb2co-timing";
-  if (argc < 2) {
-    err << program << ": missing command (frame, load, rta, latency); see --help\n";
-    return 1;
-  }
-  const std::string first = argv[1];
-  if (first == "--help" || first == "-h" || first == "help") {
-    out << usage_text();
-    return 0;
-  }
-  if (first == "--version") {
-    out << program << " 0.1.0\n";
-    return 0;
-  }
-  Options options;
+  const cli::Parsed parsed = cli::parse(program(), argc, argv);
+  const int early = cli::finish_early(program(), parsed, out, err);
+  if (early >= 0) return early;
+  const Options options = options_of(parsed.args);
   bool deadline_missed = false;
-  Status status = parse_options(argc, argv, options);
-  if (status) {
-    switch (options.command) {
-      case kFrame:
-        status = frame_command(options, out);
-        break;
-      case kLoad:
-        status = load_command(options, out);
-        break;
-      case kRta:
-        status = rta_command(options, out, &deadline_missed);
-        break;
-      case kLatency:
-        status = latency_command(options, out);
-        break;
-    }
+  bool runtime_failure = false;
+  Status status;
+  switch (options.command) {
+    case kFrame:
+      status = frame_command(options, out);
+      break;
+    case kLoad:
+      status = load_command(options, out, &runtime_failure);
+      break;
+    case kRta:
+      status = rta_command(options, out, &deadline_missed, &runtime_failure);
+      break;
+    case kLatency:
+      status = latency_command(options, out);
+      break;
   }
   if (!status) {
-    err << program << ": " << status.message() << '\n';
-    return 1;
+    err << program().name << ": " << status.message() << '\n';
+    return runtime_failure ? cli::kExitRuntime : cli::kExitUsage;
   }
-  return deadline_missed ? 3 : 0;
+  return deadline_missed ? 3 : cli::kExitDone;
 }
 
 }  // namespace timing_cli

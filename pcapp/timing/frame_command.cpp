@@ -68,7 +68,7 @@ Status exact_frame(const Options& o, uint32_t bitrate, timing::WorstCase convent
   if (o.has("--data") && !(s = parse_hex_bytes(o.get("--data"), frame))) return s;
   if (o.has("--dlc")) {
     uint64_t dlc = 0;
-    if (!(s = uint_option(o, "--dlc", 0, 8, 0, false, &dlc))) return s;
+    if (!(s = uint_option(o, "--dlc", 0, 8, 0, &dlc))) return s;
     if (!frame.rtr() && o.has("--data") && dlc != frame.dlc) {
       return Status::failure("option --dlc disagrees with the " + std::to_string(frame.dlc) +
                              " bytes of --data");
@@ -104,24 +104,19 @@ Status exact_frame(const Options& o, uint32_t bitrate, timing::WorstCase convent
 }  // namespace
 
 Status frame_command(const Options& o, std::ostream& out) {
-  uint64_t bitrate = 0;
+  const uint32_t rate = o.args.bitrate_bps("--bitrate", 1000000);
   timing::WorstCase convention = timing::WorstCase::kDavis;
   Format format = Format::kTable;
-  Status s = uint_option(o, "--bitrate", 1, timing::kMaxBitrateBps, 1000000, true, &bitrate);
-  if (s) s = frame_bits_option(o, &convention);
+  Status s = frame_bits_option(o, &convention);
   if (s) s = format_option(o, &format);
   if (!s) return s;
-  if (!o.positional.empty()) {
-    return Status::failure("unexpected argument \"" + o.positional[0] + "\"");
-  }
-  const uint32_t rate = static_cast<uint32_t>(bitrate);
   if (o.has("--id") || o.has("--data") || o.has("--rtr")) {
     return exact_frame(o, rate, convention, out, format);
   }
   uint64_t dlc_first = 0;
   uint64_t dlc_last = 8;
   if (o.has("--dlc")) {
-    if (!(s = uint_option(o, "--dlc", 0, 8, 0, false, &dlc_first))) return s;
+    if (!(s = uint_option(o, "--dlc", 0, 8, 0, &dlc_first))) return s;
     dlc_last = dlc_first;
   }
   const bool ext = o.has("--ext");

@@ -12,23 +12,18 @@ namespace {
 
 Status serial_options(const Options& o, timing::LatencyParams& p) {
   uint64_t v = 0;
-  Status s = uint_option(o, "--baud", 1, 10000000, p.serial.baud, true, &v);
+  Status s = uint_option(o, "--baud", 1, 10000000, p.serial.baud, &v);
   if (!s) return s;
   p.serial.baud = static_cast<uint32_t>(v);
-  if (!(s = uint_option(o, "--stop-bits", 1, 2, p.serial.stop_bits, false, &v))) return s;
+  if (!(s = uint_option(o, "--stop-bits", 1, 2, p.serial.stop_bits, &v))) return s;
   p.serial.stop_bits = static_cast<uint8_t>(v);
-  if (o.has("--parity")) {
-    const std::string& parity = o.get("--parity");
-    if (parity == "even") {
-      p.serial.parity = timing::Parity::kEven;
-    } else if (parity == "odd") {
-      p.serial.parity = timing::Parity::kOdd;
-    } else if (parity == "none") {
-      p.serial.parity = timing::Parity::kNone;
-    } else {
-      return Status::failure("option --parity must be even, odd or none, got \"" + parity + "\"");
-    }
-  }
+  const cli::Parity fallback = p.serial.parity == timing::Parity::kEven  ? cli::Parity::kEven
+                               : p.serial.parity == timing::Parity::kOdd ? cli::Parity::kOdd
+                                                                         : cli::Parity::kNone;
+  const cli::Parity parity = o.args.parity("--parity", fallback);
+  p.serial.parity = parity == cli::Parity::kEven  ? timing::Parity::kEven
+                    : parity == cli::Parity::kOdd ? timing::Parity::kOdd
+                                                  : timing::Parity::kNone;
   p.slave_waits_t35 = !o.has("--no-t35");
   return Status::ok();
 }
@@ -44,7 +39,7 @@ Status time_options(const Options& o, timing::LatencyParams& p) {
                       {"--master-end-us", &p.master_end_us}};
   for (const auto& f : fields) {
     uint64_t v = 0;
-    Status s = uint_option(o, f.name, 0, 100000000, *f.field, false, &v);
+    Status s = uint_option(o, f.name, 0, 100000000, *f.field, &v);
     if (!s) return s;
     *f.field = static_cast<uint32_t>(v);
   }
@@ -72,13 +67,9 @@ Status latency_command(const Options& o, std::ostream& out) {
   if (s) s = line_config_option(o, &line);
   if (s) s = serial_options(o, p);
   if (s) s = time_options(o, p);
-  if (s)
-    s = uint_option(o, "--button-node", 1, timing::kMaxStations, kDefaultButtonNode, false, &button_node);
-  if (s) s = uint_option(o, "--pc-node", 1, timing::kMaxStations, kDefaultPcNode, false, &pc_node);
+  if (s) s = uint_option(o, "--button-node", 1, timing::kMaxStations, kDefaultButtonNode, &button_node);
+  if (s) s = uint_option(o, "--pc-node", 1, timing::kMaxStations, kDefaultPcNode, &pc_node);
   if (!s) return s;
-  if (!o.positional.empty()) {
-    return Status::failure("unexpected argument \"" + o.positional[0] + "\"");
-  }
   p.inhibit_us = uint32_t{line.tpdo1_inhibit_100us} * 100u;
 
   const size_t capacity = timing::line_message_count(line);

@@ -1,144 +1,144 @@
 #include "options.h"
 
-#include <cstdio>
-#include <cstring>
-
 #include "timing/latency.h"
 
 namespace mb2co {
 namespace timing_cli {
 namespace {
 
-struct OptionSpec {
-  const char* name;
-  bool takes_value;
-  unsigned commands;  // Command bits
-};
+std::string num(uint64_t v) {
+  return std::to_string(v);
+}
 
-constexpr unsigned kSets = kLoad | kRta | kLatency;  // commands that analyse a message set
-constexpr unsigned kAll = kFrame | kSets;
+/// Options every command takes.
+std::vector<cli::Option> common_options(const char* bitrate_default) {
+  return {
+      cli::bitrate("--bitrate", 1000, timing::kMaxBitrateBps,
+                   std::string("CAN bit rate: 125k, 500k, 1M or bit/s (") + bitrate_default + ")"),
+      cli::choice("--frame-bits", {"course", "davis"}, "worst-case stuffing bound (default davis)"),
+      cli::flag("--json", "JSON instead of a table"),
+      cli::flag("--csv", "CSV rows instead of a table"),
+  };
+}
 
-const OptionSpec kSpecs[] = {
-    {"--bitrate", true, kAll},
-    {"--frame-bits", true, kAll},
-    {"--json", false, kAll},
-    {"--csv", false, kAll},
-    {"--dlc", true, kFrame},
-    {"--ext", false, kFrame},
-    {"--id", true, kFrame},
-    {"--data", true, kFrame},
-    {"--rtr", false, kFrame},
-    {"--window-us", true, kLoad},
-    {"--svg", true, kRta},
-    {"--message", true, kRta},
-    {"--check", false, kRta},
-    {"--line", true, kSets},
-    {"--no-tpdo1", false, kSets},
-    {"--tpdo-dlc", true, kSets},
-    {"--tpdo-inhibit-100us", true, kSets},
-    {"--tpdo-event-ms", true, kSets},
-    {"--tpdo-deadline-us", true, kSets},
-    {"--heartbeat-ms", true, kSets},
-    {"--sync-us", true, kSets},
-    {"--sync-tpdos", true, kSets},
-    {"--sync-dlc", true, kSets},
-    {"--sync-type", true, kSets},
-    {"--jitter-us", true, kSets},
-    {"--button-node", true, kLatency},
-    {"--pc-node", true, kLatency},
-    {"--baud", true, kLatency},
-    {"--parity", true, kLatency},
-    {"--stop-bits", true, kLatency},
-    {"--debounce-us", true, kLatency},
-    {"--fw-loop-us", true, kLatency},
-    {"--pc-cycle-us", true, kLatency},
-    {"--pc-compute-us", true, kLatency},
-    {"--master-end-us", true, kLatency},
-    {"--no-t35", false, kLatency},
-};
+/// --line N and the CANopen configuration of its stations (node IDs 1..N).
+std::vector<cli::Option> line_options() {
+  const timing::LineCanConfig c;
+  return {
+      cli::uint_range("--line", "N", 1, timing::kMaxStations,
+                      "the message set of N stations instead of a CSV (default " + num(c.stations) + ")"),
+      cli::flag("--no-tpdo1", "line: no event-driven TPDO1"),
+      cli::uint_range("--tpdo-dlc", "N", 0, 8, "line: TPDO1 DLC (default " + num(c.tpdo1_dlc) + ")"),
+      cli::uint_range("--tpdo-inhibit-100us", "N", 0, UINT16_MAX,
+                      "line: TPDO1 inhibit time, 100 us units (default " + num(c.tpdo1_inhibit_100us) + ")"),
+      cli::uint_range("--tpdo-event-ms", "MS", 0, UINT16_MAX,
+                      "line: TPDO1 event timer (default " + num(c.tpdo1_event_timer_ms) + ")"),
+      cli::uint_range(
+          "--tpdo-deadline-us", "US", 0, UINT32_MAX,
+          "line: TPDO1 deadline, 0 = its inhibit time (default " + num(c.tpdo1_deadline_us) + ")"),
+      cli::uint_range("--heartbeat-ms", "MS", 0, UINT16_MAX,
+                      "line: heartbeat period (default " + num(c.heartbeat_ms) + ")"),
+      cli::uint_range("--sync-us", "US", 0, UINT32_MAX,
+                      "line: SYNC period, 0 = none (default " + num(c.sync_period_us) + ")"),
+      cli::uint_range("--sync-tpdos", "N", 0, timing::kMaxSyncTpdos,
+                      "line: synchronous TPDOs per station (default " + num(c.sync_tpdos) + ")"),
+      cli::uint_range("--sync-dlc", "N", 0, 8, "line: their DLC (default " + num(c.sync_tpdo_dlc) + ")"),
+      cli::uint_range("--sync-type", "N", 1, 240,
+                      "line: their transmission type (default " + num(c.sync_transmission_type) + ")"),
+      cli::uint_range("--jitter-us", "US", 0, UINT32_MAX,
+                      "line: queuing jitter of every message (default " + num(c.queue_jitter_us) + ")"),
+  };
+}
 
-const OptionSpec* find_spec(const std::string& name) {
-  for (const OptionSpec& s : kSpecs) {
-    if (name == s.name) return &s;
-  }
-  return nullptr;
+std::vector<cli::Option> latency_options() {
+  const timing::LatencyParams lat;
+  return {
+      cli::uint_range("--button-node", "N", 1, timing::kMaxStations,
+                      "node of the button (default " + num(kDefaultButtonNode) + ")"),
+      cli::uint_range("--pc-node", "N", 1, timing::kMaxStations,
+                      "node of the PC's gateway (default " + num(kDefaultPcNode) + ")"),
+      cli::uint_range("--baud", "N", 1, 10000000,
+                      "Modbus/RTU baud rate (default " + num(lat.serial.baud) + ")"),
+      cli::parity("--parity", std::string("Modbus/RTU parity (default ") +
+                                  (lat.serial.parity == timing::Parity::kEven  ? "E"
+                                   : lat.serial.parity == timing::Parity::kOdd ? "O"
+                                                                               : "N") +
+                                  ")"),
+      cli::uint_range("--stop-bits", "N", 1, 2, "stop bits (default " + num(lat.serial.stop_bits) + ")"),
+      cli::uint_range("--debounce-us", "US", 0, 100000000,
+                      "button debounce (default " + num(lat.debounce_us) + ")"),
+      cli::uint_range("--fw-loop-us", "US", 0, 100000000,
+                      "firmware loop pass (default " + num(lat.fw_loop_us) + ")"),
+      cli::uint_range("--pc-cycle-us", "US", 0, 100000000,
+                      "PC control cycle (default " + num(lat.pc_cycle_us) + ")"),
+      cli::uint_range("--pc-compute-us", "US", 0, 100000000,
+                      "PC compute time per cycle (default " + num(lat.pc_compute_us) + ")"),
+      cli::uint_range("--master-end-us", "US", 0, 100000000,
+                      "Modbus master turnaround (default " + num(lat.master_end_us) + ")"),
+      cli::flag("--no-t35", "the slave answers without waiting t3.5"),
+  };
+}
+
+std::vector<cli::Option> join(std::vector<cli::Option> a, const std::vector<cli::Option>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+cli::Program make_program() {
+  cli::Program p;
+  p.name = "mb2co-timing";
+  p.description = "Timing analysis of a CAN/CANopen line (seed 000 §2.9-2.13, §11).\n";
+  cli::Command frame{"frame", "frame length in bits and transmission time (all DLCs, or one exact frame)", "",
+                     0,
+                     join(common_options("default 1M"),
+                          {cli::uint_range("--dlc", "N", 0, 8, "only this DLC (default: all 0..8)"),
+                           cli::flag("--ext", "29-bit identifier"),
+                           cli::text("--id", "X", "exact length of this frame's identifier (0x.. hex)"),
+                           cli::text("--data", "HEX", "its data bytes, e.g. 0102ff (needs --id)"),
+                           cli::flag("--rtr", "a remote frame (needs --id)")})};
+  const std::vector<cli::Option> set =
+      join(common_options("needed with FILE.csv; --line: 1M"), line_options());
+  cli::Command load{"load", "bus load and utilisation of a message set (FILE.csv or --line N)", "[FILE.csv]",
+                    1,
+                    join(set, {cli::uint_range("--window-us", "US", 1, UINT32_MAX,
+                                               "also the worst-case bits in a window of US")})};
+  cli::Command rta{"rta", "worst-case response times: first attempt and revised analysis", "[FILE.csv]", 1,
+                   join(set, {cli::flag("--check", "exit 3 unless every deadline is met"),
+                              cli::file("--svg", "OUT.svg", "draw the worst-case busy period of --message"),
+                              cli::text("--message", "NAME", "the message --svg draws")})};
+  cli::Command latency{"latency", "button-to-LED bound, Modbus only and Modbus + CANopen", "", 0,
+                       join(set, latency_options())};
+  p.commands = {frame, load, rta, latency};
+  p.footer =
+      "\nCSV columns: name,id,ext,dlc,period_us[,deadline_us,jitter_us,c_us,bits]\n"
+      "exit status: 0 done, 1 runtime error, 2 usage error (one line on stderr), 3 rta --check found a "
+      "miss\n";
+  return p;
 }
 
 }  // namespace
 
-Status parse_options(int argc, char** argv, Options& out) {
-  const std::string command = argv[1];
-  if (command == "frame") {
-    out.command = kFrame;
-  } else if (command == "load") {
-    out.command = kLoad;
-  } else if (command == "rta") {
-    out.command = kRta;
-  } else if (command == "latency") {
-    out.command = kLatency;
-  } else {
-    return Status::failure("unknown command \"" + command + "\" (expected frame, load, rta or latency)");
-  }
-  for (int i = 2; i < argc; ++i) {
-    std::string arg = argv[i];
-    if (arg.size() < 2 || arg.compare(0, 2, "--") != 0) {
-      out.positional.push_back(arg);
-      continue;
-    }
-    std::string value;
-    bool inline_value = false;
-    const size_t eq = arg.find('=');
-    if (eq != std::string::npos) {
-      value = arg.substr(eq + 1);
-      arg.resize(eq);
-      inline_value = true;
-    }
-    const OptionSpec* spec = find_spec(arg);
-    if (spec == nullptr || (spec->commands & out.command) == 0) {
-      return Status::failure(
-          std::string("unknown option ").append(arg).append(" for ").append(command).append(" (see --help)"));
-    }
-    if (spec->takes_value && !inline_value) {
-      if (i + 1 >= argc) {
-        return Status::failure("option " + arg + " needs a value");
-      }
-      value = argv[++i];
-    } else if (!spec->takes_value && inline_value) {
-      return Status::failure("option " + arg + " takes no value");
-    }
-    if (!out.values.emplace(arg, value).second) {
-      return Status::failure("option " + arg + " given twice");
-    }
-  }
-  return Status::ok();
+const cli::Program& program() {
+  static const cli::Program p = make_program();
+  return p;
+}
+
+Options options_of(const cli::Args& args) {
+  Options o;
+  const std::string& name = args.command->name;
+  o.command = name == "frame" ? kFrame : name == "load" ? kLoad : name == "rta" ? kRta : kLatency;
+  o.positional = args.operands;
+  o.args = args;
+  return o;
 }
 
 Status uint_option(const Options& o, const std::string& name, uint64_t min, uint64_t max, uint64_t fallback,
-                   bool scaled, uint64_t* value) {
+                   uint64_t* value) {
   if (!o.has(name)) {
     *value = fallback;
     return Status::ok();
   }
-  const std::string& text = o.get(name);
-  std::string digits = text;
-  uint64_t scale = 1;
-  if (scaled && !digits.empty() && (digits.back() == 'k' || digits.back() == 'M')) {
-    scale = digits.back() == 'k' ? 1000u : 1000000u;
-    digits.pop_back();
-  }
-  uint64_t v = 0;
-  bool ok = !digits.empty() && digits.size() <= 12;
-  for (const char c : digits) ok = ok && c >= '0' && c <= '9';
-  if (ok) {
-    for (const char c : digits) v = v * 10u + static_cast<uint64_t>(c - '0');
-    v *= scale;
-  }
-  if (!ok || v < min || v > max) {
-    return Status::failure("option " + name + " must be a whole number " + std::to_string(min) + ".." +
-                           std::to_string(max) + ", got \"" + text + "\"");
-  }
-  *value = v;
-  return Status::ok();
+  return cli::parse_uint(name, o.get(name), min, max, value);
 }
 
 Status format_option(const Options& o, Format* format) {
@@ -150,14 +150,8 @@ Status format_option(const Options& o, Format* format) {
 }
 
 Status frame_bits_option(const Options& o, timing::WorstCase* convention) {
-  const std::string v = o.has("--frame-bits") ? o.get("--frame-bits") : "davis";
-  if (v == "davis") {
-    *convention = timing::WorstCase::kDavis;
-  } else if (v == "course") {
-    *convention = timing::WorstCase::kCourse;
-  } else {
-    return Status::failure("option --frame-bits must be course or davis, got \"" + v + "\"");
-  }
+  // The table allows only course and davis.
+  *convention = o.get("--frame-bits") == "course" ? timing::WorstCase::kCourse : timing::WorstCase::kDavis;
   return Status::ok();
 }
 
@@ -169,13 +163,12 @@ Status line_config_option(const Options& o, timing::LineCanConfig* cfg) {
   timing::LineCanConfig c;
   uint64_t v = 0;
   auto take = [&](const char* name, uint64_t min, uint64_t max, uint64_t fallback) {
-    return uint_option(o, name, min, max, fallback, false, &v);
+    return uint_option(o, name, min, max, fallback, &v);
   };
   Status s = take("--line", 1, timing::kMaxStations, c.stations);
   if (!s) return s;
   c.stations = static_cast<uint8_t>(v);
-  if (!(s = uint_option(o, "--bitrate", 1, timing::kMaxBitrateBps, c.bitrate_bps, true, &v))) return s;
-  c.bitrate_bps = static_cast<uint32_t>(v);
+  c.bitrate_bps = o.args.bitrate_bps("--bitrate", c.bitrate_bps);
   c.tpdo1 = !o.has("--no-tpdo1");
   if (!(s = take("--tpdo-dlc", 0, 8, c.tpdo1_dlc))) return s;
   c.tpdo1_dlc = static_cast<uint8_t>(v);
@@ -225,58 +218,6 @@ std::string line_status_text(timing::LineStatus status) {
       return "too many messages";
   }
   return "invalid line configuration";
-}
-
-std::string usage_text() {
-  // Defaults are printed from the structs the commands start from, so the
-  // help cannot drift from the code (it did: DLC 2, 500 ms, 1000 ms).
-  const timing::LineCanConfig line;
-  const timing::LatencyParams lat;
-  const char* parity = lat.serial.parity == timing::Parity::kEven  ? "even"
-                       : lat.serial.parity == timing::Parity::kOdd ? "odd"
-                                                                   : "none";
-  char text[2048];
-  std::snprintf(text, sizeof text, R"(usage: mb2co-timing COMMAND [options]
-Timing analysis of a CAN/CANopen line (seed 000 §2.9-2.13, §11).
-
-commands:
-  frame    frame length in bits and transmission time
-           --dlc N (default: all 0..8)  --ext  --bitrate B (default 1M)
-           exact length of one frame: --id X --data HEX [--ext] [--rtr]
-  load     bus load and utilisation of a message set
-           FILE.csv | --line N [line options]   --bitrate B   [--window-us W]
-  rta      worst-case response times: first attempt and revised analysis
-           FILE.csv | --line N [line options]   --bitrate B
-           [--check] (exit 3 unless all deadlines met)
-           [--svg OUT.svg --message NAME] (worst-case busy period of NAME)
-  latency  button-to-LED bound, Modbus only and Modbus + CANopen
-           [line options] [--button-node %u] [--pc-node %u] [--baud %lu]
-           [--parity even|none|odd (%s)] [--stop-bits 1|2 (%u)] [--debounce-us %lu]
-           [--fw-loop-us %lu] [--pc-cycle-us %lu] [--pc-compute-us %lu]
-           [--master-end-us %lu] [--no-t35]
-
-common options:
-  --frame-bits course|davis   worst-case stuffing bound (default davis)
-  --json | --csv              machine-readable output instead of a table
-  --bitrate B                 bit/s, k and M suffixes allowed (125k, 1M)
-
-line options (the CANopen configuration of N stations, node IDs 1..N):
-  --line N (default %u)  --no-tpdo1  --tpdo-dlc %u  --tpdo-inhibit-100us %u
-  --tpdo-event-ms %u  --tpdo-deadline-us %lu  --heartbeat-ms %u
-  --sync-us %lu  --sync-tpdos %u  --sync-dlc %u  --sync-type %u  --jitter-us %lu
-
-CSV columns: name,id,ext,dlc,period_us[,deadline_us,jitter_us,c_us,bits]
-exit status: 0 done, 1 error (one line on stderr), 3 --check found a miss
-)",
-                kDefaultButtonNode, kDefaultPcNode, static_cast<unsigned long>(lat.serial.baud), parity,
-                lat.serial.stop_bits, static_cast<unsigned long>(lat.debounce_us),
-                static_cast<unsigned long>(lat.fw_loop_us), static_cast<unsigned long>(lat.pc_cycle_us),
-                static_cast<unsigned long>(lat.pc_compute_us), static_cast<unsigned long>(lat.master_end_us),
-                line.stations, line.tpdo1_dlc, line.tpdo1_inhibit_100us, line.tpdo1_event_timer_ms,
-                static_cast<unsigned long>(line.tpdo1_deadline_us), line.heartbeat_ms,
-                static_cast<unsigned long>(line.sync_period_us), line.sync_tpdos, line.sync_tpdo_dlc,
-                line.sync_transmission_type, static_cast<unsigned long>(line.queue_jitter_us));
-  return text;
 }
 
 }  // namespace timing_cli

@@ -3,10 +3,10 @@
 // options that describe the line's CANopen configuration.
 #pragma once
 #include <cstdint>
-#include <map>
 #include <string>
 #include <vector>
 
+#include "host/cli.h"
 #include "host/status.h"
 #include "report.h"
 #include "timing/can_bits.h"
@@ -21,20 +21,22 @@ enum Command : unsigned { kFrame = 1, kLoad = 2, kRta = 4, kLatency = 8 };
 struct Options {
   Command command = kFrame;
   std::vector<std::string> positional;
-  std::map<std::string, std::string> values;  ///< "--name" → value ("" for flags)
+  cli::Args args;  ///< checked against the command's table (program())
 
-  bool has(const std::string& name) const { return values.count(name) != 0; }
-  const std::string& get(const std::string& name) const { return values.at(name); }
+  bool has(const std::string& name) const { return args.has(name); }
+  std::string get(const std::string& name) const { return args.get(name); }
 };
 
-/// Parses argv[2..] for `command` (named by argv[1]). Fails on an unknown
-/// option, a missing value or a repeated option.
-Status parse_options(int argc, char** argv, Options& out);
+/// The option tables of mb2co-timing, one per command (help, parser and
+/// completion come from them). Defaults shown are those of the code's structs.
+const cli::Program& program();
 
-/// An unsigned option within [min, max]; `fallback` when absent. Accepts a
-/// k/M suffix when `scaled` (125k, 1M).
+/// The Options of a parse that found a command to run.
+Options options_of(const cli::Args& args);
+
+/// An unsigned option within [min, max]; `fallback` when absent.
 Status uint_option(const Options& o, const std::string& name, uint64_t min, uint64_t max, uint64_t fallback,
-                   bool scaled, uint64_t* value);
+                   uint64_t* value);
 
 Status format_option(const Options& o, Format* format);
 Status frame_bits_option(const Options& o, timing::WorstCase* convention);
@@ -51,9 +53,6 @@ std::string line_status_text(timing::LineStatus status);
 /// Node ids of `latency` when --button-node / --pc-node are not given.
 constexpr unsigned kDefaultButtonNode = 2;
 constexpr unsigned kDefaultPcNode = 1;
-
-/// The usage text printed by --help, defaults taken from the code's structs.
-std::string usage_text();
 
 }  // namespace timing_cli
 }  // namespace mb2co

@@ -21,10 +21,10 @@ struct Analysed {
   Format format = Format::kTable;
 };
 
-Status prepare(const Options& o, Analysed& a) {
+Status prepare(const Options& o, Analysed& a, bool* runtime_failure) {
   Status s = frame_bits_option(o, &a.convention);
   if (s) s = format_option(o, &a.format);
-  if (s) s = message_set_option(o, a.set, &a.bitrate);
+  if (s) s = message_set_option(o, a.set, &a.bitrate, runtime_failure);
   return s;
 }
 
@@ -46,9 +46,9 @@ Cell reason_cell(timing::Bound b) {
 
 }  // namespace
 
-Status load_command(const Options& o, std::ostream& out) {
+Status load_command(const Options& o, std::ostream& out, bool* runtime_failure) {
   Analysed a;
-  Status s = prepare(o, a);
+  Status s = prepare(o, a, runtime_failure);
   if (!s) return s;
   Report r;
   r.rows_key = "messages";
@@ -69,7 +69,7 @@ Status load_command(const Options& o, std::ostream& out) {
               {"fits", Cell::boolean(u.below_one())}};
   if (o.has("--window-us")) {
     uint64_t window = 0;
-    if (!(s = uint_option(o, "--window-us", 1, UINT32_MAX, 0, false, &window))) return s;
+    if (!(s = uint_option(o, "--window-us", 1, UINT32_MAX, 0, &window))) return s;
     const uint32_t w = static_cast<uint32_t>(window);
     const uint64_t bits = timing::window_bits(a.set.data(), a.set.size(), w, a.bitrate, a.convention);
     const uint64_t capacity = timing::window_capacity_bits(w, a.bitrate);
@@ -82,9 +82,9 @@ Status load_command(const Options& o, std::ostream& out) {
   return Status::ok();
 }
 
-Status rta_command(const Options& o, std::ostream& out, bool* deadline_missed) {
+Status rta_command(const Options& o, std::ostream& out, bool* deadline_missed, bool* runtime_failure) {
   Analysed a;
-  Status s = prepare(o, a);
+  Status s = prepare(o, a, runtime_failure);
   if (!s) return s;
   if (o.has("--svg") != o.has("--message")) {
     return Status::failure("options --svg FILE and --message NAME go together");
@@ -154,6 +154,7 @@ Status rta_command(const Options& o, std::ostream& out, bool* deadline_missed) {
     std::ofstream svg(o.get("--svg"), std::ios::binary | std::ios::trunc);
     svg << busy_period_svg(a.set, rta, target, results[target], a.bitrate);
     if (!svg.flush()) {
+      *runtime_failure = true;
       return Status::failure(o.get("--svg") + ": cannot write");
     }
   }

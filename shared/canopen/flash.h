@@ -2,6 +2,7 @@
 // no __flash), plain const data elsewhere. Everything that reads a table
 // declared MB2CO_FLASH goes through flash_read().
 #pragma once
+#include <stddef.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -22,6 +23,10 @@ inline T flash_read(const T* p) {
 }
 inline uint8_t flash_byte(const char* p) {
   return pgm_read_byte(p);
+}
+/// n bytes from flash into RAM, in place (flash_read() returns a copy).
+inline void flash_copy(void* dst, const void* src, size_t n) {
+  memcpy_P(dst, src, n);
 }
 // Single fields: one lpm per byte in place, no call and no copy (the OD reads
 // one field of a row on every value access).
@@ -44,6 +49,9 @@ inline T flash_read(const T* p) {
 }
 inline uint8_t flash_byte(const char* p) {
   return static_cast<uint8_t>(*p);
+}
+inline void flash_copy(void* dst, const void* src, size_t n) {
+  memcpy(dst, src, n);
 }
 }  // namespace mb2co
 #endif

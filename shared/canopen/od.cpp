@@ -16,17 +16,40 @@ ObjectDictionary::ObjectDictionary(const OdDefinition& def, uint8_t* values)
   for (uint8_t t = 0; t <= kUnsigned32; ++t) type_bytes_[t] = static_cast<uint8_t>((type_bits(t) + 7) / 8);
 }
 
+uint32_t ObjectDictionary::def_at(const OdRow* e) const {
+  const uint8_t slot = flash_read(&e->def_slot);
+  if (slot & kOdLiteralDefaults) return static_cast<uint8_t>(slot & ~kOdLiteralDefaults);
+  return flash_read(&def_.defaults[slot]);
+}
+
+OdEntry ObjectDictionary::entry(uint16_t row) const {
+  const OdRow* e = &def_.rows[row];
+  OdEntry out;
+  flash_copy(static_cast<OdRow*>(&out), e, sizeof(OdRow));
+  out.def = def_at(e);
+  return out;
+}
+
+// The searches step over byte offsets of the rows (multiples of the row
+// size, a power of two): the middle row is a shift and a mask away, with no
+// row-number multiply per step (a loop on the AVR). Same rows visited as a
+// search over row numbers: the middle is 8 * floor((lo + hi) / 2) either way.
+// Offsets are 16-bit: an OD of at most 8,191 rows.
+static_assert((sizeof(OdRow) & (sizeof(OdRow) - 1)) == 0, "row size a power of two");
+static const uint16_t kRowMask = static_cast<uint16_t>(~(sizeof(OdRow) - 1));
+
 uint16_t ObjectDictionary::find(uint16_t index, uint8_t sub) const {
+  const uint8_t* rows = reinterpret_cast<const uint8_t*>(def_.rows);
   uint16_t lo = 0;
-  uint16_t hi = def_.row_count;
+  uint16_t hi = static_cast<uint16_t>(def_.row_count * sizeof(OdRow));
   while (lo < hi) {
-    const uint16_t mid = static_cast<uint16_t>(lo + (hi - lo) / 2);
-    const OdEntry* r = &def_.rows[mid];
+    const uint16_t mid = static_cast<uint16_t>(((lo + hi) / 2) & kRowMask);
+    const OdRow* r = reinterpret_cast<const OdRow*>(rows + mid);
     const uint16_t i = flash_read(&r->index);
     const uint8_t s = i == index ? flash_read(&r->sub) : 0;
-    if (i == index && s == sub) return mid;
+    if (i == index && s == sub) return static_cast<uint16_t>(mid / sizeof(OdRow));
     if (i < index || (i == index && s < sub)) {
-      lo = static_cast<uint16_t>(mid + 1);
+      lo = static_cast<uint16_t>(mid + sizeof(OdRow));
     } else {
       hi = mid;
     }
@@ -39,17 +62,21 @@ void ObjectDictionary::find_rows(const uint16_t* indices, uint8_t count, uint16_
 }
 
 uint16_t ObjectDictionary::first_row(uint16_t index) const {
+  const uint8_t* rows = reinterpret_cast<const uint8_t*>(def_.rows);
+  const uint16_t end = static_cast<uint16_t>(def_.row_count * sizeof(OdRow));
   uint16_t lo = 0;
-  uint16_t hi = def_.row_count;
+  uint16_t hi = end;
   while (lo < hi) {  // lower bound of (index, 0)
-    const uint16_t mid = static_cast<uint16_t>(lo + (hi - lo) / 2);
-    if (index_of(mid) < index) {
-      lo = static_cast<uint16_t>(mid + 1);
+    const uint16_t mid = static_cast<uint16_t>(((lo + hi) / 2) & kRowMask);
+    if (flash_read(&reinterpret_cast<const OdRow*>(rows + mid)->index) < index) {
+      lo = static_cast<uint16_t>(mid + sizeof(OdRow));
     } else {
       hi = mid;
     }
   }
-  if (lo < def_.row_count && index_of(lo) == index) return lo;
+  if (lo < end && flash_read(&reinterpret_cast<const OdRow*>(rows + lo)->index) == index) {
+    return static_cast<uint16_t>(lo / sizeof(OdRow));
+  }
   return kNoRow;
 }
 
@@ -59,25 +86,25 @@ bool ObjectDictionary::has_index(uint16_t index) const {
 
 uint8_t ObjectDictionary::type_bits(uint8_t type) const {
   const uint16_t r = type == 0 || type > kUnsigned32 ? kNoRow : find(type, 0);
-  return r == kNoRow ? 0 : static_cast<uint8_t>(flash_read(&def_.rows[r].def));
+  return r == kNoRow ? 0 : static_cast<uint8_t>(def_at(&def_.rows[r]));
 }
 
 uint16_t ObjectDictionary::capacity_of(uint16_t row) const {
-  const OdEntry* e = &def_.rows[row];
-  if (flash_read(&e->attr) & kAttrString) return static_cast<uint16_t>(flash_read(&e->def) >> 16);
+  const OdRow* e = &def_.rows[row];
+  if (flash_read(&e->attr) & kAttrString) return static_cast<uint16_t>(def_at(e) >> 16);
   return numeric_size(e);
 }
 
 uint16_t ObjectDictionary::size_of(uint16_t row) const {
-  const OdEntry* e = &def_.rows[row];
+  const OdRow* e = &def_.rows[row];
   if (!(flash_read(&e->attr) & kAttrString)) return numeric_size(e);
   return string_length(row);
 }
 
 uint16_t ObjectDictionary::string_length(uint16_t row) const {
-  const OdEntry* e = &def_.rows[row];
+  const OdRow* e = &def_.rows[row];
   const uint8_t a = flash_read(&e->attr);
-  const uint32_t def = flash_read(&e->def);
+  const uint32_t def = def_at(e);
   const uint16_t cap = static_cast<uint16_t>(def >> 16);
   uint16_t n = 0;
   if (a & kAttrRam) {
@@ -90,20 +117,18 @@ uint16_t ObjectDictionary::string_length(uint16_t row) const {
   return n;
 }
 
-uint32_t ObjectDictionary::default_of(const OdEntry& e) const {
-  return (e.attr & kAttrNodeId) ? e.def + node_id_ : e.def;
+uint32_t ObjectDictionary::constant_at(const OdRow* e) const {
+  const uint32_t def = def_at(e);
+  return (flash_read(&e->attr) & kAttrNodeId) ? def + node_id_ : def;
 }
 
 // get() and set() are on every path (services, PDOs, Modbus): they read the
 // three fields they need straight from the row and move the value with one
 // memcpy (values are little-endian, like both targets).
 uint32_t ObjectDictionary::get(uint16_t row) const {
-  const OdEntry* e = &def_.rows[row];
+  const OdRow* e = &def_.rows[row];
   const uint8_t a = flash_read(&e->attr);
-  if (!(a & kAttrRam)) {
-    const uint32_t def = flash_read(&e->def);
-    return (a & kAttrNodeId) ? def + node_id_ : def;
-  }
+  if (!(a & kAttrRam)) return constant_at(e);
   // Strings (their current length decides) out of line: the numeric path
   // then needs no register saves on the AVR.
   const uint16_t n = (a & kAttrString) ? string_length(row) : numeric_size(e);
@@ -123,7 +148,7 @@ uint32_t ObjectDictionary::get(uint16_t row) const {
 }
 
 bool ObjectDictionary::set(uint16_t row, uint32_t value) {
-  const OdEntry* e = &def_.rows[row];
+  const OdRow* e = &def_.rows[row];
   if ((flash_read(&e->attr) & (kAttrRam | kAttrString)) != kAttrRam) return false;
   uint8_t* p = value_at(e);
   const uint8_t n = numeric_size(e);
@@ -138,25 +163,25 @@ bool ObjectDictionary::set(uint16_t row, uint32_t value) {
 }
 
 uint8_t* ObjectDictionary::ram(uint16_t row) {
-  const OdEntry* e = &def_.rows[row];
+  const OdRow* e = &def_.rows[row];
   touch();
   return (flash_read(&e->attr) & kAttrRam) ? value_at(e) : nullptr;
 }
 
 const uint8_t* ObjectDictionary::ram(uint16_t row) const {
-  const OdEntry* e = &def_.rows[row];
+  const OdRow* e = &def_.rows[row];
   return (flash_read(&e->attr) & kAttrRam) ? value_at(e) : nullptr;
 }
 
 uint16_t ObjectDictionary::copy_out(uint16_t row, uint8_t* buf, uint16_t cap) const {
-  const OdEntry* e = &def_.rows[row];
+  const OdRow* e = &def_.rows[row];
   const uint8_t a = flash_read(&e->attr);
   uint16_t n = size_of(row);
   if (n > cap) n = cap;
   if (a & kAttrRam) {
     memcpy(buf, value_at(e), n);
   } else if (a & kAttrString) {
-    const char* p = def_.strings + (flash_read(&e->def) & 0xFFFFu);
+    const char* p = def_.strings + (def_at(e) & 0xFFFFu);
     for (uint16_t i = 0; i < n; ++i) buf[i] = flash_byte(p + i);
   } else {
     const uint32_t v = get(row);
@@ -165,20 +190,25 @@ uint16_t ObjectDictionary::copy_out(uint16_t row, uint8_t* buf, uint16_t cap) co
   return n;
 }
 
+// Every row is visited (a reset restores most of the OD): single fields,
+// the row pointer stepped along, the default read only for the rows restored.
 void ObjectDictionary::restore_defaults(uint16_t from_index, uint16_t to_index) {
   touch();
-  for (uint16_t r = 0; r < def_.row_count; ++r) {
-    const OdEntry e = entry(r);
-    if (e.index < from_index || e.index > to_index || !(e.attr & kAttrRam)) continue;
-    if (e.attr & kAttrString) {
-      const uint16_t cap = static_cast<uint16_t>(e.def >> 16);
-      const char* src = def_.strings + (e.def & 0xFFFFu);
-      uint8_t* dst = values_ + e.loc;
+  const OdRow* e = def_.rows;
+  for (uint16_t r = 0; r < def_.row_count; ++r, ++e) {
+    const uint16_t index = flash_read(&e->index);
+    const uint8_t a = flash_read(&e->attr);
+    if (index < from_index || index > to_index || !(a & kAttrRam)) continue;
+    if (a & kAttrString) {
+      const uint32_t def = def_at(e);
+      const uint16_t cap = static_cast<uint16_t>(def >> 16);
+      const char* src = def_.strings + (def & 0xFFFFu);
+      uint8_t* dst = value_at(e);
       uint16_t i = 0;
       for (; i < cap && flash_byte(src + i) != 0; ++i) dst[i] = flash_byte(src + i);
       for (; i < cap; ++i) dst[i] = 0;
     } else {
-      set(r, default_of(e));  // the numeric store of set()
+      set(r, constant_at(e));  // the numeric store of set(); the default, node id added
     }
   }
 }

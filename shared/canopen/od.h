@@ -83,9 +83,9 @@ class ObjectDictionary {
   /// First row of `index` (kNoRow if absent); rows of one index are contiguous.
   uint16_t first_row(uint16_t index) const;
   uint16_t row_count() const { return def_.row_count; }
-  /// Copy of a row's metadata (from flash on AVR). Hot paths read single
-  /// fields instead (attr(), index_of(), ...): one row is 12 bytes of flash.
-  OdEntry entry(uint16_t row) const { return flash_read(&def_.rows[row]); }
+  /// A row's metadata, decoded (from flash on AVR). Hot paths read single
+  /// fields instead (attr(), index_of(), ...).
+  OdEntry entry(uint16_t row) const;
   /// Single fields of a row (OdAttr bits, index, sub-index).
   MB2CO_INLINE uint8_t attr(uint16_t row) const { return flash_read(&def_.rows[row].attr); }
   MB2CO_INLINE uint16_t index_of(uint16_t row) const { return flash_read(&def_.rows[row].index); }
@@ -176,15 +176,22 @@ class ObjectDictionary {
     entry.value_ = value;
     touch();
   }
-  uint32_t default_of(const OdEntry& e) const;
+  /// The row's 32-bit default from the pool (OdRow::def_slot). Out of line:
+  /// six callers, the two reads each would cost more inline on the AVR.
+  __attribute__((noinline)) uint32_t def_at(const OdRow* e) const;
+  /// A row's default as a value: node-id-relative ones with the node id
+  /// added (a constant row's value, a restored RAM row's). Out of line:
+  /// get()'s numeric path then holds nothing across a call (no register
+  /// saves on the AVR).
+  __attribute__((noinline)) uint32_t constant_at(const OdRow* e) const;
   /// Current text length of a string row (RAM or flash), at most its capacity.
   uint16_t string_length(uint16_t row) const;
   /// Bytes of a numeric row's value (0 for a type without a size entry).
-  MB2CO_INLINE uint8_t numeric_size(const OdEntry* e) const {
+  MB2CO_INLINE uint8_t numeric_size(const OdRow* e) const {
     const uint8_t type = flash_read(reinterpret_cast<const uint8_t*>(e) + kOdEntryTypeHookOffset) & 0x0F;
     return type <= kUnsigned32 ? type_bytes_[type] : static_cast<uint8_t>(0);
   }
-  MB2CO_INLINE uint8_t* value_at(const OdEntry* e) const { return values_ + flash_read(&e->loc); }
+  MB2CO_INLINE uint8_t* value_at(const OdRow* e) const { return values_ + flash_read(&e->loc); }
   SdoAbort check_limits(const OdEntry& e, const uint8_t* data, uint16_t len) const;
   /// Copies a value into its row; `tracked` false: no revision change (a
   /// check step's value, put back before anything reads it).

@@ -1,6 +1,7 @@
 // Turns one X-macro list of OD entries into everything that needs it: the
 // RAM value block (a struct, one member per variable entry), the constant row
-// table (flash on AVR), the string pool, the limits, and (host only) the names
+// table (flash on AVR) with the pool of distinct defaults its rows name by
+// slot, the string pool, the limits, and (host only) the names
 // that the EDS and docs/od.md generators print. One definition, no drift.
 //
 // A list is a macro taking two macros, N for numeric entries and S for strings:
@@ -37,8 +38,9 @@ namespace canopen {
 
 /// Everything constant about one OD: tables (flash on AVR) and sizes.
 struct OdDefinition {
-  const OdEntry* rows;        ///< sorted by (index, sub); flash on AVR
+  const OdRow* rows;          ///< sorted by (index, sub); flash on AVR
   uint16_t row_count;
+  const uint32_t* defaults;   ///< the distinct defaults >= kOdLiteralDefaults the rows name by slot; flash on AVR
   const char* strings;        ///< default texts, NUL-separated; flash on AVR
   const OdLimit* limits;      ///< flash on AVR
   uint8_t limit_count;
@@ -120,12 +122,60 @@ constexpr bool od_id_matches(const char* id, uint16_t index, uint8_t sub) {
   return k > 6 && s == sub && id[k] == '_' && id[k + 1] != '\0';
 }
 
-constexpr bool od_rows_sorted(const OdEntry* rows, uint16_t count) {
+constexpr bool od_rows_sorted(const OdRow* rows, uint16_t count) {
   for (uint16_t i = 1; i < count; ++i) {
     if (rows[i - 1].index > rows[i].index) return false;
     if (rows[i - 1].index == rows[i].index && rows[i - 1].sub >= rows[i].sub) return false;
   }
   return true;
+}
+
+/// The distinct defaults of the rows (OdRow::def_slot): a default below
+/// kOdLiteralDefaults is in its slot itself, marked by the slot's top bit
+/// (counts, bit lengths, small times: most rows); the larger defaults are
+/// in a pool built at compile time from every row's default, in the order
+/// of first use, and slot k (top bit clear) names the pool's value k.
+const uint8_t kOdLiteralDefaults = 0x80;
+
+template <uint16_t kCount>
+struct OdDefaultPool {
+  uint32_t values[kCount > 0 ? kCount : 1];
+};
+
+/// Number of distinct defaults of `count` rows that need the pool (compile
+/// time only).
+constexpr uint16_t od_pooled_count(const uint32_t* defaults, uint16_t count) {
+  uint16_t distinct = 0;
+  for (uint16_t i = 0; i < count; ++i) {
+    bool seen = defaults[i] < kOdLiteralDefaults;
+    for (uint16_t j = 0; j < i && !seen; ++j) seen = defaults[j] == defaults[i];
+    if (!seen) ++distinct;
+  }
+  return distinct;
+}
+
+/// The pool of the distinct defaults from kOdLiteralDefaults up, in the
+/// order of first use.
+template <uint16_t kCount>
+constexpr OdDefaultPool<kCount> od_default_pool(const uint32_t* defaults, uint16_t count) {
+  OdDefaultPool<kCount> pool{};
+  uint16_t used = 0;
+  for (uint16_t i = 0; i < count; ++i) {
+    bool seen = defaults[i] < kOdLiteralDefaults;
+    for (uint16_t k = 0; k < used && !seen; ++k) seen = pool.values[k] == defaults[i];
+    if (!seen) pool.values[used++] = defaults[i];
+  }
+  return pool;
+}
+
+/// Slot of `value`: the value itself when small, else its place in the
+/// pool (od_default_pool of every row, which holds it).
+template <uint16_t kCount>
+constexpr uint8_t od_default_slot(const OdDefaultPool<kCount>& pool, uint32_t value) {
+  if (value < kOdLiteralDefaults) return static_cast<uint8_t>(kOdLiteralDefaults | value);
+  uint16_t k = 0;
+  while (k < kCount && pool.values[k] != value) ++k;
+  return static_cast<uint8_t>(k);
 }
 
 }  // namespace canopen
@@ -205,23 +255,37 @@ constexpr bool od_rows_sorted(const OdEntry* rows, uint16_t count) {
 #define MB2CO_OD_SCAP_WO MB2CO_OD_SCAP_RO
 #define MB2CO_OD_SCAP_RW MB2CO_OD_SCAP_RO
 
-#define MB2CO_OD_N_ROW(V, P, index, sub, id, type, access, flags, hook, def, name)            \
+// A row's default as a 32-bit value (strings: capacity << 16 | text offset).
+#define MB2CO_OD_S_DEFVAL(P, id, access, cap, text)                      \
+  ((static_cast<uint32_t>(MB2CO_OD_SCAP_##access(cap, text)) << 16) |   \
+   static_cast<uint32_t>(offsetof(P, id)))
+#define MB2CO_OD_N_DEFAULT(P, index, sub, id, type, access, flags, hook, def, name) \
+  static_cast<uint32_t>(def),
+#define MB2CO_OD_S_DEFAULT(P, index, sub, id, access, hook, cap, text, name) \
+  MB2CO_OD_S_DEFVAL(P, id, access, cap, text),
+#define MB2CO_OD_N_ROW(V, P, D, index, sub, id, type, access, flags, hook, def, name)         \
   {index, sub, MB2CO_OD_DT_##type, hook, static_cast<uint8_t>(MB2CO_OD_ACC_##access | (flags)), \
-   static_cast<uint16_t>(MB2CO_OD_LOC_##access(V, id)), static_cast<uint32_t>(def)},
-#define MB2CO_OD_S_ROW(V, P, index, sub, id, access, hook, cap, text, name)                    \
+   ::mb2co::canopen::od_default_slot(D, static_cast<uint32_t>(def)),                            \
+   static_cast<uint16_t>(MB2CO_OD_LOC_##access(V, id))},
+#define MB2CO_OD_S_ROW(V, P, D, index, sub, id, access, hook, cap, text, name)                 \
   {index, sub, ::mb2co::canopen::kVisibleString, hook,                                         \
    static_cast<uint8_t>(MB2CO_OD_ACC_##access | ::mb2co::canopen::kAttrString),                \
-   static_cast<uint16_t>(MB2CO_OD_LOC_##access(V, id)),                                        \
-   (static_cast<uint32_t>(MB2CO_OD_SCAP_##access(cap, text)) << 16) |                          \
-       static_cast<uint32_t>(offsetof(P, id))},
+   ::mb2co::canopen::od_default_slot(D, MB2CO_OD_S_DEFVAL(P, id, access, cap, text)),          \
+   static_cast<uint16_t>(MB2CO_OD_LOC_##access(V, id))},
 #define MB2CO_OD_N_NAME(index, sub, id, type, access, flags, hook, def, name) name,
 #define MB2CO_OD_S_NAME(index, sub, id, access, hook, cap, text, name) name,
 #define MB2CO_OD_L_ROW(index, sub, lo, hi) {index, sub, lo, hi},
 
 // Rows refer to the value struct and string pool of the OD being defined: the
-// .cpp defines MB2CO_OD_CUR_V and MB2CO_OD_CUR_P to them before MB2CO_OD_DEFINE.
-#define MB2CO_OD_ROW_N(...) MB2CO_OD_N_ROW(MB2CO_OD_CUR_V, MB2CO_OD_CUR_P, __VA_ARGS__)
-#define MB2CO_OD_ROW_S(...) MB2CO_OD_S_ROW(MB2CO_OD_CUR_V, MB2CO_OD_CUR_P, __VA_ARGS__)
+// .cpp defines MB2CO_OD_CUR_V and MB2CO_OD_CUR_P to them before MB2CO_OD_DEFINE
+// (MB2CO_OD_CUR_V is Name##Values: the default pool is named after it).
+#define MB2CO_OD_PASTE2(a, b) a##b
+#define MB2CO_OD_PASTE(a, b) MB2CO_OD_PASTE2(a, b)
+#define MB2CO_OD_CUR_D MB2CO_OD_PASTE(MB2CO_OD_CUR_V, DefaultPool)
+#define MB2CO_OD_ROW_N(...) MB2CO_OD_N_ROW(MB2CO_OD_CUR_V, MB2CO_OD_CUR_P, MB2CO_OD_CUR_D, __VA_ARGS__)
+#define MB2CO_OD_ROW_S(...) MB2CO_OD_S_ROW(MB2CO_OD_CUR_V, MB2CO_OD_CUR_P, MB2CO_OD_CUR_D, __VA_ARGS__)
+#define MB2CO_OD_DEFAULT_N(...) MB2CO_OD_N_DEFAULT(MB2CO_OD_CUR_P, __VA_ARGS__)
+#define MB2CO_OD_DEFAULT_S(...) MB2CO_OD_S_DEFAULT(MB2CO_OD_CUR_P, __VA_ARGS__)
 
 /// In a header: the value block type `Name##Values`, the entry keys
 /// `Name##Entry::<id>` and the definition object.
@@ -258,7 +322,16 @@ constexpr bool od_rows_sorted(const OdEntry* rows, uint16_t count) {
   };                                                                                            \
   static constexpr Name##Strings Name##StringPool MB2CO_FLASH = {                               \
       0, LIST(MB2CO_OD_N_NONE, MB2CO_OD_S_POOLINIT)};                                           \
-  static constexpr ::mb2co::canopen::OdEntry Name##Rows[] MB2CO_FLASH = {                       \
+  /* every row's default, only for the compile-time pool below (no storage) */                \
+  static constexpr uint32_t Name##RowDefaults[] = {LIST(MB2CO_OD_DEFAULT_N, MB2CO_OD_DEFAULT_S)}; \
+  static constexpr uint16_t Name##DefaultCount = ::mb2co::canopen::od_pooled_count(              \
+      Name##RowDefaults, static_cast<uint16_t>(sizeof(Name##RowDefaults) / sizeof(uint32_t)));   \
+  static_assert(Name##DefaultCount <= 256 - ::mb2co::canopen::kOdLiteralDefaults,                \
+                #Name ": a row names its default by one byte");                                 \
+  static constexpr ::mb2co::canopen::OdDefaultPool<Name##DefaultCount> Name##ValuesDefaultPool  \
+      MB2CO_FLASH = ::mb2co::canopen::od_default_pool<Name##DefaultCount>(                      \
+          Name##RowDefaults, static_cast<uint16_t>(sizeof(Name##RowDefaults) / sizeof(uint32_t))); \
+  static constexpr ::mb2co::canopen::OdRow Name##Rows[] MB2CO_FLASH = {                         \
       LIST(MB2CO_OD_ROW_N, MB2CO_OD_ROW_S)};                                                    \
   static constexpr uint16_t Name##RowCount =                                                    \
       static_cast<uint16_t>(sizeof(Name##Rows) / sizeof(Name##Rows[0]));                        \
@@ -270,6 +343,7 @@ constexpr bool od_rows_sorted(const OdEntry* rows, uint16_t count) {
   const ::mb2co::canopen::OdDefinition Name##Definition = {                                     \
       Name##Rows,                                                                               \
       Name##RowCount,                                                                           \
+      Name##ValuesDefaultPool.values,                                                           \
       reinterpret_cast<const char*>(&Name##StringPool),                                         \
       Name##Limits,                                                                             \
       static_cast<uint8_t>(sizeof(Name##Limits) / sizeof(Name##Limits[0]) - 1),                 \

@@ -50,27 +50,39 @@ enum OdHook : uint8_t {
   kHookApp,         ///< application area: the application decides
 };
 
-/// One sub-entry's metadata, constant, in flash on AVR: 11 bytes there (a row
-/// per sub-entry makes this the largest table of an image), 12 on the host.
-/// Invariant: a table of OdEntry is sorted by (index, sub) with no duplicates.
-struct OdEntry {
+/// One sub-entry's metadata as stored, constant, in flash on AVR (a row per
+/// sub-entry makes this the largest table of an image). The 32-bit default
+/// is not in the row: the rows share a pool of the distinct defaults
+/// (OdDefinition::defaults; PDO mappings, COB-IDs, zeros repeat, so there
+/// are far fewer than rows) and each holds its one-byte slot there, or the
+/// default itself when it is small (od_define.h, kOdLiteralDefaults). The
+/// same 8 bytes on both targets (the slot fills the byte before `loc`).
+/// Invariant: a table of OdRow is sorted by (index, sub) with no duplicates.
+struct OdRow {
   uint16_t index;
   uint8_t sub;
   uint8_t type : 4;  ///< DataType (all below 10h)
   uint8_t hook : 4;  ///< OdHook (all below 10h)
   uint8_t attr;      ///< OdAttr bits
-  uint16_t loc;      ///< kAttrRam: byte offset in the value block; strings: capacity
-  uint32_t def;      ///< default (const: the value itself, "stored in place");
-                     ///< strings: offset of the default text in the string pool
+  uint8_t def_slot;  ///< the default: OdDefinition::defaults[def_slot], or with
+                     ///< the top bit set (kOdLiteralDefaults) the low 7 bits
+  uint16_t loc;      ///< kAttrRam: byte offset in the value block
 };
 /// The byte holding `type` (low nibble: GCC allocates bit-fields from the
 /// least significant bit on both targets) and `hook`, for single-field
 /// reads from flash.
 const uint8_t kOdEntryTypeHookOffset = 3;
-static_assert(offsetof(OdEntry, sub) + 1 == kOdEntryTypeHookOffset &&
-                  offsetof(OdEntry, attr) == kOdEntryTypeHookOffset + 1,
+static_assert(offsetof(OdRow, sub) + 1 == kOdEntryTypeHookOffset &&
+                  offsetof(OdRow, attr) == kOdEntryTypeHookOffset + 1,
               "type and hook share the byte between sub and attr");
 static_assert(kVisibleString < 16 && kHookApp < 16, "types and hooks fit their nibbles");
+
+/// One sub-entry's metadata as the OD hands it out (ObjectDictionary::entry):
+/// the row and its default as the 32-bit value.
+struct OdEntry : OdRow {
+  uint32_t def;  ///< default (const: the value itself, "stored in place");
+                 ///< strings: capacity << 16 | offset of the default text in the string pool
+};
 
 /// Limits for the few entries that have them beyond their data type.
 struct OdLimit {

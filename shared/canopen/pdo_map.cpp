@@ -14,13 +14,13 @@ SdoAbort pdo_check_entry(const ObjectDictionary& od, uint32_t entry, bool receiv
   if (row == ObjectDictionary::kNoRow) {
     return od.has_index(index) ? kAbortNoSubindex : kAbortNoObject;
   }
-  const OdEntry e = od.entry(row);
-  if (!(e.attr & kAttrPdo)) return kAbortNotMappable;
+  const uint8_t attr = od.attr(row);
+  if (!(attr & kAttrPdo)) return kAbortNotMappable;
   if (map_is_dummy(entry)) {
     if (bits != od.type_bits(static_cast<uint8_t>(index))) return kAbortNotMappable;
     return kSdoOk;
   }
-  if (!(e.attr & (receive ? kAttrWrite : kAttrRead))) return kAbortNotMappable;
+  if (!(attr & (receive ? kAttrWrite : kAttrRead))) return kAbortNotMappable;
   if (bits == 0 || bits > od.size_of(row) * 8u) return kAbortNotMappable;
   return kSdoOk;
 }

@@ -35,9 +35,12 @@ constexpr int32_t kSlackUs = 100000;
 // Both clocks are read from the same kernel; their offset is sampled once
 // (by the test here, by the node for its receive stamps), and under
 // user-mode Linux on a busy host the wall clock is slewed against the
-// monotonic one between those samples: 2.5 ms seen in a CI run. The node's
-// at_us is stamped at a loop pass, candump's at reception.
-constexpr int32_t kClockMapToleranceUs = 5000;
+// monotonic one between those samples: 2.5 ms seen in a CI run, 5.1 ms on a
+// host at load 12 once the node slept until its deadline (ppoll) instead of
+// waking every millisecond. The node's at_us is stamped at a loop pass,
+// candump's at reception. 10 ms still tells a consumer time of 300 ms from
+// one a pass or a unit off (290 ms).
+constexpr int32_t kClockMapToleranceUs = 10000;
 constexpr auto kUmlDeadline = 60s;  // bounds a failure only
 
 // Input registers of docs/register-map.md.

@@ -63,6 +63,20 @@ TEST(Options, LatencyMode) {
   EXPECT_EQ(o.boot_wait_ms, 0);
 }
 
+// docs/cli.md: the letters and the words, in any letter case, as every program takes them.
+TEST(Options, ParityLettersAndWords) {
+  const struct {
+    const char* given;
+    char parity;
+  } cases[] = {{"E", 'E'}, {"even", 'E'}, {"Odd", 'O'}, {"o", 'O'}, {"NONE", 'N'}, {"n", 'N'}};
+  for (const auto& c : cases) {
+    AppOptions o;
+    QString msg;
+    ASSERT_EQ(parse({"--parity", c.given}, o, msg), ParseOutcome::run) << c.given;
+    EXPECT_EQ(o.parity, c.parity) << c.given;
+  }
+}
+
 TEST(Options, BadValuesGiveOneLine) {
   const struct {
     QStringList args;
@@ -70,7 +84,9 @@ TEST(Options, BadValuesGiveOneLine) {
   } cases[] = {
       {{"--cycle-ms", "0"}, "bad --cycle-ms '0' (want 1..1000)"},
       {{"--baud", "12345"}, "bad --baud '12345' (a standard rate such as 9600, 19200, 115200)"},
-      {{"--parity", "X"}, "bad --parity 'X' (N, E or O)"},
+      {{"--parity", "X"}, "--parity must be N, E or O (none, even, odd), got \"X\""},
+      {{"--baud"}, "--baud needs a value"},
+      {{"--slave", "2", "--slave", "3"}, "--slave given twice"},
       {{"--slave", "248"}, "bad --slave '248' (want 1..247)"},
       {{"--retries", "x"}, "bad --retries 'x' (want 0..10)"},
       {{"run"}, "unknown mode 'run' (station or latency)"},
@@ -78,7 +94,7 @@ TEST(Options, BadValuesGiveOneLine) {
        "--remote, --button, --presses and --csv belong to the latency mode (mb2co-plant latency ...)"},
       {{"latency", "--button", "GO"}, "bad --button 'GO' (START, STOP or STOP2)"},
       {{"--no-reset-wait", "--boot-wait-ms", "5"}, "--no-reset-wait and --boot-wait-ms exclude each other"},
-      {{"--bogus"}, "Unknown option 'bogus'. (try --help)"},
+      {{"--bogus"}, "unknown option --bogus (try --help)"},
   };
   for (const auto& c : cases) {
     AppOptions o;

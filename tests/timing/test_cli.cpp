@@ -1,52 +1,23 @@
 // Runs the built mb2co-timing on the CSV files in data/: the seed's figures
-// end to end, the output formats, the SVG, and one-line errors with exit 1.
+// end to end, the output formats, the SVG, and one-line errors with exit 1
+// (runtime) or 2 (usage).
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <cstdlib>
-#include <fstream>
-#include <sstream>
 #include <string>
+
+#include "program_run.h"
 
 namespace {
 
 const std::string kExe = MB2CO_TIMING_EXE;
 const std::string kData = MB2CO_TIMING_DATA;
 
-struct Result {
-  int status = -1;
-  std::string out;
-  std::string err;
-};
+using Result = mb2co::test::ProgramResult;
+using mb2co::test::slurp;
 
-std::string slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-class Cli : public ::testing::Test {
+class Cli : public mb2co::test::ProgramTest {
  protected:
-  void SetUp() override {
-    char dir[] = "/tmp/mb2co_timing_cli_XXXXXX";
-    ASSERT_NE(mkdtemp(dir), nullptr);
-    dir_ = dir;
-  }
-  void TearDown() override { std::system(("rm -rf '" + dir_ + "'").c_str()); }
-
-  Result run(const std::string& args) {
-    const std::string out = dir_ + "/out", err = dir_ + "/err";
-    const int raw = std::system((kExe + " " + args + " >" + out + " 2>" + err + " </dev/null").c_str());
-    Result r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-  }
-
-  std::string dir_;
+  Result run(const std::string& args) { return run_program(kExe, args); }
 };
 
 // The JSON object of the row whose name is `name` (rows are printed one per
@@ -177,57 +148,118 @@ TEST_F(Cli, LatencyReportsBothPaths) {
             total(fast.out).substr(0, total(fast.out).find(',', 6)));
 }
 
-void expect_one_line_error(const Result& r, const std::string& message) {
-  EXPECT_EQ(r.status, 1);
+// A run that failed with one line on stderr, nothing on stdout, and the exit
+// status of docs/cli.md: 1 for what the run met (a file), 2 for the command line.
+void expect_one_line_error(const Result& r, const std::string& message, int status) {
+  EXPECT_EQ(r.status, status);
   EXPECT_EQ(r.out, "");
   EXPECT_EQ(r.err, "mb2co-timing: " + message + "\n");
 }
 
-TEST_F(Cli, BadFilesNameLineAndColumn) {
+TEST_F(Cli, BadFilesNameLineAndColumnWithExit1) {
   const std::string d = kData + "/";
   expect_one_line_error(run("rta " + d + "bad_id.csv --bitrate 1M"),
                         d + "bad_id.csv:3:6: id must be 0..0x7FF for ext=0 (use ext=1 for 29-bit "
-                            "ids), got \"0x900\"");
+                            "ids), got \"0x900\"",
+                        1);
   expect_one_line_error(run("rta " + d + "bad_fields.csv --bitrate 1M"),
-                        d + "bad_fields.csv:3:18: expected 6 fields, found 5");
+                        d + "bad_fields.csv:3:18: expected 6 fields, found 5", 1);
   expect_one_line_error(run("load " + d + "bad_duplicate.csv --bitrate 1M"),
                         d + "bad_duplicate.csv:4:3: id 385 already used on line 2 (CAN ids must "
-                            "be unique)");
+                            "be unique)",
+                        1);
   expect_one_line_error(run("rta " + d + "bad_header.csv --bitrate 1M"),
                         d + "bad_header.csv:1:17: unknown column \"period\" (expected "
                             "name,id,ext,dlc,period_us and optionally "
-                            "deadline_us,jitter_us,c_us,bits)");
+                            "deadline_us,jitter_us,c_us,bits)",
+                        1);
   expect_one_line_error(run("rta " + d + "bad_number.csv --bitrate 1M"),
                         d + "bad_number.csv:2:25: jitter_us must be an integer 0..4294967295, "
-                            "got \"-5\"");
+                            "got \"-5\"",
+                        1);
   expect_one_line_error(run("rta " + d + "missing.csv --bitrate 1M"),
-                        d + "missing.csv: cannot open: No such file or directory");
+                        d + "missing.csv: cannot open: No such file or directory", 1);
+  expect_one_line_error(
+      run("rta " + d + "seed_3msg.csv --bitrate 1M --svg /nonexistent/x.svg --message PDO3"),
+      "/nonexistent/x.svg: cannot write", 1);
 }
 
-TEST_F(Cli, BadCommandLines) {
+TEST_F(Cli, BadCommandLinesWithExit2) {
   const std::string set = kData + "/seed_3msg.csv";
-  expect_one_line_error(run("rta " + set), "missing --bitrate B (bit/s) for " + set);
+  expect_one_line_error(run("rta " + set), "missing --bitrate B (bit/s) for " + set, 2);
   expect_one_line_error(run("rta " + set + " --bitrate fast"),
-                        "option --bitrate must be a whole number 1..1000000, got \"fast\"");
+                        "--bitrate must be a bit rate such as 500k, 1M or 125000 (bit/s), got \"fast\"", 2);
+  expect_one_line_error(run("rta " + set + " --bitrate"), "--bitrate needs a value", 2);
+  expect_one_line_error(run("rta " + set + " --bitrate --json"), "--bitrate needs a value", 2);
+  expect_one_line_error(run("rta " + set + " --bitrate 1M --bitrate 500k"), "--bitrate given twice", 2);
+  expect_one_line_error(run("rta " + set + " --bitrate 2M"), "--bitrate must be 1k..1M bit/s, got \"2M\"", 2);
   expect_one_line_error(run("rta " + set + " --bitrate 1M --frame-bits exact"),
-                        "option --frame-bits must be course or davis, got \"exact\"");
-  expect_one_line_error(run("rta " + set + " --bitrate 1M --json --csv"), "choose one of --json and --csv");
+                        "--frame-bits must be course|davis, got \"exact\"", 2);
+  expect_one_line_error(run("rta " + set + " --bitrate 1M --json --csv"), "choose one of --json and --csv",
+                        2);
   expect_one_line_error(run("rta " + set + " --bitrate 1M --window-us 5"),
-                        "unknown option --window-us for rta (see --help)");
+                        "--window-us is not an option of rta (try mb2co-timing rta --help)", 2);
+  expect_one_line_error(run("rta " + set + " --bitrate 1M --bogus"),
+                        "unknown option --bogus (try mb2co-timing rta --help)", 2);
   expect_one_line_error(run("rta " + set + " --bitrate 1M --svg x.svg"),
-                        "options --svg FILE and --message NAME go together");
+                        "options --svg FILE and --message NAME go together", 2);
   expect_one_line_error(run("rta " + set + " --bitrate 1M --svg x.svg --message NOPE"),
-                        "option --message: no message named \"NOPE\"");
+                        "option --message: no message named \"NOPE\"", 2);
   expect_one_line_error(run("rta " + set + " --bitrate 1M --sync-us 100"),
-                        "option --sync-us describes a line: add --line N");
+                        "option --sync-us describes a line: add --line N", 2);
+  expect_one_line_error(run("rta " + set + " extra.csv --bitrate 1M"),
+                        "unexpected argument \"extra.csv\" (try mb2co-timing rta --help)", 2);
   expect_one_line_error(run("rta --line 3 --tpdo-inhibit-100us 0"),
                         "event-driven TPDO1 needs --tpdo-inhibit-100us > 0 (its minimum "
-                        "inter-arrival time)");
-  expect_one_line_error(run("bogus"), "unknown command \"bogus\" (expected frame, load, rta or latency)");
-  expect_one_line_error(run("frame --data 123"), "option --data/--rtr needs --id");
+                        "inter-arrival time)",
+                        2);
+  expect_one_line_error(
+      run("bogus"), "unknown command \"bogus\" (frame, load, rta or latency) (try mb2co-timing --help)", 2);
+  expect_one_line_error(run(""), "missing command (frame, load, rta or latency) (try mb2co-timing --help)",
+                        2);
+  expect_one_line_error(run("frame --data 123"), "option --data/--rtr needs --id", 2);
   expect_one_line_error(run("latency --button-node 1"),
-                        "--button-node and --pc-node must be different nodes within 1..--line");
-  EXPECT_EQ(run("--help").status, 0);
+                        "--button-node and --pc-node must be different nodes within 1..--line", 2);
+  expect_one_line_error(run("latency --parity space"),
+                        "--parity must be N, E or O (none, even, odd), got \"space\"", 2);
+}
+
+// "--bitrate 500" was 500 bit/s here and 500 kbit/s elsewhere: refused, with the likely meaning.
+TEST_F(Cli, BareBitrateBelow10000IsRefusedWithAHint) {
+  expect_one_line_error(run("rta --line 3 --bitrate 500"),
+                        "--bitrate 500: a bare number is bit/s and must be 10000 or more; did you mean 500k?",
+                        2);
+  const Result k = run("rta --line 3 --bitrate 500k --json");
+  const Result bps = run("rta --line 3 --bitrate 500000 --json");
+  EXPECT_EQ(k.status, 0);
+  EXPECT_EQ(k.out, bps.out);
+  EXPECT_NE(k.out.find("\"bitrate\": 500000"), std::string::npos) << k.out;
+  EXPECT_EQ(run("rta --line 3 --bitrate 1000k --json").out, run("rta --line 3 --bitrate 1M --json").out);
+}
+
+// Parity letters and words in any case mean the same (docs/cli.md).
+TEST_F(Cli, ParityLettersAndWordsAgree) {
+  const std::string even = run("latency --parity even --json").out;
+  EXPECT_FALSE(even.empty());
+  EXPECT_EQ(run("latency --parity E --json").out, even);
+  EXPECT_EQ(run("latency --parity Even --json").out, even);
+  const std::string none = run("latency --parity n --json").out;
+  EXPECT_EQ(run("latency --parity NONE --json").out, none);
+  EXPECT_NE(none, even);
+}
+
+TEST_F(Cli, HelpPerCommandAndVersion) {
+  const Result all = run("--help");
+  EXPECT_EQ(all.status, 0);
+  EXPECT_NE(all.out.find("latency"), std::string::npos);
+  const Result rta = run("rta --help");
+  EXPECT_EQ(rta.status, 0);
+  EXPECT_EQ(rta.out.rfind("usage: mb2co-timing rta [options] [FILE.csv]\n", 0), 0u) << rta.out;
+  EXPECT_NE(rta.out.find("--check"), std::string::npos);
+  EXPECT_EQ(rta.out.find("--window-us"), std::string::npos) << "load's option in rta's help";
+  const Result v = run("--version");
+  EXPECT_EQ(v.status, 0);
+  EXPECT_EQ(v.out, std::string("mb2co-timing ") + MB2CO_VERSION + "\n");
 }
 
 }  // namespace

@@ -300,6 +300,27 @@ TEST_F(SocketCanVcan, KernelFiltersPassOnlyListedFrames) {
   EXPECT_EQ(peer.quit(), 0);
 }
 
+// The core's filter callback (CanControl::set_filters at reset, ids from
+// Node::consumed_ids): those standard ids, and every standard RTR (the node
+// answers RTRs for its TPDOs); a flood of anything else stays in the kernel.
+TEST_F(SocketCanVcan, CoreFiltersPassConsumedIdsAndRemoteFrames) {
+  const uint16_t consumed[] = {0x000, 0x080, 0x605, 0x705};
+  SocketCanPort::kControl.set_filters(&port_, consumed, 4);
+  EXPECT_STREQ(port_.last_io_error(), "");
+  const CanFrame marker = make_frame(0x605, 0, 1, "FF");  // passes; everything before it has arrived then
+  const std::vector<CanFrame> offered = {
+      make_frame(0x000, 0, 2, "0105"),  make_frame(0x123, 0, 1, "01"), make_frame(0x080, 0, 0),
+      make_frame(0x605, kExt, 1, "02"), make_frame(0x185, kRtr, 8),    make_frame(0x185, kExt | kRtr, 8),
+      make_frame(0x705, kRtr, 0),       make_frame(0x7FF, 0, 1, "03"), marker,
+  };
+  const std::vector<CanFrame> passing = {offered[0], offered[2], offered[4], offered[6], marker};
+  PythonPeer peer;
+  ASSERT_TRUE(peer.start(kBus));
+  ASSERT_TRUE(peer.send(offered));
+  EXPECT_EQ(texts(receive_frames(port_, passing.size())), texts(passing));
+  EXPECT_EQ(peer.quit(), 0);
+}
+
 TEST_F(SocketCanVcan, EmptyFilterListReceivesNothing) {
   SocketCanPort witness;  // sees every frame: tells when the burst is through
   ASSERT_TRUE(done(witness.open(kBus)));

@@ -117,5 +117,11 @@ void ControlChannel::process(uint32_t now_us) {
   }
 }
 
+void ControlChannel::next_deadline(NextDeadline& d) const {
+  for (int i = 0; i < 3; ++i) {
+    if (clicked_ & kButtons[i]) d.at(release_at_us_[i]);
+  }
+}
+
 }  // namespace node
 }  // namespace mb2co

@@ -18,6 +18,7 @@
 
 #include <string>
 
+#include "canopen/clock.h"
 #include "gateway/gateway.h"
 
 namespace mb2co {
@@ -30,6 +31,8 @@ class ControlChannel {
   std::string handle(const std::string& line, uint32_t now_us);
   /// Releases clicked buttons whose time is up.
   void process(uint32_t now_us);
+  /// Adds the release times of clicked buttons to `d` (process() due then).
+  void next_deadline(NextDeadline& d) const;
   /// Event lines (each ending in '\n') for what changed since the last call,
   /// given the LED levels the gateway drives now; "" when nothing changed.
   std::string events(uint8_t leds, uint32_t now_us);

@@ -1,11 +1,14 @@
 // mb2co-node: the gateway firmware (the same shared/gateway code as on the
 // Uno) on Linux: SocketCAN, a pty or tty for Modbus/RTU, buttons and LEDs on
 // a line protocol over stdin/stdout. One thread, one poll() loop that plays
-// the Arduino's loop(): at most 1 ms between two process() calls.
+// the Arduino's loop(), but sleeps until the next deadline of the gateway
+// (Gateway::next_deadline) or an input instead of spinning: under a bus
+// flood the CPU goes to frames, not to idle passes.
 #include <errno.h>
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -43,6 +46,17 @@ void say(const std::string& lines) {
   if (lines.empty()) return;
   std::fputs(lines.c_str(), stdout);
   std::fflush(stdout);
+}
+
+// Longest sleep of the loop: only a guard, the deadlines bound every wait.
+constexpr uint32_t kLongestWaitUs = 1000000;
+// Frames handed in per loop pass at most, so that a flood of frames the node
+// consumes cannot hold off process() (heartbeat, SDO answers): the rest
+// wait in the socket for the next pass, which polls without sleeping.
+constexpr size_t kMaxFramesPerPass = 4 * mb2co::linux_port::SocketCanPort::kBatch;
+
+timespec as_timespec(uint32_t us) {
+  return timespec{static_cast<time_t>(us / 1000000u), static_cast<long>(us % 1000000u) * 1000L};
 }
 
 int fail(const std::string& what) {
@@ -140,12 +154,15 @@ int main(int argc, char** argv) {
 
   std::string input;
   bool stdin_open = true;
+  uint32_t wait_us = 0;  // until the earliest deadline the last pass saw
   while (!control.quit()) {
     pollfd fds[4] = {{serial.fd(), POLLIN, 0},
                      {g_signal_pipe[0], POLLIN, 0},
                      {stdin_open ? 0 : -1, POLLIN, 0},
                      {with_can ? can.fd() : -1, POLLIN, 0}};
-    if (poll(fds, 4, 1) < 0 && errno != EINTR) return fail(std::string("poll: ") + std::strerror(errno));
+    const timespec wait = as_timespec(wait_us);
+    if (ppoll(fds, 4, &wait, nullptr) < 0 && errno != EINTR)
+      return fail(std::string("poll: ") + std::strerror(errno));
     if (fds[1].revents & POLLIN) break;  // SIGINT / SIGTERM: clean exit
     // Taken before the serial port is found empty, as modbus/slave.h asks:
     // no byte that arrived before `now` is left unread when process(now) runs.
@@ -161,7 +178,9 @@ int main(int argc, char** argv) {
     if (fds[3].revents & POLLIN) {
       linux_port::TimedCanFrame frames[linux_port::SocketCanPort::kBatch];
       size_t got = 0;
-      while ((got = can.receive(frames, linux_port::SocketCanPort::kBatch)) > 0) {
+      for (size_t taken = 0; taken < kMaxFramesPerPass; taken += got) {
+        got = can.receive(frames, linux_port::SocketCanPort::kBatch);
+        if (got == 0) break;
         for (size_t i = 0; i < got; ++i)
           gw.on_can_frame(frames[i].frame, static_cast<uint32_t>(frames[i].rx_time_us));
       }
@@ -187,6 +206,15 @@ int main(int argc, char** argv) {
       say(ready);
       ready.clear();
     }
+    // Sleep until something is due; frames left over from a capped pass
+    // keep the socket readable, so ppoll() returns at once for them.
+    NextDeadline due(now);
+    uint32_t at_us = 0;
+    if (gw.next_deadline(now, &at_us)) due.at(at_us);
+    control.next_deadline(due);
+    due.in(kLongestWaitUs);
+    due.result(&at_us);
+    wait_us = time_until(port::monotonic_us(), at_us);
   }
   serial.close();
   can.close();

@@ -4,6 +4,7 @@
 
 #include "command_parts.h"
 #include "csv_set.h"
+#include "serial_command.h"
 #include "timing/time_base.h"
 
 namespace mb2co {
@@ -62,6 +63,7 @@ int run(int argc, char** argv, std::ostream& out, std::ostream& err) {
   const cli::Parsed parsed = cli::parse(program(), argc, argv);
   const int early = cli::finish_early(program(), parsed, out, err);
   if (early >= 0) return early;
+  if (parsed.args.command->name == "serial") return serial_run(parsed.args, out, err);
   const Options options = options_of(parsed.args);
   bool deadline_missed = false;
   bool runtime_failure = false;

@@ -1,5 +1,6 @@
 #include "options.h"
 
+#include "serial_command.h"
 #include "timing/latency.h"
 
 namespace mb2co {
@@ -108,7 +109,7 @@ cli::Program make_program() {
                               cli::text("--message", "NAME", "the message --svg draws")})};
   cli::Command latency{"latency", "button-to-LED bound, Modbus only and Modbus + CANopen", "", 0,
                        join(set, latency_options())};
-  p.commands = {frame, load, rta, latency};
+  p.commands = {frame, load, rta, latency, serial_command()};
   p.footer =
       "\nCSV columns: name,id,ext,dlc,period_us[,deadline_us,jitter_us,c_us,bits]\n"
       "exit status: 0 done, 1 runtime error, 2 usage error (one line on stderr), 3 rta --check found a "

@@ -5,7 +5,9 @@
 // MB2CO_SERIAL_CYCLES overrides the cycle count (default below).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
+#include <string>
 
 #include "sim/serial_scenario.h"
 
@@ -30,9 +32,9 @@ void expect_within_bounds(const SerialScenarioConfig& c, const SerialScenarioRes
   EXPECT_EQ(r.outputs_wrong, 0u) << "every consumer shows its producer's last input";
   EXPECT_TRUE(r.ok);
   std::printf(
-      "%s: %u cycles, %llu messages, %llu TPDOs: longest %u µs (bound %u), mean %llu µs; "
+      "%u nodes, %s: %u cycles, %llu messages, %llu TPDOs: longest %u µs (bound %u), mean %llu µs; "
       "cycle max %u µs (bound %u), mean %llu µs\n",
-      c.token ? "token" : "polling", r.cycles, static_cast<unsigned long long>(r.messages),
+      c.nodes, c.token ? "token" : "polling", r.cycles, static_cast<unsigned long long>(r.messages),
       static_cast<unsigned long long>(r.pdos), r.pdo_max_us, r.pdo_bound_us,
       static_cast<unsigned long long>(r.pdo_sum_us / (r.pdos ? r.pdos : 1)), r.cycle_max_us, r.cycle_bound_us,
       static_cast<unsigned long long>(r.cycle_sum_us / (r.cycles ? r.cycles : 1)));
@@ -65,6 +67,23 @@ TEST(SerialSegment, FifteenNodesPassingTheTokenOneRemovedMidRun) {
   std::printf(
       "token recovery: %u recoveries, longest silence %u µs (T_recover %u), round max %u µs (bound %u)\n",
       r.recoveries, r.silence_max_us, r.recovery_bound_us, r.cycle_max_missing_us, r.cycle_bound_missing_us);
+}
+
+// The other sizes of docs/serial-canopen.md: 4 nodes (7-bit) and 31 nodes
+// (8-bit), both access methods, a shorter run each.
+TEST(SerialSegment, FourAndThirtyOneNodesWithinTheirBounds) {
+  for (const uint8_t nodes : {uint8_t{4}, uint8_t{31}}) {
+    for (const bool token : {false, true}) {
+      SerialScenarioConfig c;
+      c.nodes = nodes;
+      c.bits = nodes > 15 ? serialnet::IdBits::k8 : serialnet::IdBits::k7;
+      c.token = token;
+      c.cycles = std::min(cycles(), 1000u);
+      const SerialScenarioResult r = serial_scenario(c);
+      SCOPED_TRACE(std::to_string(nodes) + (token ? " nodes, token" : " nodes, polling"));
+      expect_within_bounds(c, r);
+    }
+  }
 }
 
 }  // namespace

@@ -9,6 +9,7 @@ missing=0
 for name in vcan.socketcan_port node.ring node.network load.bus_flood uno.vcan master.network master.transfers master.configure \
             master.via_modbus \
             peers.npm_client_vs_node peers.npm_client_vs_npm_server peers.npm_listen_nmt_sync \
+            timing.avr_compile.serial_segment \
             peers.master_vs_npm_server peers.block_by_hand labs.doc live.serial_operator \
             serialnet.avr_compile.serial_link cli.table_up_to_date cli.install_tree \
             bridge.vcan_poll bridge.vcan_token bridge.vcan_echo bridge.uno_vcan; do

@@ -168,6 +168,13 @@ SerialScenarioResult serial_scenario(const SerialScenarioConfig& sc) {
     if (sc.remove_node == id && !present) continue;
     seg.node(id).io.set_input(0, ++inputs[id]);
     if (present && sc.remove_node > 1 && r.cycles >= sc.cycles / 2) {
+      // With token passing the node goes while it holds the token: the
+      // token dies with it and only the starter's recovery brings it back.
+      SerialStation& gone = seg.node(sc.remove_node);
+      for (uint32_t i = 0; sc.token && i < r.cycle_bound_us && !gone.link.holds_token(); i += 10) {
+        seg.bus.run_for(10);
+      }
+      r.removed_holding_token = gone.link.holds_token();
       seg.bus.detach(sc.remove_node - 1);
       present = false;
       meter.removed = true;

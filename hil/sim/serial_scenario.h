@@ -23,7 +23,8 @@ struct SerialScenarioConfig {
   uint32_t window_us = 3600;  ///< W of every node
   uint32_t guard_us = 100;    ///< G
   uint32_t cycles = 10000;    ///< run until node 1 got this many windows
-  uint8_t remove_node = 0;    ///< unplugged at cycles / 2 (0: none; not node 1)
+  uint8_t remove_node = 0;    ///< unplugged at cycles / 2 (0: none; not node 1),
+                              ///< with token passing while it holds the token
   uint16_t heartbeat_ms = 1000;
   uint32_t seed = 1;
 };
@@ -39,15 +40,16 @@ struct SerialScenarioResult {
   uint64_t pdo_sum_us = 0;            ///< for the mean
   uint32_t cycle_bound_us = 0;        ///< poll cycle or token round (all present)
   uint32_t cycle_bound_missing_us = 0;
-  uint32_t cycle_max_us = 0;          ///< before the removal
-  uint32_t cycle_max_missing_us = 0;  ///< after it
-  uint64_t cycle_sum_us = 0;          ///< over cycles
-  uint32_t recovery_bound_us = 0;     ///< T_recover
-  uint32_t silence_max_us = 0;        ///< longest end-to-end gap on the line after the removal
-  uint32_t recoveries = 0;            ///< the starter's count
-  uint32_t unexpected = 0;            ///< EMCY or SDO messages (the bound assumes none ahead of a TPDO)
-  uint32_t outputs_wrong = 0;         ///< consumers whose output is not the producer's last input at the end
-  uint32_t decode_errors = 0;         ///< CRC, length, truncation errors seen by any node
+  uint32_t cycle_max_us = 0;           ///< before the removal
+  uint32_t cycle_max_missing_us = 0;   ///< after it
+  uint64_t cycle_sum_us = 0;           ///< over cycles
+  uint32_t recovery_bound_us = 0;      ///< T_recover
+  uint32_t silence_max_us = 0;         ///< longest end-to-end gap on the line after the removal
+  uint32_t recoveries = 0;             ///< the starter's count
+  bool removed_holding_token = false;  ///< token passing: the node went while it held the token
+  uint32_t unexpected = 0;             ///< EMCY or SDO messages (the bound assumes none ahead of a TPDO)
+  uint32_t outputs_wrong = 0;          ///< consumers whose output is not the producer's last input at the end
+  uint32_t decode_errors = 0;          ///< CRC, length, truncation errors seen by any node
   int collisions = 0;
   uint64_t events_us = 0;  ///< simulated time of the measurement
   bool ok = false;         ///< nothing late, no collision, no error, outputs right, recovery in bound

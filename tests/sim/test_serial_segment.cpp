@@ -59,6 +59,7 @@ TEST(SerialSegment, FifteenNodesPassingTheTokenOneRemovedMidRun) {
   c.remove_node = 9;
   const SerialScenarioResult r = serial_scenario(c);
   expect_within_bounds(c, r);
+  EXPECT_TRUE(r.removed_holding_token) << "the token died with the node";
   // The removed node costs one recovery per round, each within T_recover.
   EXPECT_GE(r.recoveries, c.cycles / 2 - 1);
   EXPECT_GT(r.silence_max_us, c.window_us) << "a recovery was measured";

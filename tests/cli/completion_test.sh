@@ -22,7 +22,7 @@ expect() {
   fi
 }
 
-expect "frame load rta latency" mb2co-timing ""
+expect "frame load rta latency serial" mb2co-timing ""
 expect "rta" mb2co-timing r
 expect "--bitrate" mb2co-timing rta --b
 expect "--check" mb2co-timing rta --ch

@@ -214,9 +214,10 @@ TEST_F(Cli, BadCommandLinesWithExit2) {
                         "inter-arrival time)",
                         2);
   expect_one_line_error(
-      run("bogus"), "unknown command \"bogus\" (frame, load, rta or latency) (try mb2co-timing --help)", 2);
-  expect_one_line_error(run(""), "missing command (frame, load, rta or latency) (try mb2co-timing --help)",
-                        2);
+      run("bogus"),
+      "unknown command \"bogus\" (frame, load, rta, latency or serial) (try mb2co-timing --help)", 2);
+  expect_one_line_error(run(""),
+                        "missing command (frame, load, rta, latency or serial) (try mb2co-timing --help)", 2);
   expect_one_line_error(run("frame --data 123"), "option --data/--rtr needs --id", 2);
   expect_one_line_error(run("latency --button-node 1"),
                         "--button-node and --pc-node must be different nodes within 1..--line", 2);

@@ -64,7 +64,14 @@ bool from_kernel_frame(const struct ::can_frame& in, CanFrame& out) {
 }
 
 SocketCanPort::SocketCanPort()
-    : fd_(-1), rcvbuf_bytes_(0), last_rx_overflows_(0), counters_{}, ifname_{}, error_{}, also_{}, also_count_(0) {}
+    : fd_(-1),
+      rcvbuf_bytes_(0),
+      last_rx_overflows_(0),
+      counters_{},
+      ifname_{},
+      error_{},
+      also_{},
+      also_count_(0) {}
 
 SocketCanPort::~SocketCanPort() {
   close();

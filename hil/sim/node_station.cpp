@@ -25,6 +25,7 @@ void NodeStation::power_on() {
   }  // arrived while off: lost
   leds_out_ = 0;
   make_gateway();
+  eeprom_.set_now(q_.now());
   gw_->start(0, static_cast<uint8_t>(index_ + 1));  // sends the boot-up message
   state_ = read_state();
   last_buttons_ = buttons_;
@@ -69,6 +70,7 @@ void NodeStation::pass() {
   }
   const uint32_t now_us = micros_at(t);
   gateway::Gateway& g = *gw_;
+  eeprom_.set_now(t);
   if (serial) {
     proc += take_serial(t, now_us);
     // The characters only fed the framer (nothing sent, nothing due yet).

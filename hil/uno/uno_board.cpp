@@ -21,6 +21,8 @@ constexpr uint16_t kSpcr = 0x4C;
 constexpr uint16_t kSpsr = 0x4D;
 constexpr uint16_t kSpdr = 0x4E;
 constexpr uint8_t kSpcrSpe = 0x40, kSpcrMstr = 0x10, kSpsrSpi2x = 0x01;
+constexpr uint16_t kEecr = 0x3F;
+constexpr uint8_t kEecrEepe = 0x02, kEecrEempe = 0x04;
 
 /// Port letter and bit of an Arduino Uno pin (variants/standard).
 struct PortBit {
@@ -137,6 +139,18 @@ Status UnoBoard::load(const std::string& elf_path, Wiring wiring) {
   avr_->io[AVR_DATA_TO_IO(kSpdr)].w.c = &on_spdr_write;
   avr_->io[AVR_DATA_TO_IO(kSpdr)].w.param = this;
   watch_pin(10);
+
+  // EEPROM: simavr's own EECR write handler programs the byte, ours runs
+  // around it and keeps EEPE set for the programming time (header comment).
+  eecr_write_ = avr_->io[AVR_DATA_TO_IO(kEecr)].w.c;
+  eecr_param_ = avr_->io[AVR_DATA_TO_IO(kEecr)].w.param;
+  if (eecr_write_ == nullptr || avr_->io[AVR_DATA_TO_IO(kEecr)].r.c != nullptr) {
+    return Status::failure("simavr's atmega328p EEPROM is not the one modelled (EECR)");
+  }
+  avr_->io[AVR_DATA_TO_IO(kEecr)].w.c = &on_eecr_write;
+  avr_->io[AVR_DATA_TO_IO(kEecr)].w.param = this;
+  avr_->io[AVR_DATA_TO_IO(kEecr)].r.c = &on_eecr_read;
+  avr_->io[AVR_DATA_TO_IO(kEecr)].r.param = this;
   return Status::ok();
 }
 
@@ -260,6 +274,23 @@ uint64_t UnoBoard::on_timer(avr_t*, uint64_t, void* param) {
   std::function<void()> fn = self->timer_fn_;  // fn may set the next one
   if (fn) fn();
   return 0;
+}
+
+void UnoBoard::on_eecr_write(avr_t* avr, uint16_t addr, uint8_t value, void* param) {
+  UnoBoard* self = static_cast<UnoBoard*>(param);
+  // EEPE written within 4 cycles of EEMPE: simavr programs the byte now.
+  const bool program = (avr->data[kEecr] & kEecrEempe) != 0 && (value & kEecrEepe) != 0;
+  self->eecr_write_(avr, addr, value, self->eecr_param_);
+  if (program) {
+    self->eeprom_ready_cycle_ = avr->cycle + cycles_from_us(kEepromByteUs);
+    ++self->eeprom_bytes_programmed_;
+  }
+}
+
+uint8_t UnoBoard::on_eecr_read(avr_t* avr, uint16_t addr, void* param) {
+  const UnoBoard* self = static_cast<const UnoBoard*>(param);
+  const bool busy = avr->cycle < self->eeprom_ready_cycle_;
+  return static_cast<uint8_t>((avr->data[addr] & ~kEecrEepe) | (busy ? kEecrEepe : 0));
 }
 
 bool UnoBoard::set_eeprom(const uint8_t* data, size_t length) {

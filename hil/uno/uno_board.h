@@ -12,6 +12,14 @@
 // byte received comes in through the SPI unit's own input IRQ, so SPDR reads
 // and the SPIF flag stay simavr's.
 //
+// EEPROM timing: simavr 1.6 programs an EEPROM byte at once and clears EEPE
+// in the same write, where the ATmega328P keeps EEPE set for 3.3 ms
+// (datasheet, 26.4: 3.3 ms typical at 5 V) and avr-libc's eeprom_write_*
+// wait for it. The board wraps simavr's EECR write handler (io[] table, as
+// for SPDR) to note when a byte was programmed and reads EEPE as set until
+// kEepromByteUs later, so a save takes the board's time and the firmware
+// sees the same busy bit (canopen::ParamSave polls it, avr::eeprom_storage).
+//
 // Time is the simulated CPU cycle count (cycle(), 62.5 ns each). Not
 // thread-safe; every callback runs inside run_until().
 #pragma once
@@ -90,6 +98,11 @@ class UnoBoard {
   /// Most bytes the stack has held since reset.
   uint16_t stack_used() const;
 
+  /// Programming time of one EEPROM byte (EEPE set meanwhile).
+  static constexpr uint32_t kEepromByteUs = 3300;
+  /// EEPROM bytes the image has programmed since load (each kEepromByteUs).
+  uint64_t eeprom_bytes_programmed() const { return eeprom_bytes_programmed_; }
+
   /// Replaces the EEPROM content (exactly kEepromBytes).
   bool set_eeprom(const uint8_t* data, size_t length);
   /// Reads the EEPROM content (kEepromBytes into `out`).
@@ -105,6 +118,8 @@ class UnoBoard {
   static void on_spdr_write(avr_t* avr, uint16_t addr, uint8_t value, void* param);
   static uint64_t on_spi_done(avr_t* avr, uint64_t when, void* param);
   static uint64_t on_timer(avr_t* avr, uint64_t when, void* param);
+  static void on_eecr_write(avr_t* avr, uint16_t addr, uint8_t value, void* param);
+  static uint8_t on_eecr_read(avr_t* avr, uint16_t addr, void* param);
 
   avr_t* avr_ = nullptr;
   Wiring wiring_;
@@ -123,6 +138,10 @@ class UnoBoard {
   std::string stop_reason_;
   uint16_t static_end_ = 0;  ///< first RAM address above .data + .bss
   uint16_t ramend_ = 0;
+  void (*eecr_write_)(avr_t*, uint16_t, uint8_t, void*) = nullptr;  ///< simavr's EEPROM unit
+  void* eecr_param_ = nullptr;
+  uint64_t eeprom_ready_cycle_ = 0;  ///< EEPE reads set before this cycle
+  uint64_t eeprom_bytes_programmed_ = 0;
 };
 
 }  // namespace uno

@@ -114,6 +114,13 @@ std::string od_markdown(const ObjectDictionary& od, const std::string& title) {
   s += "Saved: kept by 1010h \"save all parameters\" and loaded at every start; other\n"
        "entries start with their default (commands such as a RUN command, outputs and\n"
        "received values are never stored parameters).\n\n";
+  s += "1010h/01 \"save\" is answered at once and runs over the node's loop passes (an\n"
+       "EEPROM byte takes 3.3 ms on the Uno, a whole first save ~1.5 s; heartbeats, PDOs,\n"
+       "SDO and Modbus go on meanwhile). 1010h/01 reads 0 while it runs and 1 when it is\n"
+       "done: poll it. A \"save\" or \"load\" (1011h/01) meanwhile is refused with abort\n"
+       "08000022h (Modbus: exception 06, busy); a reset (NMT, 2001h) waits until the save\n"
+       "is done. A save that fails keeps the previous set and raises EMCY 5530h with bit 0\n"
+       "of 1001h until a save succeeds.\n\n";
   s += "| index | sub | name | type | access | PDO | saved | default |\n";
   s += "|---|---|---|---|---|---|---|---|\n";
   for (uint16_t r = 0; r < od.row_count(); ++r) {
@@ -209,7 +216,15 @@ std::string register_map_markdown(const ObjectDictionary& od) {
        "32-bit value); 04 a value the OD refuses (out of the entry's limits, refused by the\n"
        "owning service). A write of several registers or coils is checked whole before any\n"
        "of it is carried out: a refused one changes nothing (no value, no save, no reset, no\n"
-       "acknowledged stop).\n\n"
+       "acknowledged stop). 06 busy: HR 11-12 (1010h/01 \"save\") written while a save runs.\n\n"
+       "A save (HR 11-12 = 6576h 6173h) is answered at once, not when it is done: on the Uno\n"
+       "it programs up to a whole slot of EEPROM at 3.3 ms a byte (~1.5 s), longer than\n"
+       "masters wait for an answer (libmodbus 0.5 s, mbpoll 1 s), and it runs over the\n"
+       "loop's passes, so heartbeats, PDOs and Modbus go on meanwhile. Poll HR 11-12: they\n"
+       "read 0 0 while the save runs, 0 1 when it is done; a further save meanwhile gets\n"
+       "exception 06 and a restart (HR 13) waits until it is done. A failed save keeps\n"
+       "the previous set and sets bit 0 of the error register (IR 19, EMCY 5530h) until\n"
+       "a save succeeds.\n\n"
        "The RUN command (2100h/01) is a command, not a parameter: 1010h \"save\" does not keep\n"
        "it, and a station always starts stopped. The Modbus watchdog (2000h/09, ms; 0 off)\n"
        "runs from power-on: with no request for that long the station latches a stop (stop\n"

@@ -124,8 +124,9 @@ void Node::receive(const CanFrame& f, uint32_t now_us) {
     const NmtState before = nmt_.state();
     if (!nmt_.on_frame(f)) return;
     const NmtReset r = nmt_.take_reset();
-    if (r != kResetNone) return reset(r, now_us);
-    return on_transition(before);
+    if (r == kResetNone) return on_transition(before);
+    if (save_.running()) return request_reset(r);  // after the save (process())
+    return reset(r, now_us);
   }
   if (nmt_.sync_allowed()) {
     uint8_t counter = 0;
@@ -212,7 +213,13 @@ bool Node::next_deadline(uint32_t now_us, uint32_t* at_us) const {
 
 // Mirrors process(): the same services under the same NMT conditions.
 void Node::next_deadline(NextDeadline& d) const {
-  if (pending_reset_ != kResetNone) return d.now();
+  if (save_.running()) {
+    // The storage tells no time: a busy EEPROM byte is polled.
+    if (storage_->ready == nullptr || storage_->ready(storage_->ctx)) return d.now();
+    d.in(kSavePollUs);
+  } else if (pending_reset_ != kResetNone) {
+    return d.now();
+  }
   if (nmt_.state() == kNmtInitialising) return;
   if (filters_stale_) return d.now();
   if (emcy_.active(kEmcyCanOverrun)) d.at(overflow_us_ + kControllerEventHoldUs);
@@ -233,7 +240,8 @@ void Node::next_deadline(NextDeadline& d) const {
 }
 
 void Node::process(uint32_t now_us) {
-  if (pending_reset_ != kResetNone) {
+  if (save_.running()) step_save();
+  if (pending_reset_ != kResetNone && !save_.running()) {
     const NmtReset kind = pending_reset_;
     pending_reset_ = kResetNone;
     reset(kind, now_us);
@@ -288,10 +296,22 @@ HookResult Node::on_store_write(uint16_t index, uint32_t value, bool apply) {
   const bool save = index == 0x1010;
   // CiA 301 §7.5.2.13/14: the signature "save" or "load", and a storage.
   if (value != (save ? kSaveSignature : kLoadSignature) || storage_ == nullptr) return kAbortStore;
+  if (save_.running()) return kAbortDeviceState;  // busy: poll 1010h/1 until it reads 1
   if (!apply) return HookResult::handled();
-  const bool done = save ? params_save(od_, *storage_) : params_erase(*storage_);
-  if (done && save) emcy_.clear(kEmcyStorage);  // a good set is stored again
-  return done ? HookResult::handled() : HookResult(kAbortGeneral);
+  if (!save) return params_erase(*storage_) ? HookResult::handled() : HookResult(kAbortGeneral);
+  // Answered now, done over the next passes (step_save): a whole slot takes
+  // ~1.5 s on the Uno, longer than masters wait for an answer.
+  save_.start(od_, *storage_);
+  od_.set(row_1010_, 0u);
+  return HookResult::handled();
+}
+
+void Node::step_save() {
+  const ParamSave::Result r = save_.step(od_, *storage_);
+  if (r == ParamSave::kRunning) return;
+  od_.set(row_1010_, 1u);
+  // Failed: the previous set stays in force; reported until a save succeeds.
+  emcy_.report(kEmcyStorage, r == ParamSave::kFailed, kErrGeneric);
 }
 
 HookResult Node::od_hook(void* ctx, uint8_t hook, uint16_t index, uint8_t sub, const uint8_t* data,

@@ -47,6 +47,7 @@ struct NodeState {
   Tpdos tpdos_;
   Rpdos rpdos_;
   SdoServer sdo_;
+  ParamSave save_;                 ///< 1010h "save", running over passes of process()
   const CanControl* can_control_;  ///< MB2CO_FLASH; null: no bit rate, no filters
   uint32_t overflow_us_;           ///< last CAN overrun (8110h held until + kControllerEventHoldUs)
   uint32_t recovered_us_;          ///< last bus-off recovery (8140h likewise)
@@ -72,7 +73,12 @@ class Node : private NodeState {
  public:
   Node(ObjectDictionary& od, const CanSink& sink);
 
-  /// Optional; without storage 1010h reads 0 and "save" is refused.
+  /// Optional; without storage 1010h reads 0 and "save" is refused. With
+  /// one, "save" is answered at once and runs over the next process() calls
+  /// (ParamSave): 1010h/1 reads 0 until it ends, then 1 again; a save that
+  /// failed raises EMCY 5530h (1001h bit 0 until a save succeeds). While it
+  /// runs, "save" and "load" (1011h) are refused with 08000022h (Modbus:
+  /// exception 06, busy) and a reset (NMT, request_reset) waits for its end.
   void set_storage(const ParamStorage* storage) { storage_ = storage; }
   const ParamStorage* storage() const { return storage_; }
   /// Writes to entries with kHookApp go to the application.
@@ -99,6 +105,8 @@ class Node : private NodeState {
   /// An NMT command given by the device itself (a self-starting node enters
   /// operational without a master), with the same effects as on the bus.
   void local_nmt(NmtCommand command, uint32_t now_us);
+  /// A 1010h save is still running (its answer has left; 1010h/1 reads 0).
+  bool saving() const { return save_.running(); }
   /// True when the last reset found a valid saved-parameter image.
   bool params_loaded() const { return params_loaded_; }
   /// Resets that found a damaged saved-parameter slot (EMCY 5530h each time,
@@ -128,6 +136,9 @@ class Node : private NodeState {
   void next_deadline(NextDeadline& d) const;
   /// How long 8110h and 8140h stay active after their event.
   static const uint32_t kControllerEventHoldUs = 1000000;
+  /// While a save waits for a busy storage (ParamStorage::ready false), how
+  /// often next_deadline() asks for process() (an EEPROM byte: 3.3 ms).
+  static const uint32_t kSavePollUs = 500;
   /// The CAN port reports its controller (ControllerEvent bits; `passive`:
   /// error passive or bus-off now). EMCY (error register "communication"):
   /// 8110h on an overrun and 8140h on a recovery from bus-off, each cleared
@@ -179,6 +190,7 @@ class Node : private NodeState {
   void update_guard_emcy();
   void update_filters();
   void expire_controller_emcy(uint32_t now_us);
+  void step_save();
 
   ObjectDictionary& od_;
   CanSink sink_;

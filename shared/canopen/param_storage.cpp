@@ -9,10 +9,10 @@ namespace canopen {
 //   magic (2) | sequence number (2) | payload length (2) | payload | CRC-16 (2)
 // The CRC (CRC-16/MODBUS, the routine the gateway has anyway) covers the
 // payload, then the header; unlike a sum modulo 255 it tells 00h from FFh, so
-// an erased byte (EEPROM FFh) never passes. A save writes the slot that does
-// not hold the newest set: its magic made invalid first, the header last.
-// Whenever power fails, the other slot still holds the old set, and a boot
-// finds the old or the new one. (A slot damaged otherwise, e.g. a worn EEPROM
+// an erased byte (EEPROM FFh) never passes. A save (ParamSave) writes the
+// slot that does not hold the newest set: its magic made invalid first, the
+// magic last. Whenever power fails, the other slot still holds the old set,
+// and a boot finds the old or the new one. (A slot damaged otherwise, e.g. a worn EEPROM
 // cell, is caught by its CRC at the next boot: the other slot then applies.)
 static const uint16_t kMagic = 0x3243;  // "C2": the two-slot layout
 static const uint16_t kHeader = 6;
@@ -29,43 +29,39 @@ bool param_is_saved(const ObjectDictionary& od, uint16_t row) {
 
 namespace {
 
-const uint16_t kFailed = 0xFFFF;
-
-/// The one walk over a slot's payload, row by row: `save` writes every row
-/// (and goes on with *crc), else the rows with from <= index <= to are read
-/// into the OD and each checked against its entry's limits (loading bypasses
-/// the write path; a CRC cannot tell a value that was never allowed).
-/// Returns the payload length, kFailed when the storage fails, a loaded
-/// value is not allowed, or the payload would not fit the slot.
-uint16_t walk(ObjectDictionary& od, const ParamStorage& st, uint16_t at, bool save, uint16_t from,
-              uint16_t to, uint16_t* crc) {
+/// Bytes of the payload: every saved row at its capacity, in row order.
+uint16_t payload_length(const ObjectDictionary& od) {
   uint16_t len = 0;
+  for (uint16_t r = 0; r < od.row_count(); ++r) {
+    if (param_is_saved(od, r)) len = static_cast<uint16_t>(len + od.capacity_of(r));
+  }
+  return len;
+}
+
+/// Reads the payload of the slot at `at` row by row: the rows with from <=
+/// index <= to into the OD, each checked against its entry's limits (loading
+/// bypasses the write path; a CRC cannot tell a value that was never
+/// allowed). False when the storage fails or a loaded value is not allowed.
+bool load_rows(ObjectDictionary& od, const ParamStorage& st, uint16_t at, uint16_t from, uint16_t to) {
+  uint16_t where = static_cast<uint16_t>(at + kHeader);
   for (uint16_t r = 0; r < od.row_count(); ++r) {
     if (!param_is_saved(od, r)) continue;
     const uint16_t n = od.capacity_of(r);
-    const uint16_t where = static_cast<uint16_t>(at + kHeader + len);
-    len = static_cast<uint16_t>(len + n);
-    if (len > kMaxPayload) return kFailed;
     const uint16_t index = od.index_of(r);
     uint8_t* p = od.ram_untracked(r);
-    if (save) {
-      if (!st.write(st.ctx, where, p, n)) return kFailed;
-      *crc = modbus::crc16(p, n, *crc);
-    } else if (index >= from && index <= to &&
-               (!st.read(st.ctx, where, p, n) || (n <= 4 && !od.value_allowed(r, p, n)))) {
-      return kFailed;
+    if (index >= from && index <= to &&
+        (!st.read(st.ctx, where, p, n) || (n <= 4 && !od.value_allowed(r, p, n)))) {
+      return false;
     }
+    where = static_cast<uint16_t>(where + n);
   }
-  return len;
+  return true;
 }
 
 /// True when the slot at `at` with `header` carries a right CRC over the
 /// payload length this OD saves (read byte by byte: no buffer).
 bool crc_right(const ObjectDictionary& od, const ParamStorage& st, uint16_t at, const uint8_t* header) {
-  uint16_t len = 0;
-  for (uint16_t r = 0; r < od.row_count(); ++r) {
-    if (param_is_saved(od, r)) len = static_cast<uint16_t>(len + od.capacity_of(r));
-  }
+  const uint16_t len = payload_length(od);
   if (le16(header) != kMagic || le16(header + 4) != len || len > kMaxPayload) return false;
   uint16_t crc = modbus::kCrcInit;
   for (uint16_t i = 0; i < len + kCrcBytes; ++i) {
@@ -102,33 +98,6 @@ bool params_erase(const ParamStorage& st) {
   return st.write(st.ctx, 0, zero, 2) && st.write(st.ctx, kSlotBytes, zero, 2);
 }
 
-bool params_save(ObjectDictionary& od, const ParamStorage& st) {
-  uint8_t headers[2][kHeader];
-  const uint8_t newest = read_headers(st, headers);
-  const bool had_set = le16(headers[newest]) == kMagic;
-  const uint16_t sequence = had_set ? static_cast<uint16_t>(le16(headers[newest] + 2) + 1u) : 1u;
-  // The target is the other slot, unless the newest header's set fails its
-  // CRC (damaged, or the remains of a cut save): then that slot, as the other
-  // may hold the only loadable set. With no set at all, slot 0.
-  uint8_t target = newest;
-  if (had_set && crc_right(od, st, newest ? kSlotBytes : 0, headers[newest])) target ^= 1u;
-  const uint16_t at = target ? kSlotBytes : 0;
-  uint8_t* header = headers[0];
-  header[0] = header[1] = 0;  // magic 0: not valid while the payload changes
-  if (!st.write(st.ctx, at, header, 2) || !barrier(st)) return false;
-  uint16_t crc = modbus::kCrcInit;
-  const uint16_t len = walk(od, st, at, true, 0, 0, &crc);
-  if (len == kFailed) return false;
-  put_le16(header, kMagic);
-  put_le16(header + 2, sequence);
-  put_le16(header + 4, len);
-  uint8_t check[kCrcBytes];
-  put_le16(check, modbus::crc16(header, kHeader, crc));  // low byte first, as on a Modbus line
-  if (!st.write(st.ctx, static_cast<uint16_t>(at + kHeader + len), check, kCrcBytes) || !barrier(st))
-    return false;
-  return st.write(st.ctx, at, header, kHeader) && barrier(st);
-}
-
 ParamLoad params_load(ObjectDictionary& od, const ParamStorage& st, uint16_t from_index, uint16_t to_index) {
   uint8_t headers[2][kHeader];
   const uint8_t newest = read_headers(st, headers);
@@ -138,15 +107,88 @@ ParamLoad params_load(ObjectDictionary& od, const ParamStorage& st, uint16_t fro
     const uint16_t magic = le16(headers[slot]);
     if (magic == 0x0000 || magic == 0xFFFF) continue;  // erased or invalidated: no set, no damage
     const uint16_t at = static_cast<uint16_t>(slot * kSlotBytes);
-    uint16_t unused = 0;
-    if (crc_right(od, st, at, headers[slot]) &&
-        walk(od, st, at, false, from_index, to_index, &unused) != kFailed) {
+    if (crc_right(od, st, at, headers[slot]) && load_rows(od, st, at, from_index, to_index)) {
       return damaged ? ParamLoad::kLoadedOneDamaged : ParamLoad::kLoaded;
     }
     damaged = true;
     od.restore_defaults(from_index, to_index);  // nothing of a refused set stays
   }
   return damaged ? ParamLoad::kDamaged : ParamLoad::kNone;
+}
+
+// ---- ParamSave ----------------------------------------------------------------
+// The bytes of a save as one sequence, k = next_ - 1, with end = the slot's
+// used length (header, payload, CRC):
+//   k in [0, 2)       slot offset k: 0, the magic made invalid    barrier after
+//   k in [2, end)     slot offset k: sequence number and length, the payload,
+//                     the CRC                                      barrier after
+//   k in [end, end+2) slot offset k - end: the magic; the set counts from
+//                     its last byte on                             barrier after
+
+void ParamSave::start(const ObjectDictionary& od, const ParamStorage& st) {
+  uint8_t headers[2][kHeader];
+  const uint8_t newest = read_headers(st, headers);
+  const bool had_set = le16(headers[newest]) == kMagic;
+  sequence_ = had_set ? static_cast<uint16_t>(le16(headers[newest] + 2) + 1u) : 1u;
+  // The target is the other slot, unless the newest header's set fails its
+  // CRC (damaged, or the remains of a cut save): then that slot, as the other
+  // may hold the only loadable set. With no set at all, slot 0.
+  slot_ = newest;
+  if (had_set && crc_right(od, st, newest ? kSlotBytes : 0, headers[newest]))
+    slot_ = static_cast<uint8_t>(slot_ ^ 1u);
+  length_ = payload_length(od);
+  crc_ = modbus::kCrcInit;
+  next_ = 1;
+  next_row(od, 0);
+}
+
+void ParamSave::next_row(const ObjectDictionary& od, uint16_t from) {
+  in_row_ = 0;
+  for (row_ = from; row_ < od.row_count(); ++row_) {
+    const uint16_t n = od.capacity_of(row_);
+    if (!param_is_saved(od, row_) || n == 0) continue;
+    // Copied now: a network write during the save cannot tear the entry.
+    const uint8_t* p = od.ram(row_);
+    for (uint8_t i = 0; i < sizeof entry_ && i < n; ++i) entry_[i] = p[i];
+    return;
+  }
+}
+
+ParamSave::Result ParamSave::step(const ObjectDictionary& od, const ParamStorage& st) {
+  const uint16_t end = static_cast<uint16_t>(length_ + kHeader + kCrcBytes);
+  bool ok = length_ <= kMaxPayload;
+  for (uint8_t n = kBytesPerPass; ok && n != 0; --n) {
+    if (st.ready != nullptr && !st.ready(st.ctx)) return kRunning;
+    const uint16_t k = static_cast<uint16_t>(next_ - 1);
+    const uint16_t offset = k < end ? k : static_cast<uint16_t>(k - end);
+    uint8_t h[kHeader];
+    put_le16(h, kMagic);
+    put_le16(h + 2, sequence_);
+    put_le16(h + 4, length_);
+    uint8_t b;
+    if (offset < kHeader) {
+      b = k < 2 ? 0 : h[offset];
+    } else if (offset < end - kCrcBytes) {
+      b = in_row_ < sizeof entry_ ? entry_[in_row_] : od.ram(row_)[in_row_];
+    } else {
+      if (offset == end - kCrcBytes) crc_ = modbus::crc16(h, kHeader, crc_);   // payload, then header
+      b = static_cast<uint8_t>(offset == end - kCrcBytes ? crc_ : crc_ >> 8);  // low byte first
+    }
+    ok = st.write(st.ctx, static_cast<uint16_t>((slot_ ? kSlotBytes : 0) + offset), &b, 1);
+    const uint16_t done = next_++;
+    if (offset >= kHeader && offset < end - kCrcBytes) {
+      crc_ = modbus::crc16(&b, 1, crc_);
+      if (++in_row_ == od.capacity_of(row_)) next_row(od, static_cast<uint16_t>(row_ + 1));
+    }
+    if (ok && (done == 2 || done == end || done == end + 2u)) ok = barrier(st);
+    if (ok && done == end + 2u) {
+      next_ = 0;
+      return kDone;
+    }
+  }
+  if (ok) return kRunning;
+  next_ = 0;
+  return kFailed;
 }
 
 }  // namespace canopen

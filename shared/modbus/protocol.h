@@ -15,7 +15,7 @@ enum class Exception : uint8_t {
   kIllegalDataAddress = 0x02,   ///< some address of the request is not accessible
   kIllegalDataValue = 0x03,     ///< malformed request: quantity, byte count, length
   kServerDeviceFailure = 0x04,  ///< execution failed (value rejected, device error)
-  kServerDeviceBusy = 0x06,     ///< busy with a long request (FC 2Bh/0Dh: a remote transfer runs)
+  kServerDeviceBusy = 0x06,  ///< busy with a long request (FC 2Bh/0Dh: a remote transfer runs; a 1010h save)
 };
 
 /// Function codes handled by this library.

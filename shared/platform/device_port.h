@@ -11,7 +11,10 @@
 //   serial out    ByteSink::write      from SlaveCore::process or on_char (one
 //                                      ADU per call, when a request is complete)
 //   storage       ParamStorage         from Node::start and reset (load),
-//                                      from an SDO/Modbus write of 1010h/1011h
+//                                      from an SDO/Modbus write of 1011h, and
+//                                      from Node::process while a save of
+//                                      1010h runs (one byte per write, when
+//                                      ParamStorage::ready says so)
 //   set bit rate  CanControl::set_bitrate
 //                                      from Gateway::on_reset only: at power-on
 //                                      (Gateway::start) and at every reset node
@@ -114,6 +117,12 @@ struct ParamStorage {
   /// fsync). nullptr when writes reach the medium in order anyway (EEPROM).
   bool (*barrier)(void* ctx);
   void* ctx;
+  /// True when a write of one byte would start at once (the Uno: no EEPROM
+  /// byte being programmed, EEPE clear; it takes 3.3 ms). A save (1010h)
+  /// writes one byte per write() call and only when this says so, a few per
+  /// pass of the loop (canopen::ParamSave), so the loop never waits for the
+  /// medium. nullptr: always ready (a file, RAM). Loads and 1011h do not ask.
+  bool (*ready)(void* ctx);
 };
 
 }  // namespace canopen

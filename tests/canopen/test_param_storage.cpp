@@ -10,10 +10,20 @@ namespace {
 
 using namespace canopen;
 
-/// Byte-addressed storage in RAM; can be told to fail from the n-th write on.
+/// Byte-addressed storage in RAM; can be told to fail from the n-th write on,
+/// and to take `busy_us` of virtual time (*clock) per byte written as an
+/// EEPROM does (ParamStorage::ready false meanwhile).
 struct RamStorage {
   std::vector<uint8_t> mem = std::vector<uint8_t>(1024, 0xFF);
   int writes_left = -1;  ///< -1: never fail
+  const uint32_t* clock = nullptr;
+  uint32_t busy_us = 0;
+  uint32_t ready_at = 0;
+  int early_writes = 0;  ///< writes while not ready (a port would block)
+  static bool ready(void* ctx) {
+    const RamStorage& s = *static_cast<RamStorage*>(ctx);
+    return s.clock == nullptr || time_reached(*s.clock, s.ready_at);
+  }
   static bool read(void* ctx, uint16_t at, uint8_t* data, uint16_t len) {
     RamStorage& s = *static_cast<RamStorage*>(ctx);
     if (static_cast<size_t>(at) + len > s.mem.size()) return false;
@@ -24,10 +34,14 @@ struct RamStorage {
     RamStorage& s = *static_cast<RamStorage*>(ctx);
     if (s.writes_left == 0 || static_cast<size_t>(at) + len > s.mem.size()) return false;
     if (s.writes_left > 0) --s.writes_left;
+    if (!ready(ctx)) ++s.early_writes;
     memcpy(&s.mem[at], data, len);
+    if (s.clock != nullptr) s.ready_at = *s.clock + s.busy_us * len;
     return true;
   }
-  ParamStorage api() { return ParamStorage{&RamStorage::read, &RamStorage::write, nullptr, this}; }
+  ParamStorage api() {
+    return ParamStorage{&RamStorage::read, &RamStorage::write, nullptr, this, &RamStorage::ready};
+  }
 };
 
 class Storage : public IoNodeTest {
@@ -57,6 +71,17 @@ class Storage : public IoNodeTest {
     EXPECT_EQ(h.read(0x1800, 1), 0x183u);
     EXPECT_EQ(h.read(0x1800, 2), 255u);
   }
+  /// "save": the answer (0: accepted), then the passes until the save ends.
+  uint32_t save() {
+    const uint32_t answer = h.write_u32(0x1010, 1, kSaveSignature);
+    finish_save();
+    return answer;
+  }
+  void finish_save() {
+    for (int pass = 0; pass < 100000 && io.node().saving(); ++pass) h.advance_us(100);
+    EXPECT_FALSE(io.node().saving());
+  }
+  bool storage_error() { return io.node().emcy().active(0x5530); }
   RamStorage ram;
   ParamStorage api = ram.api();
 };
@@ -67,7 +92,7 @@ TEST_F(Storage, CapabilityReadsOne) {
 
 TEST_F(Storage, SavedParametersSurviveResetNode) {
   configure();
-  EXPECT_EQ(h.write_u32(0x1010, 1, kSaveSignature), 0u);
+  EXPECT_EQ(save(), 0u);
   EXPECT_EQ(h.read(0x1010, 1), 1u) << "the signature is not stored";
   h.nmt(0x81, kId);
   EXPECT_EQ(h.take(), Frames({"<703> 00"}));
@@ -77,7 +102,7 @@ TEST_F(Storage, SavedParametersSurviveResetNode) {
 
 TEST_F(Storage, ResetCommunicationReloadsOnlyTheCommunicationArea) {
   configure();
-  ASSERT_EQ(h.write_u32(0x1010, 1, kSaveSignature), 0u);
+  ASSERT_EQ(save(), 0u);
   ASSERT_EQ(h.write_u16(0x1017, 0, 300), 0u);  // not saved
   ASSERT_EQ(h.write_u16(0x2101, 0, 77), 0u);   // not saved
   h.nmt(0x82, kId);
@@ -87,7 +112,7 @@ TEST_F(Storage, ResetCommunicationReloadsOnlyTheCommunicationArea) {
 
 TEST_F(Storage, RestoreDefaultsTakesEffectAtTheNextReset) {
   configure();
-  ASSERT_EQ(h.write_u32(0x1010, 1, kSaveSignature), 0u);
+  ASSERT_EQ(save(), 0u);
   ASSERT_EQ(h.write_u32(0x1011, 1, kLoadSignature), 0u);
   expect_configured();  // nothing changes until the reset
   h.nmt(0x81, kId);
@@ -95,12 +120,15 @@ TEST_F(Storage, RestoreDefaultsTakesEffectAtTheNextReset) {
   EXPECT_FALSE(io.node().params_loaded());
 }
 
-TEST_F(Storage, AnInterruptedSaveLeavesDefaults) {
+// The answer leaves before the save is done; a storage failing on the way
+// is reported as EMCY 5530h (1001h bit 0), and nothing of the set counts.
+TEST_F(Storage, AnInterruptedSaveLeavesDefaultsAndIsReported) {
   configure();
   ram.writes_left = 3;  // dies in the middle of the payload
-  const std::vector<Bytes> before = od_snapshot(od());
-  h.expect_abort({0x23, 0x10, 0x10, 0x01, 's', 'a', 'v', 'e'}, 0x1010, 1, kAbortGeneral);
-  EXPECT_TRUE(od_snapshot(od()) == before);
+  EXPECT_EQ(save(), 0u) << "answered at once";
+  expect_configured();
+  EXPECT_TRUE(storage_error());
+  EXPECT_EQ(h.read(0x1001, 0), 0x01u);
   ram.writes_left = -1;
   h.nmt(0x81, kId);
   expect_defaults();
@@ -108,7 +136,7 @@ TEST_F(Storage, AnInterruptedSaveLeavesDefaults) {
 
 TEST_F(Storage, ACorruptedImageIsIgnored) {
   configure();
-  ASSERT_EQ(h.write_u32(0x1010, 1, kSaveSignature), 0u);
+  ASSERT_EQ(save(), 0u);
   for (size_t at : {size_t{0}, size_t{5}, size_t{20}}) {
     RamStorage copy = ram;
     ram.mem[at] ^= 0x01;
@@ -124,7 +152,7 @@ TEST_F(Storage, ACorruptedImageIsIgnored) {
 TEST_F(Storage, TheErrorHistoryIsNotSaved) {
   io.node().emcy().raise(0x5000, kErrDeviceProfile);
   h.advance_us(10);
-  ASSERT_EQ(h.write_u32(0x1010, 1, kSaveSignature), 0u);
+  ASSERT_EQ(save(), 0u);
   h.nmt(0x81, kId);
   EXPECT_EQ(h.read(0x1003, 0), 0u);
 }
@@ -166,12 +194,12 @@ TEST_F(Storage, EachSaveFillsTheOtherSlotWithACrcAndTheNextSequenceNumber) {
   configure();
   const size_t len = payload_bytes(od());
   ASSERT_LE(6 + len + 2, kSlotBytes) << "a slot holds the I/O node's set";
-  for (unsigned save = 1; save <= 3; ++save) {
-    ASSERT_EQ(h.write_u32(0x1010, 1, kSaveSignature), 0u);
-    const uint8_t* s = &ram.mem[((save - 1) % 2) * kSlotBytes];
+  for (unsigned n = 1; n <= 3; ++n) {
+    ASSERT_EQ(save(), 0u);
+    const uint8_t* s = &ram.mem[((n - 1) % 2) * kSlotBytes];
     EXPECT_EQ(s[0], 0x43);
     EXPECT_EQ(s[1], 0x32);
-    EXPECT_EQ(s[2] | (s[3] << 8), static_cast<int>(save)) << "sequence number";
+    EXPECT_EQ(s[2] | (s[3] << 8), static_cast<int>(n)) << "sequence number";
     EXPECT_EQ(static_cast<size_t>(s[4] | (s[5] << 8)), len);
     const uint16_t crc = slot_crc(s, len);
     EXPECT_EQ(s[6 + len], crc & 0xFF);
@@ -183,15 +211,16 @@ TEST_F(Storage, EachSaveFillsTheOtherSlotWithACrcAndTheNextSequenceNumber) {
 // the set saved before it in force: never the defaults.
 TEST_F(Storage, ASaveCutOffAtAnyWriteKeepsThePreviousSet) {
   configure();
-  ASSERT_EQ(h.write_u32(0x1010, 1, kSaveSignature), 0u);  // set A: 1017h = 250
-  ASSERT_EQ(h.write_u32(0x1010, 1, kSaveSignature), 0u);  // again: both slots hold A
+  ASSERT_EQ(save(), 0u);  // set A: 1017h = 250
+  ASSERT_EQ(save(), 0u);  // again: both slots hold A
   const RamStorage with_a = ram;
   int cut = 0;
   for (;; ++cut) {
     ram = with_a;
     ASSERT_EQ(h.write_u16(0x1017, 0, 500), 0u);  // set B
     ram.writes_left = cut;
-    const bool saved = h.write_u32(0x1010, 1, kSaveSignature) == 0u;
+    ASSERT_EQ(save(), 0u);
+    const bool saved = !storage_error();
     ram.writes_left = -1;
     h.nmt(0x81, kId);
     EXPECT_TRUE(io.node().params_loaded()) << "cut after " << cut << " writes: defaults";
@@ -209,9 +238,9 @@ TEST_F(Storage, ASaveCutOffAtAnyWriteKeepsThePreviousSet) {
 // (a sum modulo 255 could not tell), and the older slot takes over.
 TEST_F(Storage, AByteGoneToFFhFallsBackToTheOlderSet) {
   configure();
-  ASSERT_EQ(h.write_u32(0x1010, 1, kSaveSignature), 0u);  // slot 0: 1017h = 250
+  ASSERT_EQ(save(), 0u);  // slot 0: 1017h = 250
   ASSERT_EQ(h.write_u16(0x1017, 0, 300), 0u);
-  ASSERT_EQ(h.write_u32(0x1010, 1, kSaveSignature), 0u);  // slot 1: 1017h = 300
+  ASSERT_EQ(save(), 0u);  // slot 1: 1017h = 300
   size_t at = 0;
   const size_t len = payload_bytes(od(), 0x1017, 0, &at);
   const size_t slot1 = kSlotBytes;
@@ -231,7 +260,7 @@ TEST_F(Storage, AByteGoneToFFhFallsBackToTheOlderSet) {
 // and 1001h bit 0, until a save succeeds.
 TEST_F(Storage, AValueBeyondItsLimitsRefusesTheSetAndIsReported) {
   configure();
-  ASSERT_EQ(h.write_u32(0x1010, 1, kSaveSignature), 0u);
+  ASSERT_EQ(save(), 0u);
   size_t at = 0;
   const size_t len = payload_bytes(od(), 0x2101, 0, &at);
   ASSERT_EQ(ram.mem[6 + at], 42);
@@ -247,7 +276,7 @@ TEST_F(Storage, AValueBeyondItsLimitsRefusesTheSetAndIsReported) {
   h.advance_us(1000);
   EXPECT_EQ(h.take(), Frames({"<703> 00", "<083> 30 55 01 00 00 00 00 00"})) << "boot-up, then EMCY 5530h";
   EXPECT_EQ(h.read(0x1001, 0), 0x01u);
-  ASSERT_EQ(h.write_u32(0x1010, 1, kSaveSignature), 0u);
+  ASSERT_EQ(save(), 0u);
   h.advance_us(1000);
   EXPECT_EQ(h.take(), Frames({"<083> 00 00 00 00 00 00 00 00"})) << "error reset after a good save";
   EXPECT_EQ(h.read(0x1001, 0), 0x00u);
@@ -259,6 +288,92 @@ TEST_F(Storage, NothingSavedIsNoDamage) {
   EXPECT_FALSE(io.node().params_loaded());
   EXPECT_EQ(io.node().storage_damage_count(), 0u);
   EXPECT_EQ(h.read(0x1001, 0), 0x00u);
+}
+
+// A save on an EEPROM (3.3 ms per byte, ready() false meanwhile) runs over
+// passes: answered at once, never a write while the medium is busy, the
+// heartbeat keeps its period, 1010h/1 reads 0 until it is done, a second
+// "save" or a "load" meanwhile is refused as busy (08000022h), and the new
+// set is in force after it.
+TEST_F(Storage, ASaveOnABusyEepromRunsOverPassesAndTheHeartbeatKeepsItsPeriod) {
+  configure();
+  ASSERT_EQ(h.write_u16(0x1017, 0, 100), 0u);
+  ram.clock = &h.now;
+  ram.busy_us = 3300;
+  h.run_us(150000);
+  bus.frames.clear();
+  const uint32_t begin = h.now;
+  ASSERT_EQ(h.write_u32(0x1010, 1, kSaveSignature), 0u) << "answered at once";
+  EXPECT_TRUE(io.node().saving());
+  EXPECT_EQ(h.read(0x1010, 1), 0u) << "busy: poll until it reads 1";
+  h.expect_abort({0x23, 0x10, 0x10, 0x01, 's', 'a', 'v', 'e'}, 0x1010, 1, kAbortDeviceState);
+  h.expect_abort({0x23, 0x11, 0x10, 0x01, 'l', 'o', 'a', 'd'}, 0x1011, 1, kAbortDeviceState);
+  std::vector<uint32_t> beats;
+  while (io.node().saving() && h.now - begin < 10000000u) {
+    uint32_t at = 0;
+    ASSERT_TRUE(io.node().next_deadline(h.now, &at));
+    ASSERT_LE(at - h.now, uint32_t{Node::kSavePollUs}) << "the save asks to be run again";
+    h.advance_us(100);
+    for (const CanFrame& f : h.take_frames()) {
+      if (f.id == 0x700u + kId) beats.push_back(h.now);
+    }
+  }
+  const uint32_t took = h.now - begin;
+  const size_t bytes = 6 + payload_bytes(od()) + 2 + 2;  // header, payload, CRC, invalidation
+  EXPECT_GE(took, (bytes - 1) * 3300u) << "one byte per 3.3 ms";
+  EXPECT_LE(took, bytes * 3300u + bytes * 200u) << "no byte waits much longer than the medium";
+  EXPECT_EQ(ram.early_writes, 0) << "never a write while the EEPROM programs a byte";
+  ASSERT_GE(beats.size(), took / 100000u - 1) << "heartbeats during the save";
+  for (size_t i = 1; i < beats.size(); ++i) {
+    EXPECT_NEAR(static_cast<double>(beats[i] - beats[i - 1]), 100000.0, 200.0) << "heartbeat " << i;
+  }
+  EXPECT_FALSE(storage_error());
+  EXPECT_EQ(h.read(0x1010, 1), 1u);
+  ASSERT_EQ(h.write_u16(0x1017, 0, 0), 0u);
+  h.nmt(0x81, kId);
+  h.run_us(1000);
+  EXPECT_TRUE(io.node().params_loaded());
+  EXPECT_EQ(h.read(0x1017, 0), 100u);
+  EXPECT_EQ(h.read(0x2101, 0), 42u);
+}
+
+// A reset asked for while a save runs (NMT here; the same for 2001h and a
+// Modbus restart) waits until the save is done: "save, then reset" in one
+// breath keeps what was saved.
+TEST_F(Storage, AResetDuringASaveWaitsForItsEnd) {
+  configure();
+  ram.clock = &h.now;
+  ram.busy_us = 3300;
+  ASSERT_EQ(h.write_u32(0x1010, 1, kSaveSignature), 0u);
+  h.nmt(0x81, kId);
+  h.run_us(1000000);
+  EXPECT_TRUE(io.node().saving());
+  for (const std::string& f : h.take()) EXPECT_EQ(f, "<703> 7F") << "heartbeats, no boot-up while saving";
+  finish_save();
+  h.advance_us(100);
+  const Frames after = h.take();
+  ASSERT_FALSE(after.empty());
+  EXPECT_EQ(after.back(), "<703> 00") << "then the reset";
+  EXPECT_TRUE(io.node().params_loaded());
+  expect_configured();
+}
+
+// An entry written while the save runs is saved whole, as it was when the
+// save reached it or as written: never half of each.
+TEST_F(Storage, AnEntryWrittenDuringTheSaveIsSavedWhole) {
+  ASSERT_EQ(h.write_u32(0x1800, 1, 0x80000183u), 0u);
+  ram.clock = &h.now;
+  ram.busy_us = 3300;
+  size_t at = 0;
+  payload_bytes(od(), 0x1800, 1, &at);
+  ASSERT_EQ(h.write_u32(0x1010, 1, kSaveSignature), 0u);
+  // Runs until the save has written the entry's first byte, not its last.
+  while (io.node().saving() && ram.mem[6 + at] != 0x83) h.advance_us(100);
+  ASSERT_TRUE(io.node().saving());
+  ASSERT_EQ(h.write_u32(0x1800, 1, 0x40000183u), 0u);
+  finish_save();
+  h.nmt(0x81, kId);
+  EXPECT_EQ(h.read(0x1800, 1), 0x80000183u) << "the value the save reached";
 }
 
 }  // namespace

@@ -319,13 +319,18 @@ struct FailingStorage {
   static bool write(void*, uint16_t, const uint8_t*, uint16_t) { return false; }
 };
 
+// "save" is answered before it runs (it takes passes: ParamSave); its
+// failure is EMCY 5530h, not an abort. "load" is one write: aborted.
 TEST_F(SdoAbort, SaveWithFailingStorage_08000000) {
-  const ParamStorage st = {&FailingStorage::read, &FailingStorage::write, nullptr, nullptr};
+  const ParamStorage st = {&FailingStorage::read, &FailingStorage::write, nullptr, nullptr, nullptr};
   io.node().set_storage(&st);
   h.nmt(0x82, kId);  // 1010h reads the capability from the next reset on
   bus.frames.clear();
   EXPECT_EQ(h.read(0x1010, 1), 1u);
-  h.expect_abort({0x23, 0x10, 0x10, 0x01, 's', 'a', 'v', 'e'}, 0x1010, 1, kAbortGeneral);
+  EXPECT_EQ(h.write_u32(0x1010, 1, kSaveSignature), 0u);
+  h.advance_us(100);
+  EXPECT_FALSE(io.node().saving());
+  EXPECT_TRUE(io.node().emcy().active(0x5530)) << "the failed save is reported";
   h.expect_abort({0x23, 0x11, 0x10, 0x01, 'l', 'o', 'a', 'd'}, 0x1011, 1, kAbortGeneral);
 }
 

@@ -40,7 +40,7 @@ class Line {
     stations_.resize(static_cast<size_t>(n));
     for (int i = 0; i < n; ++i) {
       Station& s = stations_[static_cast<size_t>(i)];
-      s.storage = canopen::ParamStorage{&Line::eeprom_read, &Line::eeprom_write, nullptr, &s};
+      s.storage = canopen::ParamStorage{&Line::eeprom_read, &Line::eeprom_write, nullptr, &s, nullptr};
       gateway::GatewayPorts ports{CanSink{&Line::can_send, this}, modbus::ByteSink{&Line::serial_send, &s},
                                   &s.storage, kBaud};
       s.gw.reset(new gateway::Gateway(ports));
@@ -51,6 +51,7 @@ class Line {
       uint8_t save[4];
       canopen::put_le32(save, canopen::kSaveSignature);
       if (s.gw->od().write(0x1010, 1, save, 4) != canopen::kSdoOk) throw std::runtime_error("save failed");
+      while (s.gw->node().saving()) s.gw->process(now_us, 0);  // the save's passes
       commissioning_ = false;
     }
     for (int i = 0; i < n; ++i) power_on(i);

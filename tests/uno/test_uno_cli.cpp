@@ -119,6 +119,12 @@ TEST(UnoCli, NodeIdSavedInEepromSurvivesARestart) {
     ASSERT_EQ(modbus_write_register(m.ctx(), 2, 9), 1);  // 2000h/1 node id, from the next reset
     const uint16_t save[2] = {0x6576, 0x6173};  // 1010h/1 = "save", 1.5 s of EEPROM writes on the Uno
     ASSERT_EQ(modbus_write_registers(m.ctx(), 11, 2, save), 2) << modbus_strerror(errno);
+    // Answered at once; done when 1010h/1 reads 1 again (docs/register-map.md).
+    uint16_t state[2] = {0, 0};
+    for (int poll = 0; poll < 100000 && state[1] != 1; ++poll) {
+      ASSERT_EQ(modbus_read_registers(m.ctx(), 11, 2, state), 2) << modbus_strerror(errno);
+    }
+    ASSERT_EQ(state[1], 1) << "the save ended";
     m.close();
     EXPECT_EQ(uno.ask("quit", "bye"), "bye");
     EXPECT_EQ(uno.child.wait_exit(10s), 0);

@@ -31,5 +31,9 @@ bool eeprom_storage_write(void*, uint16_t offset, const uint8_t* data, uint16_t 
   return true;
 }
 
+bool eeprom_storage_ready(void*) {
+  return eeprom_is_ready();
+}
+
 }  // namespace avr
 }  // namespace mb2co

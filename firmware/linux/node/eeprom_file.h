@@ -5,6 +5,8 @@
 // fsyncs took longer than a Modbus master waits for the answer to "save").
 // The file grows with the saves; bytes it does not hold read as FFh, as an
 // erased EEPROM cell does, so a cut file is one whose tail is erased.
+// Always ready (no ParamStorage::ready): a save writes its bytes one per
+// call, ParamSave::kBytesPerPass per pass of the loop, like on the Uno.
 #pragma once
 #include <string>
 
@@ -18,7 +20,7 @@ class EepromFile {
   static const uint16_t kSize = 1024;
   explicit EepromFile(const std::string& path) : path_(path) {}
   canopen::ParamStorage storage() {
-    return canopen::ParamStorage{&EepromFile::read, &EepromFile::write, &EepromFile::barrier, this};
+    return canopen::ParamStorage{&EepromFile::read, &EepromFile::write, &EepromFile::barrier, this, nullptr};
   }
 
  private:

@@ -230,6 +230,8 @@ int main(int argc, char** argv) {
     due.result(&at_us);
     wait_us = time_until(port::monotonic_us(), at_us);
   }
+  // A clean exit keeps an answered save: its remaining passes first.
+  while (gw.node().saving()) gw.process(port::monotonic_us(), control.buttons());
   serial.close();
   can.close();
   return 0;

@@ -137,9 +137,8 @@ Exception OdRegisterBank::write_value(const Item& it, uint32_t value, bool apply
   if (size < 4 && (value >> (8 * size)) != 0) return Exception::kServerDeviceFailure;
   const canopen::SdoAbort r = od_.write_row(it.row, bytes, size, apply);
   if (r == canopen::kSdoOk) return Exception::kNone;
-  // 1010h/1011h while a save runs (Node::on_store_write): busy, poll 1010h/1.
-  const bool busy = r == canopen::kAbortDeviceState && od_.hook_of(it.row) == canopen::kHookStore;
-  return busy ? Exception::kServerDeviceBusy : Exception::kServerDeviceFailure;
+  // Not in the present state (e.g. 1010h while a save runs): busy, try later.
+  return r == canopen::kAbortDeviceState ? Exception::kServerDeviceBusy : Exception::kServerDeviceFailure;
 }
 
 namespace {

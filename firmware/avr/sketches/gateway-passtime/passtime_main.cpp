@@ -8,6 +8,7 @@
 // by byte (stamped 96 µs apart, as at 115200 baud), the pass that answers it
 // after t3.5 is timed, the first time and the second (the register bank
 // then knows the OD rows of the map entries it touched).
+#include <avr/eeprom.h>
 #include <avr/interrupt.h>
 #include <avr/io.h>
 #include <avr/pgmspace.h>
@@ -35,6 +36,24 @@ bool serial_sink(void*, const uint8_t* data, uint16_t n) {
   for (uint16_t i = 0; i < n && i < sizeof response; ++i) response[i] = data[i];
   return true;
 }
+
+// Saved parameters in the EEPROM with the part's timing as a pass sees it:
+// a byte programmed keeps the storage busy (EEPE) until the next timed pass,
+// 3.3 ms being longer than any pass (plain simavr programs at once).
+bool eeprom_busy = false;
+bool eeprom_read(void*, uint16_t at, uint8_t* data, uint16_t n) {
+  eeprom_read_block(data, reinterpret_cast<const void*>(at), n);
+  return true;
+}
+bool eeprom_write(void*, uint16_t at, const uint8_t* data, uint16_t n) {
+  eeprom_update_block(data, reinterpret_cast<void*>(at), n);
+  eeprom_busy = true;
+  return true;
+}
+bool eeprom_ready(void*) {
+  return !eeprom_busy;
+}
+const canopen::ParamStorage storage{&eeprom_read, &eeprom_write, nullptr, nullptr, &eeprom_ready};
 
 void put(char c) {
   while (!(UCSR0A & _BV(UDRE0))) {
@@ -207,7 +226,7 @@ int main() {
   line(PSTR("crc_ok"), modbus::crc16(kKnown, 6) == 0xCDB1u ? 1 : 0);
 
   static const gateway::GatewayPorts ports{CanSink{&can_sink, nullptr},
-                                           modbus::ByteSink{&serial_sink, nullptr}, nullptr, 115200};
+                                           modbus::ByteSink{&serial_sink, nullptr}, &storage, 115200};
   static gateway::Gateway g(ports);
   gw = &g;
   timer_start();
@@ -270,6 +289,28 @@ int main() {
   frame(PSTR("rpdo1_frame"), 0x181, 3, 1);
 
   filter_plans();
+
+  // A first save (FC 10h, HR 11-12 = "save"): the pass that answers it, then
+  // the passes that write it, one EEPROM byte each, 3.3 ms apart.
+  const uint16_t save_regs[2] = {0x6576, 0x6173};
+  line(PSTR("fc10_save_answer"),
+       answer(adu, modbus::build_write_registers(adu, sizeof adu, 1, 11, 2, save_regs)));
+  uint32_t save_passes = 0;
+  sum = 0;
+  worst = 0;
+  while (g.node().saving()) {
+    eeprom_busy = false;
+    now_us += 3300;
+    timer_start();
+    g.process(now_us, 0);
+    const uint32_t us = timer_us();
+    ++save_passes;
+    sum += us;
+    if (us > worst) worst = us;
+  }
+  line(PSTR("save_passes"), save_passes);
+  line(PSTR("save_pass_mean"), sum / save_passes);
+  line(PSTR("save_pass_max"), worst);
 
   put_P(PSTR("end\n"));
   while (!(UCSR0A & _BV(TXC0))) {

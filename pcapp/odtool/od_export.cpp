@@ -118,9 +118,9 @@ std::string od_markdown(const ObjectDictionary& od, const std::string& title) {
        "EEPROM byte takes 3.3 ms on the Uno, a whole first save ~1.5 s; heartbeats, PDOs,\n"
        "SDO and Modbus go on meanwhile). 1010h/01 reads 0 while it runs and 1 when it is\n"
        "done: poll it. A \"save\" or \"load\" (1011h/01) meanwhile is refused with abort\n"
-       "08000022h (Modbus: exception 06, busy); a reset (NMT, 2001h) waits until the save\n"
-       "is done. A save that fails keeps the previous set and raises EMCY 5530h with bit 0\n"
-       "of 1001h until a save succeeds.\n\n";
+       "08000022h (the gateway's Modbus: exception 06, busy); a reset (NMT; on the gateway\n"
+       "also 2001h) waits until the save is done. A save that fails keeps the previous\n"
+       "set and raises EMCY 5530h with bit 0 of 1001h until a save succeeds.\n\n";
   s += "| index | sub | name | type | access | PDO | saved | default |\n";
   s += "|---|---|---|---|---|---|---|---|\n";
   for (uint16_t r = 0; r < od.row_count(); ++r) {
@@ -216,7 +216,8 @@ std::string register_map_markdown(const ObjectDictionary& od) {
        "32-bit value); 04 a value the OD refuses (out of the entry's limits, refused by the\n"
        "owning service). A write of several registers or coils is checked whole before any\n"
        "of it is carried out: a refused one changes nothing (no value, no save, no reset, no\n"
-       "acknowledged stop). 06 busy: HR 11-12 (1010h/01 \"save\") written while a save runs.\n\n"
+       "acknowledged stop). 06 busy: not in the present state, try again (SDO abort\n"
+       "08000022h), e.g. HR 11-12 (1010h/01 \"save\") written while a save runs.\n\n"
        "A save (HR 11-12 = 6576h 6173h) is answered at once, not when it is done: on the Uno\n"
        "it programs up to a whole slot of EEPROM at 3.3 ms a byte (~1.5 s), longer than\n"
        "masters wait for an answer (libmodbus 0.5 s, mbpoll 1 s), and it runs over the\n"

@@ -29,10 +29,12 @@ void write_u16(canopen::ObjectDictionary& od, uint16_t index, uint8_t sub, uint1
   canopen::put_le16(b, v);
   ASSERT_EQ(od.write(index, sub, b, 2), canopen::kSdoOk) << std::hex << index;
 }
-void save(canopen::ObjectDictionary& od) {
+/// "save", answered at once, then the passes that write it (Node::saving).
+void save(gateway::Gateway& gw, uint32_t now_us) {
   uint8_t b[4];
   canopen::put_le32(b, canopen::kSaveSignature);
-  ASSERT_EQ(od.write(0x1010, 1, b, 4), canopen::kSdoOk);
+  ASSERT_EQ(gw.od().write(0x1010, 1, b, 4), canopen::kSdoOk);
+  while (gw.node().saving()) gw.process(now_us, 0);
 }
 
 /// One station whose EEPROM holds set A (node id 9) in slot 0 and the newer
@@ -44,7 +46,7 @@ struct Station {
             }};
   Station() {
     write_u8(line.gw(0).od(), 0x2000, 1, 12);
-    save(line.gw(0).od());
+    save(line.gw(0), line.now_us);
   }
   std::vector<uint8_t>& eeprom() { return line.station(0).eeprom; }
 
@@ -131,7 +133,7 @@ TEST(StorageReport, TheCounterCountsEveryResetThatFindsDamage) {
   s.line.run_ms(50);
   EXPECT_EQ(s.input_register(kIrDamageCount), 2u);
   EXPECT_EQ(s.line.gw(0).node_id(), 9);
-  save(s.line.gw(0).od());
+  save(s.line.gw(0), s.line.now_us);
   s.line.run_ms(10);
   EXPECT_EQ(s.input_register(kIrErrorRegister) & 1u, 0u) << "a good save ends the error";
   EXPECT_EQ(s.input_register(kIrDamageCount), 2u) << "the count never goes down";
@@ -141,13 +143,16 @@ TEST(StorageReport, TheCounterCountsEveryResetThatFindsDamage) {
 struct CutPower {
   static int writes_left;
   static bool (*write)(void*, uint16_t, const uint8_t*, uint16_t);
+  static bool refused;
   static bool cut_write(void* ctx, uint16_t at, const uint8_t* data, uint16_t n) {
+    refused = refused || writes_left == 0;
     if (writes_left == 0) return false;
     --writes_left;
     return write(ctx, at, data, n);
   }
 };
 int CutPower::writes_left = 0;
+bool CutPower::refused = false;
 bool (*CutPower::write)(void*, uint16_t, const uint8_t*, uint16_t) = nullptr;
 
 // A save after damage was found writes into the damaged slot, not over the
@@ -169,7 +174,10 @@ TEST(StorageReport, ASaveCutOffAfterDamageNeverLosesTheValidSet) {
     write_u8(s.line.gw(0).od(), 0x2000, 1, 7);
     uint8_t b[4];
     canopen::put_le32(b, canopen::kSaveSignature);
-    const bool saved = s.line.gw(0).od().write(0x1010, 1, b, 4) == canopen::kSdoOk;
+    CutPower::refused = false;
+    ASSERT_EQ(s.line.gw(0).od().write(0x1010, 1, b, 4), canopen::kSdoOk) << "answered before it runs";
+    while (s.line.gw(0).node().saving()) s.line.gw(0).process(s.line.now_us, 0);
+    const bool saved = !CutPower::refused;
     storage.write = CutPower::write;
     s.line.power_on(0);
     s.line.run_ms(20);

@@ -73,12 +73,20 @@ class StorageDamage : public ::testing::TestWithParam<size_t> {
       if (!p.start(args_for(dir))) return std::vector<uint8_t>();
       ModbusMaster m;
       if (!m.open(p.device(), kSaveTimeout)) return std::vector<uint8_t>();
-      const uint16_t save[2] = {0x6576, 0x6173};  // "save", high word first
+      // "save" is answered at once and runs over passes: done when HR 11-12
+      // read 0 1 again (docs/register-map.md); a save meanwhile is busy (06).
+      auto save = [&m] {
+        const uint16_t signature[2] = {0x6576, 0x6173};  // "save", high word first
+        if (modbus_write_registers(m.ctx(), kHrSave, 2, signature) != 2) return false;
+        uint16_t state[2] = {0, 0};
+        for (int poll = 0; poll < 100000 && state[1] != 1; ++poll) {
+          if (modbus_read_registers(m.ctx(), kHrSave, 2, state) != 2) return false;
+        }
+        return state[1] == 1;
+      };
       bool ok = modbus_write_register(m.ctx(), kHrDebounce, storage_damage::kMarker) == 1 &&
-                modbus_write_register(m.ctx(), kHrNodeId, 9) == 1 &&
-                modbus_write_registers(m.ctx(), kHrSave, 2, save) == 2 &&
-                modbus_write_register(m.ctx(), kHrNodeId, 12) == 1 &&
-                modbus_write_registers(m.ctx(), kHrSave, 2, save) == 2;
+                modbus_write_register(m.ctx(), kHrNodeId, 9) == 1 && save() &&
+                modbus_write_register(m.ctx(), kHrNodeId, 12) == 1 && save();
       m.close();
       ok = p.stop() == 0 && ok;
       return ok ? read_file(dir.path("eeprom")) : std::vector<uint8_t>();

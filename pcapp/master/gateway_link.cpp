@@ -32,13 +32,13 @@ Status GatewayLink::open(const std::string& path, uint32_t baud, uint8_t slave) 
   ctx_ = modbus_new_rtu(path.c_str(), static_cast<int>(baud), 'N', 8, 1);
   if (ctx_ == nullptr) return Status::failure("cannot use " + path + ": " + modbus_strerror(errno));
   if (modbus_set_slave(ctx_, slave) != 0) {
-    const Status refused = Status::failure(std::string("libmodbus refused slave ") + std::to_string(slave) +
-                                           ": " + modbus_strerror(errno));
+    Status refused = Status::failure(std::string("libmodbus refused slave ") + std::to_string(slave) + ": " +
+                                     modbus_strerror(errno));
     close();
     return refused;
   }
   if (modbus_connect(ctx_) != 0) {
-    const Status refused = Status::failure("cannot open " + path + ": " + modbus_strerror(errno));
+    Status refused = Status::failure("cannot open " + path + ": " + modbus_strerror(errno));
     close();
     return refused;
   }

@@ -18,7 +18,7 @@ const char* bridge_usage_head() {
 Status parse_bridge_options(int argc, const char* const* argv, BridgeOptions* o) {
   for (int i = 1; i < argc; ++i) {
     bool taken = false;
-    const Status s = parse_segment_option(argc, argv, &i, &o->segment, &taken);
+    Status s = parse_segment_option(argc, argv, &i, &o->segment, &taken);
     if (!s) return s;
     if (taken) continue;
     const std::string a = argv[i];
@@ -58,7 +58,7 @@ Status parse_bridge_options(int argc, const char* const* argv, BridgeOptions* o)
 
 Status bridge_config(const BridgeOptions& o, serialnet::BridgeConfig* out) {
   serialnet::BridgeConfig c = {};
-  const Status bus = segment_bus_config(
+  Status bus = segment_bus_config(
       o.segment, o.segment.token ? serialnet::Access::kTokenStarter : serialnet::Access::kPoller, &c.bus);
   if (!bus) return bus;
   c.bridge_node = o.segment.bridge_node();

@@ -69,7 +69,7 @@ Status SegmentLine::read(void (*on_byte)(void* ctx, uint8_t byte, uint32_t byte_
     uint8_t bytes[256];
     uint32_t stamps[256];
     size_t n = 0;
-    const Status got = port_.read(bytes, stamps, sizeof bytes, &n);
+    Status got = port_.read(bytes, stamps, sizeof bytes, &n);
     if (!got) return got;
     if (n == 0) return Status::ok();
     for (size_t i = 0; i < n; ++i) {

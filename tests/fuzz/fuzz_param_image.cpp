@@ -87,7 +87,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     canopen::ParamSave save{};
     save.start(g.od(), storage);
     canopen::ParamSave::Result r = canopen::ParamSave::kRunning;
-    for (int pass = 0; pass < 1000 && r == canopen::ParamSave::kRunning; ++pass) r = save.step(g.od(), storage);
+    for (int pass = 0; pass < 1000 && r == canopen::ParamSave::kRunning; ++pass)
+      r = save.step(g.od(), storage);
     fuzz::require(r == canopen::ParamSave::kDone, "a save from a started gateway did not complete");
   }
   gateway::Gateway again(ports);

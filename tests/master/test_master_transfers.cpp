@@ -207,15 +207,22 @@ TEST(MasterWatchdog, ANodeKilledMidTransferAbortsWithinTheConsumerTimeTheOthersF
                                      dir.path("up"), "--segmented"}));
   master.close_stdin();
   // Node 5 dies once its transfer is well under way: its 200th segment.
+  // Its heartbeats (705#05) are followed from the start: the consumer time
+  // runs from the last one, which may come before the 200th segment (a node
+  // that sleeps until its next deadline sends 200 segments within one
+  // heartbeat period).
   int segments = 0;
+  uint64_t last_heartbeat_us = 0;
   std::string line;
   ASSERT_TRUE(candump.wait_line(
-      [&](const std::string& l) { return l.find(" 585#") != std::string::npos && ++segments == 200; },
+      [&](const std::string& l) {
+        if (l.find(" 705#") != std::string::npos) last_heartbeat_us = candump_us(l);
+        return l.find(" 585#") != std::string::npos && ++segments == 200;
+      },
       kVcanDeadline, &line));
   ASSERT_TRUE(nodes[1].child.signal(SIGKILL));
   // The master's abort to node 5: 605# 80 50 1F 01 00 00 04 05 (05040000h),
-  // timed from node 5's last heartbeat (705#05), where the consumer time starts.
-  uint64_t last_heartbeat_us = 0;
+  // timed from node 5's last heartbeat, where the consumer time starts.
   std::string tail;  // node 5's last frames, for a failure message
   ASSERT_TRUE(candump.wait_line(
       [&](const std::string& l) {

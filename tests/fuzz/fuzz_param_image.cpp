@@ -37,21 +37,6 @@ bool image_write(void* ctx, uint16_t offset, const uint8_t* data, uint16_t len) 
   memcpy(im.bytes + offset, data, len);
   return true;
 }
-bool drop_frame(void*, const CanFrame&) {
-  return true;
-}
-bool drop_bytes(void*, const uint8_t*, uint16_t) {
-  return true;
-}
-
-void require_all_allowed(const canopen::ObjectDictionary& od) {
-  for (uint16_t r = 0; r < od.row_count(); ++r) {
-    const uint8_t a = od.attr(r);
-    if (!(a & canopen::kAttrRam) || (a & canopen::kAttrString)) continue;
-    fuzz::require(od.value_allowed(r, od.ram(r), od.size_of(r)), "a loaded value beyond its entry's limits");
-  }
-}
-
 std::vector<uint8_t> saved_values(const canopen::ObjectDictionary& od) {
   std::vector<uint8_t> out;
   for (uint16_t r = 0; r < od.row_count(); ++r) {
@@ -70,13 +55,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   memset(image.bytes, 0xFF, sizeof image.bytes);
   memcpy(image.bytes, data, size < kImageBytes ? size : kImageBytes);
   const canopen::ParamStorage storage{&image_read, &image_write, nullptr, &image, nullptr};
-  const gateway::GatewayPorts ports{CanSink{&drop_frame, nullptr}, modbus::ByteSink{&drop_bytes, nullptr},
-                                    &storage, 115200};
+  const gateway::GatewayPorts ports{CanSink{&fuzz::drop_frame, nullptr},
+                                    modbus::ByteSink{&fuzz::drop_bytes, nullptr}, &storage, 115200};
   std::vector<uint8_t> before;
   {
     gateway::Gateway g(ports);
     g.start(1000);
-    require_all_allowed(g.od());
+    fuzz::require_all_allowed(g.od(), "a loaded value beyond its entry's limits");
     {
       gateway::Gateway defaults(gateway::GatewayPorts{ports.can, ports.serial, nullptr, 115200});
       defaults.start(1000);

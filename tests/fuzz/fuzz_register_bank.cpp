@@ -20,27 +20,11 @@ namespace {
 
 using namespace mb2co;
 
-bool drop_frame(void*, const CanFrame&) {
-  return true;
-}
-bool drop_bytes(void*, const uint8_t*, uint16_t) {
-  return true;
-}
-
-void require_all_allowed(const canopen::ObjectDictionary& od) {
-  for (uint16_t r = 0; r < od.row_count(); ++r) {
-    const uint8_t a = od.attr(r);
-    if (!(a & canopen::kAttrRam) || (a & canopen::kAttrString)) continue;
-    const uint8_t* p = od.ram(r);
-    fuzz::require(od.value_allowed(r, p, od.size_of(r)), "a stored value beyond its entry's limits");
-  }
-}
-
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  gateway::GatewayPorts ports{CanSink{&drop_frame, nullptr}, modbus::ByteSink{&drop_bytes, nullptr}, nullptr,
-                              115200};
+  gateway::GatewayPorts ports{CanSink{&fuzz::drop_frame, nullptr},
+                              modbus::ByteSink{&fuzz::drop_bytes, nullptr}, nullptr, 115200};
   gateway::Gateway g(ports);
   uint32_t now = 1000;
   g.start(now);
@@ -80,7 +64,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       fuzz::require(fuzz::value_block(g.od()) == before, "a refused write changed a stored value");
       fuzz::require(g.od().revision() == revision, "a refused write changed the OD revision");
     }
-    require_all_allowed(g.od());
+    fuzz::require_all_allowed(g.od(), "a stored value beyond its entry's limits");
   }
   fuzz::require(fuzz::const_values(g.od()) == consts, "a const entry changed");
   return 0;

@@ -10,6 +10,7 @@
 
 #include <vector>
 
+#include "canopen/can_frame.h"
 #include "canopen/od.h"
 
 namespace mb2co {
@@ -52,6 +53,24 @@ inline std::vector<uint8_t> const_values(const canopen::ObjectDictionary& od) {
     out.insert(out.end(), buf, buf + n);
   }
   return out;
+}
+
+/// Sinks that take every frame and byte and keep nothing.
+inline bool drop_frame(void*, const CanFrame&) {
+  return true;
+}
+inline bool drop_bytes(void*, const uint8_t*, uint16_t) {
+  return true;
+}
+
+/// Aborts unless every stored numeric value is one its entry's type and
+/// limits allow.
+inline void require_all_allowed(const canopen::ObjectDictionary& od, const char* what) {
+  for (uint16_t r = 0; r < od.row_count(); ++r) {
+    const uint8_t a = od.attr(r);
+    if (!(a & canopen::kAttrRam) || (a & canopen::kAttrString)) continue;
+    require(od.value_allowed(r, od.ram(r), od.size_of(r)), what);
+  }
 }
 
 /// The whole RAM value block (everything the device stores).

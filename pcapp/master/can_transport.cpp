@@ -11,7 +11,7 @@ namespace {
 /// An SdoNetwork on the bus for as long as the command's transfers live.
 class CanTransfers : public TransferNetwork {
  public:
-  CanTransfers(const Options& o, BusLoop& bus) : bus_(bus), net_(o.timeout_ms * 1000u, o.heartbeat_ms) {
+  CanTransfers(const Options& o, BusLoop& bus) : bus_(bus), net_(o.timeout_ms * 1000u, o.watchdog_ms) {
     bus_.add(&net_);
   }
   ~CanTransfers() override { bus_.remove(&net_); }

@@ -10,8 +10,8 @@ namespace master {
 
 class CanTransport : public Transport {
  public:
-  /// Opens `ifname` (see BusLoop::open).
-  Status open(const char* ifname) { return bus_.open(ifname); }
+  /// Opens o.iface (see BusLoop::open).
+  Status open(const Options& o) override { return bus_.open(o.iface.c_str()); }
 
   std::unique_ptr<TransferNetwork> transfers(const Options& o) override;
   Status nmt(canopen::NmtCommand command, uint8_t node) override;

@@ -1,124 +1,111 @@
 #include "cli_options.h"
 
-#include <stdlib.h>
+#include <ctype.h>
 
 #include <algorithm>
+
+#include "exit_codes.h"
+#include "value_text.h"
 
 namespace mb2co {
 namespace master {
 
-const char* usage_text() {
-  return "usage: mb2co-master [-i IFACE | --via-modbus PORT[:SLAVE] [--baud N]] [-t TIMEOUT_MS] [--heartbeat "
-         "MS]\n"
-         "                    [--json] [--eds FILE] COMMAND ...\n"
-         "  --via-modbus: SDO and NMT through an mb2co gateway on a serial port (FC 2Bh/0Dh), no CAN\n"
-         "  interface needed: scan read write upload download nmt dump configure (no block transfer)\n"
-         "  -t MS: SDO timeout (default 1000); --heartbeat MS: end the transfers of a node whose\n"
-         "  heartbeats stop for MS (the watchdog); NODE may be a list: 2,3,5-7; INDEX is hexadecimal\n"
-         "  (1018, 0x1018, 1018h), SUB and NODE decimal unless 0x...\n"
-         "  scan [FIRST [LAST]]                      node ids that answer, with 1000h, 1018h, 1008h\n"
-         "  read NODE INDEX SUB [TYPE]               SDO upload, shown as TYPE (or as --eds says)\n"
-         "  write NODE INDEX SUB [TYPE] VALUE        SDO download\n"
-         "  upload NODE INDEX SUB FILE [--block]     an object into a file, with progress\n"
-         "  download NODE INDEX SUB FILE [--block]   a file into an object, with progress\n"
-         "  nmt start|stop|preop|reset|reset-comm NODE|all\n"
-         "  sync [--period MS] [--count N] [--overflow N] [--cob-id ID]\n"
-         "  dump NODE [FILE.dcf]                     the whole OD (as --eds lists it) uploaded, as a DCF\n"
-         "  configure NETWORK_FILE [--save] [--no-start] [--one-at-a-time]   DCFs written, then started\n"
-         "  watch [--nodes LIST] [--heartbeat MS | --guard MS [--life N]] [--for S] [--raw]\n"
-         "                                           NMT state, lost/back, EMCY, PDOs decoded\n"
-         "TYPE: u8 u16 u32 u64 i8 i16 i32 i64 r32 r64 vs (string) os (hex bytes) d (domain, hex)\n"
-         "exit: 0 done, 1 refused (SDO abort), 2 usage or file error, 3 CAN interface, 4 no answer\n";
-}
-
-Status parse_number(const std::string& text, uint64_t max, const char* what, uint64_t* value) {
-  std::string t = text;
-  int base = 10;
-  if (t.size() > 2 && t[0] == '0' && (t[1] == 'x' || t[1] == 'X')) {
-    t = t.substr(2);
-    base = 16;
-  } else if (t.size() > 1 && (t.back() == 'h' || t.back() == 'H')) {
-    t.pop_back();
-    base = 16;
-  }
-  const bool digits = !t.empty() && std::all_of(t.begin(), t.end(), [base](char c) {
-    return base == 16 ? isxdigit(static_cast<unsigned char>(c)) != 0 : (c >= '0' && c <= '9');
-  });
-  if (!digits || t.size() > 20) return Status::failure(std::string("bad ") + what + " '" + text + "'");
-  errno = 0;
-  const unsigned long long v = strtoull(t.c_str(), nullptr, base);
-  if (errno != 0 || v > max)
-    return Status::failure(std::string(what) + " '" + text + "' out of range (at most " +
-                           std::to_string(max) + ")");
-  *value = v;
-  return Status::ok();
-}
-
-Status parse_node_id(const std::string& text, bool allow_all, uint8_t* node_id) {
-  if (allow_all && (text == "all" || text == "0")) {
-    *node_id = 0;
-    return Status::ok();
-  }
-  uint64_t v = 0;
-  Status s = parse_number(text, 127, "node id", &v);
-  if (!s) return s;
-  if (v == 0)
-    return Status::failure("node id 0: node ids are 1..127" + std::string(allow_all ? " or all" : ""));
-  *node_id = static_cast<uint8_t>(v);
-  return Status::ok();
-}
-
-Status parse_node_list(const std::string& text, std::vector<uint8_t>* nodes) {
-  size_t start = 0;
-  while (start <= text.size()) {
-    const size_t comma = text.find(',', start);
-    const std::string part =
-        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    const size_t dash = part.find('-');
-    uint8_t a = 0, b = 0;
-    Status s = parse_node_id(part.substr(0, dash), false, &a);
-    if (s && dash != std::string::npos) s = parse_node_id(part.substr(dash + 1), false, &b);
-    if (!s) return s;
-    if (dash == std::string::npos) b = a;
-    if (b < a) return Status::failure("node range '" + part + "' runs backwards");
-    for (int id = a; id <= b; ++id) nodes->push_back(static_cast<uint8_t>(id));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return Status::ok();
-}
-
-Status parse_index_sub(const std::string& index, const std::string& sub, uint16_t* i, uint8_t* s) {
-  // An index is hexadecimal in every CANopen text (1018h): "1018", "0x1018"
-  // and "1018h" are the same object.
-  uint64_t v = 0;
-  const bool marked = index.rfind("0x", 0) == 0 || index.rfind("0X", 0) == 0 ||
-                      (!index.empty() && (index.back() == 'h' || index.back() == 'H'));
-  Status st = parse_number(marked ? index : "0x" + index, 0xFFFF, "index", &v);
-  if (!st) return Status::failure("bad index '" + index + "' (hexadecimal, 0000..FFFF)");
-  *i = static_cast<uint16_t>(v);
-  st = parse_number(sub, 0xFF, "sub-index", &v);
-  if (!st) return st;
-  *s = static_cast<uint8_t>(v);
-  return Status::ok();
-}
-
-bool take_option(std::vector<std::string>* words, const std::string& name, bool flag, std::string* value) {
-  for (size_t i = 0; i < words->size(); ++i) {
-    if ((*words)[i] != name) continue;
-    if (flag) {
-      words->erase(words->begin() + static_cast<long>(i));
-      return true;
-    }
-    if (i + 1 >= words->size()) return false;
-    if (value) *value = (*words)[i + 1];
-    words->erase(words->begin() + static_cast<long>(i), words->begin() + static_cast<long>(i) + 2);
-    return true;
-  }
-  return false;
-}
+// The master's own exit codes keep the convention's two (docs/cli.md): a
+// usage error is 2 like every program's, and 1 is a runtime error (a node
+// refused); 3, 4 and 130 only say more.
+static_assert(kExitUsage == cli::kExitUsage, "a usage error is 2 in every program");
+static_assert(kExitRefused == cli::kExitRuntime, "1 stays a runtime error");
 
 namespace {
+
+cli::Command command(std::string name, std::string summary, std::string operands, size_t max_operands,
+                     std::vector<cli::Option> options = {}) {
+  cli::Command c;
+  c.name = std::move(name);
+  c.summary = std::move(summary);
+  c.operands = std::move(operands);
+  c.max_operands = max_operands;
+  c.options = std::move(options);
+  return c;
+}
+
+std::vector<cli::Option> sdo_mode_options() {
+  return {cli::flag("--block", "CiA 301 block transfer with CRC (not through a gateway)"),
+          cli::flag("--segmented", "segmented even when 4 bytes would go expedited")};
+}
+
+cli::Program make_program() {
+  const Options defaults;
+  cli::Program p;
+  p.name = "mb2co-master";
+  p.description =
+      "A CANopen master on SocketCAN (docs/mb2co-master.md): SDO transfers to many nodes at once,\n"
+      "NMT, SYNC, a watch of the bus. With --via-modbus, SDO and NMT through an mb2co gateway on a\n"
+      "serial port instead (FC 2Bh/0Dh, no CAN interface needed).\n";
+  p.commands = {
+      command("scan", "node ids that answer, with 1000h, 1018h, 1008h", "[FIRST [LAST]]", 2),
+      command("read", "SDO upload, shown as TYPE (or as --eds says)", "NODE INDEX SUB [TYPE]", 4),
+      command("write", "SDO download of VALUE (written as read prints it)", "NODE INDEX SUB [TYPE] VALUE", 5),
+      command("upload", "an object into a file, with progress (several nodes: FILE.<node>)",
+              "NODE INDEX SUB FILE", 4, sdo_mode_options()),
+      command("download", "a file into an object, with progress", "NODE INDEX SUB FILE", 4,
+              sdo_mode_options()),
+      command("nmt", "an NMT command to one node or all", "start|stop|preop|reset|reset-comm NODE|all", 2),
+      command("sync", "SYNC frames (with the 1019h counter when --overflow is 2..240)", "", 0,
+              {cli::uint_range("--period", "MS", 1, 60000, "one SYNC every MS (needed for --count above 1)"),
+               cli::uint_range("--count", "N", 1, 1000000, "SYNCs to send (default 1)"),
+               cli::uint_range("--overflow", "N", 0, 240,
+                               "counter overflow value, 1019h (default 0: no counter)"),
+               cli::text("--cob-id", "ID", "the SYNC's COB-ID, hex as 0x80 or 80h (default 0x80)")}),
+      command(
+          "watch", "NMT state, lost/back, EMCY, PDOs decoded, until Ctrl-C or --for", "", 0,
+          {cli::text("--nodes", "LIST", "the node ids to watch: 2,3,5-7 (default 1-127)"),
+           cli::uint_range("--heartbeat", "MS", 2, 65535,
+                           "heartbeat consumer time: a node silent for MS is lost (default 1000)"),
+           cli::uint_range("--guard", "MS", 1, 65535, "node guarding instead: an RTR every MS"),
+           cli::uint_range("--life", "N", 1, 255, "with --guard: lost after N unanswered RTRs (default 3)"),
+           cli::duration("--for", 1, 2000000, "stop after T (seconds, or 500ms, 2min)"),
+           cli::flag("--raw", "only listen: PDOs as bytes, no SDO for the mappings")}),
+      command("dump", "the whole OD (as --eds lists it) uploaded, as a DCF (stdout without FILE)",
+              "NODE [FILE.dcf]", 2),
+      command("configure", "the nodes of a network file written from their DCFs, then started",
+              "NETWORK_FILE", 1,
+              {cli::flag("--save", "store the parameters (1010h/1 = \"save\")"),
+               cli::flag("--no-start", "leave the nodes in their NMT state"),
+               cli::flag("--one-at-a-time", "one node after the other, not all at once")}),
+  };
+  p.global_options = {
+      cli::text("--interface", "IFACE", "SocketCAN interface (default " + defaults.iface + ")")
+          .with_short('i'),
+      cli::uint_range("--timeout", "MS", 1, 600000,
+                      "SDO timeout: how long a node may take to answer one frame\n(default " +
+                          std::to_string(defaults.timeout_ms) + ")")
+          .with_short('t'),
+      cli::uint_range("--watchdog", "MS", 0, 65535,
+                      "end the SDO transfers of a node whose heartbeats stop for MS\n"
+                      "(05040000h sent at once, not after -t); default 0: off"),
+      cli::flag("--json", "one JSON object per line instead of text"),
+      cli::file("--eds", "FILE", "the node's EDS: data types for read/write, the entries of dump"),
+      cli::text("--via-modbus", "PORT[:SLAVE]",
+                "no CAN interface: SDO and NMT through an mb2co gateway on the\n"
+                "serial device PORT, Modbus address SLAVE (default 1)"),
+      cli::uint_range(
+          "--baud", "N", 1200, 4000000,
+          "with --via-modbus: the line's baud rate (default " + std::to_string(defaults.baud) + ")"),
+      cli::parity("--parity", "with --via-modbus: the line's parity (default N: 8N1)"),
+  };
+  p.footer = std::string("\n") +
+             "NODE is 1..127 or a list: 2,3,5-7. INDEX is hexadecimal (1018, 0x1018, 1018h); SUB and NODE\n"
+             "are decimal unless 0x... TYPE: " +
+             type_words() +
+             "\n"
+             "--watchdog is the SDO commands' heartbeat watchdog (it was --heartbeat); watch --heartbeat\n"
+             "is watch's own consumer time.\n"
+             "exit status: 0 done, 1 a node refused (SDO abort, wrong identity), 2 usage error (or a bad\n"
+             "file or value), 3 CAN interface (--via-modbus: the port or the gateway), 4 no answer (SDO\n"
+             "timeout, a node lost, nobody answered), 130 interrupted\n";
+  return p;
+}
 
 /// "PORT" or "PORT:SLAVE" (1..247); a colon followed by something that is
 /// not a number stays part of the path.
@@ -127,7 +114,7 @@ Status parse_gateway(const std::string& text, Options* out) {
   std::string port = text;
   if (colon != std::string::npos && colon + 1 < text.size() &&
       std::all_of(text.begin() + static_cast<long>(colon) + 1, text.end(),
-                  [](char c) { return isdigit(c); })) {
+                  [](char c) { return isdigit(static_cast<unsigned char>(c)) != 0; })) {
     uint64_t slave = 0;
     Status s = parse_number(text.substr(colon + 1), 247, "Modbus slave address", &slave);
     if (!s) return s;
@@ -142,6 +129,34 @@ Status parse_gateway(const std::string& text, Options* out) {
 
 }  // namespace
 
+const cli::Program& program() {
+  static const cli::Program p = make_program();
+  return p;
+}
+
+Status apply_options(const cli::Args& a, Options* o) {
+  o->iface = a.get("--interface", o->iface);
+  o->timeout_ms = static_cast<uint32_t>(a.uint("--timeout", o->timeout_ms));
+  o->watchdog_ms = static_cast<uint16_t>(a.uint("--watchdog", o->watchdog_ms));
+  o->json = a.has("--json");
+  o->eds = a.get("--eds", o->eds);
+  if (a.has("--via-modbus")) {
+    const Status s = parse_gateway(a.get("--via-modbus"), o);
+    if (!s) return s;
+  } else {
+    for (const char* serial : {"--baud", "--parity"}) {
+      if (a.has(serial))
+        return Status::failure(std::string(serial) + " is the serial line's: only with --via-modbus PORT");
+    }
+  }
+  o->baud = static_cast<uint32_t>(a.uint("--baud", o->baud));
+  o->parity = cli::parity_letter(a.parity("--parity", cli::Parity::kNone));
+  o->command = a.command != nullptr ? a.command->name : std::string();
+  o->args = a;
+  const std::string refusal = via_modbus_refusal(*o);
+  return refusal.empty() ? Status::ok() : Status::failure(refusal);
+}
+
 std::string needs_can_frames(const std::string& what) {
   return what + " needs raw CAN frames: not through a gateway (--via-modbus), use -i IFACE";
 }
@@ -149,79 +164,10 @@ std::string needs_can_frames(const std::string& what) {
 std::string via_modbus_refusal(const Options& o) {
   if (o.gateway_port.empty()) return std::string();
   if (o.command == "watch" || o.command == "sync") return needs_can_frames(o.command);
-  if (o.heartbeat_ms) return needs_can_frames("--heartbeat (the watchdog listens to heartbeats)");
-  const bool block = std::find(o.words.begin(), o.words.end(), "--block") != o.words.end();
-  if ((o.command == "upload" || o.command == "download") && block)
+  if (o.watchdog_ms) return needs_can_frames("--watchdog (the watchdog listens to heartbeats)");
+  if ((o.command == "upload" || o.command == "download") && o.args.has("--block"))
     return needs_can_frames(o.command + " --block (block transfer)");
   return std::string();
-}
-
-Status parse_options(int argc, char** argv, Options* out) {
-  int i = 1;
-  for (; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a.empty() || a[0] != '-') break;
-    auto value = [&](std::string* v) {
-      if (i + 1 >= argc) return Status::failure("option " + a + " needs a value");
-      *v = argv[++i];
-      return Status::ok();
-    };
-    std::string v;
-    if (a == "-i" || a == "--interface") {
-      Status s = value(&out->iface);
-      if (!s) return s;
-    } else if (a == "-t" || a == "--timeout") {
-      Status s = value(&v);
-      if (!s) return s;
-      uint64_t ms = 0;
-      s = parse_number(v, 600000, "timeout", &ms);
-      if (!s) return s;
-      if (ms == 0) return Status::failure("timeout 0: the SDO timeout is 1..600000 ms");
-      out->timeout_ms = static_cast<uint32_t>(ms);
-    } else if (a == "--heartbeat") {
-      Status s = value(&v);
-      if (!s) return s;
-      uint64_t ms = 0;
-      s = parse_number(v, 65535, "heartbeat consumer time", &ms);
-      if (!s) return s;
-      out->heartbeat_ms = static_cast<uint16_t>(ms);
-    } else if (a == "--via-modbus") {
-      Status s = value(&v);
-      if (!s) return s;
-      s = parse_gateway(v, out);
-      if (!s) return s;
-    } else if (a == "--baud") {
-      Status s = value(&v);
-      if (!s) return s;
-      uint64_t baud = 0;
-      s = parse_number(v, 4000000, "baud rate", &baud);
-      if (!s) return s;
-      if (baud < 1200) return Status::failure("baud rate '" + v + "' below 1200");
-      out->baud = static_cast<uint32_t>(baud);
-    } else if (a == "--json") {
-      out->json = true;
-    } else if (a == "--eds") {
-      Status s = value(&out->eds);
-      if (!s) return s;
-    } else if (a == "-h" || a == "--help") {
-      out->command = "help";
-      return Status::ok();
-    } else {
-      return Status::failure("unknown option " + a);
-    }
-  }
-  if (i >= argc)
-    return Status::failure(
-        "no command (scan, read, write, upload, download, nmt, sync, dump, configure, watch)");
-  out->command = argv[i++];
-  for (; i < argc; ++i) {
-    // --json after the command too ("watch --json"): where a user puts it.
-    if (std::string(argv[i]) == "--json")
-      out->json = true;
-    else
-      out->words.emplace_back(argv[i]);
-  }
-  return Status::ok();
 }
 
 }  // namespace master

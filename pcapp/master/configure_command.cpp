@@ -320,17 +320,17 @@ std::string json_text(const std::string& s) {
 }  // namespace
 
 int configure_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
-  std::vector<std::string> w = o.words;
-  const bool save = take_option(&w, "--save", true, nullptr);
-  const bool no_start = take_option(&w, "--no-start", true, nullptr);
-  const bool one_at_a_time = take_option(&w, "--one-at-a-time", true, nullptr);
-  if (w.size() != 1)
-    return fail(err, kExitUsage, "configure: want NETWORK_FILE [--save] [--no-start] [--one-at-a-time]");
+  const std::vector<std::string>& w = o.args.operands;  // at most 1 (the table)
+  const bool save = o.args.has("--save");
+  const bool no_start = o.args.has("--no-start");
+  const bool one_at_a_time = o.args.has("--one-at-a-time");
+  if (w.empty()) return fail(err, kExitUsage, "configure: want NETWORK_FILE");
   NetworkFile net;
   Status s = read_network_file(w[0], &net);
   if (!s) return fail(err, kExitUsage, "configure: " + s.message());
   if (net.nodes.empty()) return fail(err, kExitUsage, "configure: " + w[0] + ": no node is present");
 
+  if (const int code = open_transport(o, transport, err)) return code;
   TransferRun run(o, transport);
   std::vector<std::unique_ptr<NodeJob>> jobs;
   for (const NetworkNode& n : net.nodes) {

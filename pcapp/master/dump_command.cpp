@@ -49,9 +49,10 @@ eds::Value value_of(const eds::SubObject& s, const std::vector<uint8_t>& bytes, 
 }  // namespace
 
 int dump_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
-  if (o.words.empty() || o.words.size() > 2) return fail(err, kExitUsage, "dump: want NODE [FILE.dcf]");
+  const std::vector<std::string>& w = o.args.operands;  // at most 2 (the table)
+  if (w.empty()) return fail(err, kExitUsage, "dump: want NODE [FILE.dcf]");
   uint8_t node = 0;
-  Status s = parse_node_id(o.words[0], false, &node);
+  Status s = parse_node_id(w[0], false, &node);
   if (!s) return fail(err, kExitUsage, "dump: " + s.message());
   if (o.eds.empty())
     return fail(err, kExitUsage, "dump: needs --eds FILE (the node's EDS says which objects to upload)");
@@ -65,6 +66,7 @@ int dump_command(const Options& o, Transport& transport, std::ostream& out, std:
   };
   std::deque<Upload> uploads;  // a deque: queued Transfers must not move
   unsigned write_only = 0;
+  if (const int code = open_transport(o, transport, err)) return code;
   TransferRun run(o, transport);
   for (auto& p : model.objects) {
     for (eds::SubObject& sub : p.second.subs) {
@@ -111,9 +113,9 @@ int dump_command(const Options& o, Transport& transport, std::ostream& out, std:
   }
 
   const std::string dcf = eds::write_dcf(model, node);
-  const bool to_file = o.words.size() == 2;
+  const bool to_file = w.size() == 2;
   if (to_file) {
-    const std::string path = o.words[1];
+    const std::string path = w[1];
     const std::string tmp = path + ".part";
     {
       std::ofstream f(tmp, std::ios::binary | std::ios::trunc);

@@ -54,8 +54,9 @@ class GatewayLink : public GatewayChannel {
   GatewayLink(const GatewayLink&) = delete;
   GatewayLink& operator=(const GatewayLink&) = delete;
 
-  /// Opens `path` at `baud` 8N1 for slave `slave` (1..247).
-  Status open(const std::string& path, uint32_t baud, uint8_t slave);
+  /// Opens `path` at `baud`, 8 data bits, `parity` ('N', 'E' or 'O') and
+  /// one stop bit, for slave `slave` (1..247).
+  Status open(const std::string& path, uint32_t baud, uint8_t slave, char parity = 'N');
   void close();
   uint8_t slave() const { return slave_; }
 

@@ -21,7 +21,7 @@ uint32_t gateway_response_timeout_ms(const Options& o) {
 
 Status GatewayTransport::open(const Options& o) {
   timeout_ms_ = gateway_response_timeout_ms(o);
-  return link_.open(o.gateway_port, o.baud, o.gateway_slave);
+  return link_.open(o.gateway_port, o.baud, o.gateway_slave, o.parity);
 }
 
 std::unique_ptr<TransferNetwork> GatewayTransport::transfers(const Options&) {

@@ -17,8 +17,8 @@ uint32_t gateway_response_timeout_ms(const Options& o);
 
 class GatewayTransport : public Transport {
  public:
-  /// Opens o.gateway_port at o.baud for o.gateway_slave.
-  Status open(const Options& o);
+  /// Opens o.gateway_port at o.baud and o.parity for o.gateway_slave.
+  Status open(const Options& o) override;
 
   std::unique_ptr<TransferNetwork> transfers(const Options& o) override;
   Status nmt(canopen::NmtCommand command, uint8_t node) override;

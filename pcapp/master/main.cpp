@@ -1,7 +1,8 @@
 // mb2co-master: a CANopen master on SocketCAN (seed 002's "Can
 // Communicator" with network management), in the habits of can-utils and
 // cocomm: one command per run, results on stdout, one-line errors on
-// stderr, exit codes a script can use (exit_codes.h). With --via-modbus the
+// stderr, exit codes a script can use (exit_codes.h). The command line is
+// the shared convention (docs/cli.md, cli_options.h). With --via-modbus the
 // SDO and NMT commands run through a gateway on a serial port instead.
 #include <iostream>
 
@@ -11,45 +12,21 @@
 #include "exit_codes.h"
 #include "gateway_transport.h"
 
+using namespace mb2co;
 using namespace mb2co::master;
 
 int main(int argc, char** argv) {
+  const cli::Parsed parsed = cli::parse(program(), argc, argv);
+  const int early = cli::finish_early(program(), parsed, std::cout, std::cerr);
+  if (early >= 0) return early;  // --help, --version, --list-options, usage error
   Options o;
-  const mb2co::Status parsed = parse_options(argc, argv, &o);
-  if (!parsed) {
-    std::cerr << "mb2co-master: " << parsed.message() << "\n" << usage_text();
-    return kExitUsage;
-  }
-  if (o.command == "help") {
-    std::cout << usage_text();
-    return kExitOk;
-  }
-  struct Command {
-    const char* name;
-    int (*run)(const Options&, Transport&, std::ostream&, std::ostream&);
-  };
-  static const Command kCommands[] = {{"scan", scan_command},         {"read", read_command},
-                                      {"write", write_command},       {"upload", upload_command},
-                                      {"download", download_command}, {"nmt", nmt_command},
-                                      {"sync", sync_command},         {"watch", watch_command},
-                                      {"dump", dump_command},         {"configure", configure_command}};
-  const Command* command = nullptr;
-  for (const Command& c : kCommands)
-    if (o.command == c.name) command = &c;
-  if (!command) {
-    std::cerr << "mb2co-master: unknown command '" << o.command << "'\n" << usage_text();
-    return kExitUsage;
-  }
-  const std::string refusal = via_modbus_refusal(o);
-  if (!refusal.empty()) return fail(std::cerr, kExitUsage, refusal);
-  if (!o.gateway_port.empty()) {
-    static GatewayTransport gateway;
-    const mb2co::Status opened = gateway.open(o);
-    if (!opened) return fail(std::cerr, kExitBus, opened.message());
-    return command->run(o, gateway, std::cout, std::cerr);
-  }
+  const Status applied = apply_options(parsed.args, &o);
+  if (!applied) return fail(std::cerr, kExitUsage, applied.message());
+  const CommandFunction run = command_function(o.command);
+  if (run == nullptr) return fail(std::cerr, kExitUsage, "no function for the command " + o.command);
+  // Opened by the command once its operands are checked (Transport::open).
+  static GatewayTransport gateway;
   static CanTransport bus;
-  const mb2co::Status opened = bus.open(o.iface.c_str());
-  if (!opened) return fail(std::cerr, kExitBus, opened.message());
-  return command->run(o, bus, std::cout, std::cerr);
+  Transport& transport = o.gateway_port.empty() ? static_cast<Transport&>(bus) : gateway;
+  return run(o, transport, std::cout, std::cerr);
 }

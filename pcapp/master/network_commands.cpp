@@ -14,6 +14,11 @@ int fail(std::ostream& err, int code, const std::string& why) {
   return code;
 }
 
+int open_transport(const Options& o, Transport& transport, std::ostream& err) {
+  const Status opened = transport.open(o);
+  return opened ? kExitOk : fail(err, kExitBus, opened.message());
+}
+
 namespace {
 
 struct NmtName {
@@ -60,17 +65,18 @@ class SyncService : public BusService {
 }  // namespace
 
 int nmt_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
-  if (o.words.size() != 2)
-    return fail(err, kExitUsage, "nmt: want nmt start|stop|preop|reset|reset-comm NODE|all");
+  const std::vector<std::string>& w = o.args.operands;
+  if (w.size() != 2) return fail(err, kExitUsage, "nmt: want nmt start|stop|preop|reset|reset-comm NODE|all");
   const NmtName* name = nullptr;
   for (const NmtName& n : kNmtNames)
-    if (o.words[0] == n.word) name = &n;
+    if (w[0] == n.word) name = &n;
   if (!name)
     return fail(err, kExitUsage,
-                "nmt: unknown command '" + o.words[0] + "' (start, stop, preop, reset, reset-comm)");
+                "nmt: unknown command '" + w[0] + "' (start, stop, preop, reset, reset-comm)");
   uint8_t node = 0;
-  const Status s = parse_node_id(o.words[1], true, &node);
+  const Status s = parse_node_id(w[1], true, &node);
   if (!s) return fail(err, kExitUsage, "nmt: " + s.message());
+  if (const int code = open_transport(o, transport, err)) return code;
   const Status sent = transport.nmt(name->command, node);
   if (!sent) return fail(err, kExitBus, "nmt: " + sent.message());
   const std::string who = node == 0 ? "all" : std::to_string(node);
@@ -84,26 +90,18 @@ int nmt_command(const Options& o, Transport& transport, std::ostream& out, std::
 int sync_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
   if (!transport.bus()) return fail(err, kExitUsage, "sync: " + needs_can_frames("sync"));
   BusLoop& bus = *transport.bus();
-  std::vector<std::string> w = o.words;
-  std::string v;
-  uint64_t period_ms = 0, count = 1, overflow = 0, cob_id = 0x80;
-  struct Numeric {
-    const char* name;
-    uint64_t max;
-    uint64_t* value;
-  } const numeric[] = {{"--period", 60000, &period_ms},
-                       {"--count", 1000000, &count},
-                       {"--overflow", 240, &overflow},
-                       {"--cob-id", 0x7FF, &cob_id}};
-  for (const Numeric& n : numeric) {
-    if (!take_option(&w, n.name, false, &v)) continue;
-    const Status s = parse_number(v, n.max, n.name + 2, n.value);
+  // Ranges checked by the parser (the table in cli_options.cpp).
+  const uint64_t period_ms = o.args.uint("--period", 0);
+  const uint64_t count = o.args.uint("--count", 1);
+  const uint64_t overflow = o.args.uint("--overflow", 0);
+  uint64_t cob_id = 0x80;
+  if (o.args.has("--cob-id")) {
+    const Status s = parse_number(o.args.get("--cob-id"), 0x7FF, "--cob-id", &cob_id);
     if (!s) return fail(err, kExitUsage, "sync: " + s.message());
   }
-  if (!w.empty()) return fail(err, kExitUsage, "sync: unexpected '" + w[0] + "'");
-  if (count == 0) return fail(err, kExitUsage, "sync: --count 0 sends nothing");
   if (count > 1 && period_ms == 0) return fail(err, kExitUsage, "sync: --count above 1 needs --period MS");
   if (overflow == 1) return fail(err, kExitUsage, "sync: --overflow 1 is not allowed (CiA 301: 0 or 2..240)");
+  if (const int code = open_transport(o, transport, err)) return code;
   canopen::SyncProducer producer;
   // One SYNC alone needs a period too: the producer sends at its start.
   producer.configure(static_cast<uint32_t>(cob_id), static_cast<uint32_t>(period_ms ? period_ms : 1) * 1000u,

@@ -41,15 +41,16 @@ std::string text_of(const Transfer* t) {
 }  // namespace
 
 int scan_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
-  if (o.words.size() > 2) return fail(err, kExitUsage, "scan: want scan [FIRST [LAST]]");
+  const std::vector<std::string>& w = o.args.operands;  // at most 2 (the table)
   uint8_t first = 1, last = 127;
-  if (!o.words.empty()) {
-    Status s = parse_node_id(o.words[0], false, &first);
-    if (s) last = o.words.size() == 2 ? 0 : 127;
-    if (s && o.words.size() == 2) s = parse_node_id(o.words[1], false, &last);
+  if (!w.empty()) {
+    Status s = parse_node_id(w[0], false, &first);
+    if (s) last = w.size() == 2 ? 0 : 127;
+    if (s && w.size() == 2) s = parse_node_id(w[1], false, &last);
     if (!s) return fail(err, kExitUsage, "scan: " + s.message());
     if (last < first) return fail(err, kExitUsage, "scan: LAST below FIRST");
   }
+  if (const int code = open_transport(o, transport, err)) return code;
   TransferRun run(o, transport);
   std::map<uint8_t, Found> found;
   auto make = [](uint8_t node, uint16_t index, uint8_t sub) {

@@ -33,11 +33,13 @@ Status parse_target(const std::vector<std::string>& w, Target* t) {
   return parse_index_sub(w[1], w[2], &t->index, &t->sub);
 }
 
-/// --block / --segmented, taken out of the words.
-canopen::SdoMode take_mode(std::vector<std::string>* w) {
-  if (take_option(w, "--block", true, nullptr)) return canopen::kSdoBlock;
-  if (take_option(w, "--segmented", true, nullptr)) return canopen::kSdoSegmented;
-  return canopen::kSdoAuto;
+/// --block or --segmented (not both), else the transfer's own choice.
+Status sdo_mode(const cli::Args& a, canopen::SdoMode* mode) {
+  if (a.has("--block") && a.has("--segmented")) return Status::failure("--block or --segmented, not both");
+  *mode = a.has("--block")       ? canopen::kSdoBlock
+          : a.has("--segmented") ? canopen::kSdoSegmented
+                                 : canopen::kSdoAuto;
+  return Status::ok();
 }
 
 /// Queues one transfer per node and runs them all; the first failure's exit
@@ -87,13 +89,14 @@ std::string hex_word(uint32_t v, int digits) {
 }  // namespace
 
 int read_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
+  const std::vector<std::string>& w = o.args.operands;  // at most 4 (the table)
   Target target;
-  Status s = parse_target(o.words, &target);
-  if (!s || o.words.size() > 4)
-    return fail(err, kExitUsage, "read: " + (s ? "want NODE INDEX SUB [TYPE]" : s.message()));
-  eds::DataType type;
-  s = resolve_type(o.words.size() == 4 ? o.words[3] : std::string(), o.eds, target.index, target.sub, &type);
+  Status s = parse_target(w, &target);
   if (!s) return fail(err, kExitUsage, "read: " + s.message());
+  eds::DataType type;
+  s = resolve_type(w.size() == 4 ? w[3] : std::string(), o.eds, target.index, target.sub, &type);
+  if (!s) return fail(err, kExitUsage, "read: " + s.message());
+  if (const int code = open_transport(o, transport, err)) return code;
   std::vector<std::unique_ptr<Transfer>> ts = transfers_for(target, true, canopen::kSdoAuto);
   int code = run_all(o, transport, ts, err);
   for (auto& t : ts) {
@@ -123,15 +126,17 @@ int read_command(const Options& o, Transport& transport, std::ostream& out, std:
 }
 
 int write_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
+  const std::vector<std::string>& w = o.args.operands;  // at most 5 (the table)
   Target target;
-  Status s = parse_target(o.words, &target);
-  if (!s || o.words.size() < 4 || o.words.size() > 5)
+  Status s = parse_target(w, &target);
+  if (!s || w.size() < 4)
     return fail(err, kExitUsage, "write: " + (s ? "want NODE INDEX SUB [TYPE] VALUE" : s.message()));
   eds::DataType type;
-  s = resolve_type(o.words.size() == 5 ? o.words[3] : std::string(), o.eds, target.index, target.sub, &type);
+  s = resolve_type(w.size() == 5 ? w[3] : std::string(), o.eds, target.index, target.sub, &type);
   if (!s) return fail(err, kExitUsage, "write: " + s.message());
-  const eds::ValueResult v = eds::parse_value(type, o.words.back());
+  const eds::ValueResult v = eds::parse_value(type, w.back());
   if (!v.value) return fail(err, kExitUsage, "write: " + v.error);
+  if (const int code = open_transport(o, transport, err)) return code;
   std::vector<std::unique_ptr<Transfer>> ts = transfers_for(target, false, canopen::kSdoAuto, v.value->bytes);
   const int code = run_all(o, transport, ts, err);
   for (auto& t : ts) {
@@ -174,12 +179,14 @@ void file_result(std::ostream& out, const Transfer& t, const std::string& path, 
 }  // namespace
 
 int upload_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
-  std::vector<std::string> w = o.words;
-  const canopen::SdoMode mode = take_mode(&w);
+  const std::vector<std::string>& w = o.args.operands;  // at most 4 (the table)
+  canopen::SdoMode mode = canopen::kSdoAuto;
+  Status s = sdo_mode(o.args, &mode);
   Target target;
-  Status s = parse_target(w, &target);
+  if (s) s = parse_target(w, &target);
   if (!s || w.size() != 4)
     return fail(err, kExitUsage, "upload: " + (s ? "want NODE INDEX SUB FILE" : s.message()));
+  if (const int code = open_transport(o, transport, err)) return code;
   std::vector<std::unique_ptr<Transfer>> ts = transfers_for(target, true, mode);
   const int code = run_all(o, transport, ts, err);
   for (auto& t : ts) {
@@ -204,15 +211,17 @@ int upload_command(const Options& o, Transport& transport, std::ostream& out, st
 }
 
 int download_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
-  std::vector<std::string> w = o.words;
-  const canopen::SdoMode mode = take_mode(&w);
+  const std::vector<std::string>& w = o.args.operands;  // at most 4 (the table)
+  canopen::SdoMode mode = canopen::kSdoAuto;
+  Status s = sdo_mode(o.args, &mode);
   Target target;
-  Status s = parse_target(w, &target);
+  if (s) s = parse_target(w, &target);
   if (!s || w.size() != 4)
     return fail(err, kExitUsage, "download: " + (s ? "want NODE INDEX SUB FILE" : s.message()));
   std::ifstream f(w[3], std::ios::binary);
   if (!f) return fail(err, kExitUsage, "download: cannot read " + w[3]);
   const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  if (const int code = open_transport(o, transport, err)) return code;
   std::vector<std::unique_ptr<Transfer>> ts = transfers_for(target, false, mode, bytes);
   const int code = run_all(o, transport, ts, err);
   for (auto& t : ts) {

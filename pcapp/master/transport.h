@@ -22,6 +22,10 @@ class BusLoop;
 class Transport {
  public:
   virtual ~Transport() = default;
+  /// Opens the CAN interface (-i) or the gateway's port (--via-modbus).
+  /// Each command calls it once its operands are checked, so a usage error
+  /// is exit 2 even where the interface is missing (3).
+  virtual Status open(const Options& o) = 0;
   /// A fresh network of SDO transfers for one command, with the options'
   /// timeout and watchdog.
   virtual std::unique_ptr<TransferNetwork> transfers(const Options& o) = 0;

@@ -300,37 +300,25 @@ class WatchService : public BusService {
 int watch_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
   if (!transport.bus()) return fail(err, kExitUsage, "watch: " + needs_can_frames("watch"));
   BusLoop& bus = *transport.bus();
-  std::vector<std::string> w = o.words;
-  std::string v;
   std::vector<uint8_t> nodes;
-  if (take_option(&w, "--nodes", false, &v)) {
-    const Status s = parse_node_list(v, &nodes);
+  if (o.args.has("--nodes")) {
+    const Status s = parse_node_list(o.args.get("--nodes"), &nodes);
     if (!s) return fail(err, kExitUsage, "watch: " + s.message());
   } else {
     for (int id = 1; id <= 127; ++id) nodes.push_back(static_cast<uint8_t>(id));
   }
-  uint64_t consumer_ms = 1000, seconds = 0;
-  if (take_option(&w, "--heartbeat", false, &v)) {
-    const Status s = parse_number(v, 65535, "heartbeat consumer time", &consumer_ms);
-    if (!s) return fail(err, kExitUsage, "watch: " + s.message());
-    if (consumer_ms < 2) return fail(err, kExitUsage, "watch: --heartbeat is 2..65535 ms");
-  }
-  if (take_option(&w, "--for", false, &v)) {
-    const Status s = parse_number(v, 2000, "duration", &seconds);
-    if (!s) return fail(err, kExitUsage, "watch: " + s.message() + " (seconds)");
-  }
-  uint64_t guard_ms = 0, life_factor = 3;
-  if (take_option(&w, "--guard", false, &v)) {
-    const Status s = parse_number(v, 65535, "guard time", &guard_ms);
-    if (!s || guard_ms == 0) return fail(err, kExitUsage, "watch: --guard is 1..65535 ms");
-  }
-  if (take_option(&w, "--life", false, &v)) {
-    const Status s = parse_number(v, 255, "life time factor", &life_factor);
-    if (!s || life_factor == 0) return fail(err, kExitUsage, "watch: --life is 1..255");
-  }
-  const bool raw = take_option(&w, "--raw", true, nullptr);
+  // Ranges checked by the parser (the table in cli_options.cpp).
+  const uint64_t consumer_ms = o.args.uint("--heartbeat", 1000);
+  const uint64_t for_ms = o.args.duration_ms("--for", 0);
+  const uint64_t guard_ms = o.args.uint("--guard", 0);
+  const uint64_t life_factor = o.args.uint("--life", 3);
+  if (o.args.has("--guard") && o.args.has("--heartbeat"))
+    return fail(err, kExitUsage, "watch: --heartbeat or --guard, not both");
+  if (o.args.has("--life") && !o.args.has("--guard"))
+    return fail(err, kExitUsage, "watch: --life is the guarding's life time factor: only with --guard");
+  const bool raw = o.args.has("--raw");
   const bool table = !o.json && isatty(STDOUT_FILENO) && &out == &std::cout;
-  if (!w.empty()) return fail(err, kExitUsage, "watch: unexpected '" + w[0] + "'");
+  if (const int code = open_transport(o, transport, err)) return code;
   // Mappings are read by SDO unless --raw (a watch that only listens).
   static SdoNetwork sdo(o.timeout_ms * 1000u, 0);
   if (!raw) bus.add(&sdo);
@@ -355,8 +343,8 @@ int watch_command(const Options& o, Transport& transport, std::ostream& out, std
                      : "heartbeat consumer " + std::to_string(consumer_ms) + " ms")
         << "\n";
   out << std::flush;
-  if (seconds) {
-    bus.run_until([] { return false; }, static_cast<uint32_t>(seconds * 1000000u));
+  if (for_ms) {
+    bus.run_until([] { return false; }, static_cast<uint32_t>(for_ms * 1000u));
   } else {
     while (!bus.interrupted()) bus.run_until([] { return false; }, BusLoop::kLongestRunUs);
   }

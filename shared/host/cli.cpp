@@ -48,8 +48,11 @@ std::string command_names(const Program& p) {
   return s;
 }
 
+/// "--name", "-x"; not "-" alone nor a negative number ("-5" is a value,
+/// as "-12" already is: no program has a digit as a short option).
 bool is_option_word(const std::string& a) {
-  return (a.size() > 2 && a[0] == '-' && a[1] == '-') || (a.size() == 2 && a[0] == '-' && a[1] != '-');
+  return (a.size() > 2 && a[0] == '-' && a[1] == '-') ||
+         (a.size() == 2 && a[0] == '-' && a[1] != '-' && (a[1] < '0' || a[1] > '9'));
 }
 
 Parsed usage_error(std::string why) {

@@ -71,6 +71,15 @@ TEST(CliParse, DoubleDashEndsTheOptions) {
   EXPECT_EQ(p.args.operands, std::vector<std::string>{"--loop"});
 }
 
+TEST(CliParse, NegativeNumbersAreValuesAndOperands) {
+  // mb2co-master write 2 2000 6 i8 -5: "-5" is no option of anyone.
+  const Parsed p = run({"send", "-5", "--count", "3"});
+  ASSERT_EQ(p.action, Action::kRun) << p.text;
+  EXPECT_EQ(p.args.operands, std::vector<std::string>{"-5"});
+  EXPECT_EQ(run({"send", "-12"}).args.operands, std::vector<std::string>{"-12"});
+  EXPECT_EQ(error_of({"send", "-x"}), "unknown option -x (try tool send --help)");
+}
+
 TEST(CliParse, UsageErrorsSayWhatIsWrongInOneLine) {
   EXPECT_EQ(error_of({"send", "--bitrate"}), "--bitrate needs a value");
   EXPECT_EQ(error_of({"send", "--bitrate", "--loop"}), "--bitrate needs a value");

@@ -157,7 +157,7 @@ TEST(MasterNetwork, BadCommandLinesAndAMissingInterfaceGiveOneLineAndTheirExitCo
       {{"sync", "--overflow", "1"}, 2, "--overflow 1 is not allowed"},
       {{"sync", "--count", "3"}, 2, "needs --period"},
       {{"watch", "--nodes", "5-2"}, 2, "runs backwards"},
-      {{"fly"}, 2, "unknown command 'fly'"},
+      {{"fly"}, 2, "unknown command \"fly\""},
   };
   for (const Case& c : cases) {
     const MasterRun run = run_master(c.args);

@@ -199,11 +199,11 @@ TEST(MasterWatchdog, ANodeKilledMidTransferAbortsWithinTheConsumerTimeTheOthersF
   NodeProcess nodes[3];
   for (int k = 0; k < 3; ++k) ASSERT_TRUE(start_node(&nodes[k], &dir, 4 + k)) << nodes[k].error();
   // Segmented uploads of 128 KiB from nodes 4, 5, 6 at once; SDO timeout 10 s,
-  // heartbeat consumer time 1000 ms (the nodes beat every 100 ms: ten beats
+  // watchdog (heartbeat consumer time) 1000 ms (the nodes beat every 100 ms: ten beats
   // missed, so a node stalled by a busy host under user-mode Linux is not
   // taken for dead).
   LineChild master;
-  ASSERT_TRUE(start_master(&master, {"-t", "10000", "--heartbeat", "1000", "upload", "4-6", "1F50", "1",
+  ASSERT_TRUE(start_master(&master, {"-t", "10000", "--watchdog", "1000", "upload", "4-6", "1F50", "1",
                                      dir.path("up"), "--segmented"}));
   master.close_stdin();
   // Node 5 dies once its transfer is well under way: its 200th segment.

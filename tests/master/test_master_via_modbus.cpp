@@ -207,7 +207,7 @@ TEST_F(ViaModbus, RawCanCommandsAreUsageErrors) {
   for (const std::vector<std::string>& args : {std::vector<std::string>{"watch"},
                                                {"sync"},
                                                {"upload", "2", "1F50", "1", "/dev/null", "--block"},
-                                               {"--heartbeat", "500", "read", "2", "1000", "0"}}) {
+                                               {"--watchdog", "500", "read", "2", "1000", "0"}}) {
     const MasterRun run = run_master(via(args));
     EXPECT_EQ(run.exit_code, 2) << args[0];
     EXPECT_TRUE(run.out.empty());

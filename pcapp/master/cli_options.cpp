@@ -86,7 +86,7 @@ cli::Program make_program() {
                       "(05040000h sent at once, not after -t); default 0: off"),
       cli::flag("--json", "one JSON object per line instead of text"),
       cli::file("--eds", "FILE", "the node's EDS: data types for read/write, the entries of dump"),
-      cli::text("--via-modbus", "PORT[:SLAVE]",
+      cli::file("--via-modbus", "PORT[:SLAVE]",
                 "no CAN interface: SDO and NMT through an mb2co gateway on the\n"
                 "serial device PORT, Modbus address SLAVE (default 1)"),
       cli::uint_range(

@@ -1,0 +1,34 @@
+#!/bin/bash
+# ctest master.completion: scripts/completion/mb2co.bash offers mb2co-master's
+# subcommands and, after one, its own options and the global ones, as bash
+# would ask at a TAB (the words come from the program's tables).
+# Usage: completion_test.sh SOURCE_DIR MASTER_DIR
+set -euo pipefail
+src=$1
+PATH=$2:$PATH
+# shellcheck disable=SC1091  # the checkout given as $1
+source "$src/scripts/completion/mb2co.bash"
+failed=0
+
+# expect "WORD..." LINE... -- what COMPREPLY must hold (all of it, in order) after LINE.
+expect() {
+  local want=$1
+  shift
+  COMP_WORDS=("$@")
+  COMP_CWORD=$(($# - 1))
+  _mb2co_complete
+  if [[ "${COMPREPLY[*]}" != "$want" ]]; then
+    echo "completion of '$*': got '${COMPREPLY[*]}', want '$want'" >&2
+    failed=1
+  fi
+}
+
+expect "scan read write upload download nmt sync watch dump configure" mb2co-master ""
+expect "sync" mb2co-master sy
+expect "--period --parity" mb2co-master sync --p
+expect "--heartbeat --help" mb2co-master -i vcan0 watch --he
+expect "--help" mb2co-master read --he
+expect "--watchdog" mb2co-master --wat
+expect "--block --baud" mb2co-master -t 300 upload --b
+expect "N E O none even odd" mb2co-master --via-modbus /dev/ttyACM0 --parity ""
+exit $failed

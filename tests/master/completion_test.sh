@@ -8,20 +8,8 @@ src=$1
 PATH=$2:$PATH
 # shellcheck disable=SC1091  # the checkout given as $1
 source "$src/scripts/completion/mb2co.bash"
-failed=0
-
-# expect "WORD..." LINE... -- what COMPREPLY must hold (all of it, in order) after LINE.
-expect() {
-  local want=$1
-  shift
-  COMP_WORDS=("$@")
-  COMP_CWORD=$(($# - 1))
-  _mb2co_complete
-  if [[ "${COMPREPLY[*]}" != "$want" ]]; then
-    echo "completion of '$*': got '${COMPREPLY[*]}', want '$want'" >&2
-    failed=1
-  fi
-}
+# shellcheck disable=SC1091  # the same checkout
+source "$src/scripts/completion/expect_completion.bash"
 
 expect "scan read write upload download nmt sync watch dump configure" mb2co-master ""
 expect "sync" mb2co-master sy

@@ -141,7 +141,7 @@ Status apply_options(const cli::Args& a, Options* o) {
   o->json = a.has("--json");
   o->eds = a.get("--eds", o->eds);
   if (a.has("--via-modbus")) {
-    const Status s = parse_gateway(a.get("--via-modbus"), o);
+    Status s = parse_gateway(a.get("--via-modbus"), o);
     if (!s) return s;
   } else {
     for (const char* serial : {"--baud", "--parity"}) {

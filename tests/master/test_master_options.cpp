@@ -21,6 +21,7 @@ namespace {
 cli::Parsed parse(std::vector<std::string> words) {
   words.insert(words.begin(), "mb2co-master");
   std::vector<const char*> argv;
+  argv.reserve(words.size());
   for (const std::string& w : words) argv.push_back(w.c_str());
   return cli::parse(program(), static_cast<int>(argv.size()), argv.data());
 }

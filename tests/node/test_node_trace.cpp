@@ -199,22 +199,22 @@ void expect_trace_is_the_bus(const std::vector<Stamped>& trace, const std::vecto
   }
 }
 
-TEST(TraceCan, CandumpTextHoldsTheFramesCandumpSaw) {
+/// Runs the node with a trace named `file` and checks what `read` makes of it.
+void check_trace(const std::string& file, std::vector<Stamped> (*read)(const std::string& bytes)) {
   TempDir dir;
   std::vector<Stamped> bus;
   uint64_t started_us = 0;
-  run_traced_node(dir.path("node.log"), &bus, &started_us);
-  if (HasFatalFailure()) return;
-  expect_trace_is_the_bus(read_text(file_bytes(dir.path("node.log"))), bus, started_us);
+  run_traced_node(dir.path(file), &bus, &started_us);
+  if (::testing::Test::HasFatalFailure()) return;
+  expect_trace_is_the_bus(read(file_bytes(dir.path(file))), bus, started_us);
+}
+
+TEST(TraceCan, CandumpTextHoldsTheFramesCandumpSaw) {
+  check_trace("node.log", &read_text);
 }
 
 TEST(TraceCan, PcapHoldsTheFramesCandumpSaw) {
-  TempDir dir;
-  std::vector<Stamped> bus;
-  uint64_t started_us = 0;
-  run_traced_node(dir.path("node.pcap"), &bus, &started_us);
-  if (HasFatalFailure()) return;
-  expect_trace_is_the_bus(read_pcap(file_bytes(dir.path("node.pcap"))), bus, started_us);
+  check_trace("node.pcap", &read_pcap);
 }
 
 }  // namespace

@@ -37,7 +37,7 @@ const cli::Program& bridge_program() {
 }
 
 Status apply_bridge_options(const cli::Args& a, BridgeOptions* o) {
-  const Status segment = apply_segment_options(a, &o->segment);
+  Status segment = apply_segment_options(a, &o->segment);
   if (!segment) return segment;
   o->can = a.get("--can", o->can);
   o->offset = static_cast<uint8_t>(a.uint("--offset", o->offset));

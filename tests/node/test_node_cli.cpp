@@ -53,6 +53,7 @@ TEST(Cli, BadOptionExits2WithOneLine) {
       {"--bitrate", "300k"},
       {"--bitrate", "500"},
       {"--trace-can"},
+      {"--trace-can", "-"},
       {"--stations", "1"},
       {"--topology", "star"},
       {"--can"},

@@ -49,6 +49,8 @@ const cli::Program& program() {
 
 Status apply_options(const cli::Args& a, NodeOptions* o) {
   if (a.has("--pty") && a.has("--serial")) return Status::failure("--pty and --serial exclude each other");
+  if (a.get("--trace-can") == "-")
+    return Status::failure("--trace-can needs a file: stdout is the control channel");
   o->can = a.get("--can", o->can);
   o->pty_link = a.get("--pty", o->pty_link);
   o->serial = a.get("--serial", o->serial);

@@ -11,6 +11,7 @@
 #include <iostream>
 #include <string>
 
+#include "host/pcap_can.h"
 #include "options.h"
 #include "plant/plant_config.h"
 #include "progress_bar.h"
@@ -143,7 +144,11 @@ int main(int argc, char** argv) {
   std::fflush(stdout);
 
   if (!o.trace_path.empty()) {
-    const Status written = write_file(o.trace_path, trace.text());
+    // A path ending in .pcap gets pcap (LINKTYPE_CAN_SOCKETCAN) of the same frames.
+    const bool pcap = is_pcap_path(o.trace_path);
+    std::string pcap_bytes;
+    Status written = pcap ? pcap_from_candump_log(trace.text(), &pcap_bytes) : Status::ok();
+    if (written) written = write_file(o.trace_path, pcap ? pcap_bytes : trace.text());
     if (!written) {
       std::fprintf(stderr, "mb2co-lab: %s\n", written.message().c_str());
       return 1;

@@ -37,7 +37,8 @@ cli::Program make_program() {
                           "frames the CAN controller holds between passes (default 2, MCP2515)"),
           cli::dir("--out", "DIR", "output directory (default out)"),
           cli::file("--trace", "FILE",
-                    "every CAN frame of the runs as a candump -L log (canplayer, Wireshark)"),
+                    "every CAN frame of the runs as a candump -L log (canplayer, Wireshark),\n"
+                    "or pcap (LINKTYPE_CAN_SOCKETCAN) when FILE ends in .pcap"),
           cli::flag("--quiet", "no progress bar, no speed figure"),
       }}};
   p.footer = "\nexit status: 0 every verdict passed, 3 some verdict failed, 2 usage error, 1 runtime error\n";

@@ -17,6 +17,7 @@
 #include "report.h"
 #include "sim/can_trace.h"
 #include "sim/scenarios.h"
+#include "sync_processing.h"
 #include "sync_report.h"
 
 namespace {
@@ -160,6 +161,12 @@ int main(int argc, char** argv) {
     }
     bar.clear();
     report += roundtrip ? lab::sync_roundtrip_section(results) : lab::sync_latency_section(results);
+  }
+  if (o.scenario == lab::Scenario::kSyncProcessing) {
+    const std::string elf = o.elf.empty() ? std::string(MB2CO_LAB_DEFAULT_ELF) : o.elf;
+    const lab::SyncProcessingResult r = lab::sync_processing_run(elf, o.syncs, o.line.seed);
+    report += lab::sync_processing_section(r);
+    pass = pass && r.ok;
   }
   if (o.scenario == lab::Scenario::kAlternative) {
     std::vector<sim::AlternativeResult> results;

@@ -152,7 +152,7 @@ std::string sync_processing_section(const SyncProcessingResult& r) {
       "§5.1)\n";
   s += strf(
       "  image: %s, node %u, ATmega328P at 16 MHz in simavr; TPDO2 set synchronous by SDO (1801h/2 = 1)\n",
-      r.elf.c_str(), r.node_id);
+      std::filesystem::path(r.elf).filename().string().c_str(), r.node_id);
   s += strf("  %-8s %5s %9s %9s %9s  | %9s\n", "", "n", "min", "mean", "max", "bound");
   s += strf("  %-8s %5zu %9llu %9.0f %9llu  | %9llu\n", "cycles", r.cycles.size(),
             static_cast<unsigned long long>(r.min_cycles), r.mean_cycles,

@@ -41,7 +41,8 @@ LabBound lab_bound(Line& line, bool remote);
 /// CAN hops as the Modbus + CANopen path.
 LabBound arduino_control_bound(Line& line);
 
-/// The CAN message set of `line` as commissioned, in priority order: every
+/// The CAN message set of `line` as commissioned (every Arduino powered on:
+/// the dictionaries are read from the running gateways), in priority order: every
 /// enabled TPDO (event types: period = inhibit time, else the application's
 /// rate; synchronous types 0..240: the SYNC period × n, left out when no
 /// station produces SYNC), every heartbeat, and the producer's SYNC

@@ -71,7 +71,7 @@ std::string sync_section(const std::vector<sim::SyncResult>& results, const char
     s += strf("verdict %s: PASS (criterion: every one of %zu %s inside its analytical bounds)\n", name, total,
               what);
   } else {
-    s += strf("verdict %s: FAIL (criterion: every %s measured and inside its analytical bounds%s)\n", name,
+    s += strf("verdict %s: FAIL (criterion: all %s measured, each inside its analytical bounds%s)\n", name,
               what, failures.c_str());
   }
   return s;

@@ -2,6 +2,8 @@
 
 #include <filesystem>
 
+#include "canopen/sdo_client.h"
+#include "platform/device_port.h"
 #include "sim/event_log.h"
 #include "sim/lab_bound.h"
 #include "sim/node_timing.h"
@@ -40,29 +42,27 @@ class Bench {
     return true;
   }
 
-  // SDO expedited download of `size` bytes (CiA 301: 2Fh/2Bh/23h), waiting
-  // for the server's 60h.
+  // The master's SDO client (shared/canopen) writes the `size` low bytes of
+  // `value`, as a student's tool would.
   bool sdo_write(uint16_t index, uint8_t sub, uint32_t value, uint8_t size) {
-    const uint8_t cmd = size == 1 ? 0x2F : size == 2 ? 0x2B : 0x23;
-    const uint8_t d[8] = {cmd,
-                          static_cast<uint8_t>(index),
-                          static_cast<uint8_t>(index >> 8),
-                          sub,
-                          static_cast<uint8_t>(value),
-                          static_cast<uint8_t>(value >> 8),
-                          static_cast<uint8_t>(value >> 16),
-                          static_cast<uint8_t>(value >> 24)};
-    rig_.can_in(frame(0x600u + r_.node_id, 8, d));
-    const uint64_t until = rig_.now_us() + 100000;
-    while (rig_.now_us() < until) {
+    const uint8_t data[4] = {static_cast<uint8_t>(value), static_cast<uint8_t>(value >> 8),
+                             static_cast<uint8_t>(value >> 16), static_cast<uint8_t>(value >> 24)};
+    canopen::SdoClient client;
+    client.init(r_.node_id);
+    const CanSink sink{&Bench::to_image, this};
+    if (!client.start_download(index, sub, canopen::kSdoAuto, data, size, now32(), sink)) {
+      return fail("SDO client busy");
+    }
+    while (client.busy()) {
       if (!run_for_us(100)) return false;
       for (const uno::CanWire::Sent& s : rig_.take_can_out()) {
-        if (s.frame.id != 0x580u + r_.node_id) continue;
-        if (s.frame.data[0] == 0x60) return true;
-        return fail(strf("SDO write %04Xh/%u refused", index, sub));
+        if (s.frame.id == client.response_id()) client.on_frame(s.frame, now32(), sink);
       }
+      client.process(now32(), sink);
     }
-    return fail(strf("no SDO answer to the write of %04Xh/%u", index, sub));
+    if (client.status() == canopen::SdoClient::kDone) return true;
+    return fail(
+        strf("SDO write %04Xh/%u ended with abort %08X", index, sub, static_cast<uint32_t>(client.result())));
   }
 
   bool start_node() {
@@ -100,6 +100,12 @@ class Bench {
   }
 
  private:
+  static bool to_image(void* ctx, const CanFrame& f) {
+    static_cast<Bench*>(ctx)->rig_.can_in(f);
+    return true;
+  }
+  uint32_t now32() const { return static_cast<uint32_t>(rig_.now_us()); }
+
   bool fail(const std::string& why) {
     if (r_.error.empty()) r_.error = why;
     return false;

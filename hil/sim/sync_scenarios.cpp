@@ -48,6 +48,24 @@ LineConfig sync_line(LineConfig c, const SyncLabConfig& lab) {
   return c;
 }
 
+/// The SYNC lab's line; the log's run is named `name`-<bit rate>k.
+LineConfig logged(const LineConfig& c, const SyncLabConfig& lab, EventLog* log, const char* name) {
+  if (log) log->set_run(strf("%s-%uk", name, lab.bitrate_kbit));
+  return sync_line(c, lab);
+}
+
+/// One SYNC lab run: its result and its line, powered on.
+struct SyncRun {
+  SyncRun(const LineConfig& c, const SyncLabConfig& lab, uint32_t wanted, EventLog* log, const char* name)
+      : line(logged(c, lab, log, name), log) {
+    r.lab = lab;
+    r.wanted = wanted;
+    line.power_on_all();
+  }
+  SyncResult r;
+  Line line;
+};
+
 void finish(Line& line, const SyncLabConfig& lab, SyncResult& r, bool response) {
   r.duration_ns = line.now();
   r.events = line.queue().handled();
@@ -102,12 +120,9 @@ bool sync_params_for(Line& line, const SyncLabConfig& lab, timing::SyncParams* p
 
 SyncResult sync_roundtrip_scenario(LineConfig c, const SyncLabConfig& lab, uint32_t answers, EventLog* log,
                                    const Progress& progress) {
-  SyncResult r;
-  r.lab = lab;
-  r.wanted = answers;
-  if (log) log->set_run(strf("sync-roundtrip-%uk", lab.bitrate_kbit));
-  Line line(sync_line(c, lab), log);
-  line.power_on_all();
+  SyncRun run(c, lab, answers, log, "sync-roundtrip");
+  SyncResult& r = run.r;
+  Line& line = run.line;
   // Every Arduino is up well before 1 s; from then on each PDO of B is
   // paired with the last SYNC before it (the round trip is far below a period).
   const SimNs from = kS;
@@ -137,20 +152,17 @@ SyncResult sync_roundtrip_scenario(LineConfig c, const SyncLabConfig& lab, uint3
 
 SyncResult sync_latency_scenario(LineConfig c, const SyncLabConfig& lab, uint32_t presses, EventLog* log,
                                  const Progress& progress) {
-  SyncResult r;
-  r.lab = lab;
-  r.wanted = presses;
-  if (log) log->set_run(strf("sync-latency-%uk", lab.bitrate_kbit));
-  Line line(sync_line(c, lab), log);
-  line.power_on_all();
+  SyncRun run(c, lab, presses, log, "sync-latency");
+  SyncResult& r = run.r;
+  Line& line = run.line;
   line.on_can = [&r](const CanAttempt& a) {
     if (!a.error && a.frame.id == kSyncCobId) ++r.syncs;
   };
   Rng rng(mix_seed(c.seed, kStreamOperator + kStreamSyncPresses + lab.bitrate_kbit));
-  PressRun run = run_presses(line, kStationB, kStationA, presses, rng, progress);
+  PressRun pressed = run_presses(line, kStationB, kStationA, presses, rng, progress);
   line.on_can = nullptr;
-  r.samples_ns = std::move(run.samples_ns);
-  r.lost = run.lost;
+  r.samples_ns = std::move(pressed.samples_ns);
+  r.lost = pressed.lost;
   finish(line, lab, r, true);
   return r;
 }

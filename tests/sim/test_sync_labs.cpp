@@ -11,8 +11,7 @@ namespace sim {
 namespace {
 
 LineConfig line4(uint64_t seed = 5) {
-  LineConfig c;
-  c.stations = 4;
+  LineConfig c;  // 4 stations in a chain
   c.seed = seed;
   return c;
 }

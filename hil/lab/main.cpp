@@ -161,6 +161,7 @@ int main(int argc, char** argv) {
     }
     bar.clear();
     report += roundtrip ? lab::sync_roundtrip_section(results) : lab::sync_latency_section(results);
+    files.push_back({std::string(lab::scenario_name(o.scenario)) + ".csv", lab::sync_csv(results)});
   }
   if (o.scenario == lab::Scenario::kSyncProcessing) {
     const std::string elf = o.elf.empty() ? std::string(MB2CO_LAB_DEFAULT_ELF) : o.elf;

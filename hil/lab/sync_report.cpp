@@ -108,6 +108,20 @@ std::string sync_latency_section(const std::vector<sim::SyncResult>& results) {
   return s + sync_section(results, "sync-latency", "presses", 1e6, "ms");
 }
 
+std::string sync_csv(const std::vector<sim::SyncResult>& results) {
+  std::string s = "bitrate_kbit,n,value_ns,best_ns,worst_ns,inside\n";
+  for (const sim::SyncResult& r : results) {
+    for (size_t i = 0; i < r.samples_ns.size(); ++i) {
+      const uint64_t v = r.samples_ns[i];
+      const bool in = r.bound_ok && v >= r.bound.best_ns && v <= r.bound.worst_ns;
+      s += strf("%u,%zu,%llu,%llu,%llu,%d\n", r.lab.bitrate_kbit, i + 1, static_cast<unsigned long long>(v),
+                static_cast<unsigned long long>(r.bound.best_ns),
+                static_cast<unsigned long long>(r.bound.worst_ns), in ? 1 : 0);
+    }
+  }
+  return s;
+}
+
 std::string alternative_section(const std::vector<sim::AlternativeResult>& results) {
   std::string s =
       "\n== alternative: button -> LED with the control process on the PC or on an Arduino (seed 000 §11), "

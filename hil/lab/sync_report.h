@@ -14,6 +14,9 @@ namespace lab {
 std::string sync_roundtrip_section(const std::vector<sim::SyncResult>& results);
 /// §5.3 likewise in ms.
 std::string sync_latency_section(const std::vector<sim::SyncResult>& results);
+/// One row per measurement: bitrate_kbit,n,value_ns,best_ns,worst_ns,inside.
+std::string sync_csv(const std::vector<sim::SyncResult>& results);
+
 /// §11: the two PC-controlled paths and the Arduino-controlled one per bit rate.
 std::string alternative_section(const std::vector<sim::AlternativeResult>& results);
 

@@ -56,6 +56,11 @@ std::string sync_section(const std::vector<sim::SyncResult>& results, const char
       failures += strf("; %s: no bound", label.c_str());
       continue;
     }
+    if (!r.error.empty()) {
+      s += strf("  %-24s %s\n", label.c_str(), r.error.c_str());
+      failures += strf("; %s: not measured", label.c_str());
+      continue;
+    }
     s += row(label.c_str(), r.samples_ns.size(), r.stats.min_ns, r.stats.mean_ns, r.stats.max_ns, r.bound,
              r.outside, unit_ns);
     if (r.outside != 0) failures += strf("; %s: %u outside", label.c_str(), r.outside);

@@ -66,18 +66,23 @@ struct SyncRun {
   Line line;
 };
 
-void finish(Line& line, const SyncLabConfig& lab, SyncResult& r, bool response) {
+// The bound for the line as commissioned (every Arduino up).
+void bound(Line& line, const SyncLabConfig& lab, SyncResult& r, bool response) {
+  r.bound_ok = sync_params_for(line, lab, &r.params, &r.error);
+  if (r.bound_ok)
+    r.bound = response ? timing::sync_response_bound(r.params) : timing::sync_round_trip_bound(r.params);
+}
+
+void finish(Line& line, SyncResult& r) {
   r.duration_ns = line.now();
   r.events = line.queue().handled();
   r.stats = sample_stats(r.samples_ns);
-  r.bound_ok = sync_params_for(line, lab, &r.params, &r.error);
   if (r.bound_ok) {
-    r.bound = response ? timing::sync_response_bound(r.params) : timing::sync_round_trip_bound(r.params);
     for (SimNs v : r.samples_ns) {
       if (v < r.bound.best_ns || v > r.bound.worst_ns) ++r.outside;
     }
   }
-  r.ok = r.bound_ok && r.outside == 0 && r.lost == 0 && r.samples_ns.size() == r.wanted;
+  r.ok = r.bound_ok && r.error.empty() && r.outside == 0 && r.lost == 0 && r.samples_ns.size() == r.wanted;
 }
 
 }  // namespace
@@ -124,8 +129,23 @@ SyncResult sync_roundtrip_scenario(LineConfig c, const SyncLabConfig& lab, uint3
   SyncResult& r = run.r;
   Line& line = run.line;
   // Every Arduino is up well before 1 s; from then on each PDO of B is
-  // paired with the last SYNC before it (the round trip is far below a period).
+  // paired with the last SYNC before it. That is its SYNC only when every
+  // round trip ends before the next SYNC: a period at or below the worst
+  // round trip is refused (the seed sends a SYNC and waits for its answer).
   const SimNs from = kS;
+  line.run_until(from);
+  bound(line, lab, r, false);
+  const SimNs period_ns = SimNs{lab.sync_period_us} * kNsPerUs;
+  if (r.bound_ok && r.bound.worst_ns >= period_ns) {
+    r.error = strf(
+        "not measured: the SYNC period (%u us) is not above the worst round trip (%llu us), an answer "
+        "could not be told from the next SYNC's",
+        lab.sync_period_us, static_cast<unsigned long long>((r.bound.worst_ns + 999) / 1000));
+  }
+  if (!r.error.empty()) {
+    finish(line, r);
+    return r;
+  }
   bool pending = false;
   SimNs sync_sof = 0;
   line.on_can = [&](const CanAttempt& a) {
@@ -139,14 +159,13 @@ SyncResult sync_roundtrip_scenario(LineConfig c, const SyncLabConfig& lab, uint3
       if (r.samples_ns.size() < answers) r.samples_ns.push_back(a.end_ns - sync_sof);
     }
   };
-  const SimNs period_ns = SimNs{lab.sync_period_us} * kNsPerUs;
   const SimNs end = from + (SimNs{answers} * lab.transmission_type + 2) * period_ns + kS;
   while (r.samples_ns.size() < answers && line.now() < end) {
     line.run_for(100 * kMs);
     if (progress) progress(static_cast<double>(r.samples_ns.size()) / answers);
   }
   line.on_can = nullptr;
-  finish(line, lab, r, false);
+  finish(line, r);
   return r;
 }
 
@@ -163,7 +182,8 @@ SyncResult sync_latency_scenario(LineConfig c, const SyncLabConfig& lab, uint32_
   line.on_can = nullptr;
   r.samples_ns = std::move(pressed.samples_ns);
   r.lost = pressed.lost;
-  finish(line, lab, r, true);
+  bound(line, lab, r, true);
+  finish(line, r);
   return r;
 }
 

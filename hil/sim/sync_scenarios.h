@@ -39,7 +39,7 @@ struct SyncLabConfig {
 struct SyncResult {
   SyncLabConfig lab;
   bool bound_ok = false;
-  std::string error;  ///< why there is no bound
+  std::string error;  ///< why there is no bound or no measurement (bound_ok tells which)
   timing::SyncParams params;
   timing::LatencyBound bound = {};
   std::vector<SimNs> samples_ns;
@@ -54,7 +54,9 @@ struct SyncResult {
   bool ok = false;
 };
 
-/// §5.2: `answers` round trips. c.stations as given (≥ 2).
+/// §5.2: `answers` round trips. c.stations as given (≥ 2). Not measured
+/// (error set, not ok) when the SYNC period is not above the bound's worst
+/// round trip: an answer could then come after the next SYNC.
 SyncResult sync_roundtrip_scenario(LineConfig c, const SyncLabConfig& lab, uint32_t answers, EventLog* log,
                                    const Progress& progress);
 /// §5.3: `presses` presses of B's START, the LED is A's lab LED.

@@ -54,6 +54,19 @@ TEST(SyncLab, RoundTripShrinksWithTheBitRate) {
   EXPECT_GT(slow.bound.worst_ns, fast.bound.worst_ns);
 }
 
+TEST(SyncLab, APeriodNotAboveTheWorstRoundTripIsNotMeasured) {
+  // A SYNC every 2 ms while an answer may take 3.4 ms at 1 Mbit/s: paired
+  // with the last SYNC, a late answer would look shorter than its frames.
+  SyncLabConfig lab = at(1000);
+  lab.sync_period_us = 2000;
+  const SyncResult r = sync_roundtrip_scenario(line4(), lab, 100, nullptr, nullptr);
+  ASSERT_TRUE(r.bound_ok);
+  EXPECT_GE(r.bound.worst_ns, 2000000u);
+  EXPECT_TRUE(r.samples_ns.empty());
+  EXPECT_NE(r.error.find("not measured"), std::string::npos) << r.error;
+  EXPECT_FALSE(r.ok);
+}
+
 TEST(SyncLab, ResponseUnderSyncLiesWithinItsMinAndMaxAtEveryBitRate) {
   for (uint32_t kbit : {125u, 250u, 500u, 1000u}) {
     SCOPED_TRACE(kbit);

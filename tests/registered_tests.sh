@@ -8,11 +8,13 @@ list=$(ctest --test-dir "${1:?usage: registered_tests.sh BUILD_DIR}" -N)
 missing=0
 for name in vcan.socketcan_port node.ring node.network load.bus_flood uno.vcan master.network master.transfers master.configure \
             master.via_modbus \
+            node.trace_can \
             peers.npm_client_vs_node peers.npm_client_vs_npm_server peers.npm_listen_nmt_sync \
             timing.avr_compile.serial_segment \
             peers.master_vs_npm_server peers.block_by_hand labs.doc live.serial_operator \
             serialnet.avr_compile.serial_link cli.table_up_to_date cli.install_tree \
-            bridge.vcan_poll bridge.vcan_token bridge.vcan_echo bridge.uno_vcan; do
+            bridge.vcan_poll bridge.vcan_token bridge.vcan_echo bridge.uno_vcan \
+            sim.image.SyncProcessing.RealImageAnswersEverySyncWithinTheBound; do
   if ! grep -qE "Test +#[0-9]+: ${name//./\\.}\$" <<<"$list"; then
     echo "not registered: $name" >&2
     missing=$((missing + 1))

@@ -3,11 +3,12 @@
 // decoded. The frame exchange of seed 004 §2.11 first, then segmented SDO,
 // an SDO abort, EMCY, SYNC-driven TPDOs, NMT stop and reset.
 #include <cstdio>
-#include <cstring>
 #include <initializer_list>
+#include <iostream>
 #include <string>
 
 #include "canopen_text.h"
+#include "host/cli.h"
 #include "ionode/io_node.h"
 
 namespace {
@@ -37,19 +38,26 @@ void say(const char* text) {
   std::printf("\n-- %s\n", text);
 }
 
+// No options: the table gives --help, --version and the usage errors of
+// docs/cli.md.
+mb2co::cli::Program make_program() {
+  mb2co::cli::Program p;
+  p.name = "mb2co-demo";
+  p.description =
+      "Runs a scripted CANopen master against the I/O test node (id 3, the portable core)\n"
+      "on an in-process bus and prints every frame, raw and decoded.\n";
+  p.commands = {mb2co::cli::Command{}};
+  p.footer = "\nexit status: 0 done, 2 usage error\n";
+  return p;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc > 1 && (std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0)) {
-    std::printf(
-        "usage: mb2co-demo\nRuns a scripted CANopen master against the I/O test node (id 3) and prints every "
-        "frame.\n");
-    return 0;
-  }
-  if (argc > 1) {
-    std::fprintf(stderr, "mb2co-demo: unknown argument '%s' (try --help)\n", argv[1]);
-    return 2;
-  }
+  const mb2co::cli::Program program = make_program();
+  const mb2co::cli::Parsed parsed = mb2co::cli::parse(program, argc, argv);
+  const int early = mb2co::cli::finish_early(program, parsed, std::cout, std::cerr);
+  if (early >= 0) return early;
   mb2co::ionode::IoNode node(mb2co::CanSink{&node_sends, nullptr}, 0x00030191u);
   auto master = [&](std::initializer_list<uint8_t> bytes, uint32_t id) {
     const CanFrame f = frame(id, bytes);

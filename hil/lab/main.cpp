@@ -11,12 +11,15 @@
 #include <iostream>
 #include <string>
 
+#include "host/pcap_can.h"
 #include "options.h"
 #include "plant/plant_config.h"
 #include "progress_bar.h"
 #include "report.h"
 #include "sim/can_trace.h"
 #include "sim/scenarios.h"
+#include "sync_processing.h"
+#include "sync_report.h"
 
 namespace {
 
@@ -49,7 +52,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   Status usable = sim::check_line_config(o.line);
-  if (usable && o.scenario != lab::Scenario::kLatency) {
+  const bool sync_lab = o.scenario == lab::Scenario::kSyncRoundtrip ||
+                        o.scenario == lab::Scenario::kSyncLatency ||
+                        o.scenario == lab::Scenario::kSyncProcessing;
+  if (usable && o.scenario != lab::Scenario::kLatency && o.scenario != lab::Scenario::kAlternative &&
+      !sync_lab) {
     plant::PlantConfig pc;
     pc.step_ms = static_cast<uint32_t>(o.line.pc.cycle_ns / sim::kNsPerMs);
     plant::ConfigError ce;
@@ -134,6 +141,51 @@ int main(int argc, char** argv) {
     simulated_s += static_cast<double>(r.line.duration_ns) / 1e9;
     pass = pass && r.ok;
   }
+  if (o.scenario == lab::Scenario::kSyncRoundtrip || o.scenario == lab::Scenario::kSyncLatency) {
+    const bool roundtrip = o.scenario == lab::Scenario::kSyncRoundtrip;
+    std::vector<sim::SyncResult> results;
+    for (size_t i = 0; i < o.bitrates.size(); ++i) {
+      sim::SyncLabConfig lc;
+      lc.bitrate_kbit = o.bitrates[i];
+      lc.sync_period_us = o.sync_period_us;
+      lc.transmission_type = static_cast<uint8_t>(o.transmission_type);
+      lc.bound_sync_period_us = o.bound_sync_period_us;
+      const std::string stage = sim::strf("%s %uk", lab::scenario_name(o.scenario), lc.bitrate_kbit);
+      const auto shown = [&](double f) {
+        bar.show(stage, (static_cast<double>(i) + f) / static_cast<double>(o.bitrates.size()),
+                 monotonic_ns());
+      };
+      results.push_back(roundtrip ? sim::sync_roundtrip_scenario(o.line, lc, o.syncs, &log, shown)
+                                  : sim::sync_latency_scenario(o.line, lc, o.presses, &log, shown));
+      simulated_s += static_cast<double>(results.back().duration_ns) / 1e9;
+      pass = pass && results.back().ok;
+    }
+    bar.clear();
+    report += roundtrip ? lab::sync_roundtrip_section(results) : lab::sync_latency_section(results);
+    files.push_back({std::string(lab::scenario_name(o.scenario)) + ".csv", lab::sync_csv(results)});
+  }
+  if (o.scenario == lab::Scenario::kSyncProcessing) {
+    const std::string elf = o.elf.empty() ? std::string(MB2CO_LAB_DEFAULT_ELF) : o.elf;
+    const lab::SyncProcessingResult r = lab::sync_processing_run(elf, o.syncs, o.line.seed);
+    report += lab::sync_processing_section(r);
+    pass = pass && r.ok;
+  }
+  if (o.scenario == lab::Scenario::kAlternative) {
+    std::vector<sim::AlternativeResult> results;
+    for (size_t i = 0; i < o.bitrates.size(); ++i) {
+      const std::string stage = sim::strf("alternative %uk", o.bitrates[i]);
+      results.push_back(sim::alternative_scenario(o.line, o.bitrates[i], o.presses, &log, [&](double f) {
+        bar.show(stage, (static_cast<double>(i) + f) / static_cast<double>(o.bitrates.size()),
+                 monotonic_ns());
+      }));
+      const sim::AlternativeResult& r = results.back();
+      simulated_s +=
+          static_cast<double>(r.modbus.duration_ns + r.canopen.duration_ns + r.arduino.duration_ns) / 1e9;
+      pass = pass && r.ok;
+    }
+    bar.clear();
+    report += lab::alternative_section(results);
+  }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 
   report += sim::strf("\nfiles in %s/: report.txt events.csv", o.out_dir.c_str());
@@ -143,7 +195,11 @@ int main(int argc, char** argv) {
   std::fflush(stdout);
 
   if (!o.trace_path.empty()) {
-    const Status written = write_file(o.trace_path, trace.text());
+    // A path ending in .pcap gets pcap (LINKTYPE_CAN_SOCKETCAN) of the same frames.
+    const bool pcap = is_pcap_path(o.trace_path);
+    std::string pcap_bytes;
+    Status written = pcap ? pcap_from_candump_log(trace.text(), &pcap_bytes) : Status::ok();
+    if (written) written = write_file(o.trace_path, pcap ? pcap_bytes : trace.text());
     if (!written) {
       std::fprintf(stderr, "mb2co-lab: %s\n", written.message().c_str());
       return 1;

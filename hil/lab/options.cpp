@@ -18,7 +18,9 @@ cli::Program make_program() {
       "",
       0,
       {
-          cli::choice("--scenario", {"run", "stop2", "latency", "faults", "default"},
+          cli::choice("--scenario",
+                      {"run", "stop2", "latency", "faults", "sync-roundtrip", "sync-latency",
+                       "sync-processing", "alternative", "default"},
                       "default: stop2 then latency"),
           cli::uint_range("--stations", "N", 2, 32, "stations in the line (default 4)"),
           cli::uint_range("--seed", "N", 0, UINT64_MAX, "random seed (default 1): same seed, same report"),
@@ -37,8 +39,19 @@ cli::Program make_program() {
                           "frames the CAN controller holds between passes (default 2, MCP2515)"),
           cli::dir("--out", "DIR", "output directory (default out)"),
           cli::file("--trace", "FILE",
-                    "every CAN frame of the runs as a candump -L log (canplayer, Wireshark)"),
+                    "every CAN frame of the runs as a candump -L log (canplayer, Wireshark),\n"
+                    "or pcap (LINKTYPE_CAN_SOCKETCAN) when FILE ends in .pcap"),
           cli::flag("--quiet", "no progress bar, no speed figure"),
+          cli::uint_range(
+              "--syncs", "N", 1, 1000000,
+              "SYNC round trips per bit rate (sync-roundtrip), SYNCs (sync-processing); default 1000"),
+          cli::uint_range("--sync-period-us", "N", 1000, 1000000,
+                          "SYNC producer's communication cycle period 1006h (default 10000)"),
+          cli::uint_range("--transmission-type", "N", 1, 240,
+                          "the synchronous TPDO is sent at every N-th SYNC (default 1)"),
+          cli::uint_range("--bound-sync-period-us", "N", 1, 1000000,
+                          "let the sync-latency bound assume this SYNC period (a wrong bound must FAIL)"),
+          cli::file("--elf", "FILE", "sync-processing: the AVR image (default: the built gateway image)"),
       }}};
   p.footer = "\nexit status: 0 every verdict passed, 3 some verdict failed, 2 usage error, 1 runtime error\n";
   return p;
@@ -61,6 +74,14 @@ const char* scenario_name(Scenario s) {
       return "latency";
     case Scenario::kFaults:
       return "faults";
+    case Scenario::kSyncRoundtrip:
+      return "sync-roundtrip";
+    case Scenario::kSyncLatency:
+      return "sync-latency";
+    case Scenario::kSyncProcessing:
+      return "sync-processing";
+    case Scenario::kAlternative:
+      return "alternative";
     default:
       return "default";
   }
@@ -68,11 +89,15 @@ const char* scenario_name(Scenario s) {
 
 Status apply_options(const cli::Args& a, Options* o) {
   const std::string scenario = a.get("--scenario", "default");
-  o->scenario = scenario == "run"       ? Scenario::kRun
-                : scenario == "stop2"   ? Scenario::kStop2
-                : scenario == "latency" ? Scenario::kLatency
-                : scenario == "faults"  ? Scenario::kFaults
-                                        : Scenario::kDefault;
+  o->scenario = scenario == "run"               ? Scenario::kRun
+                : scenario == "stop2"           ? Scenario::kStop2
+                : scenario == "latency"         ? Scenario::kLatency
+                : scenario == "faults"          ? Scenario::kFaults
+                : scenario == "sync-roundtrip"  ? Scenario::kSyncRoundtrip
+                : scenario == "sync-latency"    ? Scenario::kSyncLatency
+                : scenario == "sync-processing" ? Scenario::kSyncProcessing
+                : scenario == "alternative"     ? Scenario::kAlternative
+                                                : Scenario::kDefault;
   o->line.stations = static_cast<int>(a.uint("--stations", static_cast<uint64_t>(o->line.stations)));
   o->line.seed = a.uint("--seed", o->line.seed);
   o->line.ring = a.has("--ring") || o->line.ring;
@@ -89,6 +114,11 @@ Status apply_options(const cli::Args& a, Options* o) {
   o->out_dir = a.get("--out", o->out_dir);
   o->trace_path = a.get("--trace", o->trace_path);
   o->quiet = a.has("--quiet");
+  o->syncs = static_cast<uint32_t>(a.uint("--syncs", o->syncs));
+  o->sync_period_us = static_cast<uint32_t>(a.uint("--sync-period-us", o->sync_period_us));
+  o->transmission_type = static_cast<uint32_t>(a.uint("--transmission-type", o->transmission_type));
+  o->bound_sync_period_us = static_cast<uint32_t>(a.uint("--bound-sync-period-us", o->bound_sync_period_us));
+  o->elf = a.get("--elf", o->elf);
   o->line.pc.cycle_ns = pc_cycle_ms * sim::kNsPerMs;
   o->line.pc.jitter_ns = pc_jitter_us * sim::kNsPerUs;
   if (o->line.pc.jitter_ns >= o->line.pc.cycle_ns) {

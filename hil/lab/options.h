@@ -12,7 +12,17 @@
 namespace mb2co {
 namespace lab {
 
-enum class Scenario { kDefault, kRun, kStop2, kLatency, kFaults };
+enum class Scenario {
+  kDefault,
+  kRun,
+  kStop2,
+  kLatency,
+  kFaults,
+  kSyncRoundtrip,
+  kSyncLatency,
+  kSyncProcessing,
+  kAlternative
+};
 
 struct Options {
   Scenario scenario = Scenario::kDefault;
@@ -24,6 +34,12 @@ struct Options {
   uint32_t duration_s = 30;      ///< run scenario
   std::string firmware = "uno";  ///< uno | fast
   bool quiet = false;
+  // The SYNC labs (seed 000 §5) and sync-processing.
+  uint32_t syncs = 1000;              ///< round trips per bit rate (sync-roundtrip), SYNCs (sync-processing)
+  uint32_t sync_period_us = 10000;    ///< 1006h of the SYNC producer
+  uint32_t transmission_type = 1;     ///< of the synchronous TPDO, 1..240
+  uint32_t bound_sync_period_us = 0;  ///< 0: the configured period; else the bound assumes this one
+  std::string elf;                    ///< sync-processing: the image ("" = the built gateway image)
 };
 
 /// The option table of mb2co-lab (help, parser and completion come from it).

@@ -48,7 +48,129 @@ uint32_t application_interarrival_us(const LineConfig& c, uint32_t entry) {
   return 0;
 }
 
-LabBound lab_bound(Line& line, bool remote) {
+namespace {
+
+/// The SYNC producer's period (1006h, µs) and COB-ID on `line`; false when
+/// no station produces SYNC (1005h bit 30).
+bool sync_producer(Line& line, uint32_t* period_us, uint32_t* cob_id) {
+  for (int s = 0; s < line.size(); ++s) {
+    canopen::ObjectDictionary& od = line.node(s).gateway().od();
+    const uint32_t cob = od_get(od, 0x1005, 0);
+    const uint32_t period = od_get(od, 0x1006, 0);
+    if ((cob & 0x40000000u) && period != 0) {
+      *period_us = period;
+      *cob_id = cob & 0x7FFu;
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+uint32_t tpdo_inhibit_us(Line& line, uint32_t cob_id) {
+  for (int s = 0; s < line.size(); ++s) {
+    canopen::ObjectDictionary& od = line.node(s).gateway().od();
+    for (uint16_t n = 0; n < 4; ++n) {
+      const uint32_t cob = od_get(od, static_cast<uint16_t>(0x1800 + n), 1);
+      if (!(cob & 0x80000000u) && (cob & 0x7FFu) == cob_id)
+        return od_get(od, static_cast<uint16_t>(0x1800 + n), 3) * 100u;
+    }
+  }
+  return 0;
+}
+
+bool line_can_messages(Line& line, uint32_t jitter_us, std::vector<timing::MessageSpec>* out,
+                       std::string* error) {
+  const LineConfig& c = line.config();
+  out->clear();
+  uint32_t sync_period_us = 0;
+  uint32_t sync_cob = 0;
+  const bool sync = sync_producer(line, &sync_period_us, &sync_cob);
+  for (int s = 0; s < line.size(); ++s) {
+    // The OD as saved (a node powers on with it): read from a commissioned node.
+    canopen::ObjectDictionary& od = line.node(s).gateway().od();
+    for (uint16_t n = 0; n < 4; ++n) {
+      const uint32_t cob = od_get(od, static_cast<uint16_t>(0x1800 + n), 1);
+      const uint8_t count = static_cast<uint8_t>(od_get(od, static_cast<uint16_t>(0x1A00 + n), 0));
+      if ((cob & 0x80000000u) || count == 0) continue;
+      uint32_t bits = 0;
+      for (uint8_t k = 1; k <= count; ++k)
+        bits += canopen::map_bits(od_get(od, static_cast<uint16_t>(0x1A00 + n), k));
+      const uint32_t type = od_get(od, static_cast<uint16_t>(0x1800 + n), 2);
+      uint32_t t_us = 0;
+      if (type <= 240) {  // synchronous: at most once per SYNC (every n-th for n > 0)
+        if (!sync) continue;
+        t_us = sync_period_us * (type == 0 ? 1u : type);
+      } else {
+        const uint32_t inhibit_us = od_get(od, static_cast<uint16_t>(0x1800 + n), 3) * 100u;
+        const uint32_t first = od_get(od, static_cast<uint16_t>(0x1A00 + n), 1);
+        t_us = inhibit_us != 0 ? inhibit_us : application_interarrival_us(c, first);
+      }
+      if (t_us == 0) {
+        *error = strf("TPDO%u of node %d has neither an inhibit time nor a known event rate", n + 1, s + 1);
+        return false;
+      }
+      timing::MessageSpec m{};
+      timing::set_name(m, strf("TPDO%u.%d", n + 1, s + 1).c_str());
+      m.id = cob & 0x7FFu;
+      m.dlc = static_cast<uint8_t>((bits + 7) / 8);
+      m.period_us = m.deadline_us = t_us;
+      m.jitter_us = jitter_us;
+      out->push_back(m);
+    }
+    const uint32_t hb_ms = od_get(od, 0x1017, 0);
+    if (hb_ms != 0) {
+      timing::MessageSpec m{};
+      timing::set_name(m, strf("HB.%d", s + 1).c_str());
+      m.id = 0x700u + static_cast<uint32_t>(s + 1);
+      m.dlc = 1;
+      m.period_us = m.deadline_us = hb_ms * 1000u;
+      m.jitter_us = jitter_us;
+      out->push_back(m);
+    }
+  }
+  if (sync) {
+    timing::MessageSpec m{};
+    timing::set_name(m, "SYNC");
+    m.id = sync_cob;
+    m.dlc = 0;
+    m.period_us = m.deadline_us = sync_period_us;
+    m.jitter_us = jitter_us;
+    out->push_back(m);
+  }
+  timing::sort_by_priority(out->data(), out->size());
+  return true;
+}
+
+bool hop_times(const std::vector<timing::MessageSpec>& messages, uint32_t id, uint32_t bitrate_bps,
+               HopTimes* out) {
+  std::vector<timing::MessageSpec> set = messages;
+  size_t at = set.size();
+  for (size_t i = 0; i < set.size(); ++i) {
+    if (set[i].id == id) at = i;
+  }
+  if (at == set.size()) return false;
+  set[at].jitter_us = 0;
+  std::vector<timing::RtaMessage> rta(set.size());
+  std::vector<timing::RtaResult> res(set.size());
+  size_t bad = 0;
+  if (timing::analyse_set(set.data(), set.size(), bitrate_bps, timing::WorstCase::kDavis, rta.data(),
+                          res.data(), &bad) != timing::RtaStatus::kOk ||
+      res[at].revised != timing::Bound::kBounded) {
+    return false;
+  }
+  out->best_ns = timing::can_hop_best_ns(false, set[at].dlc, bitrate_bps);
+  out->worst_ns = timing::ticks_to_ns_ceil(res[at].r, bitrate_bps);
+  out->frame_worst_ns = timing::ticks_to_ns_ceil(rta[at].c, bitrate_bps);
+  return true;
+}
+
+namespace {
+
+/// The lab's bound with passes that hand in at most `bytes` characters and
+/// answer a request costing `request` (the PC's; 0 with no PC in the loop).
+LabBound bound_with(Line& line, bool remote, size_t bytes, SimNs request) {
   LabBound out;
   const LineConfig& c = line.config();
   if (c.lab_pc < 0) {
@@ -56,7 +178,7 @@ LabBound lab_bound(Line& line, bool remote) {
     return out;
   }
   const NodeTiming& nt = c.node;
-  out.pass_max_ns = max_pass_ns(nt, nt.can_rx_buffers, 8, lab_request_cost(nt, remote));
+  out.pass_max_ns = max_pass_ns(nt, nt.can_rx_buffers, bytes, request);
   out.step_ns = firmware_step_ns(nt, out.pass_max_ns);
 
   timing::LatencyParams& p = out.params;
@@ -78,83 +200,36 @@ LabBound lab_bound(Line& line, bool remote) {
     return out;
   }
 
-  // The line's CAN traffic, from what each Arduino was commissioned with.
-  const uint32_t jitter_us = p.fw_loop_us;
   const uint32_t bitrate = c.bitrate_kbit * 1000u;
   const uint32_t up_id = 0x280u + static_cast<uint32_t>(c.lab_remote + 1);
   const uint32_t down_id = 0x380u + static_cast<uint32_t>(c.lab_pc + 1);
-  for (int s = 0; s < line.size(); ++s) {
-    // The OD as saved (a node powers on with it): read from a commissioned node.
-    canopen::ObjectDictionary& od = line.node(s).gateway().od();
-    for (uint16_t n = 0; n < 4; ++n) {
-      const uint32_t cob = od_get(od, static_cast<uint16_t>(0x1800 + n), 1);
-      const uint8_t count = static_cast<uint8_t>(od_get(od, static_cast<uint16_t>(0x1A00 + n), 0));
-      if ((cob & 0x80000000u) || count == 0) continue;
-      uint32_t bits = 0;
-      for (uint8_t k = 1; k <= count; ++k)
-        bits += canopen::map_bits(od_get(od, static_cast<uint16_t>(0x1A00 + n), k));
-      const uint32_t inhibit_us = od_get(od, static_cast<uint16_t>(0x1800 + n), 3) * 100u;
-      const uint32_t first = od_get(od, static_cast<uint16_t>(0x1A00 + n), 1);
-      const uint32_t t_us = inhibit_us != 0 ? inhibit_us : application_interarrival_us(c, first);
-      if (t_us == 0) {
-        out.error =
-            strf("TPDO%u of node %d has neither an inhibit time nor a known event rate", n + 1, s + 1);
-        return out;
-      }
-      timing::MessageSpec m{};
-      timing::set_name(m, strf("TPDO%u.%d", n + 1, s + 1).c_str());
-      m.id = cob & 0x7FFu;
-      m.dlc = static_cast<uint8_t>((bits + 7) / 8);
-      m.period_us = m.deadline_us = t_us;
-      m.jitter_us = jitter_us;
-      out.messages.push_back(m);
-      if (m.id == up_id || m.id == down_id) {
-        const uint32_t hop_inhibit = inhibit_us;
-        if (hop_inhibit > p.inhibit_us) p.inhibit_us = hop_inhibit;
-      }
-    }
-    const uint32_t hb_ms = od_get(od, 0x1017, 0);
-    if (hb_ms != 0) {
-      timing::MessageSpec m{};
-      timing::set_name(m, strf("HB.%d", s + 1).c_str());
-      m.id = 0x700u + static_cast<uint32_t>(s + 1);
-      m.dlc = 1;
-      m.period_us = m.deadline_us = hb_ms * 1000u;
-      m.jitter_us = jitter_us;
-      out.messages.push_back(m);
-    }
-  }
-  timing::sort_by_priority(out.messages.data(), out.messages.size());
-
-  // Each hop is analysed with its own jitter 0: the wait for the pass that
-  // queues it is already the loop term before it.
-  auto hop = [&](uint32_t id, uint64_t* best_ns, uint64_t* worst_ns) {
-    std::vector<timing::MessageSpec> set = out.messages;
-    size_t at = set.size();
-    for (size_t i = 0; i < set.size(); ++i) {
-      if (set[i].id == id) at = i;
-    }
-    if (at == set.size()) return false;
-    set[at].jitter_us = 0;
-    std::vector<timing::RtaMessage> rta(set.size());
-    std::vector<timing::RtaResult> res(set.size());
-    size_t bad = 0;
-    if (timing::analyse_set(set.data(), set.size(), bitrate, timing::WorstCase::kDavis, rta.data(),
-                            res.data(), &bad) != timing::RtaStatus::kOk ||
-        res[at].revised != timing::Bound::kBounded) {
-      return false;
-    }
-    *best_ns = timing::can_hop_best_ns(false, set[at].dlc, bitrate);
-    *worst_ns = timing::ticks_to_ns_ceil(res[at].r, bitrate);
-    return true;
-  };
-  if (!hop(up_id, &p.can_up_best_ns, &p.can_up_worst_ns) ||
-      !hop(down_id, &p.can_down_best_ns, &p.can_down_worst_ns)) {
+  if (!line_can_messages(line, p.fw_loop_us, &out.messages, &out.error)) return out;
+  const uint32_t up_inhibit_us = tpdo_inhibit_us(line, up_id);
+  const uint32_t down_inhibit_us = tpdo_inhibit_us(line, down_id);
+  p.inhibit_us = up_inhibit_us > down_inhibit_us ? up_inhibit_us : down_inhibit_us;
+  HopTimes up, down;
+  if (!hop_times(out.messages, up_id, bitrate, &up) || !hop_times(out.messages, down_id, bitrate, &down)) {
     out.error = strf("no bounded CAN response time for the lab PDOs at %u kbit/s", c.bitrate_kbit);
     return out;
   }
+  p.can_up_best_ns = up.best_ns;
+  p.can_up_worst_ns = up.worst_ns;
+  p.can_down_best_ns = down.best_ns;
+  p.can_down_worst_ns = down.worst_ns;
   out.bound = timing::modbus_canopen_latency(p);
   out.ok = true;
+  return out;
+}
+
+}  // namespace
+
+LabBound lab_bound(Line& line, bool remote) {
+  return bound_with(line, remote, 8, lab_request_cost(line.config().node, remote));
+}
+
+LabBound arduino_control_bound(Line& line) {
+  LabBound out = bound_with(line, true, 0, 0);
+  if (out.ok) out.bound = timing::arduino_control_latency(out.params);
   return out;
 }
 

@@ -35,6 +35,39 @@ SimNs firmware_step_ns(const NodeTiming& t, SimNs pass_max_ns);
 /// Modbus only (button and LED on lab_pc).
 LabBound lab_bound(Line& line, bool remote);
 
+/// Bound of seed 000 §11's simpler alternative on `line`: button and LED on
+/// lab_remote, the control process on lab_pc's Arduino (no PC, no serial
+/// traffic in its passes): timing::arduino_control_latency over the same
+/// CAN hops as the Modbus + CANopen path.
+LabBound arduino_control_bound(Line& line);
+
+/// The CAN message set of `line` as commissioned (every Arduino powered on:
+/// the dictionaries are read from the running gateways), in priority order: every
+/// enabled TPDO (event types: period = inhibit time, else the application's
+/// rate; synchronous types 0..240: the SYNC period × n, left out when no
+/// station produces SYNC), every heartbeat, and the producer's SYNC
+/// (1005h bit 30, period 1006h), each with queuing jitter `jitter_us`.
+/// False with *error when an event TPDO has no known rate.
+bool line_can_messages(Line& line, uint32_t jitter_us, std::vector<timing::MessageSpec>* out,
+                       std::string* error);
+
+/// Inhibit time (µs) of the enabled TPDO with `cob_id` on the line; 0: none.
+uint32_t tpdo_inhibit_us(Line& line, uint32_t cob_id);
+
+/// One CAN hop from the analysis: best = the bare frame until its reception,
+/// worst = its response time R, frame_worst = C (so R − C is its queueing).
+struct HopTimes {
+  uint64_t best_ns = 0;
+  uint64_t worst_ns = 0;
+  uint64_t frame_worst_ns = 0;
+};
+/// Analyses message `id` of `messages` (priority order) with its own jitter
+/// 0 (the wait for the pass that queues it is a term of its own) at
+/// `bitrate_bps`. False when the set has no such message or its response
+/// time is unbounded.
+bool hop_times(const std::vector<timing::MessageSpec>& messages, uint32_t id, uint32_t bitrate_bps,
+               HopTimes* out);
+
 /// Minimum inter-arrival time (µs) the analysis uses for an event-driven
 /// TPDO without inhibit time, from what it maps: buttons change no faster
 /// than the debounce time, the lab LED no faster than the PC writes it.

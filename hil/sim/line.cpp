@@ -14,28 +14,6 @@ namespace {
 // does not reshuffle the others.
 enum : uint64_t { kStreamBus = 1, kStreamLine = 2, kStreamNode = 100, kStreamPc = 300 };
 
-void write(canopen::ObjectDictionary& od, uint16_t index, uint8_t sub, uint32_t value, uint16_t size) {
-  uint8_t b[4];
-  canopen::put_le32(b, value);
-  const canopen::SdoAbort abort = od.write(index, sub, b, size);
-  if (abort != canopen::kSdoOk) {
-    throw std::logic_error(strf("commissioning: write %04Xh/%u = %u refused (abort %08X)", index, sub, value,
-                                static_cast<uint32_t>(abort)));
-  }
-}
-
-/// Maps `entry` (index<<16 | sub<<8 | bits) as the only object of PDO
-/// mapping `map_index` and enables communication record `comm_index` with
-/// `cob_id` (CiA 301 order: disable, map, enable).
-void map_pdo(canopen::ObjectDictionary& od, uint16_t comm_index, uint16_t map_index, uint32_t entry,
-             uint32_t cob_id) {
-  write(od, comm_index, 1, cob_id | 0x80000000u, 4);
-  write(od, map_index, 0, 0, 1);
-  write(od, map_index, 1, entry, 4);
-  write(od, map_index, 0, 1, 1);
-  write(od, comm_index, 1, cob_id, 4);
-}
-
 // 2110h/3, 2120h/3 (gateway::NeighbourStatus).
 const char* status_name(uint8_t s) {
   return s == 0      ? "unknown"
@@ -52,6 +30,26 @@ std::string hex_bytes(const uint8_t* d, size_t n) {
 }
 
 }  // namespace
+
+void commission_write(canopen::ObjectDictionary& od, uint16_t index, uint8_t sub, uint32_t value,
+                      uint16_t size) {
+  uint8_t b[4];
+  canopen::put_le32(b, value);
+  const canopen::SdoAbort abort = od.write(index, sub, b, size);
+  if (abort != canopen::kSdoOk) {
+    throw std::logic_error(strf("commissioning: write %04Xh/%u = %u refused (abort %08X)", index, sub, value,
+                                static_cast<uint32_t>(abort)));
+  }
+}
+
+void commission_pdo(canopen::ObjectDictionary& od, uint16_t comm_index, uint16_t map_index, uint32_t entry,
+                    uint32_t cob_id) {
+  commission_write(od, comm_index, 1, cob_id | 0x80000000u, 4);
+  commission_write(od, map_index, 0, 0, 1);
+  commission_write(od, map_index, 1, entry, 4);
+  commission_write(od, map_index, 0, 1, 1);
+  commission_write(od, comm_index, 1, cob_id, 4);
+}
 
 Status check_line_config(const LineConfig& c) {
   if (c.stations < 2 || c.stations > 32) return Status::failure("stations must be 2..32");
@@ -101,21 +99,23 @@ void Line::commission(int i) {
   const LineConfig& c = config_;
   const uint8_t id = static_cast<uint8_t>(i + 1);
   nodes_[static_cast<size_t>(i)]->commission([&](canopen::ObjectDictionary& od) {
-    write(od, 0x2000, 2, c.bitrate_kbit, 2);
-    write(od, 0x2000, 3, c.ring ? 1 : 0, 1);
-    write(od, 0x2000, 4, static_cast<uint32_t>(c.stations), 1);
-    write(od, 0x2000, 6, c.debounce_ms, 2);
-    write(od, 0x1017, 0, c.heartbeat_ms, 2);
+    commission_write(od, 0x2000, 2, c.bitrate_kbit, 2);
+    commission_write(od, 0x2000, 3, c.ring ? 1 : 0, 1);
+    commission_write(od, 0x2000, 4, static_cast<uint32_t>(c.stations), 1);
+    commission_write(od, 0x2000, 6, c.debounce_ms, 2);
+    commission_write(od, 0x1017, 0, c.heartbeat_ms, 2);
     // TPDO1 (line state): the inhibit time may change only while disabled.
-    write(od, 0x1800, 1, 0x80000180u + id, 4);
-    write(od, 0x1800, 3, c.tpdo1_inhibit_100us, 2);
-    write(od, 0x1800, 1, 0x180u + id, 4);
+    commission_write(od, 0x1800, 1, 0x80000180u + id, 4);
+    commission_write(od, 0x1800, 3, c.tpdo1_inhibit_100us, 2);
+    commission_write(od, 0x1800, 1, 0x180u + id, 4);
     const uint32_t lab_led = 0x62000108u;  // 6200h/1, 8 bits
     if (i == c.lab_pc) {
-      write(od, 0x2130, 2, static_cast<uint32_t>(c.lab_remote + 1), 1);
-      map_pdo(od, 0x1802, 0x1A02, lab_led, 0x380u + id);
+      commission_write(od, 0x2130, 2, static_cast<uint32_t>(c.lab_remote + 1), 1);
+      commission_pdo(od, 0x1802, 0x1A02, lab_led, 0x380u + id);
     }
-    if (i == c.lab_remote) map_pdo(od, 0x1403, 0x1603, lab_led, 0x380u + static_cast<uint32_t>(c.lab_pc + 1));
+    if (i == c.lab_remote)
+      commission_pdo(od, 0x1403, 0x1603, lab_led, 0x380u + static_cast<uint32_t>(c.lab_pc + 1));
+    if (c.commission_more) c.commission_more(i, od);
   });
 }
 

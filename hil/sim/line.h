@@ -43,7 +43,21 @@ struct LineConfig {
   /// enumeration, bootloaders): their periodic traffic is not in step.
   SimNs power_on_spread_ns = 300 * kNsPerMs;
   uint64_t seed = 1;
+  /// More commissioning after the station's own (the SYNC labs: a SYNC
+  /// producer, a synchronous TPDO, an RPDO to the LED), as a technician
+  /// would write it by SDO before saving. Unset: none.
+  std::function<void(int station, canopen::ObjectDictionary& od)> commission_more;
 };
+
+/// A commissioning OD write; throws std::logic_error when the OD refuses it
+/// (a line that cannot be commissioned is a programming error of the caller).
+void commission_write(canopen::ObjectDictionary& od, uint16_t index, uint8_t sub, uint32_t value,
+                      uint16_t size);
+/// Maps `entry` (index<<16 | sub<<8 | bits) as the only object of PDO
+/// mapping `map_index` and enables communication record `comm_index` with
+/// `cob_id` (CiA 301 order: disable, map, enable).
+void commission_pdo(canopen::ObjectDictionary& od, uint16_t comm_index, uint16_t map_index, uint32_t entry,
+                    uint32_t cob_id);
 
 /// Checks the configuration: ok when it is usable.
 Status check_line_config(const LineConfig& c);

@@ -1,5 +1,6 @@
 #include "sim/scenarios.h"
 
+#include "sim/press_loop.h"
 #include "sim/scenario_parts.h"
 
 namespace mb2co {
@@ -155,48 +156,6 @@ LatencyResult latency_scenario(LineConfig c, const LatencyCase& lc, uint32_t pre
 
   const int station = lc.remote ? c.lab_remote : c.lab_pc;  // button and LED
   Rng rng(mix_seed(c.seed, kStreamOperator + 1 + lc.bitrate_kbit * 2 + (lc.remote ? 1 : 0)));
-  enum class Phase { kIdle, kWaitOn, kHold, kWaitOff } phase = Phase::kIdle;
-  SimNs pressed_at = 0;
-  uint32_t done = 0;
-  uint32_t attempt = 0;
-  std::function<void()> next_press;
-  auto release = [&] {
-    line.set_button(station, gateway::kStart, false);
-    phase = Phase::kWaitOff;
-    const uint32_t a = attempt;
-    line.at(line.now() + kS, [&, a] {  // LED stuck on: go on anyway
-      if (phase == Phase::kWaitOff && attempt == a) next_press();
-    });
-  };
-  next_press = [&] {
-    phase = Phase::kIdle;
-    if (done >= presses) return;
-    line.at(line.now() + rng.range(20 * kMs, 60 * kMs), [&] {
-      ++attempt;
-      pressed_at = line.now();
-      phase = Phase::kWaitOn;
-      line.set_button(station, gateway::kStart, true);
-      const uint32_t a = attempt;
-      line.at(pressed_at + kS, [&, a] {
-        if (phase != Phase::kWaitOn || attempt != a) return;
-        ++r.lost;
-        ++done;
-        release();
-      });
-    });
-  };
-  line.on_leds = [&](int s, uint8_t leds) {
-    if (s != station) return;
-    const bool lab = (leds & gateway::kLedLab) != 0;
-    if (phase == Phase::kWaitOn && lab) {
-      r.samples_ns.push_back(line.now() - pressed_at);
-      ++done;
-      phase = Phase::kHold;
-      line.at(line.now() + rng.range(20 * kMs, 50 * kMs), release);
-    } else if (phase == Phase::kWaitOff && !lab) {
-      next_press();
-    }
-  };
   const uint32_t up_id = 0x280u + static_cast<uint32_t>(c.lab_remote + 1);
   const uint32_t down_id = 0x380u + static_cast<uint32_t>(c.lab_pc + 1);
   for (int i = 0; i < line.size(); ++i) {
@@ -206,38 +165,16 @@ LatencyResult latency_scenario(LineConfig c, const LatencyCase& lc, uint32_t pre
       if (f.id == up_id || f.id == down_id) ++r.lab_frames_lost;
     };
   }
-  line.at(kS, next_press);
-  uint32_t reported = 0;
-  while (done < presses) {
-    line.run_for(100 * kMs);
-    if (progress && done / 10 != reported) {
-      reported = done / 10;
-      progress(static_cast<double>(done) / presses);
-    }
-  }
+  PressRun presses_run = run_presses(line, station, station, presses, rng, progress);
+  r.samples_ns = std::move(presses_run.samples_ns);
+  r.lost = presses_run.lost;
 
   r.bound = lab_bound(line, lc.remote);  // every Arduino is up by now
   r.duration_ns = line.now();
   r.events = line.queue().handled();
   for (int i = 0; i < line.size(); ++i) r.rx_overflows += line.node(i).can().counters().rx_overflows;
   r.t15_discards = line.node(c.lab_pc).gateway().modbus_slave().stats().t15_violations;
-  if (!r.samples_ns.empty()) {
-    std::vector<SimNs> sorted = r.samples_ns;
-    std::sort(sorted.begin(), sorted.end());
-    r.min_ns = sorted.front();
-    r.max_ns = sorted.back();
-    const size_t rank = (sorted.size() * 99 + 99) / 100;  // nearest rank, ceil(0.99 n)
-    r.p99_ns = sorted[rank - 1];
-    long double sum = 0;
-    for (SimNs v : sorted) sum += static_cast<long double>(v);
-    r.mean_ns = static_cast<double>(sum / static_cast<long double>(sorted.size()));
-  }
-  if (r.bound.ok) {
-    for (SimNs v : r.samples_ns) {
-      if (v < r.bound.bound.best_ns || v > r.bound.bound.worst_ns) ++r.outside;
-    }
-  }
-  r.ok = r.bound.ok && r.outside == 0 && !r.samples_ns.empty();
+  judge_latency(r);
   return r;
 }
 

@@ -81,6 +81,9 @@ void UnoRig::apply_buttons() {
 void UnoRig::on_select(bool selected) {
   wire_.chip().select(selected);
   if (selected) return;
+  CanFrame pending;
+  if (on_transmit_request && wire_.chip().next_transmit(&pending))
+    on_transmit_request(board_.cycle(), pending);
   // An instruction ended: it may have requested a transmission or cleared flags.
   wire_event();
 }

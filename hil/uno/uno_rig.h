@@ -8,6 +8,7 @@
 #pragma once
 #include <stdint.h>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,13 @@ class UnoRig {
   void can_in(const CanFrame& frame);
   /// Frames the chip put on the bus since the last call.
   std::vector<CanWire::Sent> take_can_out();
+  /// Cycle at which the frame on the wire ends (a frame from can_in() is
+  /// received then); CanWire::kIdle when the wire is idle.
+  uint64_t wire_busy_until() const { return wire_.next_event(); }
+  /// Measurements (mb2co-lab sync-processing): called at the end of every
+  /// SPI instruction after which the chip holds a frame to send (TXREQ set),
+  /// with the cycle and that frame, before the wire may take it.
+  std::function<void(uint64_t cycle, const CanFrame& frame)> on_transmit_request;
   /// Drives the button pins from the panel's levels (call after commands).
   void apply_buttons();
 

@@ -41,4 +41,4 @@ _mb2co_complete() {
   mapfile -t COMPREPLY < <(compgen -W "$line" -- "$cur")
 }
 
-complete -F _mb2co_complete mb2co-timing mb2co-lab mb2co-od mb2co-uno mb2co-plant mb2co-master mb2co-node
+complete -F _mb2co_complete mb2co-timing mb2co-lab mb2co-od mb2co-uno mb2co-plant mb2co-master mb2co-node mb2co-bridge mb2co-demo

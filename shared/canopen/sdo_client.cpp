@@ -44,7 +44,9 @@ void SdoClient::begin(uint16_t index, uint8_t sub, uint32_t now_us) {
   sub_ = sub;
   pos_ = 0;
   toggle_ = 0;
+#ifdef MB2CO_SDO_BLOCK
   crc_ = false;
+#endif
   server_abort_ = false;
   result_ = kSdoOk;
   deadline_us_ = now_us + timeout_us_;
@@ -78,15 +80,19 @@ bool SdoClient::start_upload(uint16_t index, uint8_t sub, SdoMode mode, const Sd
   capacity_ = capacity;
   size_ = 0;
   size_known_ = false;
+#ifdef MB2CO_SDO_BLOCK
   if (mode == kSdoBlock) {
     if (block_size_ == 0 || block_size_ > kBlockSizeMax) block_size_ = kBlockSizeMax;
     // ccs 5, cc = 1 (we check CRCs), cs = 0; blksize; pst.
     send_mux(sink, 0xA4, static_cast<uint32_t>(block_size_) | (static_cast<uint32_t>(pst_) << 8));
     state_ = kStBlockUploadInitiate;
-  } else {
-    send_mux(sink, 0x40, 0);
-    state_ = kStUploadInitiate;
+    return true;
   }
+#else
+  (void)mode;  // every upload starts alike; the server picks expedited or segmented
+#endif
+  send_mux(sink, 0x40, 0);
+  state_ = kStUploadInitiate;
   return true;
 }
 
@@ -110,11 +116,15 @@ bool SdoClient::start_download(uint16_t index, uint8_t sub, SdoMode mode, const 
   size_ = size;
   size_known_ = true;
   expedited_ = mode == kSdoAuto && size >= 1 && size <= 4;
+#ifdef MB2CO_SDO_BLOCK
   if (mode == kSdoBlock) {
     // ccs 6, cc = 1, s = 1, cs = 0; size.
     send_mux(sink, 0xC6, size);
     state_ = kStBlockDownloadInitiate;
-  } else if (expedited_) {
+    return true;
+  }
+#endif
+  if (expedited_) {
     uint8_t d[8] = {static_cast<uint8_t>(0x23 | ((4 - size) << 2)),
                     static_cast<uint8_t>(index_),
                     static_cast<uint8_t>(index_ >> 8),
@@ -153,18 +163,22 @@ void SdoClient::abort(SdoAbort code, const CanSink& sink) {
 
 void SdoClient::process(uint32_t now_us, const CanSink& sink) {
   if (!busy()) return;
+#ifdef MB2CO_SDO_BLOCK
   if (state_ == kStBlockDownloadSub && sender_.pending()) {
     const SdoAbort code = sender_.pump(request_id_, sink);
     if (code != kSdoOk) return abort(code, sink);
     if (!sender_.pending()) deadline_us_ = now_us + timeout_us_;
     return;
   }
+#endif
   if (time_reached(now_us, deadline_us_)) abort(kAbortTimeout, sink);
 }
 
 void SdoClient::next_deadline(NextDeadline& d) const {
   if (!busy()) return;
+#ifdef MB2CO_SDO_BLOCK
   if (state_ == kStBlockDownloadSub && sender_.pending()) return d.now();
+#endif
   d.at(deadline_us_);
 }
 
@@ -212,12 +226,17 @@ SdoAbort SdoClient::on_response(const CanFrame& f, const CanSink& sink) {
       return on_upload_initiate(f, sink);
     case kStUploadSegment:
       return on_upload_segment(f, sink);
+#ifdef MB2CO_SDO_BLOCK
     case kStBlockDownloadInitiate:
     case kStBlockDownloadSub:
     case kStBlockDownloadEnd:
       return on_block_download(f, sink);
     default:
       return on_block_upload(f, sink);
+#else
+    default:
+      return kAbortCommand;  // busy() holds: one of the states above
+#endif
   }
 }
 
@@ -291,6 +310,7 @@ SdoAbort SdoClient::on_upload_segment(const CanFrame& f, const CanSink& sink) {
 }
 
 // ---- block transfer -----------------------------------------------------------
+#ifdef MB2CO_SDO_BLOCK
 
 SdoAbort SdoClient::on_block_download(const CanFrame& f, const CanSink& sink) {
   const uint8_t cmd = f.data[0];
@@ -375,6 +395,7 @@ SdoAbort SdoClient::on_block_upload(const CanFrame& f, const CanSink& sink) {
   finish(kSdoOk, false);
   return kSdoOk;
 }
+#endif  // MB2CO_SDO_BLOCK
 
 }  // namespace canopen
 }  // namespace mb2co

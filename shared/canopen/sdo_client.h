@@ -1,7 +1,9 @@
 // SDO client (CiA 301 §7.2.4): the master's side of an SDO channel to one
 // server node. Expedited, segmented (toggle checked) and block transfer (sub-
 // blocks of 1..127 segments, resent from the server's ackseq, CRC-16 when
-// both ends support it, the protocol switch of block upload), a timeout that
+// both ends support it, the protocol switch of block upload; only where
+// MB2CO_SDO_BLOCK is defined, as in every host build: the Uno's gateway
+// relays expedited and segmented transfers and has no flash for more), a timeout that
 // aborts with 05040000h, and the abort code of every failure, sent by us or
 // received from the server, as the result.
 //
@@ -19,7 +21,9 @@
 #include "canopen/can_frame.h"
 #include "canopen/clock.h"
 #include "canopen/sdo_abort.h"
+#ifdef MB2CO_SDO_BLOCK
 #include "canopen/sdo_block.h"
+#endif
 #include "canopen/sdo_domain.h"
 
 namespace mb2co {
@@ -32,9 +36,11 @@ enum SdoMode : uint8_t {
   kSdoAuto,
   /// Download: segmented even for 0..4 bytes. Upload: as kSdoAuto.
   kSdoSegmented,
+#ifdef MB2CO_SDO_BLOCK
   /// Block transfer. An upload falls back to expedited or segmented when the
   /// server answers so (size <= the protocol switch threshold).
   kSdoBlock,
+#endif
 };
 
 class SdoClient {
@@ -57,11 +63,17 @@ class SdoClient {
   uint16_t response_id() const { return response_id_; }
   /// The server's answer must come within `us` of our last frame.
   void set_timeout_us(uint32_t us) { timeout_us_ = us; }
+#ifdef MB2CO_SDO_BLOCK
   /// Block size we offer as receiver of a block upload (1..127; others: 127).
-  void set_block_size(uint8_t blksize) { block_size_ = blksize; }
+  void set_block_size(uint8_t blksize) {
+    block_size_ = blksize;
+  }
   /// Protocol switch threshold of block upload: a server may answer an
   /// object of at most `bytes` with a plain upload (0: never; CiA 301).
-  void set_switch_threshold(uint8_t bytes) { pst_ = bytes; }
+  void set_switch_threshold(uint8_t bytes) {
+    pst_ = bytes;
+  }
+#endif
 
   /// Reads (index, sub) into `buf`, at most `capacity` bytes (more: the
   /// transfer ends with 05040005h, out of memory, sent to the server). `buf`
@@ -91,21 +103,37 @@ class SdoClient {
   /// master's watchdog, a user's cancel). Nothing when not busy.
   void abort(SdoAbort code, const CanSink& sink);
 
-  bool busy() const { return state_ != kStIdle && state_ != kStDone && state_ != kStFailed; }
+  bool busy() const {
+    return state_ != kStIdle && state_ != kStDone && state_ != kStFailed;
+  }
   Status status() const;
   /// kSdoOk after kDone; the abort code after kFailed.
-  SdoAbort result() const { return result_; }
+  SdoAbort result() const {
+    return result_;
+  }
   /// True when result() came from the server's abort frame, false when we
   /// sent it.
-  bool aborted_by_server() const { return server_abort_; }
+  bool aborted_by_server() const {
+    return server_abort_;
+  }
   /// Bytes moved so far (acknowledged ones for a block download).
-  uint32_t transferred() const { return pos_; }
+  uint32_t transferred() const {
+    return pos_;
+  }
   /// The size the server announced (upload) or ours (download); 0 with
   /// size_known() false when the server left it open.
-  uint32_t size() const { return size_; }
-  bool size_known() const { return size_known_; }
+  uint32_t size() const {
+    return size_;
+  }
+  bool size_known() const {
+    return size_known_;
+  }
+#ifdef MB2CO_SDO_BLOCK
   /// True when the current/last transfer was a block transfer with CRC.
-  bool crc_used() const { return crc_; }
+  bool crc_used() const {
+    return crc_;
+  }
+#endif
 
  private:
   enum State : uint8_t {
@@ -116,12 +144,14 @@ class SdoClient {
     kStDownloadSegment,   ///< waits for the ack of segment pos_
     kStUploadInitiate,    ///< waits for 4xh
     kStUploadSegment,     ///< waits for a segment
+#ifdef MB2CO_SDO_BLOCK
     kStBlockDownloadInitiate,
     kStBlockDownloadSub,  ///< sends a sub-block, waits for its ack
     kStBlockDownloadEnd,  ///< waits for A1h
     kStBlockUploadInitiate,
     kStBlockUploadSub,  ///< takes segments
     kStBlockUploadEnd,  ///< waits for the server's end frame
+#endif
   };
 
   void begin(uint16_t index, uint8_t sub, uint32_t now_us);
@@ -135,8 +165,10 @@ class SdoClient {
   SdoAbort on_response(const CanFrame& f, const CanSink& sink);
   SdoAbort on_upload_initiate(const CanFrame& f, const CanSink& sink);
   SdoAbort on_upload_segment(const CanFrame& f, const CanSink& sink);
+#ifdef MB2CO_SDO_BLOCK
   SdoAbort on_block_download(const CanFrame& f, const CanSink& sink);
   SdoAbort on_block_upload(const CanFrame& f, const CanSink& sink);
+#endif
   bool mux_matches(const CanFrame& f) const;
 
   static SdoAbort buffer_write(void* ctx, uint32_t offset, const uint8_t* data, uint16_t n);
@@ -150,20 +182,24 @@ class SdoClient {
   uint32_t timeout_us_ = kDefaultTimeoutUs;
   uint32_t deadline_us_;
   SdoAbort result_;
+#ifdef MB2CO_SDO_BLOCK
   BlockSender sender_;
   BlockReceiver receiver_;
+#endif
   uint16_t request_id_;
   uint16_t response_id_;
   uint16_t index_;
   uint8_t sub_;
+#ifdef MB2CO_SDO_BLOCK
   uint8_t block_size_ = kBlockSizeMax;
   uint8_t pst_ = 0;
+  bool crc_;
+#endif
   uint8_t toggle_;  ///< 0x00 or 0x10
   uint8_t seg_n_;   ///< data bytes of the download segment awaiting its ack
   State state_;
   bool size_known_;
   bool expedited_;
-  bool crc_;
   bool server_abort_;
 };
 

@@ -14,10 +14,7 @@ class Builder {
  public:
   explicit Builder(LatencyBound& out) : out_(out) { out_ = LatencyBound{}; }
   void add(const char* name, uint64_t best_ns, uint64_t worst_ns) {
-    if (out_.count == kMaxLatencyTerms) return;  // fixed paths never reach it
-    out_.terms[out_.count++] = LatencyTerm{name, best_ns, worst_ns};
-    out_.best_ns += best_ns;
-    out_.worst_ns += worst_ns;
+    add_latency_term(out_, name, best_ns, worst_ns);
   }
 
  private:
@@ -53,6 +50,19 @@ void serial_round(const LatencyParams& p, Builder& b) {
   b.add("slave_end", slave_end_ns(p), slave_end_ns(p));
 }
 
+// The button's Arduino sends it on (held back by the inhibit time at most).
+void can_up(const LatencyParams& p, Builder& b) {
+  b.add("inhibit_up", 0, inhibit_worst_ns(p));
+  b.add("can_up", p.can_up_best_ns, p.can_up_worst_ns);
+}
+
+// The LED's value goes back to the LED's Arduino, which sets the LED.
+void can_down(const LatencyParams& p, Builder& b) {
+  b.add("inhibit_down", 0, inhibit_worst_ns(p));
+  b.add("can_down", p.can_down_best_ns, p.can_down_worst_ns);
+  b.add("rpdo_pass_led", 0, us(p.fw_loop_us));
+}
+
 // The press until the button's Arduino has it in its OD.
 void button(const LatencyParams& p, Builder& b) {
   b.add("debounce", us(p.debounce_us), us(p.debounce_us));
@@ -60,6 +70,13 @@ void button(const LatencyParams& p, Builder& b) {
 }
 
 }  // namespace
+
+void add_latency_term(LatencyBound& b, const char* name, uint64_t best_ns, uint64_t worst_ns) {
+  if (b.count == kMaxLatencyTerms) return;
+  b.terms[b.count++] = LatencyTerm{name, best_ns, worst_ns};
+  b.best_ns += best_ns;
+  b.worst_ns += worst_ns;
+}
 
 PollCycle poll_cycle(const LatencyParams& p) {
   PollCycle c;
@@ -90,14 +107,23 @@ LatencyBound modbus_canopen_latency(const LatencyParams& p) {
   Builder b(out);
   const uint64_t loop = us(p.fw_loop_us);
   button(p, b);
-  b.add("inhibit_up", 0, inhibit_worst_ns(p));
-  b.add("can_up", p.can_up_best_ns, p.can_up_worst_ns);
+  can_up(p, b);
   b.add("rpdo_pass_pc", 0, loop);
   serial_round(p, b);
   b.add("write_pass", 0, loop);
-  b.add("inhibit_down", 0, inhibit_worst_ns(p));
-  b.add("can_down", p.can_down_best_ns, p.can_down_worst_ns);
-  b.add("rpdo_pass_led", 0, loop);
+  can_down(p, b);
+  return out;
+}
+
+LatencyBound arduino_control_latency(const LatencyParams& p) {
+  LatencyBound out;
+  Builder b(out);
+  button(p, b);
+  can_up(p, b);
+  // A's pass that takes the button PDO runs the control process (LED := button)
+  // and builds its own TPDO in the same pass.
+  b.add("control_pass", 0, us(p.fw_loop_us));
+  can_down(p, b);
   return out;
 }
 

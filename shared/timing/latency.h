@@ -59,6 +59,10 @@ struct LatencyBound {
   uint64_t worst_ns;  ///< Σ worst_ns
 };
 
+/// Appends a term and adds it to the sums (a full bound stays as it is: the
+/// fixed paths never reach kMaxLatencyTerms). Start from LatencyBound{}.
+void add_latency_term(LatencyBound& b, const char* name, uint64_t best_ns, uint64_t worst_ns);
+
 /// The PC's read-compute-write cycle on the serial line.
 struct PollCycle {
   TransactionTiming read;
@@ -73,6 +77,12 @@ PollCycle poll_cycle(const LatencyParams& p);
 
 LatencyBound modbus_only_latency(const LatencyParams& p);
 LatencyBound modbus_canopen_latency(const LatencyParams& p);
+/// Seed 000 §11 "simpler alternative": the process control software runs on
+/// Arduino A and the button and LED are on Arduino B; only CANopen carries
+/// the data. B's TPDO (button) reaches A, A's control pass writes the LED
+/// object, A's TPDO carries it back to B: the Modbus + CANopen path without
+/// the serial round (no PC in the loop). Uses the CAN hops and inhibit of p.
+LatencyBound arduino_control_latency(const LatencyParams& p);
 
 /// Best case of one CAN hop: the frame without stuff bits and without the
 /// interframe space (the receiver has it at the end of EOF), rounded down.

@@ -8,6 +8,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <iostream>
 #include <string>
 
 #include "ionode/io_node.h"
@@ -25,35 +26,36 @@ void to_link(void* ctx, uint8_t byte, uint32_t byte_us) {
 
 int usage_error(const std::string& what) {
   std::fprintf(stderr, "mb2co-serial-io-node: %s\n", what.c_str());
-  return 2;
+  return mb2co::cli::kExitUsage;
+}
+
+mb2co::cli::Program make_program() {
+  using namespace mb2co;
+  cli::Program p;
+  p.name = "mb2co-serial-io-node";
+  p.description = "The CiA 401 I/O node on a serial CANopen segment (tests/bridge).\n";
+  cli::Command c;
+  c.options = bridge::segment_options();
+  c.options.push_back(cli::uint_range("--node-id", "N", 1, 126, "its node id, one of --nodes (required)"));
+  c.options.push_back(cli::uint_range("--heartbeat-ms", "N", 0, 65535, "1017h (default 100)"));
+  p.commands = {c};
+  p.footer = "\nexit status: 0 on SIGINT/SIGTERM, 1 runtime error, 2 usage error\n";
+  return p;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace mb2co;
+  static const cli::Program program = make_program();
+  const cli::Parsed parsed = cli::parse(program, argc, argv);
+  const int early = cli::finish_early(program, parsed, std::cout, std::cerr);
+  if (early >= 0) return early;
   bridge::SegmentOptions seg;
-  long node_id = 0;
-  long heartbeat_ms = 100;
-  for (int i = 1; i < argc; ++i) {
-    bool taken = false;
-    const Status s = bridge::parse_segment_option(argc, argv, &i, &seg, &taken);
-    if (!s) return usage_error(s.message());
-    if (taken) continue;
-    const std::string a = argv[i];
-    if ((a == "--node-id" || a == "--heartbeat-ms") && i + 1 < argc) {
-      long* target = a == "--node-id" ? &node_id : &heartbeat_ms;
-      if (!bridge::parse_number(argv[++i], a == "--node-id" ? 1 : 0, a == "--node-id" ? 126 : 65535, target))
-        return usage_error("bad " + a + " '" + argv[i] + "'");
-      continue;
-    }
-    if (a == "--help") {
-      std::printf("usage: mb2co-serial-io-node --node-id N --serial PATH|--pty LINK [options]\n%s",
-                  bridge::segment_usage());
-      return 0;
-    }
-    return usage_error("unknown option " + a);
-  }
+  const Status applied = bridge::apply_segment_options(parsed.args, &seg);
+  if (!applied) return usage_error(applied.message());
+  const long node_id = static_cast<long>(parsed.args.uint("--node-id", 0));
+  const long heartbeat_ms = static_cast<long>(parsed.args.uint("--heartbeat-ms", 100));
   if (node_id < seg.first || node_id > seg.last) return usage_error("--node-id must be one of --nodes");
   serialnet::BusConfig config = {};
   const Status checked = bridge::segment_bus_config(

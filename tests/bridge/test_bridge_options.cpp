@@ -1,6 +1,7 @@
-// mb2co-bridge's command line (firmware/linux/bridge): the segment and CAN
-// options reach the bridge's configuration, and every bad input is refused
-// with one line that names the option.
+// mb2co-bridge's command line (firmware/linux/bridge, on the shared layer of
+// docs/cli.md): the segment and CAN options reach the bridge's
+// configuration, and every bad input is refused with one line that names the
+// option, by the parser (a usage error) or by the checks after it.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -14,7 +15,10 @@ namespace {
 
 Status parse(std::vector<const char*> args, BridgeOptions* o, serialnet::BridgeConfig* c) {
   args.insert(args.begin(), "mb2co-bridge");
-  Status s = parse_bridge_options(static_cast<int>(args.size()), args.data(), o);
+  const cli::Parsed p = cli::parse(bridge_program(), static_cast<int>(args.size()), args.data());
+  if (p.action == cli::Action::kUsageError) return Status::failure(p.text);
+  EXPECT_EQ(p.action, cli::Action::kRun);
+  Status s = apply_bridge_options(p.args, o);
   if (s) s = bridge_config(*o, c);
   return s;
 }
@@ -22,11 +26,11 @@ Status parse(std::vector<const char*> args, BridgeOptions* o, serialnet::BridgeC
 TEST(BridgeOptions, SegmentAndCanOptionsMakeTheBridgeConfig) {
   BridgeOptions o;
   serialnet::BridgeConfig c = {};
-  ASSERT_TRUE(
-      parse({"--serial",   "/dev/ttyUSB0", "--can",     "can1",     "--bits", "7",           "--access",
-             "token",      "--nodes",      "2-9",       "--offset", "0x40",   "--window-us", "8000",
-             "--guard-us", "400",          "--forward", "0x185",    "--echo", "--baud",      "57600"},
-            &o, &c))
+  ASSERT_TRUE(parse({"--serial",    "/dev/ttyUSB0", "--can",      "can1", "--bits",    "7",
+                     "--access",    "token",        "--nodes",    "2-9",  "--offset",  "64",
+                     "--window-us", "8000",         "--guard-us", "400",  "--forward", "0x185,0x285,900",
+                     "--echo",      "--baud",       "57600"},
+                    &o, &c))
       << "parsed";
   EXPECT_EQ(o.can, "can1");
   EXPECT_EQ(c.bus.set.id_bits, 7);
@@ -38,8 +42,10 @@ TEST(BridgeOptions, SegmentAndCanOptionsMakeTheBridgeConfig) {
   EXPECT_EQ(c.bus.window_us, 8000u);
   EXPECT_EQ(c.bus.guard_us, 400u);
   EXPECT_EQ(c.bus.baud, 57600u);
-  ASSERT_EQ(c.extra_count, 1);
+  ASSERT_EQ(c.extra_count, 3);
   EXPECT_EQ(c.extra_to_serial[0], 0x185);
+  EXPECT_EQ(c.extra_to_serial[1], 0x285);
+  EXPECT_EQ(c.extra_to_serial[2], 900);
   EXPECT_TRUE(o.segment.echo);
 }
 
@@ -67,6 +73,12 @@ TEST(BridgeOptions, BadInputIsOneLineNamingTheOption) {
       {{"--serial", "x", "--nodes", "1-30", "--offset", "100"}, "--offset"},
       {{"--serial", "x", "--window-us", "100"}, "--window-us"},
       {{"--serial", "x", "--forward", "0x800"}, "--forward"},
+      {{"--serial", "x", "--forward", "0x185,"}, "--forward"},
+      {{"--serial", "x", "--forward", "1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,17"}, "--forward"},
+      {{"--serial", "x", "--offset", "0x40"}, "--offset"},
+      {{"--serial", "x", "--baud", "600"}, "--baud"},
+      {{"--serial", "x", "--can"}, "--can"},
+      {{"--serial", "x", "--can", "can0", "--can", "can1"}, "--can"},
       {{"--serial", "x", "--pty", "y"}, "--pty"},
       {{}, "--serial"},
       {{"--serial", "x", "--frobnicate"}, "--frobnicate"},

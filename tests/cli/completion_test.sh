@@ -18,9 +18,9 @@ expect "" mb2co-timing rta --window
 expect "--window-us" mb2co-timing load --window
 expect "N E O none even odd" mb2co-timing latency --parity ""
 expect "course davis" mb2co-timing frame --frame-bits ""
-expect "run stop2 latency faults default" mb2co-lab --scenario ""
+expect "run stop2 latency faults sync-roundtrip sync-latency sync-processing alternative default" mb2co-lab --scenario ""
 expect "125k 250k 500k 1M" mb2co-lab --bitrates ""
-expect "--scenario --stations --seed" mb2co-lab --s
+expect "--scenario --stations --seed --syncs --sync-period-us" mb2co-lab --s
 
 # Every option of the table, no more: the listing is the table.
 mapfile -t options < <(mb2co-lab --list-options | cut -d' ' -f1)

@@ -50,9 +50,14 @@ TEST(Cli, BadOptionExits2WithOneLine) {
       {"--baud", "12"},
       {"--parity", "X"},
       {"--bitrate", "300"},
+      {"--bitrate", "300k"},
+      {"--bitrate", "500"},
+      {"--trace-can"},
+      {"--trace-can", "-"},
       {"--stations", "1"},
       {"--topology", "star"},
       {"--can"},
+      {"--can", "none", "--can", "vcan0"},
       {"--pty", "a", "--serial", "b"},
   };
   for (const auto& args : bad) {
@@ -60,6 +65,34 @@ TEST(Cli, BadOptionExits2WithOneLine) {
     EXPECT_EQ(run_to_exit(args, &err, &out), 2) << args[0];
     EXPECT_TRUE(one_line(err)) << args[0] << ": " << err;
     EXPECT_EQ(out, "") << "nothing on stdout for " << args[0];
+  }
+}
+
+// The convention of docs/cli.md: "--bitrate 500" was kbit/s here and bit/s
+// elsewhere, so a bare number below 10000 is refused with the word to use.
+TEST(Cli, BareBitRateIsRefusedWithTheHint) {
+  std::string err;
+  EXPECT_EQ(run_to_exit({"--bitrate", "500"}, &err), 2);
+  EXPECT_EQ(
+      err,
+      "mb2co-node: --bitrate 500: a bare number is bit/s and must be 10000 or more; did you mean 500k?\n");
+  EXPECT_EQ(run_to_exit({"--bitrate", "300k"}, &err), 2);
+  EXPECT_EQ(err, "mb2co-node: --bitrate must be 125k, 250k, 500k or 1M, got \"300k\"\n");
+}
+
+// A bit rate in any of the accepted words reaches 2000h/2 (HR 3, kbit/s).
+TEST(Cli, BitRateWordsReachTheBitRateRegister) {
+  for (const auto& given :
+       std::vector<std::pair<std::string, int>>{{"250k", 250}, {"1M", 1000}, {"125000", 125}}) {
+    TempDir dir;
+    NodeProcess node;
+    ASSERT_TRUE(node.start({"--can", "none", "--pty", dir.path("node.pty"), "--bitrate", given.first}))
+        << node.error();
+    ModbusMaster m;
+    ASSERT_TRUE(m.open(node.device())) << m.error();
+    EXPECT_EQ(m.holding_register(3), given.second) << given.first;
+    m.close();
+    EXPECT_EQ(node.stop(), 0);
   }
 }
 
@@ -127,6 +160,21 @@ TEST(Cli, ServesAnExistingTtyAtItsBaudRate) {
   EXPECT_EQ(read_response(master, request.size() - 3, 5s), (Bytes{1, 0x03, 0x02, 0x01, 0xF4}));
   EXPECT_EQ(node.stop(), 0);
   close(master);
+}
+
+// A trace file it cannot create is refused at start like an unusable
+// --eeprom: one line naming it, exit 1, no pty link left.
+TEST(Cli, AnUnwritableTraceExits1WithOneLine) {
+  TempDir dir;
+  std::ofstream(dir.path("plain")) << "x";
+  for (const std::string& path : {dir.path("missing/trace.log"), dir.path("plain/trace.log"), dir.path("")}) {
+    std::string err;
+    EXPECT_EQ(run_to_exit({"--can", "none", "--pty", dir.path("x.pty"), "--trace-can", path}, &err), 1)
+        << path;
+    EXPECT_TRUE(one_line(err)) << err;
+    EXPECT_EQ(err.rfind("mb2co-node: --trace-can " + path + ": ", 0), 0u) << err;
+    EXPECT_FALSE(is_symlink(dir.path("x.pty")));
+  }
 }
 
 // Node id written over Modbus (HR 2), saved by 1010h/1 (HR 11-12, "save" as

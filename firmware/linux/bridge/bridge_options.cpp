@@ -3,54 +3,58 @@
 namespace mb2co {
 namespace bridge {
 
-const char* bridge_usage_head() {
-  return "usage: mb2co-bridge --serial PATH|--pty LINK [options]\n"
-         "Smart bridge (seed 003 §3.2.8) between a serial CANopen segment and SocketCAN: the\n"
-         "serial nodes appear on CAN at node id + offset; only what the other side consumes\n"
-         "crosses. The bridge polls the segment or starts its token ring.\n"
-         "  --can IFACE        SocketCAN interface (default vcan0)\n"
-         "  --offset N         CAN node id = serial node id + N (default 0)\n"
-         "  --forward ID       a further CAN id the serial nodes consume (an RPDO's COB-ID), repeatable\n"
-         "  --verbose          forwarding counters on stderr at exit\n"
-         "  --help, --version\n";
+namespace {
+
+cli::Program make_program() {
+  cli::Program p;
+  p.name = "mb2co-bridge";
+  p.description =
+      "Smart bridge (seed 003 §3.2.8) between a serial CANopen segment and SocketCAN: the\n"
+      "serial nodes appear on CAN at node id + offset; only what the other side consumes\n"
+      "crosses. The bridge polls the segment or starts its token ring. The segment needs\n"
+      "--serial PATH or --pty LINK.\n";
+  cli::Command c;
+  c.options = segment_options();
+  const std::vector<cli::Option> can_side = {
+      cli::text("--can", "IFACE", "SocketCAN interface (default vcan0)"),
+      cli::uint_range("--offset", "N", 0, 126, "CAN node id = serial node id + N (default 0)"),
+      cli::text("--forward", "ID[,ID]...",
+                "further CAN ids the serial nodes consume (an RPDO's COB-ID), 1..7FFh,\n"
+                "decimal or 0x hex, 16 at most"),
+      cli::flag("--verbose", "forwarding counters on stderr at exit"),
+  };
+  c.options.insert(c.options.end(), can_side.begin(), can_side.end());
+  p.commands = {c};
+  p.footer = "\nexit status: 0 on SIGINT/SIGTERM, 1 runtime error, 2 usage error\n";
+  return p;
 }
 
-Status parse_bridge_options(int argc, const char* const* argv, BridgeOptions* o) {
-  for (int i = 1; i < argc; ++i) {
-    bool taken = false;
-    Status s = parse_segment_option(argc, argv, &i, &o->segment, &taken);
-    if (!s) return s;
-    if (taken) continue;
-    const std::string a = argv[i];
-    if (a == "--help" || a == "-h") {
-      o->help = true;
-      continue;
-    }
-    if (a == "--version") {
-      o->version = true;
-      continue;
-    }
-    if (a == "--verbose") {
-      o->verbose = true;
-      continue;
-    }
-    if (a != "--can" && a != "--offset" && a != "--forward")
-      return Status::failure("unknown option " + a + " (try --help)");
-    if (i + 1 >= argc) return Status::failure("option " + a + " needs a value (try --help)");
-    const char* v = argv[++i];
-    long n = 0;
-    if (a == "--can") {
-      o->can = v;
-    } else if (a == "--offset") {
-      if (!parse_number(v, 0, 126, &n))
-        return Status::failure(std::string("bad --offset '") + v + "' (0..126)");
-      o->offset = static_cast<uint8_t>(n);
-    } else {
-      if (!parse_number(v, 1, 0x7FF, &n))
-        return Status::failure(std::string("bad --forward '") + v + "' (a CAN id 1..7FFh)");
-      if (o->forward_count == BridgeOptions::kMaxForward)
-        return Status::failure("too many --forward (16 at most)");
+}  // namespace
+
+const cli::Program& bridge_program() {
+  static const cli::Program p = make_program();
+  return p;
+}
+
+Status apply_bridge_options(const cli::Args& a, BridgeOptions* o) {
+  Status segment = apply_segment_options(a, &o->segment);
+  if (!segment) return segment;
+  o->can = a.get("--can", o->can);
+  o->offset = static_cast<uint8_t>(a.uint("--offset", o->offset));
+  o->verbose = a.has("--verbose") || o->verbose;
+  if (a.has("--forward")) {
+    const std::string list = a.get("--forward");
+    o->forward_count = 0;
+    for (size_t start = 0; start <= list.size();) {
+      size_t comma = list.find(',', start);
+      if (comma == std::string::npos) comma = list.size();
+      const std::string id = list.substr(start, comma - start);
+      long n = 0;
+      if (!parse_number(id.c_str(), 1, 0x7FF, &n))
+        return Status::failure("--forward must be CAN ids 1..7FFh, got \"" + id + "\"");
+      if (o->forward_count == BridgeOptions::kMaxForward) return Status::failure("--forward: 16 ids at most");
       o->forward[o->forward_count++] = static_cast<uint16_t>(n);
+      start = comma + 1;
     }
   }
   return Status::ok();

@@ -7,6 +7,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <iostream>
 #include <string>
 
 #include "bridge_options.h"
@@ -36,22 +37,16 @@ int poll_timeout_ms(const mb2co::serialnet::Bridge& bridge, uint32_t now) {
 
 int main(int argc, char** argv) {
   using namespace mb2co;
+  const cli::Parsed parsed = cli::parse(bridge::bridge_program(), argc, argv);
+  const int early = cli::finish_early(bridge::bridge_program(), parsed, std::cout, std::cerr);
+  if (early >= 0) return early;
   bridge::BridgeOptions opt;
-  Status parsed = bridge::parse_bridge_options(argc, argv, &opt);
   serialnet::BridgeConfig config = {};
-  if (parsed && !opt.help && !opt.version) parsed = bridge::bridge_config(opt, &config);
-  if (!parsed) {
-    std::fprintf(stderr, "mb2co-bridge: %s\n", parsed.message().c_str());
-    return 2;
-  }
-  if (opt.help) {
-    std::fputs(bridge::bridge_usage_head(), stdout);
-    std::fputs(bridge::segment_usage(), stdout);
-    return 0;
-  }
-  if (opt.version) {
-    std::puts("mb2co-bridge 0.1.0");
-    return 0;
+  Status usable = bridge::apply_bridge_options(parsed.args, &opt);
+  if (usable) usable = bridge::bridge_config(opt, &config);
+  if (!usable) {
+    std::fprintf(stderr, "mb2co-bridge: %s\n", usable.message().c_str());
+    return cli::kExitUsage;
   }
 
   bridge::catch_stop_signals();

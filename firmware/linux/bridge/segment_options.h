@@ -1,12 +1,16 @@
 // The serial-segment options every Linux program on a CANopen serial segment
 // takes (mb2co-bridge, the serial I/O node of tests/bridge), parsed into the
 // segment's BusConfig (shared/serialnet/serial_link.h), so that all devices
-// of one segment are configured by the same words.
+// of one segment are configured by the same words. The options are entries of
+// each program's table of the shared command-line layer (shared/host/cli.h,
+// docs/cli.md): bad values are usage errors, exit 2.
 #pragma once
 #include <stdint.h>
 
 #include <string>
+#include <vector>
 
+#include "host/cli.h"
 #include "host/status.h"
 #include "serialnet/serial_link.h"
 
@@ -29,11 +33,12 @@ struct SegmentOptions {
   uint8_t bridge_node() const { return static_cast<uint8_t>(last + 1u); }
 };
 
-/// The option lines of usage() for these options.
-const char* segment_usage();
-/// Takes argv[*i] (and its value) if it is a segment option: *taken = true,
-/// *i advanced past the value. A bad value fails with one line.
-Status parse_segment_option(int argc, const char* const* argv, int* i, SegmentOptions* o, bool* taken);
+/// The segment options' entries for a program's option table.
+std::vector<cli::Option> segment_options();
+/// Fills `o` from a parse whose table held segment_options() (options not
+/// given keep their value); fails with one line for a value the table cannot
+/// check (--nodes A-B).
+Status apply_segment_options(const cli::Args& args, SegmentOptions* o);
 /// The segment's BusConfig (nodes first..bridge_node, `access` for this
 /// device), checked; a failure says which option is wrong.
 Status segment_bus_config(const SegmentOptions& o, serialnet::Access access, serialnet::BusConfig* out);

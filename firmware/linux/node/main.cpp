@@ -13,15 +13,18 @@
 
 #include <cstdio>
 #include <cstring>
+#include <iostream>
 #include <string>
 
 #include "control_channel.h"
 #include "eeprom_file.h"
 #include "gateway/gateway.h"
+#include "host/can_log_file.h"
 #include "node_options.h"
 #include "program_data.h"
 #include "serial_port.h"
 #include "socketcan_port.h"
+#include "traced_can.h"
 
 namespace {
 
@@ -68,19 +71,14 @@ int fail(const std::string& what) {
 
 int main(int argc, char** argv) {
   using namespace mb2co;
+  const cli::Parsed parsed = cli::parse(node::program(), argc, argv);
+  const int early = cli::finish_early(node::program(), parsed, std::cout, std::cerr);
+  if (early >= 0) return early;
   node::NodeOptions opt;
-  const Status parsed = node::parse_options(argc, argv, &opt);
-  if (!parsed) {
-    std::fprintf(stderr, "mb2co-node: %s\n", parsed.message().c_str());
-    return 2;
-  }
-  if (opt.help) {
-    std::fputs(node::usage(), stdout);
-    return 0;
-  }
-  if (opt.version) {
-    std::puts("mb2co-node 0.1.0");
-    return 0;
+  const Status applied = node::apply_options(parsed.args, &opt);
+  if (!applied) {
+    std::fprintf(stderr, "mb2co-node: %s\n", applied.message().c_str());
+    return cli::kExitUsage;
   }
 
   // Signals from here on end the loop below, so that the pty link goes away.
@@ -97,6 +95,13 @@ int main(int argc, char** argv) {
   node::EepromFile eeprom(opt.eeprom);
   std::string eeprom_error;
   if (!opt.eeprom.empty() && !eeprom.usable(&eeprom_error)) return fail(eeprom_error);
+  // So is a trace file it cannot create (created here, empty when nothing
+  // crossed the bus; with --can none nothing does).
+  CanLogFile trace;
+  if (!opt.trace_can.empty()) {
+    const Status created = trace.open(opt.trace_can, opt.can);
+    if (!created) return fail("--trace-can " + created.message());
+  }
 
   port::SerialPort serial;
   const port::Parity parity = opt.parity == 'E'   ? port::Parity::kEven
@@ -106,6 +111,7 @@ int main(int argc, char** argv) {
       !opt.serial.empty() ? serial.open_tty(opt.serial, opt.baud, parity) : serial.create_pty(opt.pty_link);
   if (!opened) return fail(opened.message());
   linux_port::SocketCanPort can;
+  node::TracedCan traced_can(can, trace);
   const bool with_can = opt.can != "none";
   if (with_can) {
     Status bound = can.open(opt.can.c_str());
@@ -114,8 +120,10 @@ int main(int argc, char** argv) {
   }
 
   canopen::ParamStorage storage = eeprom.storage();
-  gateway::GatewayPorts ports{with_can ? can.sink() : CanSink{&can_discard, nullptr},
-                              modbus::ByteSink{&serial_write, &serial},
+  const CanSink can_sink = !with_can         ? CanSink{&can_discard, nullptr}
+                           : trace.is_open() ? traced_can.sink()
+                                             : can.sink();
+  gateway::GatewayPorts ports{can_sink, modbus::ByteSink{&serial_write, &serial},
                               opt.eeprom.empty() ? nullptr : &storage, opt.baud};
   // Kernel filters on the node's consumed ids (a flood of other frames never
   // reaches the loop), and with FC 2Bh/0Dh the two ranges its network
@@ -127,7 +135,7 @@ int main(int argc, char** argv) {
       const Status also = can.set_also_accepted(network, 2);
       if (!also) return fail(also.message());
     }
-    ports.can_control = &linux_port::SocketCanPort::kControl;
+    ports.can_control = trace.is_open() ? &node::TracedCan::kControl : &linux_port::SocketCanPort::kControl;
   }
   static gateway::Gateway gw(ports);  // static like on the Uno (and large)
   node::ControlChannel control(gw);
@@ -195,8 +203,10 @@ int main(int argc, char** argv) {
       for (size_t taken = 0; taken < kMaxFramesPerPass; taken += got) {
         got = can.receive(frames, linux_port::SocketCanPort::kBatch);
         if (got == 0) break;
-        for (size_t i = 0; i < got; ++i)
+        for (size_t i = 0; i < got; ++i) {
+          traced_can.received(frames[i].frame);
           gw.on_can_frame(frames[i].frame, static_cast<uint32_t>(frames[i].rx_time_us));
+        }
       }
     }
     if (fds[2].revents & (POLLIN | POLLHUP)) {
@@ -215,6 +225,7 @@ int main(int argc, char** argv) {
     }
     control.process(now);
     say(control.events(gw.process(now, control.buttons()), now));
+    traced_can.flush();  // whole lines for a reader of the trace (nothing when none)
     uint32_t modbus_deadline_us = 0;
     if (!ready.empty() && !gw.modbus_slave().deadline(modbus_deadline_us)) {
       say(ready);
@@ -234,5 +245,8 @@ int main(int argc, char** argv) {
   while (gw.node().saving()) gw.process(port::monotonic_us(), control.buttons());
   serial.close();
   can.close();
+  trace.close();
+  if (trace.write_errors() != 0)
+    return fail("--trace-can " + opt.trace_can + ": write failed, the trace is incomplete");
   return 0;
 }

@@ -1,10 +1,13 @@
-// Command line of mb2co-node. Parsing is separate from main so that bad
-// input gives one line and a non-zero exit, and tests can call it directly.
+// Command line of mb2co-node (the convention of docs/cli.md,
+// shared/host/cli.h): one option table from which the parser, --help and the
+// bash completion come. Bad input is one line and exit 2; tests call
+// apply_options directly.
 #pragma once
 #include <stdint.h>
 
 #include <string>
 
+#include "host/cli.h"
 #include "host/status.h"
 
 namespace mb2co {
@@ -17,17 +20,18 @@ struct NodeOptions {
   uint32_t baud = 115200;
   char parity = 'N';          ///< N, E or O
   uint8_t node_id = 1;        ///< used when no saved parameters say otherwise
-  uint16_t bitrate_kbit = 0;  ///< 0: as stored / default (500)
+  uint16_t bitrate_kbit = 0;  ///< 0: as stored / default (500); else 125, 250, 500 or 1000 (2000h/2's unit)
   uint8_t stations = 0;       ///< 0: as stored / default (4)
   int topology = -1;          ///< -1 as stored, 0 chain, 1 ring
   std::string eeprom;         ///< file backing 1010h "save" (like the Uno's EEPROM)
-  bool help = false;
-  bool version = false;
+  std::string trace_can;      ///< --trace-can FILE: every frame sent and received ("" none)
 };
 
-/// Parses argv; a failure's message is the one line to show.
-Status parse_options(int argc, const char* const* argv, NodeOptions* out);
-const char* usage();
+/// The option table of mb2co-node (help, parser and completion come from it).
+const cli::Program& program();
+/// Fills `out` from a parse of program() (options not given keep their
+/// value); fails, a usage error, for combinations the table cannot express.
+Status apply_options(const cli::Args& args, NodeOptions* out);
 
 }  // namespace node
 }  // namespace mb2co

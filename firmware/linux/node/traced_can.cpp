@@ -1,0 +1,28 @@
+#include "traced_can.h"
+
+#include <time.h>
+
+namespace mb2co {
+namespace node {
+
+const CanControl TracedCan::kControl = {nullptr, &TracedCan::set_filters_of};
+
+bool TracedCan::send_to(void* ctx, const CanFrame& frame) {
+  TracedCan& self = *static_cast<TracedCan*>(ctx);
+  if (!self.port_.send(frame)) return false;  // not on the bus: not in the trace either
+  self.log_.write(realtime_us(), frame);
+  return true;
+}
+
+void TracedCan::set_filters_of(void* ctx, const uint16_t* ids, uint8_t count) {
+  linux_port::SocketCanPort::kControl.set_filters(&static_cast<TracedCan*>(ctx)->port_, ids, count);
+}
+
+uint64_t TracedCan::realtime_us() {
+  timespec ts;
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return static_cast<uint64_t>(ts.tv_sec) * 1000000u + static_cast<uint64_t>(ts.tv_nsec) / 1000u;
+}
+
+}  // namespace node
+}  // namespace mb2co

@@ -11,7 +11,9 @@
 //      (1003h error history, 1010h and 1011h store/restore commands are
 //      never written from a DCF: what a dump reads there is a record or a
 //      capability, not a setting);
-//   3. --save: 1010h/1 = "save"; then, unless --no-start, NMT start.
+//   3. --save: 1010h/1 = "save", then 1010h/1 polled every 100 ms until it
+//      reads 1 again (the save is done; at most 10 s); then, unless
+//      --no-start, NMT start.
 // PDO parameters are written in the CiA 301 order whatever order the DCF
 // lists them in: for a PDO with something to change, its COB-ID is written
 // with bit 31 (not valid) first, its mapping count set to 0 before mapping
@@ -285,12 +287,32 @@ class NodeJob {
     if (save_ && !saved_) {
       queue(0x1010, 1, false, bytes_of(0x65766173u, 4), [this](Transfer& t) {  // "save"
         if (!t.ok()) return failed(t, "saving");
-        saved_ = true;
-        finish(kConfigured);
+        save_started_us_ = t.ended_us;
+        poll_save(t.ended_us);
       });
       return;
     }
     finish(kConfigured);
+  }
+
+  /// A node may answer "save" at once and write over its next passes (the
+  /// Uno: ~1.5 s): 1010h/1 reads 0 until the set is stored (CiA 301
+  /// §7.5.2.13: bit 0, the node saves on command). Polled every
+  /// kSavePollUs; "saved" only once it reads 1 again.
+  void poll_save(uint32_t after_us) {
+    Transfer& t = make(0x1010, 1, true, {}, [this](Transfer& r) {
+      if (!r.ok()) return failed(r, "polling the save");
+      if (!r.data.empty() && (r.data[0] & 1u)) {
+        saved_ = true;
+        return finish(kConfigured);
+      }
+      if (r.ended_us - save_started_us_ >= kSaveTimeoutUs)
+        return finish(kRefused, "saving: 1010h/1 still reads 0 after " +
+                                    std::to_string(kSaveTimeoutUs / 1000000u) + " s");
+      poll_save(r.ended_us);
+    });
+    t.not_before_us = (after_us + kSavePollUs) | 1u;
+    net_->queue(&t);
   }
 
   NetworkNode node_;
@@ -306,6 +328,9 @@ class NodeJob {
   std::string why_;
   unsigned written_ = 0, equal_ = 0, read_only_ = 0;
   bool saved_ = false;
+  uint32_t save_started_us_ = 0;  ///< when the node accepted "save"
+  static const uint32_t kSavePollUs = 100000;
+  static const uint32_t kSaveTimeoutUs = 10000000;
 };
 
 std::string json_text(const std::string& s) {

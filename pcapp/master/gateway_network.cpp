@@ -243,6 +243,16 @@ bool GatewayNetwork::run(ProgressHook* progress) {
     if (queues_[id].empty()) break;  // pending_ counts no queued transfer: never
     last_node_ = id;
     Transfer* t = queues_[id].front();
+    if (t->not_before_us != 0) {
+      // A poll's pause: the gateway serves one request at a time anyway.
+      const uint32_t now = now_us();
+      if (!time_reached(now, t->not_before_us)) {
+        const uint32_t wait_us = t->not_before_us - now;
+        timespec pause = {static_cast<time_t>(wait_us / 1000000u),
+                          static_cast<long>(wait_us % 1000000u) * 1000L};
+        nanosleep(&pause, nullptr);  // pacing, not synchronisation
+      }
+    }
     queues_[id].pop_front();
     running_ = t;
     moved_ = size_ = 0;

@@ -51,7 +51,8 @@ void SdoNetwork::start_next(uint8_t id, uint32_t now_us, const CanSink& sink) {
   while (!n.queue.empty() && !n.client.busy()) {
     Transfer* t = n.queue.front();
     if (t->started_us != 0 || t->finished) return;  // running (or being finished)
-    t->started_us = now_us | 1u;                    // 0 means "not started"
+    if (t->not_before_us != 0 && !time_reached(now_us, t->not_before_us)) return;  // a poll's pause
+    t->started_us = now_us | 1u;                                                   // 0 means "not started"
     bool started;
     if (t->upload) {
       t->data.clear();
@@ -162,8 +163,11 @@ void SdoNetwork::next_deadline(NextDeadline& d) const {
   for (uint8_t id = 1; id <= 127; ++id) {
     const Node& n = nodes_[id];
     if (!n.used || n.queue.empty()) continue;
+    const Transfer* front = n.queue.front();
     if (n.client.busy())
       n.client.next_deadline(d);
+    else if (front->not_before_us != 0 && front->started_us == 0)
+      d.at(front->not_before_us);  // a poll's pause
     else
       d.now();  // a queued transfer waits to start
   }

@@ -27,6 +27,11 @@ struct Transfer {
   std::vector<uint8_t> data;  ///< download: the bytes to write; upload: what came
   /// Called when it ended (may queue more transfers for the same node).
   std::function<void(Transfer&)> on_done;
+  /// 0: starts when its turn comes. Else not before this time of the
+  /// network's clock (the started_us/ended_us clock): a poll's pause, e.g.
+  /// `ended_us + 100000` from the on_done of the previous transfer. The
+  /// node's later transfers wait behind it.
+  uint32_t not_before_us = 0;
 
   bool finished = false;
   canopen::SdoAbort result = canopen::kSdoOk;

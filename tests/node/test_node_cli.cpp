@@ -54,6 +54,8 @@ TEST(Cli, BadOptionExits2WithOneLine) {
       {"--bitrate", "500"},
       {"--trace-can"},
       {"--trace-can", "-"},
+      {"--eeprom-write-us", "3300"},
+      {"--eeprom-write-us", "100001", "--eeprom", "/tmp/x"},
       {"--stations", "1"},
       {"--topology", "star"},
       {"--can"},

@@ -5,10 +5,24 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstring>
 
 namespace mb2co {
 namespace node {
+namespace {
+
+int64_t steady_us() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+bool EepromFile::ready(void* ctx) {
+  return steady_us() >= static_cast<EepromFile*>(ctx)->busy_until_us_;
+}
 
 bool EepromFile::read(void* ctx, uint16_t offset, uint8_t* data, uint16_t len) {
   const EepromFile& e = *static_cast<EepromFile*>(ctx);
@@ -26,8 +40,9 @@ bool EepromFile::read(void* ctx, uint16_t offset, uint8_t* data, uint16_t len) {
 }
 
 bool EepromFile::write(void* ctx, uint16_t offset, const uint8_t* data, uint16_t len) {
-  const EepromFile& e = *static_cast<EepromFile*>(ctx);
+  EepromFile& e = *static_cast<EepromFile*>(ctx);
   if (offset + len > kSize) return false;
+  if (e.write_us_ != 0) e.busy_until_us_ = steady_us() + static_cast<int64_t>(e.write_us_) * len;
   const int fd = open(e.path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd < 0) return false;
   bool ok = pwrite(fd, data, len, offset) == len;

@@ -5,8 +5,11 @@
 // fsyncs took longer than a Modbus master waits for the answer to "save").
 // The file grows with the saves; bytes it does not hold read as FFh, as an
 // erased EEPROM cell does, so a cut file is one whose tail is erased.
-// Always ready (no ParamStorage::ready): a save writes its bytes one per
-// call, ParamSave::kBytesPerPass per pass of the loop, like on the Uno.
+// A save writes its bytes one per call, ParamSave::kBytesPerPass per pass
+// of the loop, like on the Uno. Always ready unless a write time per byte is
+// set (--eeprom-write-us): then ParamStorage::ready says no until that long
+// after the last byte written, as the Uno's EEPROM (3.3 ms per byte) does,
+// so a save takes as long as on the board (a master must poll 1010h/1).
 #pragma once
 #include <string>
 
@@ -18,13 +21,16 @@ namespace node {
 class EepromFile {
  public:
   static const uint16_t kSize = 1024;
-  explicit EepromFile(const std::string& path) : path_(path) {}
+  /// `write_us`: time one byte takes to program (0: none).
+  explicit EepromFile(const std::string& path, uint32_t write_us = 0) : path_(path), write_us_(write_us) {}
   canopen::ParamStorage storage() {
-    return canopen::ParamStorage{&EepromFile::read, &EepromFile::write, &EepromFile::barrier, this, nullptr};
+    return canopen::ParamStorage{&EepromFile::read, &EepromFile::write, &EepromFile::barrier, this,
+                                 write_us_ != 0 ? &EepromFile::ready : nullptr};
   }
 
  private:
   static bool read(void* ctx, uint16_t offset, uint8_t* data, uint16_t len);
+  static bool ready(void* ctx);
   static bool write(void* ctx, uint16_t offset, const uint8_t* data, uint16_t len);
   static bool barrier(void* ctx);
 
@@ -37,6 +43,8 @@ class EepromFile {
 
  private:
   std::string path_;
+  uint32_t write_us_;
+  int64_t busy_until_us_ = 0;  ///< steady clock: the last byte is programmed then
 };
 
 }  // namespace node

@@ -25,6 +25,9 @@ cli::Program make_program() {
       cli::uint_range("--stations", "N", 2, 127, "stations in the line 2..127 (default as saved, else 4)"),
       cli::choice("--topology", {"ring", "chain"}, "line topology (default as saved, else chain)"),
       cli::file("--eeprom", "FILE", "file holding saved parameters (1010h), like the Uno's EEPROM"),
+      cli::uint_range("--eeprom-write-us", "US", 0, 100000,
+                      "time to program one byte of --eeprom, in us (default 0; the Uno's\n"
+                      "EEPROM: 3300, a first save then takes ~1.5 s, as on the board)"),
       cli::file("--trace-can", "FILE",
                 "every CAN frame sent and received, stamped with the host clock:\n"
                 "a candump -L log (canplayer, Wireshark), or pcap (LINKTYPE_CAN_SOCKETCAN)\n"
@@ -65,6 +68,9 @@ Status apply_options(const cli::Args& a, NodeOptions* o) {
   o->stations = static_cast<uint8_t>(a.uint("--stations", o->stations));
   if (a.has("--topology")) o->topology = a.get("--topology") == "ring" ? 1 : 0;
   o->eeprom = a.get("--eeprom", o->eeprom);
+  o->eeprom_write_us = static_cast<uint32_t>(a.uint("--eeprom-write-us", o->eeprom_write_us));
+  if (a.has("--eeprom-write-us") && o->eeprom.empty())
+    return Status::failure("--eeprom-write-us needs --eeprom");
   o->trace_can = a.get("--trace-can", o->trace_can);
   return Status::ok();
 }

@@ -24,7 +24,8 @@ struct NodeOptions {
   uint8_t stations = 0;       ///< 0: as stored / default (4)
   int topology = -1;          ///< -1 as stored, 0 chain, 1 ring
   std::string eeprom;         ///< file backing 1010h "save" (like the Uno's EEPROM)
-  std::string trace_can;      ///< --trace-can FILE: every frame sent and received ("" none)
+  uint32_t eeprom_write_us = 0;  ///< time to program one EEPROM byte (0: at once; the Uno: 3300)
+  std::string trace_can;         ///< --trace-can FILE: every frame sent and received ("" none)
 };
 
 /// The option table of mb2co-node (help, parser and completion come from it).

@@ -55,17 +55,12 @@ std::string default_text(const ObjectDictionary& od, uint16_t row, bool eds) {
   if (e.attr & canopen::kAttrString) {
     const char* p = od.definition().strings + (e.def & 0xFFFF);
     if (type == canopen::kVisibleString) return eds ? std::string(p) : "\"" + std::string(p) + "\"";
-    // The other byte runs: their whole capacity, a hex dump (the default
-    // text padded with zeros, as the node holds it).
+    // The other byte runs are always their whole capacity: a hex dump of
+    // the default text padded with zeros, as the node holds it.
     eds::Value v;
     const uint16_t capacity = static_cast<uint16_t>(e.def >> 16);
     const size_t len = std::string(p).size();
     for (uint16_t i = 0; i < capacity; ++i) v.bytes.push_back(i < len ? static_cast<uint8_t>(p[i]) : 0);
-    if (type == canopen::kUnicodeString) {  // its length: up to the first character 0
-      while (v.bytes.size() >= 2 && v.bytes[v.bytes.size() - 1] == 0 && v.bytes[v.bytes.size() - 2] == 0) {
-        v.bytes.resize(v.bytes.size() - 2);
-      }
-    }
     return eds::format_value(static_cast<eds::DataType>(type), v);
   }
   if (e.attr & canopen::kAttrNodeId) return "$NODEID+0x" + hex(e.def, 1);

@@ -135,6 +135,19 @@ std::string od_markdown(const ObjectDictionary& od, const std::string& title) {
        "08000022h (the gateway's Modbus: exception 06, busy); a reset (NMT; on the gateway\n"
        "also 2001h) waits until the save is done. A save that fails keeps the previous\n"
        "set and raises EMCY 5530h with bit 0 of 1001h until a save succeeds.\n\n";
+  s += "Data types: every CiA 301 basic type (BOOLEAN, INTEGER8 to INTEGER64, UNSIGNED8 to\n"
+       "UNSIGNED64 in steps of 8 bits, REAL32 and REAL64 (IEEE 754), VISIBLE_STRING,\n"
+       "OCTET_STRING, UNICODE_STRING, TIME_OF_DAY, TIME_DIFFERENCE, DOMAIN). SDO moves a value\n"
+       "of up to 4 bytes expedited and a longer one segmented; a write must have the type's\n"
+       "length (06070012h too long, 06070013h too short), except a VISIBLE_STRING, which may\n"
+       "be shorter than its capacity (OCTET_STRING, UNICODE_STRING and DOMAIN are always\n"
+       "their whole capacity). Limits hold for every numeric type (06090031h above,\n"
+       "06090032h below; a BOOLEAN is 0 or 1, else 06090030h); REAL limits compare as the\n"
+       "reals are ordered (-0.0 equals 0.0, a NaN is in no range). Data-type entries (0001h\n"
+       "on) read the type's bit length as UNSIGNED32. Entries 0008h-001Bh and those named\n"
+       "\"(host builds)\" exist in the Linux build (mb2co-node) only, not on the Uno\n"
+       "(its flash: MB2CO_OD_WIDE_TYPES), whose entries are all of the first seven types\n"
+       "and VISIBLE_STRING.\n\n";
   s += "| index | sub | name | type | access | PDO | saved | default |\n";
   s += "|---|---|---|---|---|---|---|---|\n";
   for (uint16_t r = 0; r < od.row_count(); ++r) {

@@ -50,18 +50,6 @@ class OdTypes : public ::testing::Test {
   CanFrame upload_initiate(uint16_t index) {
     return h.sdo({0x40, static_cast<uint8_t>(index), static_cast<uint8_t>(index >> 8), 0});
   }
-  /// Maps `entries` into TPDO1 (185h) or RPDO1 (205h) as CiA 301 says.
-  void map(uint16_t comm, std::initializer_list<uint32_t> entries) {
-    const uint16_t mapping = static_cast<uint16_t>(comm + 0x200);
-    const uint32_t cob = comm == 0x1800 ? 0x185u : 0x205u;
-    ASSERT_EQ(h.write_u32(comm, 1, 0x80000000u | cob), 0u);
-    ASSERT_EQ(h.write_u8(mapping, 0, 0), 0u);
-    uint8_t s = 1;
-    for (uint32_t e : entries) ASSERT_EQ(h.write_u32(mapping, s++, e), 0u) << std::hex << e;
-    ASSERT_EQ(h.write_u8(mapping, 0, static_cast<uint8_t>(entries.size())), 0u);
-    ASSERT_EQ(h.write_u32(comm, 1, cob), 0u);
-  }
-
   FrameLog bus;
   types::od::TypesValues values{};
   ObjectDictionary od{types::od::TypesDefinition, reinterpret_cast<uint8_t*>(&values)};
@@ -267,26 +255,26 @@ TEST_F(OdTypes, DataTypeEntriesGiveTheBitLengths) {
 TEST_F(OdTypes, TransmitMappingOf24And40BitsAnd48And8AndOf56Bits) {
   ASSERT_EQ(h.download(0x2104, 0, Bytes{0x01, 0x02, 0x83}), 0u);              // INTEGER24
   ASSERT_EQ(h.download(0x210E, 0, Bytes{0x11, 0x12, 0x13, 0x14, 0x15}), 0u);  // UNSIGNED40
-  map(0x1800, {0x21040018, 0x210E0028});                                      // 24 + 40 = 64 bits
+  h.map_pdo(0x1800, {0x21040018, 0x210E0028});                                // 24 + 40 = 64 bits
   h.nmt(0x01, kId);
   EXPECT_EQ(h.take(), Frames({"<185> 01 02 83 11 12 13 14 15"}));
   h.nmt(0x80, kId);
   ASSERT_EQ(h.download(0x2107, 0, Bytes{0xA1, 0xA2, 0xA3, 0xA4, 0xA5, 0xA6}), 0u);  // INTEGER48
   ASSERT_EQ(h.download(0x2110, 0, Bytes{0xB1, 0xB2, 0xB3, 0xB4, 0xB5, 0xB6, 0xB7}), 0u);
-  map(0x1800, {0x21070030, 0x210A0008});  // 48 + 8
+  h.map_pdo(0x1800, {0x21070030, 0x210A0008});  // 48 + 8
   h.nmt(0x01, kId);
   h.take();
   ASSERT_EQ(h.download(0x210A, 0, Bytes{0x5A}), 0u);
   h.advance_us(100);
   EXPECT_EQ(h.take(), Frames({"<185> A1 A2 A3 A4 A5 A6 5A"}));
   h.nmt(0x80, kId);
-  map(0x1800, {0x21100038});  // UNSIGNED56 alone: 7 bytes
+  h.map_pdo(0x1800, {0x21100038});  // UNSIGNED56 alone: 7 bytes
   h.nmt(0x01, kId);
   EXPECT_EQ(h.take(), Frames({"<185> B1 B2 B3 B4 B5 B6 B7"}));
 }
 
 TEST_F(OdTypes, ReceiveMappingOf24And40AndOf56Bits) {
-  map(0x1400, {0x210C0018, 0x21060028});  // UNSIGNED24 + INTEGER40
+  h.map_pdo(0x1400, {0x210C0018, 0x21060028});  // UNSIGNED24 + INTEGER40
   h.nmt(0x01, kId);
   h.take();
   h.rx(F(0x205, {0x01, 0x02, 0x03, 0xF1, 0xF2, 0xF3, 0xF4, 0xF5}));
@@ -296,7 +284,7 @@ TEST_F(OdTypes, ReceiveMappingOf24And40AndOf56Bits) {
   ASSERT_EQ(h.upload(0x2106, 0, &b), 0u);
   EXPECT_EQ(b, (Bytes{0xF1, 0xF2, 0xF3, 0xF4, 0xF5}));
   h.nmt(0x80, kId);
-  map(0x1400, {0x21080038});  // INTEGER56
+  h.map_pdo(0x1400, {0x21080038});  // INTEGER56
   h.nmt(0x01, kId);
   h.rx(F(0x205, {0x71, 0x72, 0x73, 0x74, 0x75, 0x76, 0x77}));
   ASSERT_EQ(h.upload(0x2108, 0, &b), 0u);

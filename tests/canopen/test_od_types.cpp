@@ -12,6 +12,7 @@
 #include "canopen/pdo_map.h"
 #include "test_fixture.h"
 #include "types_od.h"
+#include "value_bytes.h"
 
 namespace mb2co {
 namespace test {
@@ -19,22 +20,6 @@ namespace test {
 namespace {
 
 using namespace canopen;
-
-Bytes le_bytes(uint64_t v, size_t n) {
-  Bytes b(n);
-  for (size_t i = 0; i < n; ++i) b[i] = static_cast<uint8_t>(v >> (8 * i));
-  return b;
-}
-uint32_t bits_of(float f) {
-  uint32_t u;
-  std::memcpy(&u, &f, 4);
-  return u;
-}
-uint64_t bits_of(double d) {
-  uint64_t u;
-  std::memcpy(&u, &d, 8);
-  return u;
-}
 
 /// Node id 5 on the all-types OD, pre-operational, log empty.
 class OdTypes : public ::testing::Test {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "line_harness.h"
+#include "value_bytes.h"
 
 namespace mb2co {
 namespace {
@@ -16,6 +17,8 @@ namespace {
 using modbus::Exception;
 using modbus::ParseStatus;
 using modbus::Response;
+using test::bits_of;
+using test::le_bytes;
 using test::Line;
 namespace entry = gateway::od::GatewayEntry;
 
@@ -25,18 +28,6 @@ static_assert(MB2CO_OD_WIDE_TYPES, "host builds carry the wide types");
 constexpr uint16_t kHrReal = gateway::default_map_address(0x2400, entry::x2500_1_measuredValue);
 constexpr uint16_t kHrCounter = gateway::default_map_address(0x2400, entry::x2500_2_eventCounter);
 static_assert(kHrCounter == kHrReal + 2, "REAL32: two registers");
-
-uint32_t bits_of(float f) {
-  uint32_t u;
-  std::memcpy(&u, &f, 4);
-  return u;
-}
-
-std::vector<uint8_t> le_bytes(uint64_t v, size_t n) {
-  std::vector<uint8_t> b(n);
-  for (size_t i = 0; i < n; ++i) b[i] = static_cast<uint8_t>(v >> (8 * i));
-  return b;
-}
 
 class WideRegisters : public ::testing::Test {
  protected:

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "node_harness.h"
+#include "value_bytes.h"
 
 namespace mb2co {
 namespace test {
@@ -98,18 +99,6 @@ class CanSocket {
   bool ok_ = false;
   std::vector<can_frame> pending_;  ///< received, not yet waited for
 };
-
-std::vector<uint8_t> le_bytes(uint64_t v, size_t n) {
-  std::vector<uint8_t> b(n);
-  for (size_t i = 0; i < n; ++i) b[i] = static_cast<uint8_t>(v >> (8 * i));
-  return b;
-}
-
-uint32_t bits_of(float f) {
-  uint32_t u;
-  std::memcpy(&u, &f, 4);
-  return u;
-}
 
 TEST(NodeWideTypes, Real32AndUnsigned64FromModbusToTpdoAndSdo) {
   TempDir dir;

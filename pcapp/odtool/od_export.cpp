@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "eds_value.h"
 #include "gateway/gateway.h"
 
 namespace mb2co {
@@ -12,33 +13,33 @@ using canopen::OdEntry;
 
 namespace {
 
-std::string hex(uint32_t v, int digits) {
-  char buf[16];
-  std::snprintf(buf, sizeof buf, "%0*X", digits, v);
+std::string hex(uint64_t v, int digits) {
+  char buf[24];
+  std::snprintf(buf, sizeof buf, "%0*llX", digits, static_cast<unsigned long long>(v));
   return buf;
 }
 
+// The CiA 301 name of a basic type (the EDS library's table: one list of
+// the types for the tools).
 const char* type_name(uint8_t t) {
-  switch (t) {
-    case canopen::kBoolean:
-      return "BOOLEAN";
-    case canopen::kInteger8:
-      return "INTEGER8";
-    case canopen::kInteger16:
-      return "INTEGER16";
-    case canopen::kInteger32:
-      return "INTEGER32";
-    case canopen::kUnsigned8:
-      return "UNSIGNED8";
-    case canopen::kUnsigned16:
-      return "UNSIGNED16";
-    case canopen::kUnsigned32:
-      return "UNSIGNED32";
-    case canopen::kVisibleString:
-      return "VISIBLE_STRING";
-    default:
-      return "?";
-  }
+  const eds::TypeInfo* info = eds::type_info(t);
+  return info != nullptr ? info->name : "?";
+}
+
+// Types beyond the first seven are printed in their own notation (CiA 306,
+// eds::format_value: reals as decimals, signed integers in decimal, byte
+// strings as hex dumps); the first seven keep the hex the docs always had.
+bool own_notation(uint8_t t) {
+  return t > canopen::kUnsigned32;
+}
+
+// `v`'s low bytes as a value of numeric type `t`, in the type's notation.
+std::string numeric_text(uint8_t t, uint64_t v) {
+  eds::Value value;
+  const eds::TypeInfo* info = eds::type_info(t);
+  for (uint8_t i = 0; info != nullptr && i < info->bytes; ++i)
+    value.bytes.push_back(static_cast<uint8_t>(v >> (8 * i)));
+  return eds::format_value(static_cast<eds::DataType>(t), value);
 }
 
 const char* access(const OdEntry& e) {
@@ -50,11 +51,20 @@ const char* access(const OdEntry& e) {
 
 std::string default_text(const ObjectDictionary& od, uint16_t row, bool eds) {
   const OdEntry e = od.entry(row);
+  const uint8_t type = e.data_type();
   if (e.attr & canopen::kAttrString) {
     const char* p = od.definition().strings + (e.def & 0xFFFF);
-    return eds ? std::string(p) : "\"" + std::string(p) + "\"";
+    if (type == canopen::kVisibleString) return eds ? std::string(p) : "\"" + std::string(p) + "\"";
+    // The other byte runs are always their whole capacity: a hex dump of
+    // the default text padded with zeros, as the node holds it.
+    eds::Value v;
+    const uint16_t capacity = static_cast<uint16_t>(e.def >> 16);
+    const size_t len = std::string(p).size();
+    for (uint16_t i = 0; i < capacity; ++i) v.bytes.push_back(i < len ? static_cast<uint8_t>(p[i]) : 0);
+    return eds::format_value(static_cast<eds::DataType>(type), v);
   }
   if (e.attr & canopen::kAttrNodeId) return "$NODEID+0x" + hex(e.def, 1);
+  if (own_notation(type)) return numeric_text(type, e.def);
   return "0x" + hex(e.def, 1);
 }
 
@@ -80,8 +90,11 @@ std::string sub_name(const ObjectDictionary& od, uint16_t row) {
   return n.compare(0, prefix.size(), prefix) == 0 ? n.substr(prefix.size()) : n;
 }
 
-std::string limit_text(int32_t v) {
-  return v < 0 ? std::to_string(v) : "0x" + hex(static_cast<uint32_t>(v), 1);
+std::string limit_text(uint8_t type, canopen::OdLimitValue v) {
+  if (canopen::od_type_kind(type) == canopen::kKindReal) {  // stored as its ordered key
+    return numeric_text(type, canopen::od_real_limit_bits(v, type == canopen::kReal32 ? 4 : 8));
+  }
+  return v < 0 ? std::to_string(v) : "0x" + hex(static_cast<uint64_t>(v), 1);
 }
 
 // LowLimit/HighLimit lines of a row that has limits beyond its data type.
@@ -91,7 +104,8 @@ std::string limit_lines(const ObjectDictionary& od, uint16_t row) {
   for (uint8_t i = 0; i < d.limit_count; ++i) {
     const canopen::OdLimit& l = d.limits[i];
     if (l.index == e.index && l.sub == e.sub)
-      return "LowLimit=" + limit_text(l.min) + "\nHighLimit=" + limit_text(l.max) + "\n";
+      return "LowLimit=" + limit_text(e.data_type(), l.min) +
+             "\nHighLimit=" + limit_text(e.data_type(), l.max) + "\n";
   }
   return "";
 }
@@ -121,13 +135,26 @@ std::string od_markdown(const ObjectDictionary& od, const std::string& title) {
        "08000022h (the gateway's Modbus: exception 06, busy); a reset (NMT; on the gateway\n"
        "also 2001h) waits until the save is done. A save that fails keeps the previous\n"
        "set and raises EMCY 5530h with bit 0 of 1001h until a save succeeds.\n\n";
+  s += "Data types: every CiA 301 basic type (BOOLEAN, INTEGER8 to INTEGER64, UNSIGNED8 to\n"
+       "UNSIGNED64 in steps of 8 bits, REAL32 and REAL64 (IEEE 754), VISIBLE_STRING,\n"
+       "OCTET_STRING, UNICODE_STRING, TIME_OF_DAY, TIME_DIFFERENCE, DOMAIN). SDO moves a value\n"
+       "of up to 4 bytes expedited and a longer one segmented; a write must have the type's\n"
+       "length (06070012h too long, 06070013h too short), except a VISIBLE_STRING, which may\n"
+       "be shorter than its capacity (OCTET_STRING, UNICODE_STRING and DOMAIN are always\n"
+       "their whole capacity). Limits hold for every numeric type (06090031h above,\n"
+       "06090032h below; a BOOLEAN is 0 or 1, else 06090030h); REAL limits compare as the\n"
+       "reals are ordered (-0.0 equals 0.0, a NaN is in no range). Data-type entries (0001h\n"
+       "on) read the type's bit length as UNSIGNED32. Entries 0008h-001Bh and those named\n"
+       "\"(host builds)\" exist in the Linux build (mb2co-node) only, not on the Uno\n"
+       "(its flash: MB2CO_OD_WIDE_TYPES), whose entries are all of the first seven types\n"
+       "and VISIBLE_STRING.\n\n";
   s += "| index | sub | name | type | access | PDO | saved | default |\n";
   s += "|---|---|---|---|---|---|---|---|\n";
   for (uint16_t r = 0; r < od.row_count(); ++r) {
     const OdEntry e = od.entry(r);
     s += "| " + hex(e.index, 4) + "h | " + hex(e.sub, 2) + " | " + name_of(od, r) + " | " +
-         type_name(e.type) + " | " + access(e) + " | " + ((e.attr & canopen::kAttrPdo) ? "yes" : "") + " | " +
-         (canopen::param_is_saved(od, r) ? "yes" : "") + " | " + default_text(od, r, false) + " |\n";
+         type_name(e.data_type()) + " | " + access(e) + " | " + ((e.attr & canopen::kAttrPdo) ? "yes" : "") +
+         " | " + (canopen::param_is_saved(od, r) ? "yes" : "") + " | " + default_text(od, r, false) + " |\n";
   }
   return s;
 }
@@ -185,7 +212,7 @@ std::string od_eds(const ObjectDictionary& od, const std::string& product) {
       s += "]\nParameterName=";
       s += name;
       s += "\nObjectType=0x7\n";
-      s += "DataType=0x" + hex(e.type, 4) + "\nAccessType=" + access(e) + "\n";
+      s += "DataType=0x" + hex(e.data_type(), 4) + "\nAccessType=" + access(e) + "\n";
       s += "DefaultValue=" + default_text(od, row, true) + "\n" + limit_lines(od, row);
       s += std::string("PDOMapping=") + ((e.attr & canopen::kAttrPdo) ? "1" : "0") + "\n\n";
     };
@@ -208,12 +235,22 @@ std::string register_map_markdown(const ObjectDictionary& od) {
        "themselves (PDO mapping format: index, sub-index, length in bits), readable and\n"
        "writable by SDO; this table shows the defaults.\n\n"
        "Addresses are PDU addresses (0-based; mbpoll needs `-0`, most PLC tools add 1).\n"
-       "An entry of up to 16 bits is one register; a 32-bit entry is two registers, high word\n"
-       "first, and is written only whole (both registers in one FC 10h/17h request).\n"
+       "An entry takes one register per 16 bits, high word first: up to 16 bits one register,\n"
+       "24 and 32 bits two, 40 and 48 bits three, 56 and 64 bits four (a 24-, 40- or 56-bit\n"
+       "value is right-aligned: the padding byte at the top reads 0 and must be written 0).\n"
+       "REAL32 is two registers holding its IEEE 754 bits, REAL64 four, in the same order:\n"
+       "-1234.5625 (C49A5200h) reads C49Ah 5200h. A VISIBLE_STRING or OCTET_STRING of n\n"
+       "characters is a run of (n + 1) / 2 registers, two characters each, the first in the\n"
+       "high byte (a VISIBLE_STRING ends at its first 0). An entry of several registers is\n"
+       "written only whole (all its registers in one FC 10h/17h request), and a request\n"
+       "is checked whole before any of it is stored. On the Arduino Uno only entries of up\n"
+       "to 32 bits can be mapped; the Linux build (mb2co-node) maps them all, and its default\n"
+       "map holds the process values of 2500h (REAL32 and UNSIGNED64), which the Uno's OD\n"
+       "does not have.\n"
        "Coils and discrete inputs are bit 0 of an 8-bit entry.\n\n"
        "Exceptions: 01 unknown function; 03 bad quantity or malformed request; 02 an address\n"
-       "that is unmapped, beyond the map, or not writable (read-only OD entry, half of a\n"
-       "32-bit value); 04 a value the OD refuses (out of the entry's limits, refused by the\n"
+       "that is unmapped, beyond the map, or not writable (read-only OD entry, part of a\n"
+       "value of several registers); 04 a value the OD refuses (out of the entry's limits, refused by the\n"
        "owning service). A write of several registers or coils is checked whole before any\n"
        "of it is carried out: a refused one changes nothing (no value, no save, no reset, no\n"
        "acknowledged stop). 06 busy: not in the present state, try again (SDO abort\n"
@@ -270,7 +307,7 @@ std::string register_map_markdown(const ObjectDictionary& od) {
                 {0x2403, "Discrete inputs (FC 02)", false}};
   for (const auto& t : tables) {
     s += std::string("\n## ") + t.title +
-         "\n\n| address | OD entry | bits | access | meaning |\n|---|---|---|---|---|\n";
+         "\n\n| address | OD entry | bits | type | access | meaning |\n|---|---|---|---|---|---|\n";
     const uint16_t row0 = od.find(t.index, 0);
     const uint32_t count = od.get(row0);
     uint32_t at = 0;
@@ -279,17 +316,18 @@ std::string register_map_markdown(const ObjectDictionary& od) {
       const uint16_t index = static_cast<uint16_t>(entry >> 16);
       const uint8_t sub = static_cast<uint8_t>(entry >> 8);
       const uint8_t bits = static_cast<uint8_t>(entry);
-      const uint32_t width = (t.registers && bits == 32) ? 2 : 1;
+      // One register per 16 bits (OdRegisterBank).
+      const uint32_t width = (t.registers && entry != 0 && bits > 16) ? (bits + 15u) / 16u : 1;
       const std::string addr =
-          width == 2 ? std::to_string(at) + "-" + std::to_string(at + 1) : std::to_string(at);
+          width >= 2 ? std::to_string(at) + "-" + std::to_string(at + width - 1) : std::to_string(at);
       if (entry == 0) {
-        s += "| " + addr + " | - | - | - | unmapped |\n";
+        s += "| " + addr + " | - | - | - | - | unmapped |\n";
       } else {
         const uint16_t row = od.find(index, sub);
         const OdEntry e = od.entry(row);
         const bool writable = (e.attr & canopen::kAttrWrite) != 0;
         s += "| " + addr + " | " + hex(index, 4) + "h/" + hex(sub, 2) + " | " + std::to_string(bits) + " | " +
-             (writable ? "rw" : "ro") + " | " + name_of(od, row) + " |\n";
+             type_name(e.data_type()) + " | " + (writable ? "rw" : "ro") + " | " + name_of(od, row) + " |\n";
       }
       at += width;
     }

@@ -40,7 +40,8 @@ void scan_map(const canopen::ObjectDictionary& od, uint16_t map_index, RegTable 
     const uint16_t index = static_cast<uint16_t>(entry >> 16);
     const uint8_t sub = static_cast<uint8_t>(entry >> 8);
     const uint8_t bits = static_cast<uint8_t>(entry);
-    const uint8_t width = bits == 32 ? 2 : 1;
+    // One register per 16 bits, as the gateway lays them out (OdRegisterBank).
+    const uint8_t width = static_cast<uint8_t>(entry != 0 && bits > 16 ? (bits + 15) / 16 : 1);
     bool rw = false;
     if (entry != 0) {
       const uint16_t target = od.find(index, sub);

@@ -11,9 +11,32 @@ namespace canopen {
 #error "mb2co keeps OD values in little-endian order and reads them natively"
 #endif
 
+// Per DataType code: bytes of a numeric value (low nibble; 0 for the
+// byte-run types, sized by their capacity) and the OdTypeKind (high
+// nibble). One flash byte per code, read on every value access.
+#define MB2CO_OD_TYPE_INFO(t) \
+  static_cast<uint8_t>((od_type_is_bytes(t) ? 0 : (od_type_bit_length(t) + 7) / 8) | (od_type_kind(t) << 4))
+static const uint8_t kOdTypeInfo[kOdTypeCount] MB2CO_FLASH = {
+    MB2CO_OD_TYPE_INFO(0x00), MB2CO_OD_TYPE_INFO(0x01), MB2CO_OD_TYPE_INFO(0x02), MB2CO_OD_TYPE_INFO(0x03),
+    MB2CO_OD_TYPE_INFO(0x04), MB2CO_OD_TYPE_INFO(0x05), MB2CO_OD_TYPE_INFO(0x06), MB2CO_OD_TYPE_INFO(0x07),
+    MB2CO_OD_TYPE_INFO(0x08), MB2CO_OD_TYPE_INFO(0x09), MB2CO_OD_TYPE_INFO(0x0A), MB2CO_OD_TYPE_INFO(0x0B),
+    MB2CO_OD_TYPE_INFO(0x0C), MB2CO_OD_TYPE_INFO(0x0D), MB2CO_OD_TYPE_INFO(0x0E), MB2CO_OD_TYPE_INFO(0x0F),
+    MB2CO_OD_TYPE_INFO(0x10), MB2CO_OD_TYPE_INFO(0x11), MB2CO_OD_TYPE_INFO(0x12), MB2CO_OD_TYPE_INFO(0x13),
+    MB2CO_OD_TYPE_INFO(0x14), MB2CO_OD_TYPE_INFO(0x15), MB2CO_OD_TYPE_INFO(0x16), MB2CO_OD_TYPE_INFO(0x17),
+    MB2CO_OD_TYPE_INFO(0x18), MB2CO_OD_TYPE_INFO(0x19), MB2CO_OD_TYPE_INFO(0x1A), MB2CO_OD_TYPE_INFO(0x1B),
+    MB2CO_OD_TYPE_INFO(0x1C), MB2CO_OD_TYPE_INFO(0x1D), MB2CO_OD_TYPE_INFO(0x1E), MB2CO_OD_TYPE_INFO(0x1F)};
+#undef MB2CO_OD_TYPE_INFO
+
 ObjectDictionary::ObjectDictionary(const OdDefinition& def, uint8_t* values)
-    : def_(def), values_(values), hook_(nullptr), hook_ctx_(nullptr), revision_(0), node_id_(0) {
-  for (uint8_t t = 0; t <= kUnsigned32; ++t) type_bytes_[t] = static_cast<uint8_t>((type_bits(t) + 7) / 8);
+    : def_(def), values_(values), hook_(nullptr), hook_ctx_(nullptr), revision_(0), node_id_(0) {}
+
+uint8_t ObjectDictionary::row_type(const OdRow* e) {
+  const uint8_t low = flash_read(reinterpret_cast<const uint8_t*>(e) + kOdEntryTypeHookOffset) & 0x0F;
+  return (loc_word(e) & ~kOdLocMask) ? static_cast<uint8_t>(low | 0x10) : low;
+}
+
+uint8_t ObjectDictionary::numeric_size(const OdRow* e) const {
+  return flash_read(&kOdTypeInfo[row_type(e)]) & 0x0F;
 }
 
 uint32_t ObjectDictionary::def_at(const OdRow* e) const {
@@ -85,7 +108,7 @@ bool ObjectDictionary::has_index(uint16_t index) const {
 }
 
 uint8_t ObjectDictionary::type_bits(uint8_t type) const {
-  const uint16_t r = type == 0 || type > kUnsigned32 ? kNoRow : find(type, 0);
+  const uint16_t r = type == 0 || type >= kOdTypeCount ? kNoRow : find(type, 0);
   return r == kNoRow ? 0 : static_cast<uint8_t>(def_at(&def_.rows[r]));
 }
 
@@ -101,12 +124,18 @@ uint16_t ObjectDictionary::size_of(uint16_t row) const {
   return string_length(row);
 }
 
+// A VISIBLE_STRING ends at its first NUL; OCTET_STRING, UNICODE_STRING
+// and DOMAIN are always their whole capacity (fixed length: a row holds no
+// length of its own).
 uint16_t ObjectDictionary::string_length(uint16_t row) const {
   const OdRow* e = &def_.rows[row];
   const uint8_t a = flash_read(&e->attr);
   const uint32_t def = def_at(e);
   const uint16_t cap = static_cast<uint16_t>(def >> 16);
   uint16_t n = 0;
+  // (byte-run types are below 10h: the type's low nibble is all of it)
+  if ((flash_read(reinterpret_cast<const uint8_t*>(e) + kOdEntryTypeHookOffset) & 0x0F) != kVisibleString)
+    return cap;
   if (a & kAttrRam) {
     const uint8_t* p = value_at(e);
     while (n < cap && p[n] != 0) ++n;
@@ -139,12 +168,9 @@ uint32_t ObjectDictionary::get(uint16_t row) const {
     memcpy(&v, p, 2);
     return v;
   }
-  if (n == 4) {
-    uint32_t v;
-    memcpy(&v, p, 4);
-    return v;
-  }
-  return 0;
+  uint32_t v = 0;
+  memcpy(&v, p, n < 4 ? n : 4);  // 3, 4, or the low bytes of a wider value
+  return v;
 }
 
 bool ObjectDictionary::set(uint16_t row, uint32_t value) {
@@ -240,30 +266,32 @@ SdoAbort ObjectDictionary::check_write(uint16_t index, uint8_t sub, uint16_t* ro
 }
 
 SdoAbort ObjectDictionary::check_limits(const OdEntry& e, const uint8_t* data, uint16_t len) const {
-  if (e.type == kBoolean && data[0] > 1) return kAbortInvalidValue;
+  const uint8_t type = e.data_type();
+  if (type == kBoolean && data[0] > 1) return kAbortInvalidValue;
   for (uint8_t i = 0; i < def_.limit_count; ++i) {
     // Single fields from flash: most limits are not this entry's.
     const OdLimit* lim = &def_.limits[i];
     if (flash_read(&lim->index) != e.index || flash_read(&lim->sub) != e.sub) continue;
-    // The value as the data type reads it: sign- or zero-extended from `len`
-    // bytes. Limits are 32-bit signed, so an unsigned value above INT32_MAX
-    // is above every maximum (32-bit arithmetic: no 64-bit code on the AVR).
-    const bool is_signed = e.type == kInteger8 || e.type == kInteger16 || e.type == kInteger32;
-    // Extension by a fill byte, then the value over it (little-endian, like
-    // both targets), with the single-field reads above.
-    uint8_t bytes[4];
-    memset(bytes, is_signed && len > 0 && len < 4 && (data[len - 1] & 0x80) ? 0xFF : 0x00, 4);
-    memcpy(bytes, data, len < 4 ? len : 4);
-    uint32_t u;
-    memcpy(&u, bytes, 4);
-    if (!is_signed && u > 0x7FFFFFFFu) return kAbortValueTooHigh;
-    const int32_t v = static_cast<int32_t>(u);
-    if (v < static_cast<int32_t>(flash_read(reinterpret_cast<const uint32_t*>(&lim->min)))) {
-      return kAbortValueTooLow;
-    }
-    if (v > static_cast<int32_t>(flash_read(reinterpret_cast<const uint32_t*>(&lim->max)))) {
-      return kAbortValueTooHigh;
-    }
+    // The value as the limits read it (OdLimitValue, 32 bits on the AVR: no
+    // 64-bit code there; od_define.h checks that no limited entry is wider):
+    // sign- or zero-extended from `len` bytes; a REAL as its ordered key
+    // (od_real_limit: the magnitude, negated for a negative real).
+    const uint8_t kind = static_cast<uint8_t>(flash_read(&kOdTypeInfo[type]) >> 4);
+    const bool negative = kind != kKindUnsigned && (data[len - 1] & 0x80);
+    uint8_t bytes[sizeof(OdLimitValue)];
+    memset(bytes, kind == kKindSigned && negative ? 0xFF : 0x00, sizeof bytes);
+    memcpy(bytes, data, len);  // little-endian, like both targets
+    if (kind == kKindReal) bytes[len - 1] &= 0x7F;
+    OdLimitValue v;
+    memcpy(&v, bytes, sizeof v);
+    // An unsigned value above the signed maximum is above every maximum.
+    if (kind == kKindUnsigned && v < 0) return kAbortValueTooHigh;
+    if (kind == kKindReal && negative) v = -v;
+    OdLimitValue bound;
+    flash_copy(&bound, &lim->min, sizeof bound);
+    if (v < bound) return kAbortValueTooLow;
+    flash_copy(&bound, &lim->max, sizeof bound);
+    if (v > bound) return kAbortValueTooHigh;
   }
   return kSdoOk;
 }
@@ -289,7 +317,8 @@ SdoAbort ObjectDictionary::write_row(uint16_t r, const uint8_t* data, uint16_t l
   const OdEntry e = entry(r);
   const uint16_t cap = capacity_of(r);
   if (len > cap) return kAbortTooLong;
-  if (!(e.attr & kAttrString) && len < cap) return kAbortTooShort;
+  // Every type but VISIBLE_STRING has its fixed length (string_length()).
+  if (len < cap && e.data_type() != kVisibleString) return kAbortTooShort;
   if (!(e.attr & kAttrString)) {
     const SdoAbort abort = check_limits(e, data, len);
     if (abort != kSdoOk) return abort;

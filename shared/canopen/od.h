@@ -95,9 +95,12 @@ class ObjectDictionary {
     return static_cast<uint8_t>(
         flash_read(reinterpret_cast<const uint8_t*>(&def_.rows[row]) + kOdEntryTypeHookOffset) >> 4);
   }
-  /// Bit length of a numeric data type, read from data-type entries
-  /// 0001h–0007h of this very OD (0 when the type has no such entry).
+  /// Bit length of a data type, read from its data-type entry (0001h–001Fh)
+  /// of this very OD (0 when the OD has no such entry): what a dummy
+  /// mapping entry must name.
   uint8_t type_bits(uint8_t type) const;
+  /// DataType of a row (5 bits: od_types.h).
+  uint8_t type_of(uint16_t row) const { return row_type(&def_.rows[row]); }
   /// Current size in bytes: numeric types from their data-type entry, strings
   /// their current text length.
   uint16_t size_of(uint16_t row) const;
@@ -128,10 +131,12 @@ class ObjectDictionary {
   }
 
   // ---- local access by the device itself (no rights, no hooks) -------------
-  /// Numeric value of a row, zero-extended (sign bits kept as stored).
+  /// Numeric value of a row, zero-extended (sign bits kept as stored); of a
+  /// row wider than 32 bits the low 32 bits (copy_out() has all of them).
   uint32_t get(uint16_t row) const;
-  /// Stores a numeric value into a RAM row (truncated to its size). Returns
-  /// true when the stored bytes changed.
+  /// Stores a numeric value into a RAM row (truncated to its size; a row
+  /// wider than 32 bits gets zeros above them). Returns true when the
+  /// stored bytes changed.
   bool set(uint16_t row, uint32_t value);
   /// Raw bytes of a RAM row (nullptr for const rows).
   uint8_t* ram(uint16_t row);
@@ -186,12 +191,16 @@ class ObjectDictionary {
   __attribute__((noinline)) uint32_t constant_at(const OdRow* e) const;
   /// Current text length of a string row (RAM or flash), at most its capacity.
   uint16_t string_length(uint16_t row) const;
-  /// Bytes of a numeric row's value (0 for a type without a size entry).
-  MB2CO_INLINE uint8_t numeric_size(const OdRow* e) const {
-    const uint8_t type = flash_read(reinterpret_cast<const uint8_t*>(e) + kOdEntryTypeHookOffset) & 0x0F;
-    return type <= kUnsigned32 ? type_bytes_[type] : static_cast<uint8_t>(0);
+  /// The word of `loc` and `type_high` (od_types.h), read from flash.
+  MB2CO_INLINE static uint16_t loc_word(const OdRow* e) {
+    return flash_read(
+        reinterpret_cast<const uint16_t*>(reinterpret_cast<const uint8_t*>(e) + kOdEntryLocOffset));
   }
-  MB2CO_INLINE uint8_t* value_at(const OdRow* e) const { return values_ + flash_read(&e->loc); }
+  /// DataType of a row (its 5 bits from two bytes of flash).
+  static uint8_t row_type(const OdRow* e);
+  /// Bytes of a numeric row's value (kOdTypeInfo; 0 for a byte-run type).
+  uint8_t numeric_size(const OdRow* e) const;
+  MB2CO_INLINE uint8_t* value_at(const OdRow* e) const { return values_ + (loc_word(e) & kOdLocMask); }
   SdoAbort check_limits(const OdEntry& e, const uint8_t* data, uint16_t len) const;
   /// Copies a value into its row; `tracked` false: no revision change (a
   /// check step's value, put back before anything reads it).
@@ -199,10 +208,6 @@ class ObjectDictionary {
 
   const OdDefinition& def_;
   uint8_t* values_;
-  /// Byte sizes of types 0001h–0007h, from the bit lengths in this OD's own
-  /// data-type entries, read once (they are const): sizing is on every value
-  /// access.
-  uint8_t type_bytes_[kUnsigned32 + 1];
   OdWriteHook hook_;
   void* hook_ctx_;
   uint16_t revision_;

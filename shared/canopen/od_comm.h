@@ -23,6 +23,30 @@ const uint32_t kLoadSignature = 0x64616F6Cu;  ///< "load" (1011h)
 
 // Data-type entries: their value is the bit length; the OD sizes entries with
 // them (seed 000 §2.2). 0002h–0007h double as dummy-mapping objects.
+// Data-type entries of the other CiA 301 basic types (bit lengths; strings
+// and DOMAIN by their unit), host builds only (MB2CO_OD_WIDE_TYPES: the
+// Uno's flash); not mappable (dummies are 0002h-0007h).
+#define MB2CO_OD_DATA_TYPE_ROW(N, index, id, type, name) \
+  N(index, 0, id, U32, CONST, 0, kHookNone, ::mb2co::canopen::od_type_bit_length(type), name)
+#define MB2CO_OD_DATA_TYPES_WIDE(N, S) MB2CO_OD_WIDE(                                                   \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x0008, x0008_0_real32, kReal32, "REAL32")                                \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x0009, x0009_0_visibleString, kVisibleString, "VISIBLE_STRING")          \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x000A, x000A_0_octetString, kOctetString, "OCTET_STRING")                \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x000B, x000B_0_unicodeString, kUnicodeString, "UNICODE_STRING")          \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x000C, x000C_0_timeOfDay, kTimeOfDay, "TIME_OF_DAY")                     \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x000D, x000D_0_timeDifference, kTimeDifference, "TIME_DIFFERENCE")       \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x000F, x000F_0_domain, kDomain, "DOMAIN")                                \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x0010, x0010_0_integer24, kInteger24, "INTEGER24")                       \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x0011, x0011_0_real64, kReal64, "REAL64")                                \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x0012, x0012_0_integer40, kInteger40, "INTEGER40")                       \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x0013, x0013_0_integer48, kInteger48, "INTEGER48")                       \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x0014, x0014_0_integer56, kInteger56, "INTEGER56")                       \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x0015, x0015_0_integer64, kInteger64, "INTEGER64")                       \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x0016, x0016_0_unsigned24, kUnsigned24, "UNSIGNED24")                    \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x0018, x0018_0_unsigned40, kUnsigned40, "UNSIGNED40")                    \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x0019, x0019_0_unsigned48, kUnsigned48, "UNSIGNED48")                    \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x001A, x001A_0_unsigned56, kUnsigned56, "UNSIGNED56")                    \
+  MB2CO_OD_DATA_TYPE_ROW(N, 0x001B, x001B_0_unsigned64, kUnsigned64, "UNSIGNED64"))
 #define MB2CO_OD_DATA_TYPES(N, S)                                                                                 \
   N(0x0001, 0, x0001_0_boolean, U32, CONST, 0, kHookNone, 1, "BOOLEAN")                                           \
   N(0x0002, 0, x0002_0_integer8, U32, CONST, kAttrPdo, kHookNone, 8, "INTEGER8")                                  \
@@ -31,6 +55,7 @@ const uint32_t kLoadSignature = 0x64616F6Cu;  ///< "load" (1011h)
   N(0x0005, 0, x0005_0_unsigned8, U32, CONST, kAttrPdo, kHookNone, 8, "UNSIGNED8")                                \
   N(0x0006, 0, x0006_0_unsigned16, U32, CONST, kAttrPdo, kHookNone, 16, "UNSIGNED16")                             \
   N(0x0007, 0, x0007_0_unsigned32, U32, CONST, kAttrPdo, kHookNone, 32, "UNSIGNED32")                             \
+  MB2CO_OD_DATA_TYPES_WIDE(N, S)                                                                                  \
   N(0x0020, 0, x0020_0_highestSubIndex, U8, CONST, 0, kHookNone, 6, "PDO_COMM_PAR: highest sub-index")            \
   N(0x0020, 1, x0020_1_cobIdType, U16, CONST, 0, kHookNone, 0x0007, "COB-ID type")                                \
   N(0x0020, 2, x0020_2_transmissionTypeType, U16, CONST, 0, kHookNone, 0x0005, "transmission type type")          \

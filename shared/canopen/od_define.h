@@ -9,11 +9,21 @@
 //       id:     the entry's identifier, x<index>_<sub>_<what it holds> in the
 //               style of CANopenNode (x2100_2_runState); a static_assert
 //               checks that it begins with this row's index and sub-index
-//       type:   BOOL U8 U16 U32 I8 I16 I32
+//       type:   BOOL U8 U16 U24 U32 U40 U48 U56 U64 I8 I16 I24 I32 I40 I48 I56
+//               I64 REAL32 REAL64 TIME_OF_DAY TIME_DIFFERENCE (od_types.h);
+//               a CONST row is at most 32 bits. `default` is a number; of a
+//               REAL32 row the float itself (its IEEE bits are stored); of a
+//               row wider than 32 bits its low 32 bits (the rest zero).
 //       access: CONST (value in the row, no RAM), RO, WO, RW
 //       flags:  0 or OdAttr bits (kAttrPdo, kAttrNodeId, kAttrCommand)
 //   S(index, sub, id, access, hook, capacity, "default text", "name")
-// Limits are a second list: L(index, sub, min, max).
+//       a VISIBLE_STRING of `capacity` characters; MB2CO_OD_OCTETS(n),
+//       MB2CO_OD_UNICODE(n) (n characters, 2n bytes) or MB2CO_OD_DOMAIN(n)
+//       as the capacity make it an OCTET_STRING, UNICODE_STRING or DOMAIN of
+//       that many bytes (OCTET_STRING and DOMAIN always have all of them).
+// Limits are a second list: L(index, sub, min, max) (OdLimitValue; of a
+// REAL32 entry od_real32_limit(min), od_real32_limit(max)). On the AVR a
+// limited entry is at most 32 bits wide (a static_assert checks).
 // Rows must be written in ascending (index, sub) order: a static_assert checks.
 //
 // The identifier names, for every OD `Name` (MB2CO_OD_DECLARE):
@@ -68,6 +78,27 @@ struct OdDefault {
   uint8_t sub;
   uint32_t value;
 };
+
+/// Value-block member of a type no C type has (24/40/48/56-bit integers,
+/// TIME_OF_DAY, TIME_DIFFERENCE): its bytes, little-endian as on the bus.
+template <uint8_t kBytes>
+struct OdRaw {
+  uint8_t bytes[kBytes];
+  bool operator==(const OdRaw& o) const {
+    for (uint8_t i = 0; i < kBytes; ++i) {
+      if (bytes[i] != o.bytes[i]) return false;
+    }
+    return true;
+  }
+  bool operator!=(const OdRaw& o) const { return !(*this == o); }
+};
+/// REAL64 in a value block: a double on the host; the AVR's double has 32
+/// bits, so there its 8 bytes as they are.
+#ifdef __AVR__
+typedef OdRaw<8> OdReal64;
+#else
+typedef double OdReal64;
+#endif
 
 class ObjectDictionary;
 
@@ -126,6 +157,20 @@ constexpr bool od_rows_sorted(const OdRow* rows, uint16_t count) {
   for (uint16_t i = 1; i < count; ++i) {
     if (rows[i - 1].index > rows[i].index) return false;
     if (rows[i - 1].index == rows[i].index && rows[i - 1].sub >= rows[i].sub) return false;
+  }
+  return true;
+}
+
+/// True when every limit names a row no wider than OdLimitValue (the
+/// AVR's 32 bits: check_limits reads the value into one).
+constexpr bool od_limits_fit(const OdRow* rows, uint16_t count, const OdLimit* limits, uint16_t limit_count) {
+  for (uint16_t i = 0; i < limit_count; ++i) {
+    for (uint16_t r = 0; r < count; ++r) {
+      if (rows[r].index == limits[i].index && rows[r].sub == limits[i].sub &&
+          (od_type_bit_length(rows[r].data_type()) + 7u) / 8u > sizeof(OdLimitValue)) {
+        return false;
+      }
+    }
   }
   return true;
 }
@@ -189,6 +234,20 @@ constexpr uint8_t od_default_slot(const OdDefaultPool<kCount>& pool, uint32_t va
 #define MB2CO_OD_CTYPE_I8 int8_t
 #define MB2CO_OD_CTYPE_I16 int16_t
 #define MB2CO_OD_CTYPE_I32 int32_t
+#define MB2CO_OD_CTYPE_U24 ::mb2co::canopen::OdRaw<3>
+#define MB2CO_OD_CTYPE_U40 ::mb2co::canopen::OdRaw<5>
+#define MB2CO_OD_CTYPE_U48 ::mb2co::canopen::OdRaw<6>
+#define MB2CO_OD_CTYPE_U56 ::mb2co::canopen::OdRaw<7>
+#define MB2CO_OD_CTYPE_U64 uint64_t
+#define MB2CO_OD_CTYPE_I24 ::mb2co::canopen::OdRaw<3>
+#define MB2CO_OD_CTYPE_I40 ::mb2co::canopen::OdRaw<5>
+#define MB2CO_OD_CTYPE_I48 ::mb2co::canopen::OdRaw<6>
+#define MB2CO_OD_CTYPE_I56 ::mb2co::canopen::OdRaw<7>
+#define MB2CO_OD_CTYPE_I64 int64_t
+#define MB2CO_OD_CTYPE_REAL32 float
+#define MB2CO_OD_CTYPE_REAL64 ::mb2co::canopen::OdReal64
+#define MB2CO_OD_CTYPE_TIME_OF_DAY ::mb2co::canopen::OdRaw<6>
+#define MB2CO_OD_CTYPE_TIME_DIFFERENCE ::mb2co::canopen::OdRaw<6>
 #define MB2CO_OD_DT_BOOL ::mb2co::canopen::kBoolean
 #define MB2CO_OD_DT_U8 ::mb2co::canopen::kUnsigned8
 #define MB2CO_OD_DT_U16 ::mb2co::canopen::kUnsigned16
@@ -196,18 +255,51 @@ constexpr uint8_t od_default_slot(const OdDefaultPool<kCount>& pool, uint32_t va
 #define MB2CO_OD_DT_I8 ::mb2co::canopen::kInteger8
 #define MB2CO_OD_DT_I16 ::mb2co::canopen::kInteger16
 #define MB2CO_OD_DT_I32 ::mb2co::canopen::kInteger32
+#define MB2CO_OD_DT_U24 ::mb2co::canopen::kUnsigned24
+#define MB2CO_OD_DT_U40 ::mb2co::canopen::kUnsigned40
+#define MB2CO_OD_DT_U48 ::mb2co::canopen::kUnsigned48
+#define MB2CO_OD_DT_U56 ::mb2co::canopen::kUnsigned56
+#define MB2CO_OD_DT_U64 ::mb2co::canopen::kUnsigned64
+#define MB2CO_OD_DT_I24 ::mb2co::canopen::kInteger24
+#define MB2CO_OD_DT_I40 ::mb2co::canopen::kInteger40
+#define MB2CO_OD_DT_I48 ::mb2co::canopen::kInteger48
+#define MB2CO_OD_DT_I56 ::mb2co::canopen::kInteger56
+#define MB2CO_OD_DT_I64 ::mb2co::canopen::kInteger64
+#define MB2CO_OD_DT_REAL32 ::mb2co::canopen::kReal32
+#define MB2CO_OD_DT_REAL64 ::mb2co::canopen::kReal64
+#define MB2CO_OD_DT_TIME_OF_DAY ::mb2co::canopen::kTimeOfDay
+#define MB2CO_OD_DT_TIME_DIFFERENCE ::mb2co::canopen::kTimeDifference
 #define MB2CO_OD_ACC_CONST (::mb2co::canopen::kAttrRead | ::mb2co::canopen::kAttrConst)
 #define MB2CO_OD_ACC_RO (::mb2co::canopen::kAttrRead | ::mb2co::canopen::kAttrRam)
 #define MB2CO_OD_ACC_WO (::mb2co::canopen::kAttrWrite | ::mb2co::canopen::kAttrRam)
 #define MB2CO_OD_ACC_RW \
   (::mb2co::canopen::kAttrRead | ::mb2co::canopen::kAttrWrite | ::mb2co::canopen::kAttrRam)
-#define MB2CO_OD_BITS_BOOL 1
-#define MB2CO_OD_BITS_U8 8
-#define MB2CO_OD_BITS_U16 16
-#define MB2CO_OD_BITS_U32 32
-#define MB2CO_OD_BITS_I8 8
-#define MB2CO_OD_BITS_I16 16
-#define MB2CO_OD_BITS_I32 32
+// Bit length as a map entry names it: BOOLEAN 1, every other its type's.
+#define MB2CO_OD_BITS(type) \
+  (MB2CO_OD_DT_##type == ::mb2co::canopen::kBoolean ? 1 : ::mb2co::canopen::od_type_bit_length(MB2CO_OD_DT_##type))
+// A numeric row's default as its 32 stored bits: a REAL32's IEEE bits.
+#define MB2CO_OD_DEFBITS(type, def)                                                                      \
+  (MB2CO_OD_DT_##type == ::mb2co::canopen::kReal32 ? ::mb2co::canopen::od_real32_bits(static_cast<float>(def)) \
+                                                   : static_cast<uint32_t>(def))
+// The 5-bit DataType in the row's two places (OdRow).
+#define MB2CO_OD_TYPE_LOW(dt) static_cast<uint8_t>((dt) & 0x0F)
+#define MB2CO_OD_TYPE_HIGH(dt) static_cast<uint16_t>(((dt) >> 4) & 1)
+// A string row's capacity column: bytes in bits 0-11, kind in bits 12-13.
+#define MB2CO_OD_OCTETS(n) ((n) | 0x1000)
+#define MB2CO_OD_UNICODE(n) ((2 * (n)) | 0x2000)
+#define MB2CO_OD_DOMAIN(n) ((n) | 0x3000)
+#define MB2CO_OD_CAP_BYTES(cap) ((cap) & 0x0FFF)
+#define MB2CO_OD_CAP_TYPE(cap)                                                                 \
+  (((cap) >> 12) == 1   ? ::mb2co::canopen::kOctetString                                      \
+   : ((cap) >> 12) == 2 ? ::mb2co::canopen::kUnicodeString                                    \
+   : ((cap) >> 12) == 3 ? ::mb2co::canopen::kDomain                                           \
+                        : ::mb2co::canopen::kVisibleString)
+// Rows that only host builds have (MB2CO_OD_WIDE_TYPES, od_types.h).
+#if MB2CO_OD_WIDE_TYPES
+#define MB2CO_OD_WIDE(...) __VA_ARGS__
+#else
+#define MB2CO_OD_WIDE(...)
+#endif
 
 // RAM value block members, named by the identifier column: nothing for
 // CONST rows; PdoMapped<T> for the PDO-mappable ones.
@@ -220,7 +312,7 @@ constexpr uint8_t od_default_slot(const OdDefaultPool<kCount>& pool, uint32_t va
 #define MB2CO_OD_N_VALUE(index, sub, id, type, access, flags, hook, def, name) \
   MB2CO_OD_VAL_##access(type, flags, id)
 #define MB2CO_OD_SVAL_CONST(id, cap)
-#define MB2CO_OD_SVAL_RO(id, cap) char id[cap];
+#define MB2CO_OD_SVAL_RO(id, cap) char id[MB2CO_OD_CAP_BYTES(cap)];
 #define MB2CO_OD_SVAL_WO MB2CO_OD_SVAL_RO
 #define MB2CO_OD_SVAL_RW MB2CO_OD_SVAL_RO
 #define MB2CO_OD_S_VALUE(index, sub, id, access, hook, cap, text, name) \
@@ -231,12 +323,16 @@ constexpr uint8_t od_default_slot(const OdDefaultPool<kCount>& pool, uint32_t va
   constexpr ::mb2co::canopen::OdKey id = {index, sub, bits};                \
   static_assert(::mb2co::canopen::od_id_matches(#id, index, sub),           \
                 #id ": an identifier begins with x<index>_<sub>_ of its row");
-#define MB2CO_OD_N_KEY(index, sub, id, type, access, flags, hook, def, name) \
-  MB2CO_OD_KEY(index, sub, id, MB2CO_OD_BITS_##type)
+#define MB2CO_OD_N_KEY(index, sub, id, type, access, flags, hook, def, name)                       \
+  MB2CO_OD_KEY(index, sub, id, MB2CO_OD_BITS(type))                                               \
+  static_assert(sizeof(MB2CO_OD_CTYPE_##type) * 8 == (MB2CO_OD_BITS(type) + 7) / 8 * 8,           \
+                #id ": its value block member has its type's size");                              \
+  static_assert(MB2CO_OD_ACC_##access != MB2CO_OD_ACC_CONST || MB2CO_OD_BITS(type) <= 32,         \
+                #id ": a CONST row holds at most 32 bits");
 #define MB2CO_OD_S_KEY(index, sub, id, access, hook, cap, text, name) MB2CO_OD_KEY(index, sub, id, 0)
 
 // Default table rows (numeric rows only).
-#define MB2CO_OD_N_DEF(index, sub, id, type, access, flags, hook, def, name) {index, sub, static_cast<uint32_t>(def)},
+#define MB2CO_OD_N_DEF(index, sub, id, type, access, flags, hook, def, name) {index, sub, MB2CO_OD_DEFBITS(type, def)},
 #define MB2CO_OD_S_DEF(index, sub, id, access, hook, cap, text, name)
 
 // String pool members and initialisers.
@@ -251,7 +347,7 @@ constexpr uint8_t od_default_slot(const OdDefaultPool<kCount>& pool, uint32_t va
 #define MB2CO_OD_LOC_RW MB2CO_OD_LOC_RO
 // Strings: CONST capacity is the default's length.
 #define MB2CO_OD_SCAP_CONST(cap, text) (sizeof(text) - 1)
-#define MB2CO_OD_SCAP_RO(cap, text) (cap)
+#define MB2CO_OD_SCAP_RO(cap, text) MB2CO_OD_CAP_BYTES(cap)
 #define MB2CO_OD_SCAP_WO MB2CO_OD_SCAP_RO
 #define MB2CO_OD_SCAP_RW MB2CO_OD_SCAP_RO
 
@@ -260,18 +356,19 @@ constexpr uint8_t od_default_slot(const OdDefaultPool<kCount>& pool, uint32_t va
   ((static_cast<uint32_t>(MB2CO_OD_SCAP_##access(cap, text)) << 16) |   \
    static_cast<uint32_t>(offsetof(P, id)))
 #define MB2CO_OD_N_DEFAULT(P, index, sub, id, type, access, flags, hook, def, name) \
-  static_cast<uint32_t>(def),
+  MB2CO_OD_DEFBITS(type, def),
 #define MB2CO_OD_S_DEFAULT(P, index, sub, id, access, hook, cap, text, name) \
   MB2CO_OD_S_DEFVAL(P, id, access, cap, text),
-#define MB2CO_OD_N_ROW(V, P, D, index, sub, id, type, access, flags, hook, def, name)         \
-  {index, sub, MB2CO_OD_DT_##type, hook, static_cast<uint8_t>(MB2CO_OD_ACC_##access | (flags)), \
-   ::mb2co::canopen::od_default_slot(D, static_cast<uint32_t>(def)),                            \
-   static_cast<uint16_t>(MB2CO_OD_LOC_##access(V, id))},
+#define MB2CO_OD_N_ROW(V, P, D, index, sub, id, type, access, flags, hook, def, name)                     \
+  {index, sub, MB2CO_OD_TYPE_LOW(MB2CO_OD_DT_##type), hook,                                                 \
+   static_cast<uint8_t>(MB2CO_OD_ACC_##access | (flags)),                                                   \
+   ::mb2co::canopen::od_default_slot(D, MB2CO_OD_DEFBITS(type, def)),                                      \
+   static_cast<uint16_t>(MB2CO_OD_LOC_##access(V, id)), MB2CO_OD_TYPE_HIGH(MB2CO_OD_DT_##type)},
 #define MB2CO_OD_S_ROW(V, P, D, index, sub, id, access, hook, cap, text, name)                 \
-  {index, sub, ::mb2co::canopen::kVisibleString, hook,                                         \
+  {index, sub, MB2CO_OD_TYPE_LOW(MB2CO_OD_CAP_TYPE(cap)), hook,                                \
    static_cast<uint8_t>(MB2CO_OD_ACC_##access | ::mb2co::canopen::kAttrString),                \
    ::mb2co::canopen::od_default_slot(D, MB2CO_OD_S_DEFVAL(P, id, access, cap, text)),          \
-   static_cast<uint16_t>(MB2CO_OD_LOC_##access(V, id))},
+   static_cast<uint16_t>(MB2CO_OD_LOC_##access(V, id)), 0},
 #define MB2CO_OD_N_NAME(index, sub, id, type, access, flags, hook, def, name) name,
 #define MB2CO_OD_S_NAME(index, sub, id, access, hook, cap, text, name) name,
 #define MB2CO_OD_L_ROW(index, sub, lo, hi) {index, sub, lo, hi},
@@ -337,8 +434,13 @@ constexpr uint8_t od_default_slot(const OdDefaultPool<kCount>& pool, uint32_t va
       static_cast<uint16_t>(sizeof(Name##Rows) / sizeof(Name##Rows[0]));                        \
   static_assert(::mb2co::canopen::od_rows_sorted(Name##Rows, Name##RowCount),                   \
                 #Name ": OD rows must be in ascending (index, sub) order without duplicates"); \
+  static_assert(sizeof(Name##Values) <= ::mb2co::canopen::kOdLocMask,                           \
+                #Name ": a row's offset in the value block has 15 bits");                      \
   static constexpr ::mb2co::canopen::OdLimit Name##Limits[] MB2CO_FLASH = {                     \
       LIMITS(MB2CO_OD_L_ROW){0, 0, 0, 0}};                                                      \
+  static_assert(::mb2co::canopen::od_limits_fit(Name##Rows, Name##RowCount, Name##Limits,        \
+                    static_cast<uint16_t>(sizeof(Name##Limits) / sizeof(Name##Limits[0]) - 1)), \
+                #Name ": a limited entry is at most as wide as OdLimitValue");                   \
   MB2CO_OD_NAMES_TABLE(Name, LIST)                                                              \
   const ::mb2co::canopen::OdDefinition Name##Definition = {                                     \
       Name##Rows,                                                                               \

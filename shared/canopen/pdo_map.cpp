@@ -111,7 +111,8 @@ static uint16_t transfer(const ObjectDictionary& od, uint16_t row0, uint8_t* tx_
     const uint16_t row =
         map_is_dummy(entry) ? ObjectDictionary::kNoRow : od.find(map_index(entry), map_sub(entry));
     if (row != ObjectDictionary::kNoRow) {
-      uint8_t value[4] = {0, 0, 0, 0};
+      // Up to 64 bits (the widest numeric types; a PDO holds 64 bits).
+      uint8_t value[kOdMaxNumericBytes] = {0, 0, 0, 0, 0, 0, 0, 0};
       if (rx_od == nullptr) {
         od.copy_out(row, value, sizeof value);
         copy_bits(tx_data, at, value, 0, bits);
@@ -120,7 +121,8 @@ static uint16_t transfer(const ObjectDictionary& od, uint16_t row0, uint8_t* tx_
         // An entry with a write hook takes the network's path: limits and its
         // owner may refuse the value (an output under local control), which
         // is then dropped as an SDO write would be refused. PDOs have no answer.
-        if (od.hook_of(row) != kHookNone) {
+        // So does one wider than set()'s 32 bits (its limits checked too).
+        if (od.hook_of(row) != kHookNone || od.size_of(row) > 4) {
           rx_od->write_row(row, value, od.size_of(row));
         } else {
           rx_od->set(row, le32(value));

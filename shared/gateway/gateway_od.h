@@ -12,14 +12,21 @@
 namespace mb2co {
 namespace gateway {
 
-/// Capacities of the Modbus maps (sub-entries of 2400h–2403h).
-const uint8_t kHoldingMapSize = 12;
+/// Capacities of the Modbus maps (sub-entries of 2400h–2403h). Host builds
+/// map the process values of 2500h too (MB2CO_OD_WIDE_TYPES).
+const uint8_t kHoldingMapSize = MB2CO_OD_WIDE_TYPES ? 14 : 12;
 const uint8_t kInputMapSize = 21;
 const uint8_t kCoilMapSize = 2;
 const uint8_t kDiscreteMapSize = 8;
 
 #define MB2CO_MAP MB2CO_PDO_MAP_ENTRY
 #define MB2CO_GW_MAP_ENTRY(N, INDEX, SUB, ID, HOOK, DEF, NAME) N(INDEX, SUB, ID, U32, RW, 0, HOOK, DEF, NAME)
+// `wide` in host builds, `narrow` on the AVR (MB2CO_OD_WIDE_TYPES).
+#if MB2CO_OD_WIDE_TYPES
+#define MB2CO_GW_WIDE_OR(wide, narrow) wide
+#else
+#define MB2CO_GW_WIDE_OR(wide, narrow) narrow
+#endif
 
 // Default Modbus map (docs/register-map.md is generated from it).
 #define MB2CO_GATEWAY_OD(N, S)                                                                                                        \
@@ -42,8 +49,10 @@ const uint8_t kDiscreteMapSize = 8;
   MB2CO_OD_PDO_MAP4(N, 0x1A00, x1A00, kHookTpdoMap, 2, MB2CO_MAP(0x2100, 2, 8), MB2CO_MAP(0x2100, 3, 16), 0,                          \
                     0, "TPDO1 mapping")                                                                                               \
   MB2CO_OD_PDO_MAP4(N, 0x1A01, x1A01, kHookTpdoMap, 1, MB2CO_MAP(0x6000, 1, 8), 0, 0, 0, "TPDO2 mapping")                             \
-  MB2CO_OD_PDO_MAP4(N, 0x1A02, x1A02, kHookTpdoMap, 0, 0, 0, 0, 0, "TPDO3 mapping")                                                   \
-  MB2CO_OD_PDO_MAP4(N, 0x1A03, x1A03, kHookTpdoMap, 0, 0, 0, 0, 0, "TPDO4 mapping")                                                   \
+  MB2CO_OD_PDO_MAP4(N, 0x1A02, x1A02, kHookTpdoMap, MB2CO_GW_WIDE_OR(1, 0), MB2CO_GW_WIDE_OR(MB2CO_MAP(0x2500, 1, 32), 0), 0, 0, 0,     \
+                    "TPDO3 mapping")                                                                                                  \
+  MB2CO_OD_PDO_MAP4(N, 0x1A03, x1A03, kHookTpdoMap, MB2CO_GW_WIDE_OR(1, 0), MB2CO_GW_WIDE_OR(MB2CO_MAP(0x2500, 2, 64), 0), 0, 0, 0,     \
+                    "TPDO4 mapping")                                                                                                  \
   N(0x2000, 0, x2000_0_highestSubIndex, U8, CONST, 0, kHookNone, 10, "Station configuration: highest sub-index")                       \
   N(0x2000, 1, x2000_1_nodeId, U8, RW, 0, kHookApp, 1, "Station configuration: node id (from next reset)")                            \
   N(0x2000, 2, x2000_2_bitrateKbit, U16, RW, 0, kHookApp, 500, "Station configuration: CAN bit rate kbit/s (from next reset)")        \
@@ -87,7 +96,7 @@ const uint8_t kDiscreteMapSize = 8;
   N(0x2300, 1, x2300_1_buttonEdgeUs, U32, RO, 0, kHookNone, 0, "Latency lab: last button edge (us)")                                  \
   N(0x2300, 2, x2300_2_labLedUs, U32, RO, 0, kHookNone, 0, "Latency lab: last lab LED change (us)")                                   \
   N(0x2300, 3, x2300_3_remoteButtonsUs, U32, RO, 0, kHookNone, 0, "Latency lab: last remote buttons arrival (us)")                    \
-  N(0x2400, 0, x2400_0_holdingMapCount, U8, RW, 0, kHookApp, 12, "Modbus holding registers: mapped entries")                          \
+  N(0x2400, 0, x2400_0_holdingMapCount, U8, RW, 0, kHookApp, kHoldingMapSize, "Modbus holding registers: mapped entries")             \
   MB2CO_GW_MAP_ENTRY(N, 0x2400, 1, x2400_1_holdingMap1, kHookApp, MB2CO_MAP(0x2100, 1, 8), "HR map 1")                                \
   MB2CO_GW_MAP_ENTRY(N, 0x2400, 2, x2400_2_holdingMap2, kHookApp, MB2CO_MAP(0x6200, 1, 8), "HR map 2")                                \
   MB2CO_GW_MAP_ENTRY(N, 0x2400, 3, x2400_3_holdingMap3, kHookApp, MB2CO_MAP(0x2000, 1, 8), "HR map 3")                                \
@@ -100,6 +109,9 @@ const uint8_t kDiscreteMapSize = 8;
   MB2CO_GW_MAP_ENTRY(N, 0x2400, 10, x2400_10_holdingMap10, kHookApp, MB2CO_MAP(0x1006, 0, 32), "HR map 10")                           \
   MB2CO_GW_MAP_ENTRY(N, 0x2400, 11, x2400_11_holdingMap11, kHookApp, MB2CO_MAP(0x1010, 1, 32), "HR map 11")                           \
   MB2CO_GW_MAP_ENTRY(N, 0x2400, 12, x2400_12_holdingMap12, kHookApp, MB2CO_MAP(0x2001, 0, 8), "HR map 12")                            \
+  MB2CO_OD_WIDE(                                                                                                                      \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 13, x2400_13_holdingMap13, kHookApp, MB2CO_MAP(0x2500, 1, 32), "HR map 13")                           \
+  MB2CO_GW_MAP_ENTRY(N, 0x2400, 14, x2400_14_holdingMap14, kHookApp, MB2CO_MAP(0x2500, 2, 64), "HR map 14"))                          \
   N(0x2401, 0, x2401_0_inputMapCount, U8, RW, 0, kHookApp, 21, "Modbus input registers: mapped entries")                              \
   MB2CO_GW_MAP_ENTRY(N, 0x2401, 1, x2401_1_inputMap1, kHookApp, MB2CO_MAP(0x6000, 1, 8), "IR map 1")                                  \
   MB2CO_GW_MAP_ENTRY(N, 0x2401, 2, x2401_2_inputMap2, kHookApp, MB2CO_MAP(0x2100, 2, 8), "IR map 2")                                  \
@@ -134,6 +146,10 @@ const uint8_t kDiscreteMapSize = 8;
   MB2CO_GW_MAP_ENTRY(N, 0x2403, 6, x2403_6_discreteMap6, kHookApp, MB2CO_MAP(0x2120, 1, 1), "DI map 6")                               \
   MB2CO_GW_MAP_ENTRY(N, 0x2403, 7, x2403_7_discreteMap7, kHookApp, MB2CO_MAP(0x2200, 0, 1), "DI map 7")                               \
   MB2CO_GW_MAP_ENTRY(N, 0x2403, 8, x2403_8_discreteMap8, kHookApp, 0, "DI map 8")                                                     \
+  MB2CO_OD_WIDE(                                                                                                                      \
+  N(0x2500, 0, x2500_0_highestSubIndex, U8, CONST, 0, kHookNone, 2, "Process values (host builds): highest sub-index")               \
+  N(0x2500, 1, x2500_1_measuredValue, REAL32, RW, kAttrPdo | kAttrCommand, kHookNone, 0.0f, "Process values (host builds): measured value, REAL32") \
+  N(0x2500, 2, x2500_2_eventCounter, U64, RW, kAttrPdo | kAttrCommand, kHookNone, 0, "Process values (host builds): event counter, UNSIGNED64")) \
   N(0x6000, 0, x6000_0_highestSubIndex, U8, CONST, 0, kHookNone, 1, "Read input 8-bit: highest sub-index")                            \
   N(0x6000, 1, x6000_1_readInput8Bit1, U8, RO, kAttrPdo, kHookNone, 0, "Read input 8-bit 1: START, STOP, STOP2 pressed")              \
   N(0x6200, 0, x6200_0_highestSubIndex, U8, CONST, 0, kHookNone, 1, "Write output 8-bit: highest sub-index")                          \
@@ -148,7 +164,8 @@ const uint8_t kDiscreteMapSize = 8;
   L(0x2000, 7, 0, 1)            \
   L(0x2000, 8, 0, 1)            \
   L(0x2001, 0, 0, 2)            \
-  L(0x2100, 1, 0, 1)
+  L(0x2100, 1, 0, 1)            \
+  MB2CO_OD_WIDE(L(0x2500, 1, od_real32_limit(-1.0e6f), od_real32_limit(1.0e6f)))
 
 namespace od {
 using namespace ::mb2co::canopen;
@@ -157,8 +174,8 @@ MB2CO_OD_DEFAULTS(Gateway, MB2CO_GATEWAY_OD)
 }  // namespace od
 
 /// Modbus address of `entry` in the default map `map_index` (2400h-2403h),
-/// laid out as OdRegisterBank does (a 32-bit entry takes two registers, every
-/// bit one address); 0xFFFF when that map does not hold it by default. For
+/// laid out as OdRegisterBank does (an entry takes one register per 16 bits,
+/// every bit one address); 0xFFFF when that map does not hold it by default. For
 /// programs that talk to a gateway with the default map and want its
 /// addresses as named constants (the simulator's PC programs); a map that
 /// may have been changed is read from the OD instead (pcapp RegisterLayout).
@@ -174,7 +191,7 @@ constexpr uint16_t default_map_address(uint16_t map_index, canopen::OdKey entry)
     }
     if (d.sub > count) break;
     if (d.value != 0 && (d.value >> 16) == entry.index && ((d.value >> 8) & 0xFFu) == entry.sub) return address;
-    address = static_cast<uint16_t>(address + (d.value != 0 && !bit_table && (d.value & 0xFFu) == 32 ? 2 : 1));
+    address = static_cast<uint16_t>(address + (d.value == 0 || bit_table ? 1 : ((d.value & 0xFFu) + 15) / 16));
   }
   return 0xFFFF;
 }

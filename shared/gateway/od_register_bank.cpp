@@ -65,7 +65,10 @@ bool OdRegisterBank::reach(Walk* w, uint16_t address) {
     it.index = canopen::map_index(entry);
     it.sub = canopen::map_sub(entry);
     it.bits = canopen::map_bits(entry);
-    it.width = (entry != 0 && !w->bit_table && it.bits == 32) ? 2 : 1;
+    // One register per 16 bits (a string's 2 characters), at least one; on
+    // the AVR at most two (check_map_write: no entry wider than 32 bits).
+    const uint8_t wide = MB2CO_OD_WIDE_TYPES ? static_cast<uint8_t>((it.bits + 15u) / 16u) : 2;
+    it.width = (entry != 0 && !w->bit_table && it.bits > 16) ? wide : 1;
   } while (address >= it.first + it.width);
   // Only the item reached is looked up (not those before the request's start).
   it.row = row_of(*w, entry);
@@ -112,6 +115,12 @@ Exception OdRegisterBank::read_items(Table table, uint16_t start, uint16_t count
   for (uint16_t i = 0; i < count; ++i) {
     const uint16_t a = static_cast<uint16_t>(start + i);
     if (!reach(&w, a)) return Exception::kIllegalDataAddress;
+#if MB2CO_OD_WIDE_TYPES
+    if (is_run(it)) {
+      modbus::put_be16(bytes + 2u * i, run_register(it, static_cast<uint16_t>(a - it.first)));
+      continue;
+    }
+#endif
     uint32_t v = od_.get(it.row);
     if (w.bit_table) {
       modbus::BitSpan{bytes, count}.set(i, (v & 1u) != 0);
@@ -135,31 +144,75 @@ Exception OdRegisterBank::write_value(const Item& it, uint32_t value, bool apply
   uint8_t bytes[4];
   canopen::put_le32(bytes, value);
   if (size < 4 && (value >> (8 * size)) != 0) return Exception::kServerDeviceFailure;
-  const canopen::SdoAbort r = od_.write_row(it.row, bytes, size, apply);
+  return exception_of(od_.write_row(it.row, bytes, size, apply));
+}
+
+Exception OdRegisterBank::exception_of(canopen::SdoAbort r) {
   if (r == canopen::kSdoOk) return Exception::kNone;
   // Not in the present state (e.g. 1010h while a save runs): busy, try later.
   return r == canopen::kAbortDeviceState ? Exception::kServerDeviceBusy : Exception::kServerDeviceFailure;
 }
 
+#if MB2CO_OD_WIDE_TYPES
+bool OdRegisterBank::is_run(const Item& it) const {
+  return it.row != ObjectDictionary::kNoRow && (it.width > 2 || (od_.attr(it.row) & canopen::kAttrString));
+}
+
+// A number's bytes big-endian over the item's registers (high word first,
+// like a 32-bit entry's two); a string's in order, the first character in
+// a register's high byte. Bytes past the value read 0.
+uint16_t OdRegisterBank::run_register(const Item& it, uint16_t k) const {
+  uint8_t value[kRunBytes];
+  memset(value, 0, sizeof value);
+  od_.copy_out(it.row, value, sizeof value);
+  if (od_.attr(it.row) & canopen::kAttrString) {
+    return static_cast<uint16_t>((value[2u * k] << 8) | value[2u * k + 1u]);
+  }
+  const uint16_t word = static_cast<uint16_t>(it.width - 1u - k);
+  return static_cast<uint16_t>(value[2u * word] | (value[2u * word + 1u] << 8));
+}
+
+Exception OdRegisterBank::write_run(const Item& it, const uint8_t* registers, bool apply) {
+  if (!(od_.attr(it.row) & canopen::kAttrWrite)) return Exception::kIllegalDataAddress;
+  const bool text = (od_.attr(it.row) & canopen::kAttrString) != 0;
+  const uint16_t capacity = od_.capacity_of(it.row);
+  const uint16_t n = static_cast<uint16_t>(2u * it.width);
+  uint8_t value[kRunBytes];
+  uint16_t len = capacity;
+  for (uint16_t j = 0; j < n; ++j) {
+    const uint8_t b = text ? registers[j] : registers[n - 1u - j];
+    // The padding past the value (a 40-bit value's top byte, an odd
+    // string's last) must be 0, as it reads.
+    if (j >= capacity && b != 0) return Exception::kServerDeviceFailure;
+    if (j < capacity) value[j] = b;
+    // A VISIBLE_STRING ends at its first NUL (OCTET_STRING: all bytes).
+    if (text && b == 0 && j < len && od_.type_of(it.row) == canopen::kVisibleString) len = j;
+  }
+  return exception_of(od_.write_row(it.row, value, len, apply));
+}
+#endif
+
 namespace {
 // Old values of the entries a multi-item write changed, to undo them if a
 // later item is refused: the request takes effect whole or not at all.
+// Every byte of an entry's capacity (a string's too, whatever its length).
 struct Undo {
   static const uint8_t kMax = 24;
+  static const uint8_t kBytes = MB2CO_OD_WIDE_TYPES ? OdRegisterBank::kRunBytes : 4;
   uint16_t rows[kMax];
-  uint8_t old[kMax][4];
+  uint8_t old[kMax][kBytes];
   uint8_t n = 0;
   void save(ObjectDictionary& od, uint16_t row) {
     if (n == kMax) return;
     rows[n] = row;
-    memcpy(old[n], od.ram_untracked(row), od.size_of(row));
+    memcpy(old[n], od.ram_untracked(row), od.capacity_of(row));
     ++n;
   }
   // The bytes saved, put back: no revision change (ram_untracked).
   void rollback(ObjectDictionary& od) {
     while (n > 0) {
       --n;
-      memcpy(od.ram_untracked(rows[n]), old[n], od.size_of(rows[n]));
+      memcpy(od.ram_untracked(rows[n]), old[n], od.capacity_of(rows[n]));
     }
   }
 };
@@ -197,6 +250,15 @@ Exception OdRegisterBank::write_step(Table table, uint16_t start, uint16_t count
       ex = Exception::kIllegalDataAddress;
       break;
     }
+    undo.save(od_, it.row);
+#if MB2CO_OD_WIDE_TYPES
+    if (is_run(it)) {
+      ex = write_run(it, bytes + 2u * i, apply);
+      if (ex != Exception::kNone) break;
+      i = static_cast<uint16_t>(i + it.width);
+      continue;
+    }
+#endif
     uint32_t v;
     if (w.bit_table) {
       v = modbus::packed_bit(bytes, i) ? 1u : 0u;
@@ -204,7 +266,6 @@ Exception OdRegisterBank::write_step(Table table, uint16_t start, uint16_t count
       v = modbus::get_be16(bytes + 2u * i);
       if (it.width == 2) v = (v << 16) | modbus::get_be16(bytes + 2u * i + 2u);
     }
-    undo.save(od_, it.row);
     ex = write_value(it, v, apply);
     if (ex != Exception::kNone) break;
     i = static_cast<uint16_t>(i + it.width);  // always 1 for coils
@@ -235,11 +296,23 @@ canopen::SdoAbort OdRegisterBank::check_map_write(uint16_t index, uint8_t sub, c
     return od.has_index(canopen::map_index(entry)) ? canopen::kAbortNoSubindex : canopen::kAbortNoObject;
   }
   const uint8_t bits = canopen::map_bits(entry);
-  const uint16_t size = od.size_of(row);
-  if (od.attr(row) & canopen::kAttrString) return canopen::kAbortInvalidValue;
+  const uint16_t size = od.capacity_of(row);
+  if (od.attr(row) & canopen::kAttrString) {
+#if MB2CO_OD_WIDE_TYPES
+    // A register run of the whole string: 16 bits per 2 characters.
+    const uint8_t type = od.type_of(row);
+    if (!is_bit_table(table) && (type == canopen::kVisibleString || type == canopen::kOctetString) &&
+        size <= kRunBytes && bits == 16u * ((size + 1u) / 2u)) {
+      return canopen::kSdoOk;
+    }
+#endif
+    return canopen::kAbortInvalidValue;
+  }
   if (is_bit_table(table)) {
     if (bits != 1 || size != 1) return canopen::kAbortInvalidValue;
-  } else if (!((bits >= 1 && bits <= 16 && bits <= size * 8u) || (bits == 32 && size == 4))) {
+  } else if (!((bits >= 1 && bits <= 16 && bits <= size * 8u) ||
+               // 24 and 32 bits (2 registers); wider in host builds
+               (bits > 16 && bits == size * 8u && (MB2CO_OD_WIDE_TYPES || size <= 4)))) {
     return canopen::kAbortInvalidValue;
   }
   return canopen::kSdoOk;

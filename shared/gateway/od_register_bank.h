@@ -2,9 +2,13 @@
 // the OD (2400h holding registers, 2401h input registers, 2402h coils, 2403h
 // discrete inputs) of 32-bit entries in the PDO mapping format (index, sub,
 // length in bits). Entries are laid out back to back from address 0: an entry
-// of up to 16 bits is one register, a 32-bit entry two (high word first), a
-// coil or discrete input is one bit (bit 0 of an 8-bit entry); an entry 0 is
-// an unmapped address. OD access rights hold: a write to an entry that is not
+// takes one register per 16 bits, high word first (up to 16 bits one, 24 and
+// 32 bits two; in host builds, MB2CO_OD_WIDE_TYPES, 40 and 48 bits three, 56
+// and 64 bits four, and a VISIBLE_STRING or OCTET_STRING of n bytes a run of
+// (n + 1) / 2 registers, two characters each, the first in the high byte);
+// a coil or discrete input is one bit (bit 0 of an 8-bit entry); an entry 0
+// is an unmapped address. A value of several registers is written only
+// whole, in one request. OD access rights hold: a write to an entry that is not
 // writable is exception 02 (decided before anything is executed), a value the
 // entry refuses (limits, write hooks) is exception 04 and nothing is changed.
 #pragma once
@@ -44,6 +48,8 @@ class OdRegisterBank : public modbus::RegisterBank {
   /// the count within the map's capacity, an entry that names an existing
   /// numeric entry the table can carry. SDO abort code or 0.
   canopen::SdoAbort check_map_write(uint16_t index, uint8_t sub, const uint8_t* data) const;
+  /// Bytes of the longest register run (a string of 15 registers, rounded).
+  static const uint8_t kRunBytes = 32;
 
  private:
   /// One mapped item: OD row, the entry it maps (index, sub, length in bits),
@@ -76,6 +82,16 @@ class OdRegisterBank : public modbus::RegisterBank {
   uint16_t row_of(const Walk& walk, uint32_t entry);
   /// One item's value through the OD's write path (`apply`: see write_row).
   modbus::Exception write_value(const Item& item, uint32_t value, bool apply);
+  /// What the OD's answer to a write is in Modbus.
+  static modbus::Exception exception_of(canopen::SdoAbort r);
+#if MB2CO_OD_WIDE_TYPES
+  /// True for an item wider than 32 bits or a string (a register run).
+  bool is_run(const Item& item) const;
+  /// Register `k` (0: the item's first address) of a register run.
+  uint16_t run_register(const Item& item, uint16_t k) const;
+  /// A register run's value from its registers (big-endian, 2 bytes each).
+  modbus::Exception write_run(const Item& item, const uint8_t* registers, bool apply);
+#endif
   /// One step of write_items(): check (`apply` false) or apply.
   modbus::Exception write_step(modbus::Table table, uint16_t start, uint16_t count, const uint8_t* bytes,
                                bool apply);

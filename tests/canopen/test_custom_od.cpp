@@ -7,6 +7,7 @@
 #include "canopen/od.h"
 #include "canopen/od_comm.h"
 #include "test_fixture.h"
+#include "test_od_pdos.h"
 
 namespace mb2co {
 namespace test {
@@ -15,22 +16,7 @@ namespace custom {
 #define MB2CO_TEST_OD(N, S)                                                                     \
   MB2CO_OD_DATA_TYPES(N, S)                                                                     \
   MB2CO_OD_COMM_1000(N, S, 0x12345678, "custom test node", "hw", "sw", 7, 8, 9, 0)              \
-  MB2CO_OD_RPDO_COMM(N, 0x1400, x1400, 0x80000200, kAttrNodeId, 255, 0, "RPDO1")                \
-  MB2CO_OD_RPDO_COMM(N, 0x1401, x1401, 0x80000300, kAttrNodeId, 255, 0, "RPDO2")                \
-  MB2CO_OD_RPDO_COMM(N, 0x1402, x1402, 0x80000400, kAttrNodeId, 255, 0, "RPDO3")                \
-  MB2CO_OD_RPDO_COMM(N, 0x1403, x1403, 0x80000500, kAttrNodeId, 255, 0, "RPDO4")                \
-  MB2CO_OD_PDO_MAP(N, 0x1600, x1600, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO1 mapping")  \
-  MB2CO_OD_PDO_MAP(N, 0x1601, x1601, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO2 mapping")  \
-  MB2CO_OD_PDO_MAP(N, 0x1602, x1602, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO3 mapping")  \
-  MB2CO_OD_PDO_MAP(N, 0x1603, x1603, kHookRpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "RPDO4 mapping")  \
-  MB2CO_OD_TPDO_COMM(N, 0x1800, x1800, 0x80000180, kAttrNodeId, 255, 0, 0, "TPDO1")             \
-  MB2CO_OD_TPDO_COMM(N, 0x1801, x1801, 0x80000280, kAttrNodeId, 255, 0, 0, "TPDO2")             \
-  MB2CO_OD_TPDO_COMM(N, 0x1802, x1802, 0x80000380, kAttrNodeId, 255, 0, 0, "TPDO3")             \
-  MB2CO_OD_TPDO_COMM(N, 0x1803, x1803, 0x80000480, kAttrNodeId, 255, 0, 0, "TPDO4")             \
-  MB2CO_OD_PDO_MAP(N, 0x1A00, x1A00, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO1 mapping")  \
-  MB2CO_OD_PDO_MAP(N, 0x1A01, x1A01, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO2 mapping")  \
-  MB2CO_OD_PDO_MAP(N, 0x1A02, x1A02, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO3 mapping")  \
-  MB2CO_OD_PDO_MAP(N, 0x1A03, x1A03, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO4 mapping")  \
+  MB2CO_TEST_OD_PDOS(N)                                                                         \
   N(0x2001, 0, x2001_0_password, U32, WO, 0, kHookNone, 0, "Write-only password")               \
   S(0x2002, 0, x2002_0_text, WO, kHookNone, 8, "", "Write-only text")                           \
   N(0x2200, 0, x2200_0_highestSubIndex, U8, CONST, 0, kHookNone, 4, "Flags: highest sub-index") \
@@ -70,19 +56,6 @@ class CustomOd : public ::testing::Test {
   }
   uint32_t value(uint16_t index, uint8_t sub) { return od.get(od.find(index, sub)); }
   void set(uint16_t index, uint8_t sub, uint32_t v) { od.set(od.find(index, sub), v); }
-  /// Maps `entries` into TPDO1 (COB-ID 185h) or RPDO1 (205h) by the CiA 301
-  /// procedure and makes the PDO valid.
-  void map(uint16_t comm, std::initializer_list<uint32_t> entries) {
-    const uint16_t mapping = static_cast<uint16_t>(comm + 0x200);
-    const uint32_t cob = comm == 0x1800 ? 0x185u : 0x205u;
-    ASSERT_EQ(h.write_u32(comm, 1, 0x80000000u | cob), 0u);
-    ASSERT_EQ(h.write_u8(mapping, 0, 0), 0u);
-    uint8_t s = 1;
-    for (uint32_t e : entries) ASSERT_EQ(h.write_u32(mapping, s++, e), 0u) << std::hex << e;
-    ASSERT_EQ(h.write_u8(mapping, 0, static_cast<uint8_t>(entries.size())), 0u);
-    ASSERT_EQ(h.write_u32(comm, 1, cob), 0u);
-  }
-
   FrameLog bus;
   custom::od::TestValues values{};
   ObjectDictionary od{custom::od::TestDefinition, reinterpret_cast<uint8_t*>(&values)};
@@ -118,7 +91,7 @@ TEST_F(CustomOd, BitGranularTransmitMappingWithBooleansAndDummies) {
   // bit 0..2: flags 1..3 (1 bit each), bits 3..7: 5 bits of the I8 (low bits),
   // bits 8..15: UNSIGNED8 dummy (zeros), bits 16..27: 12 low bits of the U16,
   // bits 28..28: flag 4.  29 bits -> 4 bytes.
-  map(0x1800, {0x22000101, 0x22000201, 0x22000301, 0x22020005, 0x00050008, 0x2201000C, 0x22000401});
+  h.map_pdo(0x1800, {0x22000101, 0x22000201, 0x22000301, 0x22020005, 0x00050008, 0x2201000C, 0x22000401});
   set(0x2200, 1, 1);
   set(0x2200, 3, 1);
   set(0x2202, 0, 0xF5);    // -11: low 5 bits 10101b
@@ -137,7 +110,7 @@ TEST_F(CustomOd, BitGranularTransmitMappingWithBooleansAndDummies) {
 TEST_F(CustomOd, BitGranularReceiveMappingSkipsDummies) {
   // b0 flag 1, b1 flag 3, b2 flag 4, b3 flag 2, b4..11 UNSIGNED8 dummy,
   // b12..27 the U16, b28..35 the I8: 36 bits -> 5 bytes, across byte borders.
-  map(0x1400, {0x22000101, 0x22000301, 0x22000401, 0x22000201, 0x00050008, 0x22010010, 0x22020008});
+  h.map_pdo(0x1400, {0x22000101, 0x22000301, 0x22000401, 0x22000201, 0x00050008, 0x22010010, 0x22020008});
   h.nmt(0x01, kId);
   bus.frames.clear();
   set(0x2200, 3, 1);
@@ -174,8 +147,8 @@ TEST_F(CustomOd, BooleanWritesBySdoAreZeroOrOne) {
 
 TEST_F(CustomOd, SixtyFourBitsOfMappingFillEightBytes) {
   // 32 + 16 + 8 + 4 x 1 + 4 (low nibble of the U16 again) = 64 bits.
-  map(0x1800,
-      {0x22030020, 0x22010010, 0x22020008, 0x22000101, 0x22000201, 0x22000301, 0x22000401, 0x22010004});
+  h.map_pdo(0x1800,
+            {0x22030020, 0x22010010, 0x22020008, 0x22000101, 0x22000201, 0x22000301, 0x22000401, 0x22010004});
   set(0x2203, 0, 0x44332211);
   set(0x2201, 0, 0x6655);
   set(0x2202, 0, 0x77);

@@ -184,6 +184,19 @@ class Harness {
   uint32_t write_u8(uint16_t i, uint8_t s, uint32_t v) { return write(i, s, v, 1); }
   uint32_t write_u16(uint16_t i, uint8_t s, uint32_t v) { return write(i, s, v, 2); }
   uint32_t write_u32(uint16_t i, uint8_t s, uint32_t v) { return write(i, s, v, 4); }
+  /// Maps `entries` into the PDO of communication record `comm` (1400h.. an
+  /// RPDO, 1800h.. a TPDO) by the CiA 301 procedure (disable, sub 0 = 0,
+  /// entries, count) and makes it valid at 200h/180h + node id.
+  void map_pdo(uint16_t comm, std::initializer_list<uint32_t> entries) {
+    const uint16_t mapping = static_cast<uint16_t>(comm + 0x200);
+    const uint32_t cob = (comm >= 0x1800 ? 0x180u : 0x200u) + id();
+    ASSERT_EQ(write_u32(comm, 1, 0x80000000u | cob), 0u);
+    ASSERT_EQ(write_u8(mapping, 0, 0), 0u);
+    uint8_t s = 1;
+    for (uint32_t e : entries) ASSERT_EQ(write_u32(mapping, s++, e), 0u) << std::hex << e;
+    ASSERT_EQ(write_u8(mapping, 0, static_cast<uint8_t>(entries.size())), 0u);
+    ASSERT_EQ(write_u32(comm, 1, cob), 0u);
+  }
 
   /// Upload, expedited or segmented (checking toggles, sizes and the c bit).
   uint32_t upload(uint16_t index, uint8_t sub, Bytes* out) {

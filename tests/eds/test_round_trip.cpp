@@ -58,10 +58,20 @@ const co::OdLimit* limit_of(const co::ObjectDictionary& od, uint16_t index, uint
   return nullptr;
 }
 
-Bytes little_endian(int32_t v, size_t n) {
+Bytes little_endian(uint64_t v, size_t n) {
   Bytes b(n);
-  for (size_t i = 0; i < n; ++i) b[i] = static_cast<uint8_t>(static_cast<uint32_t>(v) >> (8 * i));
+  for (size_t i = 0; i < n; ++i) b[i] = static_cast<uint8_t>(v >> (8 * i));
   return b;
+}
+
+/// A limit's bytes as the EDS holds them: a REAL's IEEE bits (the OD holds
+/// its ordered key), an integer as it is.
+Bytes limit_bytes(co::OdLimitValue v, DataType type) {
+  const size_t n = type_info(type).bytes;
+  if (type_info(type).kind == ValueKind::kReal) {
+    return little_endian(co::od_real_limit_bits(v, static_cast<uint8_t>(n)), n);
+  }
+  return little_endian(static_cast<uint64_t>(v), n);
 }
 
 AccessType expected_access(uint8_t attr) {
@@ -86,7 +96,7 @@ void expect_model_is_od(const DeviceDescription& m, const co::ObjectDictionary& 
         od.first_row(e.index) == r && (r + 1 == od.row_count() || od.index_of(r + 1) != e.index);
     EXPECT_EQ(o->type, single && e.sub == 0 ? ObjectType::kVar : ObjectType::kRecord);
     EXPECT_EQ(s->name, expected_name(od, r, o->type == ObjectType::kRecord));
-    EXPECT_EQ(static_cast<uint16_t>(s->type), e.type);
+    EXPECT_EQ(static_cast<uint16_t>(s->type), e.data_type());
     EXPECT_EQ(s->access, expected_access(e.attr));
     EXPECT_EQ(s->pdo_mapping, (e.attr & co::kAttrPdo) != 0);
     ASSERT_TRUE(s->default_value);
@@ -106,8 +116,8 @@ void expect_model_is_od(const DeviceDescription& m, const co::ObjectDictionary& 
     ASSERT_EQ(s->low_limit.has_value(), lim != nullptr);
     ASSERT_EQ(s->high_limit.has_value(), lim != nullptr);
     if (lim != nullptr) {
-      EXPECT_EQ(s->low_limit->bytes, little_endian(lim->min, type_info(s->type).bytes));
-      EXPECT_EQ(s->high_limit->bytes, little_endian(lim->max, type_info(s->type).bytes));
+      EXPECT_EQ(s->low_limit->bytes, limit_bytes(lim->min, s->type));
+      EXPECT_EQ(s->high_limit->bytes, limit_bytes(lim->max, s->type));
     }
   }
   // Every object is in one of the three object lists (data types too).

@@ -111,7 +111,7 @@ TEST_F(RegisterMap, MapEntriesAreValidatedWhenWrittenBySdo) {
   EXPECT_EQ(line.gw(0).od().write(0x2400, 1, entry, 4), canopen::kAbortInvalidValue);
   canopen::put_le32(entry, MB2CO_PDO_MAP_ENTRY(0x5FFF, 0, 8));
   EXPECT_EQ(line.gw(0).od().write(0x2400, 1, entry, 4), canopen::kAbortNoObject);
-  const uint8_t too_many = 13;
+  const uint8_t too_many = gateway::kHoldingMapSize + 1;
   EXPECT_EQ(line.gw(0).od().write(0x2400, 0, &too_many, 1), canopen::kAbortValueTooHigh);
 }
 

@@ -18,8 +18,9 @@ namespace mb2co {
 namespace test {
 namespace {
 
-// Defaults of the gateway's maps (docs/register-map.md).
-constexpr int kHoldingCount = 14;
+// Defaults of the gateway's maps (docs/register-map.md): mb2co-node's
+// holding map ends with the REAL32 (14-15) and UNSIGNED64 (16-19) of 2500h.
+constexpr int kHoldingCount = 20;
 constexpr int kInputCount = 24;
 constexpr int kCoilCount = 2;
 constexpr int kDiscreteCount = 7;
@@ -146,7 +147,8 @@ TEST_F(Libmodbus, EveryException) {
   uint16_t regs[2];
   uint8_t bits[2];
   EXPECT_EQ(failure(modbus_read_registers(ctx_, kHoldingCount, 1, regs)), EMBXILADD) << "beyond the map";
-  EXPECT_EQ(failure(modbus_read_registers(ctx_, kHrRestart, 2, regs)), EMBXILADD) << "runs past the map";
+  EXPECT_EQ(failure(modbus_read_registers(ctx_, kHoldingCount - 1, 2, regs)), EMBXILADD)
+      << "runs past the map";
   EXPECT_EQ(failure(modbus_read_input_registers(ctx_, kInputCount, 1, regs)), EMBXILADD);
   EXPECT_EQ(failure(modbus_read_bits(ctx_, kCoilCount, 1, bits)), EMBXILADD);
   EXPECT_EQ(failure(modbus_read_input_bits(ctx_, kDiscreteCount - 1, 2, bits)), EMBXILADD);

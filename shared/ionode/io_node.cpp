@@ -19,13 +19,8 @@ IoNode::IoNode(const CanSink& sink, uint32_t device_type)
 
 void IoNode::start(uint8_t default_node_id, uint32_t now_us) {
   default_node_id_ = default_node_id;
-  uint8_t id = default_node_id;
-  od_.restore_defaults(0x2001, 0x2001);
-  const ParamStorage* storage = node_.storage();
-  if (storage != nullptr && param_set_loaded(params_load(od_, *storage, 0x2001, 0x2001))) {
-    id = values_.x2001_1_nodeId;
-  }
-  node_.start(id, now_us);
+  const bool saved = params_preload(od_, node_.storage(), 0x2001, 0x2001);
+  node_.start(saved ? values_.x2001_1_nodeId : default_node_id, now_us);
 }
 
 void IoNode::on_reset(void* ctx, NmtReset kind) {

@@ -78,8 +78,8 @@ class Master {
     CanFrame r{};
     return send(static_cast<uint16_t>(0x600 + node),
                 {cmd, static_cast<uint8_t>(index), static_cast<uint8_t>(index >> 8), sub,
-                 static_cast<uint8_t>(value), static_cast<uint8_t>(value >> 8), static_cast<uint8_t>(value >> 16),
-                 static_cast<uint8_t>(value >> 24)}) &&
+                 static_cast<uint8_t>(value), static_cast<uint8_t>(value >> 8),
+                 static_cast<uint8_t>(value >> 16), static_cast<uint8_t>(value >> 24)}) &&
            wait(static_cast<uint16_t>(0x580 + node), &r) && r.data[0] == 0x60;
   }
   /// Expedited upload; 0xFFFFFFFF when refused or unanswered.
@@ -120,7 +120,8 @@ void give_id(Master& m, const std::string& eeprom, uint8_t id) {
   EXPECT_EQ(boot.data[0], 0);
   ASSERT_TRUE(m.write(id, 0x1010, 1, kSave, 4));
   const auto deadline = std::chrono::steady_clock::now() + kDeadline;
-  while (m.read(id, 0x1010, 1) != 1u) ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "save never ended";
+  while (m.read(id, 0x1010, 1) != 1u)
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "save never ended";
   EXPECT_EQ(board.stop(), 0);
 }
 

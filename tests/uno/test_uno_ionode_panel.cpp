@@ -68,7 +68,8 @@ TEST(UnoIoNode, JoystickPinsAreTheInputsAndLedPinsTheOutputsOfTheImage) {
 
 TEST(UnoPanel, EachImageHasItsOwnButtonNames) {
   PanelChannel ionode(ionode_image());
-  EXPECT_EQ(ionode.handle("press START", 0, 0), "error unknown button 'START' (UP, DOWN, LEFT, RIGHT, CLICK)");
+  EXPECT_EQ(ionode.handle("press START", 0, 0),
+            "error unknown button 'START' (UP, DOWN, LEFT, RIGHT, CLICK)");
   EXPECT_EQ(ionode.handle("click click 50", 0, 0), "ok");
   EXPECT_EQ(ionode.buttons(), 0x10) << "CLICK is the fifth";
   ionode.process(49999);

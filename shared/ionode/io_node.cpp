@@ -37,8 +37,9 @@ void IoNode::on_reset(void* ctx, NmtReset kind) {
     v.x2001_1_nodeId = n.default_node_id_;
   }
   if (v.x2001_1_nodeId != n.node_.node_id()) {
-    // Written since the last reset (or loaded): once more with it, so that
-    // the node-id-relative COB-IDs follow.
+    // Reset node only: the node took an id written since and not saved; the
+    // saved or power-on one wins, with one more reset so that the
+    // node-id-relative COB-IDs follow it.
     n.node_.set_node_id_for_next_reset(v.x2001_1_nodeId);
     n.node_.request_reset(kResetCommunication);
   }

@@ -1,5 +1,6 @@
 // mb2co-uno: the Uno's gateway image (the very mb2co-gateway.elf that is
-// flashed) in libsimavr, paced to real time, with USART0 on a pty, the
+// flashed; or the I/O node's, --image ionode) in libsimavr, paced to real
+// time, with USART0 on a pty, the
 // MCP2515 shield on SocketCAN and the operator panel on stdin/stdout
 // (docs/uno-sim.md). One thread: run the simulation up to 1 ms ahead of the
 // wall clock, move bytes and frames, wait in poll() for input or the clock.
@@ -60,8 +61,9 @@ int main(int argc, char** argv) {
   const int early = cli::finish_early(uno::program(), parsed, std::cout, std::cerr);
   if (early >= 0) return early;
   uno::UnoOptions opt;
-  opt.elf = MB2CO_UNO_DEFAULT_ELF;
   uno::apply_options(parsed.args, &opt);
+  const uno::UnoImage& image = *uno::find_image(opt.image);  // the parser checked the name
+  if (opt.elf.empty()) opt.elf = std::string(MB2CO_UNO_AVR_DIR) + "/" + image.elf;
 
   if (pipe2(g_signal_pipe, O_CLOEXEC | O_NONBLOCK) != 0) return fail(std::string("pipe: ") + strerror(errno));
   struct sigaction sa = {};
@@ -70,7 +72,7 @@ int main(int argc, char** argv) {
   sigaction(SIGTERM, &sa, nullptr);
   signal(SIGPIPE, SIG_IGN);
 
-  static uno::UnoRig rig;  // large; static like the image's own globals
+  static uno::UnoRig rig(image);  // large; static like the image's own globals
   const Status loaded = rig.load(opt.elf);
   if (!loaded) return fail(loaded.message());
   uno::EepromImage eeprom(opt.eeprom);

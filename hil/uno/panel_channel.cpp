@@ -8,20 +8,20 @@ namespace mb2co {
 namespace uno {
 
 std::string PanelChannel::handle(const std::string& line, uint64_t now_us, uint32_t at_us) {
-  const PanelCommand c = parse_panel_command(line);
+  const PanelCommand c = parse_panel_command(line, image_.buttons);
   if (c.kind == PanelCommand::kBlank) return std::string();
   if (c.kind == PanelCommand::kError) return "error " + c.error;
   if (c.kind == PanelCommand::kOther) {
     if (!c.rest.empty()) return "error unexpected '" + c.rest + "'";
     if (c.word == "leds?") return leds_line(at_us);
     if (c.word == "help") {
-      return std::string(panel_help_lines()) + "\nhelp leds? | stack? | quit | help   (docs/uno-sim.md)";
+      return panel_help_lines(image_.buttons) + "\nhelp leds? | stack? | quit | help   (docs/uno-sim.md)";
     }
     if (c.word == "quit") {
       quit_ = true;
       return "bye";
     }
-    if (c.word == "state?" || c.word == "counters?") {
+    if (image_.gateway && (c.word == "state?" || c.word == "counters?")) {
       return "error " + c.word + " needs the gateway's memory: on the Uno image read it over Modbus";
     }
     return "error unknown command '" + c.word + "' (help lists them)";
@@ -39,7 +39,7 @@ std::string PanelChannel::handle(const std::string& line, uint64_t now_us, uint3
 }
 
 void PanelChannel::process(uint64_t now_us) {
-  for (int b = 0; b < 3; ++b) {
+  for (int b = 0; b < image_.buttons.count; ++b) {
     const uint8_t bit = static_cast<uint8_t>(1u << b);
     if ((clicked_ & bit) && now_us >= release_at_us_[b]) {
       buttons_ = static_cast<uint8_t>(buttons_ & ~bit);
@@ -48,14 +48,15 @@ void PanelChannel::process(uint64_t now_us) {
   }
 }
 
-void PanelChannel::set_led(Led led, bool on) {
-  leds_[led] = on;
+void PanelChannel::set_led(uint8_t led, bool on) {
+  if (led < kMaxLeds) leds_[led] = on;
 }
 
 std::string PanelChannel::leds_line(uint32_t at_us) const {
   std::ostringstream out;
-  out << "leds self=" << leds_[kSelf] << " prev=" << leds_[kPrev] << " next=" << leds_[kNext]
-      << " lab=" << leds_[kLab] << " canerr=" << leds_[kCanErr] << " at_us=" << at_us;
+  out << "leds";
+  for (uint8_t i = 0; i < image_.led_count; ++i) out << ' ' << image_.led_names[i] << '=' << leds_[i];
+  out << " at_us=" << at_us;
   return out.str();
 }
 

@@ -1,7 +1,10 @@
 // The operator panel of the simulated Uno on stdin/stdout, with mb2co-node's
 // line protocol (docs/mb2co-node.md) where the Uno has the same thing:
-//   press B | release B | click B [ms]   (B: START, STOP, STOP2) -> "ok"
+//   press B | release B | click B [ms]   (B: the image's buttons: START,
+//                                         STOP, STOP2; the I/O node's UP,
+//                                         DOWN, LEFT, RIGHT, CLICK) -> "ok"
 //   leds?  -> "leds self=1 prev=0 next=1 lab=0 canerr=0 at_us=T"
+//             (the I/O node: "leds d7=1 d8=0 at_us=T")
 //   quit   -> "bye"
 // state? and counters? read the gateway's memory in mb2co-node; on the Uno
 // image that is over Modbus only: they get "error ...". A "leds" line also
@@ -12,12 +15,18 @@
 
 #include <string>
 
+#include "uno_image.h"
+
 namespace mb2co {
 namespace uno {
 
 class PanelChannel {
  public:
-  enum Led : uint8_t { kSelf, kPrev, kNext, kLab, kCanErr, kLedCount };
+  static const uint8_t kMaxButtons = 8;
+  static const uint8_t kMaxLeds = 8;
+
+  /// The buttons and LEDs of `image` (kept by reference: a static table).
+  explicit PanelChannel(const UnoImage& image = gateway_image()) : image_(image) {}
 
   /// Handles one line at simulated time `now_us` (`at_us`: the same moment
   /// on the wall clock, for the leds reply); the reply without newline ("" for
@@ -25,19 +34,21 @@ class PanelChannel {
   std::string handle(const std::string& line, uint64_t now_us, uint32_t at_us);
   /// Releases clicked buttons whose time is up.
   void process(uint64_t now_us);
-  /// Bit i: button i (0 START, 1 STOP, 2 STOP2) is pressed.
+  /// Bit i: button i of the image (gateway: 0 START, 1 STOP, 2 STOP2) is pressed.
   uint8_t buttons() const { return buttons_; }
   bool quit() const { return quit_; }
 
-  void set_led(Led led, bool on);
+  /// LED `led` (index into the image's LEDs) shows `on`.
+  void set_led(uint8_t led, bool on);
   /// "leds ..." stamped `at_us`.
   std::string leds_line(uint32_t at_us) const;
 
  private:
+  const UnoImage& image_;
   uint8_t buttons_ = 0;
   uint8_t clicked_ = 0;  ///< buttons a click will release
-  uint64_t release_at_us_[3] = {0, 0, 0};
-  bool leds_[kLedCount] = {};
+  uint64_t release_at_us_[kMaxButtons] = {};
+  bool leds_[kMaxLeds] = {};
   bool quit_ = false;
 };
 

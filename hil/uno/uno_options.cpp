@@ -1,5 +1,7 @@
 #include "uno_options.h"
 
+#include "uno_image.h"
+
 namespace mb2co {
 namespace uno {
 namespace {
@@ -9,12 +11,14 @@ cli::Program make_program() {
   cli::Program p;
   p.name = "mb2co-uno";
   p.description =
-      "The Uno's gateway image (mb2co-gateway.elf) in libsimavr: ATmega328P at 16 MHz paced\n"
-      "to real time, USART0 on a pty, the MCP2515 shield on SocketCAN, buttons and LEDs on\n"
-      "stdin/stdout (docs/uno-sim.md).\n";
+      "The Uno's gateway image (mb2co-gateway.elf, or another: --image) in libsimavr:\n"
+      "ATmega328P at 16 MHz paced to real time, USART0 on a pty, the MCP2515 shield on\n"
+      "SocketCAN, buttons and LEDs on stdin/stdout (docs/uno-sim.md).\n";
   cli::Command c;
   c.options = {
-      cli::file("--elf", "FILE", "the AVR image (default: the one this build tree made)"),
+      cli::choice("--image", {"gateway", "ionode", "echo"},
+                  "which image and board wiring (default gateway; ionode: joystick and LEDs D7, D8)"),
+      cli::file("--elf", "FILE", "the AVR image file (default: --image's, made by this build tree)"),
       cli::text("--can", "IFACE", "SocketCAN interface (default vcan0), or 'none'"),
       cli::file("--pty", "PATH", "symlink to the pty at PATH (removed at exit)"),
       cli::file("--eeprom", "FILE", "1 KiB EEPROM image: loaded at start, written back at exit"),
@@ -29,7 +33,7 @@ cli::Program make_program() {
   p.commands = {c};
   p.footer =
       "\nControl (stdin, one command per line): press B | release B | click B [ms] (B: START,\n"
-      "STOP, STOP2) | leds? | stack? | help | quit.\n"
+      "STOP, STOP2; --image ionode: UP, DOWN, LEFT, RIGHT, CLICK) | leds? | stack? | help | quit.\n"
       "exit status: 0 on SIGINT/SIGTERM/quit, 1 runtime error, 2 usage error\n";
   return p;
 }
@@ -42,6 +46,7 @@ const cli::Program& program() {
 }
 
 void apply_options(const cli::Args& a, UnoOptions* o) {
+  o->image = a.get("--image", o->image);
   o->elf = a.get("--elf", o->elf);
   o->can = a.get("--can", o->can);
   o->pty_link = a.get("--pty", o->pty_link);

@@ -11,13 +11,14 @@ namespace mb2co {
 namespace uno {
 
 struct UnoOptions {
-  std::string elf;            ///< the AVR image; main fills in the build's default
-  std::string can = "vcan0";  ///< SocketCAN interface, or "none": frames sent are dropped
-  std::string pty_link;       ///< --pty PATH: symlink to the pty made for USART0
-  std::string eeprom;         ///< 1 KiB file: the EEPROM at start, written back at exit
-  uint32_t duration_ms = 0;   ///< --duration S: stop after S simulated seconds (0: run on)
-  bool unpaced = false;       ///< --unpaced: as fast as simavr can (measurements)
-  bool trace_can = false;     ///< --trace-can: a "can" line per frame the chip sends
+  std::string image = "gateway";  ///< --image: which image (uno_image.h) and wiring
+  std::string elf;                ///< the AVR image file; empty: the build's file of `image`
+  std::string can = "vcan0";      ///< SocketCAN interface, or "none": frames sent are dropped
+  std::string pty_link;           ///< --pty PATH: symlink to the pty made for USART0
+  std::string eeprom;             ///< 1 KiB file: the EEPROM at start, written back at exit
+  uint32_t duration_ms = 0;       ///< --duration S: stop after S simulated seconds (0: run on)
+  bool unpaced = false;           ///< --unpaced: as fast as simavr can (measurements)
+  bool trace_can = false;         ///< --trace-can: a "can" line per frame the chip sends
 };
 
 /// The option table of mb2co-uno (help, parser and completion come from it).

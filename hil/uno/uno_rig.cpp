@@ -6,26 +6,15 @@ namespace mb2co {
 namespace uno {
 namespace {
 
-// firmware/avr/pins.h
-constexpr uint8_t kPinStart = 9, kPinStop = 3, kPinStop2 = 4;
+// firmware/avr/pins.h; the buttons and LEDs are the image's (uno_image.cpp).
 constexpr uint8_t kPinCanInt = 2;
-struct LedPin {
-  uint8_t pin;
-  PanelChannel::Led led;
-};
-constexpr LedPin kLedPins[] = {{5, PanelChannel::kSelf},
-                               {6, PanelChannel::kPrev},
-                               {14, PanelChannel::kNext},
-                               {7, PanelChannel::kLab},
-                               {8, PanelChannel::kCanErr}};
-const uint8_t kButtonPins[3] = {kPinStart, kPinStop, kPinStop2};
 
 /// USART0 rate of the gateway image (gateway_main.cpp, kBaud).
 constexpr uint32_t kImageBaud = 115200;
 
 }  // namespace
 
-UnoRig::UnoRig() : wire_(UnoBoard::kCpuHz) {
+UnoRig::UnoRig(const UnoImage& image) : image_(image), wire_(UnoBoard::kCpuHz), panel_(image) {
   const modbus::RtuTiming t = modbus::rtu_timing(kImageBaud);
   char_us_ = t.char_us;
   t35_us_ = t.t35_us;
@@ -39,8 +28,8 @@ Status UnoRig::load(const std::string& elf_path) {
   w.spi_select = [this](bool selected) { on_select(selected); };
   Status loaded = board_.load(elf_path, std::move(w));
   if (!loaded) return loaded;
-  for (const LedPin& l : kLedPins) board_.watch_pin(l.pin);
-  for (uint8_t pin : kButtonPins) board_.drive_pin(pin, true);  // released
+  for (uint8_t i = 0; i < image_.led_count; ++i) board_.watch_pin(image_.led_pins[i]);
+  for (int b = 0; b < image_.buttons.count; ++b) board_.drive_pin(image_.button_pins[b], true);  // released
   board_.drive_pin(kPinCanInt, true);
   return Status::ok();
 }
@@ -52,9 +41,9 @@ bool UnoRig::run_until_us(uint64_t until_us) {
 // --- pins ----------------------------------------------------------------------------
 
 void UnoRig::on_pin(uint8_t pin, bool high) {
-  for (const LedPin& l : kLedPins) {
-    if (l.pin != pin) continue;
-    panel_.set_led(l.led, high);
+  for (uint8_t i = 0; i < image_.led_count; ++i) {
+    if (image_.led_pins[i] != pin) continue;
+    panel_.set_led(i, high);
     led_changed_ = true;
     led_changed_us_ = board_.micros();
   }
@@ -69,9 +58,9 @@ bool UnoRig::take_led_change(uint64_t* changed_us) {
 
 void UnoRig::apply_buttons() {
   const uint8_t want = panel_.buttons();
-  for (uint8_t b = 0; b < 3; ++b) {
+  for (int b = 0; b < image_.buttons.count; ++b) {
     const uint8_t bit = static_cast<uint8_t>(1u << b);
-    if ((want ^ buttons_driven_) & bit) board_.drive_pin(kButtonPins[b], (want & bit) == 0);
+    if ((want ^ buttons_driven_) & bit) board_.drive_pin(image_.button_pins[b], (want & bit) == 0);
   }
   buttons_driven_ = want;
 }

@@ -2,9 +2,10 @@
 // SPI bus with the CAN wire behind it, the operator panel on its pins. Knows
 // nothing of file descriptors: main.cpp moves bytes and frames in and out.
 //
-// Pins (firmware/avr/pins.h): buttons D9 START, D3 STOP, D4 STOP2 (low =
-// pressed); LEDs D5 RUN-self, D6 RUN-prev, D14 RUN-next, D7 lab, D8 CAN not
-// usable (high = on); MCP2515 CS D10 (SPI mode 0), INT D2 (active low).
+// Pins (firmware/avr/pins.h): the image's buttons (low = pressed) and LEDs
+// (high = on) as UnoImage names them (the gateway: buttons D9 START, D3 STOP,
+// D4 STOP2; LEDs D5 RUN-self, D6 RUN-prev, D14 RUN-next, D7 lab, D8 CAN not
+// usable); MCP2515 CS D10 (SPI mode 0), INT D2 (active low).
 #pragma once
 #include <stdint.h>
 
@@ -21,7 +22,8 @@ namespace uno {
 
 class UnoRig {
  public:
-  UnoRig();
+  /// A board wired for `image`'s buttons and LEDs (a static table).
+  explicit UnoRig(const UnoImage& image = gateway_image());
   /// Loads the image and wires it up (see UnoBoard::load).
   Status load(const std::string& elf_path);
 
@@ -68,6 +70,7 @@ class UnoRig {
   void schedule_wire();
   void note_sent(const std::vector<CanWire::Sent>& sent);
 
+  const UnoImage& image_;
   UnoBoard board_;
   CanWire wire_;
   PanelChannel panel_;

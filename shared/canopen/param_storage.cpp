@@ -93,6 +93,13 @@ bool barrier(const ParamStorage& st) {
 
 }  // namespace
 
+bool params_preload(ObjectDictionary& od, const ParamStorage* st, uint16_t from_index, uint16_t to_index) {
+  od.restore_defaults(from_index, to_index);
+  if (st != nullptr && param_set_loaded(params_load(od, *st, from_index, to_index))) return true;
+  od.restore_defaults(from_index, to_index);  // a failed read may have left some bytes
+  return false;
+}
+
 bool params_erase(const ParamStorage& st) {
   const uint8_t zero[2] = {0, 0};
   return st.write(st.ctx, 0, zero, 2) && st.write(st.ctx, kSlotBytes, zero, 2);

@@ -79,6 +79,11 @@ inline bool param_damage_found(ParamLoad r) {
 /// rows may hold some loaded bytes (only when the storage fails to read what
 /// it has just read): the caller restores defaults then.
 ParamLoad params_load(ObjectDictionary& od, const ParamStorage& st, uint16_t from_index, uint16_t to_index);
+/// Before Node::start: the rows from_index..to_index that the start itself
+/// needs (a device's own node id, which its boot-up message already carries)
+/// from the newest valid saved set, else their defaults. True when a set was
+/// loaded; `st` null: defaults, false.
+bool params_preload(ObjectDictionary& od, const ParamStorage* st, uint16_t from_index, uint16_t to_index);
 /// Invalidates both slots: defaults apply from the next reset (1011h).
 bool params_erase(const ParamStorage& st);
 

@@ -1,8 +1,9 @@
 // The operator-panel commands that mb2co-node's control channel and
 // mb2co-uno's panel share (docs/mb2co-node.md, docs/uno-sim.md): press,
-// release and click of START, STOP, STOP2. Command words and button names
-// are read in any letter case ("click start" is "click START"); the error
-// texts are the channels' replies after "error ".
+// release and click of a button: the station's START, STOP, STOP2, or the
+// buttons a panel names (PanelButtons: the I/O node's joystick). Command
+// words and button names are read in any letter case ("click start" is
+// "click START"); the error texts are the channels' replies after "error ".
 #pragma once
 #include <stdint.h>
 #include <stdlib.h>
@@ -22,16 +23,31 @@ struct PanelCommand {
   enum Action : uint8_t { kPress, kRelease, kClick };
   Kind kind = kBlank;
   Action action = kPress;
-  int button = -1;         ///< 0 START, 1 STOP, 2 STOP2
+  int button = -1;         ///< index into the panel's names (station: 0 START, 1 STOP, 2 STOP2)
   uint32_t hold_ms = 100;  ///< click: released after this long (1..60000)
   std::string word;        ///< the command word, lower case
   std::string rest;        ///< kOther: the words after it, as typed
   std::string error;
 };
 
-inline const char* panel_button_name(int button) {
+/// The buttons of a panel by name, index = bit of the pressed mask (at most
+/// 8). `names` outlives the parse (a static table).
+struct PanelButtons {
+  const char* const* names;
+  int count;
+};
+
+/// The station's operator panel: START, STOP, STOP2.
+inline PanelButtons panel_station_buttons() {
   static const char* const kNames[3] = {"START", "STOP", "STOP2"};
-  return button >= 0 && button < 3 ? kNames[button] : "?";
+  return PanelButtons{kNames, 3};
+}
+
+/// "START, STOP, STOP2"
+inline std::string panel_button_list(const PanelButtons& buttons) {
+  std::string out;
+  for (int b = 0; b < buttons.count; ++b) out += (b ? ", " : "") + std::string(buttons.names[b]);
+  return out;
 }
 
 inline std::string panel_lower(std::string s) {
@@ -39,7 +55,8 @@ inline std::string panel_lower(std::string s) {
   return s;
 }
 
-inline PanelCommand parse_panel_command(const std::string& line) {
+inline PanelCommand parse_panel_command(const std::string& line,
+                                        const PanelButtons& buttons = panel_station_buttons()) {
   PanelCommand c;
   std::istringstream in(line);
   std::string word, arg, extra;
@@ -57,11 +74,11 @@ inline PanelCommand parse_panel_command(const std::string& line) {
                                    : PanelCommand::kClick;
   in >> arg;
   const std::string name = panel_lower(arg);
-  for (int b = 0; b < 3; ++b) {
-    if (name == panel_lower(panel_button_name(b))) c.button = b;
+  for (int b = 0; b < buttons.count; ++b) {
+    if (name == panel_lower(buttons.names[b])) c.button = b;
   }
   if (c.button < 0) {
-    c.error = "unknown button '" + arg + "' (START, STOP, STOP2)";
+    c.error = "unknown button '" + arg + "' (" + panel_button_list(buttons) + ")";
     return c;
   }
   if (in >> extra) {
@@ -86,9 +103,9 @@ inline PanelCommand parse_panel_command(const std::string& line) {
 }
 
 /// The button lines of `help` (each channel adds its own queries).
-inline const char* panel_help_lines() {
-  return "help press B | release B | click B [ms]   B: START, STOP, STOP2 (any case); click: 1..60000 ms, "
-         "default 100";
+inline std::string panel_help_lines(const PanelButtons& buttons = panel_station_buttons()) {
+  return "help press B | release B | click B [ms]   B: " + panel_button_list(buttons) +
+         " (any case); click: 1..60000 ms, default 100";
 }
 
 }  // namespace mb2co

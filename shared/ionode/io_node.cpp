@@ -17,9 +17,38 @@ IoNode::IoNode(const CanSink& sink, uint32_t device_type)
   node_.set_reset_callback(&IoNode::on_reset, this);
 }
 
-void IoNode::on_reset(void* ctx, NmtReset) {
+void IoNode::start(uint8_t default_node_id, uint32_t now_us) {
+  default_node_id_ = default_node_id;
+  const bool saved = params_preload(od_, node_.storage(), 0x2001, 0x2001);
+  node_.start(saved ? values_.x2001_1_nodeId : default_node_id, now_us);
+}
+
+void IoNode::on_reset(void* ctx, NmtReset kind) {
   IoNode& n = *static_cast<IoNode*>(ctx);
   n.od_.set(n.od_.find(0x1000, 0), n.device_type_);
+  if (n.default_node_id_ == 0) n.default_node_id_ = n.node_.node_id();
+  od::IoNodeValues& v = n.values_;
+  // Reset communication: the node took the id written since (app_write) or
+  // given by its owner (Node::set_node_id_for_next_reset); 2001h/1 shows it.
+  // Reset node: the saved id, without saved parameters the power-on one.
+  if (kind == kResetCommunication) {
+    v.x2001_1_nodeId = n.node_.node_id();
+  } else if (!n.node_.params_loaded()) {
+    v.x2001_1_nodeId = n.default_node_id_;
+  }
+  if (v.x2001_1_nodeId != n.node_.node_id()) {
+    // Reset node only: the node took an id written since and not saved; the
+    // saved or power-on one wins, with one more reset so that the
+    // node-id-relative COB-IDs follow it.
+    n.node_.set_node_id_for_next_reset(v.x2001_1_nodeId);
+    n.node_.request_reset(kResetCommunication);
+  }
+  // The bit rate reaches the controller at every reset, before the boot-up.
+  const CanControl* can = n.node_.can_control();
+  if (can != nullptr) {
+    const CanControl control = flash_read(can);
+    if (control.set_bitrate != nullptr) control.set_bitrate(n.node_.sink().ctx, v.x2001_2_bitrateKbit);
+  }
 }
 
 void IoNode::set_input(uint8_t n, uint8_t value) {
@@ -30,8 +59,16 @@ uint8_t IoNode::output(uint8_t n) const {
   return n < 2 ? static_cast<uint8_t>(od_.get(static_cast<uint16_t>(row_outputs_ + n))) : 0;
 }
 
-HookResult IoNode::app_write(void* ctx, uint8_t, uint16_t index, uint8_t, const uint8_t*, uint16_t, bool) {
+HookResult IoNode::app_write(void* ctx, uint8_t, uint16_t index, uint8_t sub, const uint8_t* data, uint16_t,
+                             bool apply) {
   IoNode& n = *static_cast<IoNode*>(ctx);
+  if (index == 0x2001) {
+    // The MCP2515's rates (platform/device_port.h, CanControl::set_bitrate).
+    const uint16_t kbit = sub == 2 ? le16(data) : 0;
+    if (sub == 2 && kbit != 125 && kbit != 250 && kbit != 500 && kbit != 1000) return kAbortInvalidValue;
+    if (apply && sub == 1) n.node_.set_node_id_for_next_reset(data[0]);  // at reset communication
+    return kSdoOk;
+  }
   if (index == 0x6200) {
     // A hand switch (2100h) keeps the outputs under local control; and the
     // outputs are process data: they follow the network only when operational.

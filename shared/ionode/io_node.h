@@ -1,6 +1,10 @@
 // The CiA 401-style digital I/O test node used across tests and the demo:
 // inputs are written by the owner (hardware pins, a test, the simulator) and
-// published by TPDO1; outputs arrive by RPDO1 or SDO.
+// published by TPDO1; outputs arrive by RPDO1 or SDO. Its own node id and
+// CAN bit rate are 2001h/1-2, kept like the gateway's 2000h/1-2: saved with
+// 1010h (the node's two-slot storage, canopen/param_storage.h), a written
+// id in force from the next reset communication, the bit rate from the next
+// reset; a reset node without a saved set goes back to the power-on id.
 #pragma once
 #include <stdint.h>
 
@@ -15,7 +19,11 @@ class IoNode {
   /// `device_type` is what 1000h reports (default 00030191h: CiA 401, in+out).
   IoNode(const CanSink& sink, uint32_t device_type = 0x00030191u);
 
-  void start(uint8_t node_id, uint32_t now_us) { node_.start(node_id, now_us); }
+  /// Power-on: boot-up with the saved node id 2001h/1 when a saved set is
+  /// found (before the boot-up: the node never announces itself under
+  /// another id), else with `default_node_id` (1..127). Set the storage
+  /// (node().set_storage) and the CAN control before.
+  void start(uint8_t default_node_id, uint32_t now_us);
   void receive(const CanFrame& f, uint32_t now_us) { node_.receive(f, now_us); }
   void process(uint32_t now_us) { node_.process(now_us); }
 
@@ -36,6 +44,9 @@ class IoNode {
   canopen::ObjectDictionary od_;
   canopen::Node node_;
   uint32_t device_type_;
+  /// The id given to start() (0: the node was started directly, Node::start:
+  /// its first id counts as the default).
+  uint8_t default_node_id_ = 0;
   uint16_t row_inputs_;
   uint16_t row_outputs_;
   uint16_t row_local_;

@@ -1,6 +1,8 @@
 // Object Dictionary of the CiA 401-style digital I/O test node: two input
 // bytes (6000h), two output bytes (6200h), TPDO1 = inputs, RPDO1 = outputs,
 // as the CO4011 module of seed 004 §2.11 that the frame trace talks to.
+// 2001h/1-2 are the node's own id and CAN bit rate, as the gateway's
+// 2000h/1-2: saved with 1010h, in force from the next reset (IoNode).
 #pragma once
 // The OD lists and their macros are tables, one row a line: not reflowed.
 // clang-format off
@@ -32,6 +34,9 @@ namespace ionode {
   MB2CO_OD_PDO_MAP(N, 0x1A02, x1A02, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO3 mapping")                  \
   MB2CO_OD_PDO_MAP(N, 0x1A03, x1A03, kHookTpdoMap, 0, 0, 0, 0, 0, 0, 0, 0, 0, "TPDO4 mapping")                  \
   S(0x2000, 0, x2000_0_locationLabel, RW, kHookNone, 24, "", "Location label")                                  \
+  N(0x2001, 0, x2001_0_highestSubIndex, U8, CONST, 0, kHookNone, 2, "Node configuration: highest sub-index")    \
+  N(0x2001, 1, x2001_1_nodeId, U8, RW, 0, kHookApp, 0x20, "Node configuration: node id")                        \
+  N(0x2001, 2, x2001_2_bitrateKbit, U16, RW, 0, kHookApp, 500, "Node configuration: bit rate kbit/s")           \
   N(0x2100, 0, x2100_0_localControl, BOOL, RW, 0, kHookApp, 0, "Local control (outputs refuse network writes)") \
   N(0x2101, 0, x2101_0_inputDebounceMs, U16, RW, 0, kHookNone, 10, "Input debounce (ms)")                       \
   N(0x6000, 0, x6000_0_highestSubIndex, U8, CONST, 0, kHookNone, 2, "Read input 8-bit: highest sub-index")      \
@@ -41,7 +46,10 @@ namespace ionode {
   N(0x6200, 1, x6200_1_writeOutput8Bit1, U8, RW, kAttrPdo | kAttrCommand, kHookApp, 0, "Write output 8-bit 1")  \
   N(0x6200, 2, x6200_2_writeOutput8Bit2, U8, RW, kAttrPdo | kAttrCommand, kHookApp, 0, "Write output 8-bit 2")
 
-#define MB2CO_IO_NODE_LIMITS(L) L(0x2101, 0, 1, 250)
+#define MB2CO_IO_NODE_LIMITS(L) \
+  L(0x2001, 1, 1, 127)          \
+  L(0x2001, 2, 125, 1000)       \
+  L(0x2101, 0, 1, 250)
 
 namespace od {
 using namespace ::mb2co::canopen;

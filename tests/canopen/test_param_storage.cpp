@@ -2,6 +2,7 @@
 // a RAM-backed ParamStorage, and what survives which reset.
 #include <gtest/gtest.h>
 
+#include "ram_storage.h"
 #include "test_fixture.h"
 
 namespace mb2co {
@@ -9,40 +10,6 @@ namespace test {
 namespace {
 
 using namespace canopen;
-
-/// Byte-addressed storage in RAM; can be told to fail from the n-th write on,
-/// and to take `busy_us` of virtual time (*clock) per byte written as an
-/// EEPROM does (ParamStorage::ready false meanwhile).
-struct RamStorage {
-  std::vector<uint8_t> mem = std::vector<uint8_t>(1024, 0xFF);
-  int writes_left = -1;  ///< -1: never fail
-  const uint32_t* clock = nullptr;
-  uint32_t busy_us = 0;
-  uint32_t ready_at = 0;
-  int early_writes = 0;  ///< writes while not ready (a port would block)
-  static bool ready(void* ctx) {
-    const RamStorage& s = *static_cast<RamStorage*>(ctx);
-    return s.clock == nullptr || time_reached(*s.clock, s.ready_at);
-  }
-  static bool read(void* ctx, uint16_t at, uint8_t* data, uint16_t len) {
-    RamStorage& s = *static_cast<RamStorage*>(ctx);
-    if (static_cast<size_t>(at) + len > s.mem.size()) return false;
-    memcpy(data, &s.mem[at], len);
-    return true;
-  }
-  static bool write(void* ctx, uint16_t at, const uint8_t* data, uint16_t len) {
-    RamStorage& s = *static_cast<RamStorage*>(ctx);
-    if (s.writes_left == 0 || static_cast<size_t>(at) + len > s.mem.size()) return false;
-    if (s.writes_left > 0) --s.writes_left;
-    if (!ready(ctx)) ++s.early_writes;
-    memcpy(&s.mem[at], data, len);
-    if (s.clock != nullptr) s.ready_at = *s.clock + s.busy_us * len;
-    return true;
-  }
-  ParamStorage api() {
-    return ParamStorage{&RamStorage::read, &RamStorage::write, nullptr, this, &RamStorage::ready};
-  }
-};
 
 class Storage : public IoNodeTest {
  protected:

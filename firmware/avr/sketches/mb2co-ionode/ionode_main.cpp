@@ -3,7 +3,9 @@
 //   6000h/1  joystick (bit 0 UP, 1 DOWN, 2 LEFT, 3 RIGHT, 4 CLICK; 1 = pressed),
 //            debounced by 2101h, published by TPDO1 on change
 //   6200h/1  outputs from RPDO1 or SDO: bit 0 shield LED D7, bit 1 LED D8
-// Node id kNodeId at 500 kbit/s; 1010h saves the parameters in EEPROM.
+//   2001h/1  node id (default kDefaultNodeId), 2001h/2 bit rate (default 500
+//            kbit/s): written by SDO, saved in EEPROM with 1010h (the gateway's
+//            two-slot layout), in force from the next reset (docs/labs.md)
 // Built by CMake (firmware/avr) or, through mb2co-ionode.ino, by the Arduino IDE
 // (firmware/avr/README.md).
 #include <Arduino.h>
@@ -21,8 +23,9 @@ namespace {
 
 using namespace mb2co;
 
-constexpr uint8_t kNodeId = 0x20;
-constexpr uint16_t kBitrateKbit = 500;
+/// The node id without a saved one (a fresh board: set each board's own id
+/// by SDO before two of them share a bus).
+constexpr uint8_t kDefaultNodeId = 0x20;
 
 mcp2515::Driver driver(avr::mcp2515_spi());
 const canopen::ParamStorage storage = avr::eeprom_storage();
@@ -67,11 +70,11 @@ void setup() {
   avr::gpio_output(pins::kShieldLed2);
   avr::gpio_input(pins::kCanInt, false);  // the MCP2515 drives INT push-pull
   avr::mcp2515_spi_begin();
-  const uint32_t now_us = micros();
-  can_port.begin(kBitrateKbit, now_us);  // before the boot-up message
   io.node().set_storage(&storage);
-  io.node().set_can_control(&avr::CanPort::kControl);  // filters; the rate is fixed
-  io.start(kNodeId, now_us);
+  // Starts the chip at the saved bit rate before the boot-up message
+  // (IoNode::on_reset: CanControl::set_bitrate), and sets its filters.
+  io.node().set_can_control(&avr::CanPort::kControl);
+  io.start(kDefaultNodeId, micros());
 }
 
 void loop() {

@@ -20,22 +20,28 @@ __attribute__((noinline)) uint16_t ids_per_value(uint16_t mask) {
   return ids;
 }
 
-/// Bits first..last-1 set.
-__attribute__((noinline)) uint16_t span(uint8_t first, uint8_t last) {
-  uint16_t bits = 0;
-  for (uint8_t k = first; k < last; ++k) bits = static_cast<uint16_t>(bits | (1u << k));
-  return bits;
+/// Copies into `out` the ids of ids[0..n) inside the run [a, b) (`run`) or
+/// outside it (!run), in order; returns how many.
+__attribute__((noinline)) uint8_t gather(const uint16_t* ids, uint8_t n, uint8_t a, uint8_t b, bool run,
+                                         uint16_t* out) {
+  uint8_t d = 0;
+  for (uint8_t k = 0; k < n; ++k) {
+    if ((k >= a && k < b) == run) out[d++] = ids[k];
+  }
+  return d;
 }
 
-/// Fills `out[0..filters)` with the distinct masked values (first one repeated
-/// into unused slots, so unused filters accept nothing new); returns how many
-/// are distinct.
-uint8_t group_filters(const uint16_t* ids, uint8_t n, uint16_t mask, uint16_t* out, uint8_t filters) {
+/// Keeps in `out` the first of each distinct value of in[0..n) under `mask`,
+/// in order (out may be in: it is written behind the reading), then repeats
+/// out[0] into out[used..filters) (unused filters then accept nothing new);
+/// returns how many are distinct.
+__attribute__((noinline)) uint8_t distinct(const uint16_t* in, uint8_t n, uint16_t mask, uint16_t* out,
+                                           uint8_t filters) {
   uint8_t used = 0;
   for (uint8_t i = 0; i < n; ++i) {
     bool seen = false;
-    for (uint8_t j = 0; j < used && !seen; ++j) seen = ((out[j] ^ ids[i]) & mask) == 0;
-    if (!seen) out[used++] = ids[i];  // the search guarantees used <= filters
+    for (uint8_t j = 0; j < used && !seen; ++j) seen = ((out[j] ^ in[i]) & mask) == 0;
+    if (!seen) out[used++] = in[i];  // the search guarantees used <= filters
   }
   for (uint8_t j = used; j < filters; ++j) out[j] = out[0];
   return used;
@@ -60,7 +66,7 @@ bool plan_accepts(const FilterPlan& plan, uint16_t id) {
 // while more distinct values remain than the buffer has filters, merge the
 // pair of values whose merge (clearing the bits they differ in) lets the
 // fewest ids through (the first such pair, in the order (1,0), (2,0), (2,1),
-// (3,0) ..). It works on one member per distinct value: ids equal under a mask
+// (3,0) ..). It works on one id per distinct value: ids equal under a mask
 // stay equal under any narrower one, so the counts are the same.
 
 bool FilterPlanner::start(const uint16_t* ids, uint8_t count) {
@@ -72,41 +78,21 @@ bool FilterPlanner::start(const uint16_t* ids, uint8_t count) {
   ids_ = ids;
   n_ = count;
   a_ = 0;
-  b_ = 1;
+  b_ = 0;
   best_cost_ = kNoCost;
   best_a_ = 0;
   best_b_ = 0;
-  begin_group(kRun, span(0, 1));
+  next_split();
   return true;
 }
 
-uint8_t FilterPlanner::gather(uint16_t members, uint16_t* values) const {
-  uint8_t d = 0;
-  uint16_t bit = 1;
-  for (uint8_t k = 0; k < n_; ++k, bit = static_cast<uint16_t>(bit << 1)) {
-    if (members & bit) values[d++] = ids_[k];
-  }
-  return d;
+uint8_t FilterPlanner::load(uint16_t* values) const {
+  const uint8_t n = gather(ids_, n_, a_, b_, phase_ == kRun, values);
+  return distinct(values, n, mask_, values, 0);
 }
 
-uint16_t FilterPlanner::compact(uint16_t members, uint16_t mask) const {
-  uint16_t kept = 0;
-  uint16_t bit = 1;
-  for (uint8_t k = 0; k < n_; ++k, bit = static_cast<uint16_t>(bit << 1)) {
-    if ((members & bit) == 0) continue;
-    bool seen = false;
-    uint16_t earlier = 1;
-    for (uint8_t e = 0; e < k && !seen; ++e, earlier = static_cast<uint16_t>(earlier << 1)) {
-      seen = (kept & earlier) != 0 && ((ids_[k] ^ ids_[e]) & mask) == 0;
-    }
-    if (!seen) kept = static_cast<uint16_t>(kept | bit);
-  }
-  return kept;
-}
-
-void FilterPlanner::begin_group(Phase phase, uint16_t members) {
+void FilterPlanner::begin_group(Phase phase) {
   phase_ = phase;
-  members_ = members;  // distinct ids: one member per value already
   mask_ = kMaxStandardId;
   i_ = 1;
   j_ = 0;
@@ -132,11 +118,8 @@ void FilterPlanner::next_split() {
     ++a_;
     b_ = static_cast<uint8_t>(a_ + 1);
   }
-  if (a_ >= n_) {
-    phase_ = kDone;
-    return;
-  }
-  begin_group(kRun, span(a_, b_));
+  phase_ = kDone;
+  if (a_ < n_) begin_group(kRun);
 }
 
 void FilterPlanner::finish_group(uint8_t distinct) {
@@ -152,7 +135,7 @@ void FilterPlanner::finish_group(uint8_t distinct) {
     } else if (!loses(static_cast<uint16_t>(cost + rest))) {
       // RXB1 lets at least its own ids through: its (costly) search only
       // when even that could beat the best split so far.
-      begin_group(kRest, static_cast<uint16_t>(span(0, n_) & ~span(a_, b_)));
+      begin_group(kRest);
       return;
     }
   }
@@ -161,13 +144,18 @@ void FilterPlanner::finish_group(uint8_t distinct) {
 
 bool FilterPlanner::step() {
   uint16_t values[kMaxSubscribedIds];
-  uint8_t d = gather(members_, values);
+  uint8_t d = 0;
+  // Every pass of the loop starts by (re)loading the group's distinct
+  // values when `d` is 0: at the start, after a group or a round ended.
   uint16_t work = 0;
   while (busy() && work < kStepWork) {
+    if (d == 0) {
+      d = load(values);
+      work = static_cast<uint16_t>(work + n_ + kPairWork);
+    }
     if (d <= (phase_ == kRun ? kFiltersRxB0 : kFiltersRxB1)) {
       finish_group(d);
-      d = gather(members_, values);
-      work = static_cast<uint16_t>(work + kPairWork);
+      d = 0;
       continue;
     }
     // One candidate: merge values i_ and j_. Counting the distinct values
@@ -192,29 +180,27 @@ bool FilterPlanner::step() {
     // Round over: take its best merge (at least the merged pair became one
     // value, so the search ends).
     mask_ = round_mask_;
-    members_ = compact(members_, mask_);
-    d = gather(members_, values);
     i_ = 1;
     round_cost_ = kNoCost;
-    work = static_cast<uint16_t>(work + n_);
+    d = 0;
   }
   return !busy();
 }
 
 void FilterPlanner::plan(FilterPlan& out) const {
   uint16_t values[kMaxSubscribedIds];
-  const uint16_t run = span(best_a_, best_b_);
   const uint16_t m0 = best_m0_;
   const uint16_t m1 = best_m1_;
   out.mask[0] = m0;
   out.mask[1] = m1;
-  const uint8_t d0 = group_filters(values, gather(run, values), m0, out.filter, kFiltersRxB0);
-  uint8_t r = gather(static_cast<uint16_t>(span(0, n_) & ~run), values);
+  const uint8_t d0 =
+      distinct(values, gather(ids_, n_, best_a_, best_b_, true, values), m0, out.filter, kFiltersRxB0);
+  uint8_t r = gather(ids_, n_, best_a_, best_b_, false, values);
   if (r == 0) {  // RXB1 repeats RXF0 exactly (m1 is exact then)
     values[0] = out.filter[0];
     r = 1;
   }
-  const uint8_t d1 = group_filters(values, r, m1, out.filter + kFiltersRxB0, kFiltersRxB1);
+  const uint8_t d1 = distinct(values, r, m1, out.filter + kFiltersRxB0, kFiltersRxB1);
   // Standard ids passing, counted without trying all 2048: the values of one
   // buffer accept disjoint sets, so |RXB0 u RXB1| = |RXB0| + |RXB1| minus
   // the ids both pass; a value of each has those in common when they agree on
@@ -230,7 +216,6 @@ void FilterPlanner::plan(FilterPlan& out) const {
   out.accepted_ids = accepted;
   out.exact = accepted == n_;
 }
-
 bool plan_filters(const uint16_t* ids, uint8_t count, FilterPlan& plan) {
   if (count == 0 || count > kMaxSubscribedIds) return false;
   // Sorted, de-duplicated copy: CANopen puts the function code in the high

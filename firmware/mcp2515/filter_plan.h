@@ -66,25 +66,23 @@ class FilterPlanner {
     kRest,      ///< mask search for RXB1's ids (the others)
     kDone,
   };
-  uint8_t gather(uint16_t members, uint16_t* values) const;
-  uint16_t compact(uint16_t members, uint16_t mask) const;
-  void begin_group(Phase phase, uint16_t members);
+  uint8_t load(uint16_t* values) const;
+  void begin_group(Phase phase);
   void finish_group(uint8_t distinct);
   void consider(uint16_t cost, uint16_t mask1);
   bool loses(uint16_t cost) const;
   void next_split();
 
-  // Sets of ids are bit masks over ids_ (bit k: ids_[k]). A group search
-  // keeps, in ids_ order, one member per distinct value under mask_, and
-  // evaluates merging members i_ and j_ (positions among them, j_ < i_).
+  // A group search works on the group's ids (RXB0: ids_[a_, b_); RXB1: the
+  // others), one per distinct value under mask_ (load() recomputes them at
+  // each step), and evaluates merging values i_ and j_ (j_ < i_).
   const uint16_t* ids_;
   uint8_t n_;
   Phase phase_;
   uint8_t a_, b_;            ///< current split: RXB0 takes ids_[a_, b_)
   uint8_t i_, j_;            ///< next candidate pair of the current round
   uint8_t best_a_, best_b_;  ///< best split so far
-  uint16_t members_;         ///< group being searched, one per distinct value
-  uint16_t mask_;            ///< its mask so far
+  uint16_t mask_;            ///< the group's mask so far
   uint16_t round_mask_;      ///< best merge of this round (valid after its first pair)
   uint16_t round_cost_;      ///< ids that merge lets through; 0xFFFF: none yet
   uint16_t m0_, cost0_;      ///< RXB0's mask and accepted ids for the current split

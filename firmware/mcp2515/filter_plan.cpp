@@ -11,9 +11,10 @@ constexpr uint16_t kNoCost = 0xFFFF;
 /// width, bookkeeping), and for the end of a group search.
 constexpr uint16_t kPairWork = 8;
 
-/// Ids one filter value with `mask` accepts: 2^(bits the mask clears).
-__attribute__((noinline)) uint16_t ids_per_value(uint16_t mask) {
-  uint16_t ids = 1;
+/// Ids `values` distinct filter values with `mask` accept: values * 2^(bits
+/// the mask clears).
+__attribute__((noinline)) uint16_t accepted_by(uint16_t values, uint16_t mask) {
+  uint16_t ids = values;
   for (uint16_t bit = 1; bit <= kMaxStandardId; bit = static_cast<uint16_t>(bit << 1)) {
     if ((mask & bit) == 0) ids = static_cast<uint16_t>(ids << 1);
   }
@@ -123,18 +124,17 @@ void FilterPlanner::next_split() {
 }
 
 void FilterPlanner::finish_group(uint8_t distinct) {
-  const uint16_t cost = static_cast<uint16_t>(distinct * ids_per_value(mask_));
+  const uint16_t cost = accepted_by(distinct, mask_);
   if (phase_ == kRest) {
     consider(static_cast<uint16_t>(cost0_ + cost), mask_);
   } else {
     m0_ = mask_;
     cost0_ = cost;
     const uint8_t rest = static_cast<uint8_t>(n_ - (b_ - a_));
-    if (rest == 0) {
-      consider(cost, kMaxStandardId);
-    } else if (!loses(static_cast<uint16_t>(cost + rest))) {
+    if (!loses(static_cast<uint16_t>(cost + rest))) {
       // RXB1 lets at least its own ids through: its (costly) search only
-      // when even that could beat the best split so far.
+      // when even that could beat the best split so far. Without ids it
+      // ends at once, exact and letting none through.
       begin_group(kRest);
       return;
     }
@@ -161,7 +161,7 @@ bool FilterPlanner::step() {
     // One candidate: merge values i_ and j_. Counting the distinct values
     // under it stops once the count shows it cannot beat the round's best.
     const uint16_t candidate = static_cast<uint16_t>(mask_ & ~(values[i_] ^ values[j_]));
-    const uint16_t per_value = ids_per_value(candidate);
+    const uint16_t per_value = accepted_by(1, candidate);
     uint16_t cost = 0;
     for (uint8_t k = 0; k < d && cost < round_cost_; ++k) {
       bool seen = false;
@@ -205,8 +205,8 @@ void FilterPlanner::plan(FilterPlan& out) const {
   // buffer accept disjoint sets, so |RXB0 u RXB1| = |RXB0| + |RXB1| minus
   // the ids both pass; a value of each has those in common when they agree on
   // the bits both masks keep: 2^(bits neither keeps) ids.
-  uint16_t accepted = static_cast<uint16_t>(d0 * ids_per_value(m0) + d1 * ids_per_value(m1));
-  const uint16_t common = ids_per_value(m0 | m1);
+  uint16_t accepted = static_cast<uint16_t>(accepted_by(d0, m0) + accepted_by(d1, m1));
+  const uint16_t common = accepted_by(1, m0 | m1);
   for (uint8_t p = 0; p < d0; ++p) {
     for (uint8_t q = kFiltersRxB0; q < kFiltersRxB0 + d1; ++q) {
       if (((out.filter[p] ^ out.filter[q]) & m0 & m1) == 0)

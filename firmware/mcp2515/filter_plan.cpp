@@ -193,29 +193,32 @@ void FilterPlanner::plan(FilterPlan& out) const {
   const uint16_t m1 = best_m1_;
   out.mask[0] = m0;
   out.mask[1] = m1;
+  // Standard ids passing, counted without trying all 2048: the values of one
+  // buffer accept disjoint sets, so |RXB0 u RXB1| = |RXB0| + |RXB1| (the
+  // search's cost) minus the ids both pass; a value of each has those in
+  // common when they agree on the bits both masks keep: 2^(bits neither
+  // keeps) ids.
+  uint16_t accepted = best_cost_;
   const uint8_t d0 =
       distinct(values, gather(ids_, n_, best_a_, best_b_, true, values), m0, out.filter, kFiltersRxB0);
   uint8_t r = gather(ids_, n_, best_a_, best_b_, false, values);
-  if (r == 0) {  // RXB1 repeats RXF0 exactly (m1 is exact then)
+  if (r == 0) {  // RXB1 repeats RXF0 exactly (m1 is exact then): once more
     values[0] = out.filter[0];
     r = 1;
+    ++accepted;
   }
+  const uint16_t* const rxb1 = out.filter + kFiltersRxB0;
   const uint8_t d1 = distinct(values, r, m1, out.filter + kFiltersRxB0, kFiltersRxB1);
-  // Standard ids passing, counted without trying all 2048: the values of one
-  // buffer accept disjoint sets, so |RXB0 u RXB1| = |RXB0| + |RXB1| minus
-  // the ids both pass; a value of each has those in common when they agree on
-  // the bits both masks keep: 2^(bits neither keeps) ids.
-  uint16_t accepted = static_cast<uint16_t>(accepted_by(d0, m0) + accepted_by(d1, m1));
   const uint16_t common = accepted_by(1, m0 | m1);
-  for (uint8_t p = 0; p < d0; ++p) {
-    for (uint8_t q = kFiltersRxB0; q < kFiltersRxB0 + d1; ++q) {
-      if (((out.filter[p] ^ out.filter[q]) & m0 & m1) == 0)
-        accepted = static_cast<uint16_t>(accepted - common);
+  for (const uint16_t* p = out.filter; p < out.filter + d0; ++p) {
+    for (const uint16_t* q = rxb1; q < rxb1 + d1; ++q) {
+      if (((*p ^ *q) & m0 & m1) == 0) accepted = static_cast<uint16_t>(accepted - common);
     }
   }
   out.accepted_ids = accepted;
   out.exact = accepted == n_;
 }
+
 bool plan_filters(const uint16_t* ids, uint8_t count, FilterPlan& plan) {
   if (count == 0 || count > kMaxSubscribedIds) return false;
   // Sorted, de-duplicated copy: CANopen puts the function code in the high

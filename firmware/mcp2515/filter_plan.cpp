@@ -81,8 +81,6 @@ bool FilterPlanner::start(const uint16_t* ids, uint8_t count) {
   a_ = 0;
   b_ = 0;
   best_cost_ = kNoCost;
-  best_a_ = 0;
-  best_b_ = 0;
   next_split();
   return true;
 }
@@ -101,8 +99,8 @@ void FilterPlanner::begin_group(Phase phase) {
 }
 
 bool FilterPlanner::loses(uint16_t cost) const {
-  const uint8_t len = static_cast<uint8_t>(b_ - a_);
-  return cost > best_cost_ || (cost == best_cost_ && len <= best_b_ - best_a_);
+  return cost > best_cost_ ||
+         (cost == best_cost_ && static_cast<uint8_t>(b_ - a_) <= static_cast<uint8_t>(best_b_ - best_a_));
 }
 
 void FilterPlanner::consider(uint16_t cost, uint16_t mask1) {

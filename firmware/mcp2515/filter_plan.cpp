@@ -21,28 +21,19 @@ __attribute__((noinline)) uint16_t accepted_by(uint16_t values, uint16_t mask) {
   return ids;
 }
 
-/// Copies into `out` the ids of ids[0..n) inside the run [a, b) (`run`) or
-/// outside it (!run), in order; returns how many.
-__attribute__((noinline)) uint8_t gather(const uint16_t* ids, uint8_t n, uint8_t a, uint8_t b, bool run,
-                                         uint16_t* out) {
-  uint8_t d = 0;
-  for (uint8_t k = 0; k < n; ++k) {
-    if ((k >= a && k < b) == run) out[d++] = ids[k];
-  }
-  return d;
-}
-
-/// Keeps in `out` the first of each distinct value of in[0..n) under `mask`,
-/// in order (out may be in: it is written behind the reading), then repeats
-/// out[0] into out[used..filters) (unused filters then accept nothing new);
-/// returns how many are distinct.
-__attribute__((noinline)) uint8_t distinct(const uint16_t* in, uint8_t n, uint16_t mask, uint16_t* out,
-                                           uint8_t filters) {
+/// Keeps in `out`, in order, the first id of each distinct value under `mask`
+/// among the ids of ids[0..n) inside the run [a, b) (`run`) or outside it
+/// (!run), then repeats out[0] into out[used..filters) (unused filters then
+/// accept nothing new; with no ids at all out[0] stays as it was); returns
+/// how many are distinct.
+__attribute__((noinline)) uint8_t distinct(const uint16_t* ids, uint8_t n, uint8_t a, uint8_t b, bool run,
+                                           uint16_t mask, uint16_t* out, uint8_t filters) {
   uint8_t used = 0;
   for (uint8_t i = 0; i < n; ++i) {
+    if ((i >= a && i < b) != run) continue;
     bool seen = false;
-    for (uint8_t j = 0; j < used && !seen; ++j) seen = ((out[j] ^ in[i]) & mask) == 0;
-    if (!seen) out[used++] = in[i];  // the search guarantees used <= filters
+    for (uint8_t j = 0; j < used && !seen; ++j) seen = ((out[j] ^ ids[i]) & mask) == 0;
+    if (!seen) out[used++] = ids[i];  // the search guarantees used <= filters
   }
   for (uint8_t j = used; j < filters; ++j) out[j] = out[0];
   return used;
@@ -86,8 +77,7 @@ bool FilterPlanner::start(const uint16_t* ids, uint8_t count) {
 }
 
 uint8_t FilterPlanner::load(uint16_t* values) const {
-  const uint8_t n = gather(ids_, n_, a_, b_, phase_ == kRun, values);
-  return distinct(values, n, mask_, values, 0);
+  return distinct(ids_, n_, a_, b_, phase_ == kRun, mask_, values, 0);
 }
 
 void FilterPlanner::begin_group(Phase phase) {
@@ -186,7 +176,6 @@ bool FilterPlanner::step() {
 }
 
 void FilterPlanner::plan(FilterPlan& out) const {
-  uint16_t values[kMaxSubscribedIds];
   const uint16_t m0 = best_m0_;
   const uint16_t m1 = best_m1_;
   out.mask[0] = m0;
@@ -197,16 +186,10 @@ void FilterPlanner::plan(FilterPlan& out) const {
   // common when they agree on the bits both masks keep: 2^(bits neither
   // keeps) ids.
   uint16_t accepted = best_cost_;
-  const uint8_t d0 =
-      distinct(values, gather(ids_, n_, best_a_, best_b_, true, values), m0, out.filter, kFiltersRxB0);
-  uint8_t r = gather(ids_, n_, best_a_, best_b_, false, values);
-  if (r == 0) {  // RXB1 repeats RXF0 exactly (m1 is exact then): once more
-    values[0] = out.filter[0];
-    r = 1;
-    ++accepted;
-  }
-  const uint16_t* const rxb1 = out.filter + kFiltersRxB0;
-  const uint8_t d1 = distinct(values, r, m1, out.filter + kFiltersRxB0, kFiltersRxB1);
+  const uint8_t d0 = distinct(ids_, n_, best_a_, best_b_, true, m0, out.filter, kFiltersRxB0);
+  uint16_t* const rxb1 = out.filter + kFiltersRxB0;
+  rxb1[0] = out.filter[0];  // an RXB1 without ids repeats RXF0 (exact m1): d1 0
+  const uint8_t d1 = distinct(ids_, n_, best_a_, best_b_, false, m1, rxb1, kFiltersRxB1);
   const uint16_t common = accepted_by(1, m0 | m1);
   for (const uint16_t* p = out.filter; p < out.filter + d0; ++p) {
     for (const uint16_t* q = rxb1; q < rxb1 + d1; ++q) {

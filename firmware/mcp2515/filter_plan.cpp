@@ -80,15 +80,14 @@ uint8_t FilterPlanner::load(uint16_t* values) const {
   return distinct(ids_, n_, a_, b_, phase_ == kRun, mask_, values, 0);
 }
 
-void FilterPlanner::begin_group(Phase phase) {
-  phase_ = phase;
-  mask_ = kMaxStandardId;
+__attribute__((noinline)) void FilterPlanner::begin_round(uint16_t mask) {
+  mask_ = mask;
   i_ = 1;
   j_ = 0;
   round_cost_ = kNoCost;
 }
 
-bool FilterPlanner::loses(uint16_t cost) const {
+__attribute__((noinline)) bool FilterPlanner::loses(uint16_t cost) const {
   return cost > best_cost_ ||
          (cost == best_cost_ && static_cast<uint8_t>(b_ - a_) <= static_cast<uint8_t>(best_b_ - best_a_));
 }
@@ -107,8 +106,8 @@ void FilterPlanner::next_split() {
     ++a_;
     b_ = static_cast<uint8_t>(a_ + 1);
   }
-  phase_ = kDone;
-  if (a_ < n_) begin_group(kRun);
+  phase_ = a_ < n_ ? kRun : kDone;
+  begin_round(kMaxStandardId);
 }
 
 void FilterPlanner::finish_group(uint8_t distinct) {
@@ -123,7 +122,8 @@ void FilterPlanner::finish_group(uint8_t distinct) {
       // RXB1 lets at least its own ids through: its (costly) search only
       // when even that could beat the best split so far. Without ids it
       // ends at once, exact and letting none through.
-      begin_group(kRest);
+      phase_ = kRest;
+      begin_round(kMaxStandardId);
       return;
     }
   }
@@ -167,9 +167,7 @@ bool FilterPlanner::step() {
     if (++i_ < d) continue;
     // Round over: take its best merge (at least the merged pair became one
     // value, so the search ends).
-    mask_ = round_mask_;
-    i_ = 1;
-    round_cost_ = kNoCost;
+    begin_round(round_mask_);
     d = 0;
   }
   return !busy();

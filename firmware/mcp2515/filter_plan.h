@@ -67,7 +67,7 @@ class FilterPlanner {
     kDone,
   };
   uint8_t load(uint16_t* values) const;
-  void begin_group(Phase phase);
+  void begin_round(uint16_t mask);
   void finish_group(uint8_t distinct);
   void consider(uint16_t cost, uint16_t mask1);
   bool loses(uint16_t cost) const;

@@ -130,7 +130,7 @@ void FilterPlanner::finish_group(uint8_t distinct) {
   next_split();
 }
 
-bool FilterPlanner::step() {
+__attribute__((noinline)) bool FilterPlanner::step() {
   uint16_t values[kMaxSubscribedIds];
   uint8_t d = 0;
   // Every pass of the loop starts by (re)loading the group's distinct

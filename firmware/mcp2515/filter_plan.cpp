@@ -131,6 +131,8 @@ void FilterPlanner::finish_group(uint8_t distinct) {
 }
 
 __attribute__((noinline)) bool FilterPlanner::step() {
+  static_assert(kRun * kFiltersRxB0 == kFiltersRxB0 && kRest * kFiltersRxB0 == kFiltersRxB1,
+                "a group's filters: its phase times RXB0's");
   uint16_t values[kMaxSubscribedIds];
   uint8_t d = 0;
   // Every pass of the loop starts by (re)loading the group's distinct
@@ -141,7 +143,7 @@ __attribute__((noinline)) bool FilterPlanner::step() {
       d = load(values);
       work = static_cast<uint16_t>(work + n_ + kPairWork);
     }
-    if (d <= (phase_ == kRun ? kFiltersRxB0 : kFiltersRxB1)) {
+    if (d <= static_cast<uint8_t>(phase_ * kFiltersRxB0)) {
       finish_group(d);
       d = 0;
       continue;

@@ -31,9 +31,9 @@ __attribute__((noinline)) uint8_t distinct(const uint16_t* ids, uint8_t n, uint8
   uint8_t used = 0;
   for (uint8_t i = 0; i < n; ++i) {
     if ((i >= a && i < b) != run) continue;
-    bool seen = false;
-    for (uint8_t j = 0; j < used && !seen; ++j) seen = ((out[j] ^ ids[i]) & mask) == 0;
-    if (!seen) out[used++] = ids[i];  // the search guarantees used <= filters
+    uint8_t j = 0;
+    while (j < used && ((out[j] ^ ids[i]) & mask) != 0) ++j;
+    if (j == used) out[used++] = ids[i];  // the search guarantees used <= filters
   }
   for (uint8_t j = used; j < filters; ++j) out[j] = out[0];
   return used;
@@ -154,10 +154,10 @@ __attribute__((noinline)) bool FilterPlanner::step() {
     const uint16_t per_value = accepted_by(1, candidate);
     uint16_t cost = 0;
     for (uint8_t k = 0; k < d && cost < round_cost_; ++k) {
-      bool seen = false;
-      for (uint8_t e = 0; e < k && !seen; ++e) seen = ((values[k] ^ values[e]) & candidate) == 0;
+      uint8_t e = 0;
+      while (e < k && ((values[k] ^ values[e]) & candidate) != 0) ++e;
       work = static_cast<uint16_t>(work + k);
-      if (!seen) cost = static_cast<uint16_t>(cost + per_value);
+      if (e == k) cost = static_cast<uint16_t>(cost + per_value);
     }
     work = static_cast<uint16_t>(work + kPairWork);
     if (cost < round_cost_) {

@@ -7,6 +7,7 @@ namespace {
 constexpr uint8_t kFiltersRxB0 = 2;
 constexpr uint8_t kFiltersRxB1 = 4;
 constexpr uint16_t kNoCost = 0xFFFF;
+constexpr uint8_t kStandardIdBits = 11;  ///< kMaxStandardId = 2^11 - 1
 /// Work charged for a candidate merge besides its comparisons (its mask's
 /// width, bookkeeping), and for the end of a group search.
 constexpr uint16_t kPairWork = 8;
@@ -14,11 +15,10 @@ constexpr uint16_t kPairWork = 8;
 /// Ids `values` distinct filter values with `mask` accept: values * 2^(bits
 /// the mask clears).
 __attribute__((noinline)) uint16_t accepted_by(uint16_t values, uint16_t mask) {
-  uint16_t ids = values;
-  for (uint16_t bit = 1; bit <= kMaxStandardId; bit = static_cast<uint16_t>(bit << 1)) {
-    if ((mask & bit) == 0) ids = static_cast<uint16_t>(ids << 1);
+  for (uint8_t bit = 0; bit < kStandardIdBits; ++bit, mask = static_cast<uint16_t>(mask >> 1)) {
+    if ((mask & 1) == 0) values = static_cast<uint16_t>(values << 1);
   }
-  return ids;
+  return values;
 }
 
 /// Keeps in `out`, in order, the first id of each distinct value under `mask`

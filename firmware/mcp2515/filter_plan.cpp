@@ -21,24 +21,6 @@ __attribute__((noinline)) uint16_t accepted_by(uint16_t values, uint16_t mask) {
   return values;
 }
 
-/// Keeps in `out`, in order, the first id of each distinct value under `mask`
-/// among the ids of ids[0..n) inside the run [a, b) (`run`) or outside it
-/// (!run), then repeats out[0] into out[used..filters) (unused filters then
-/// accept nothing new; with no ids at all out[0] stays as it was); returns
-/// how many are distinct.
-__attribute__((noinline)) uint8_t distinct(const uint16_t* ids, uint8_t n, uint8_t a, uint8_t b, bool run,
-                                           uint16_t mask, uint16_t* out, uint8_t filters) {
-  uint8_t used = 0;
-  for (uint8_t i = 0; i < n; ++i) {
-    if ((i >= a && i < b) != run) continue;
-    uint8_t j = 0;
-    while (j < used && ((out[j] ^ ids[i]) & mask) != 0) ++j;
-    if (j == used) out[used++] = ids[i];  // the search guarantees used <= filters
-  }
-  for (uint8_t j = used; j < filters; ++j) out[j] = out[0];
-  return used;
-}
-
 }  // namespace
 
 bool plan_accepts(const FilterPlan& plan, uint16_t id) {
@@ -76,8 +58,22 @@ bool FilterPlanner::start(const uint16_t* ids, uint8_t count) {
   return true;
 }
 
-uint8_t FilterPlanner::load(uint16_t* values) const {
-  return distinct(ids_, n_, a_, b_, phase_ == kRun, mask_, values, 0);
+/// Keeps in `out`, in order, the first id of each distinct value under `mask`
+/// among the ids of ids_[0..n_) inside the run [a, b) (`run`) or outside it
+/// (!run), then repeats out[0] into out[used..filters) (unused filters then
+/// accept nothing new; with no ids at all out[0] stays as it was); returns
+/// how many are distinct.
+__attribute__((noinline)) uint8_t FilterPlanner::distinct(uint8_t a, uint8_t b, bool run, uint16_t mask,
+                                                          uint16_t* out, uint8_t filters) const {
+  uint8_t used = 0;
+  for (uint8_t i = 0; i < n_; ++i) {
+    if ((i >= a && i < b) != run) continue;
+    uint8_t j = 0;
+    while (j < used && ((out[j] ^ ids_[i]) & mask) != 0) ++j;
+    if (j == used) out[used++] = ids_[i];  // the search guarantees used <= filters
+  }
+  for (uint8_t j = used; j < filters; ++j) out[j] = out[0];
+  return used;
 }
 
 __attribute__((noinline)) void FilterPlanner::begin_round(uint16_t mask) {
@@ -110,8 +106,8 @@ void FilterPlanner::next_split() {
   begin_round(kMaxStandardId);
 }
 
-void FilterPlanner::finish_group(uint8_t distinct) {
-  const uint16_t cost = accepted_by(distinct, mask_);
+void FilterPlanner::finish_group(uint8_t values) {
+  const uint16_t cost = accepted_by(values, mask_);
   if (phase_ == kRest) {
     consider(static_cast<uint16_t>(cost0_ + cost), mask_);
   } else {
@@ -140,7 +136,7 @@ __attribute__((noinline)) bool FilterPlanner::step() {
   uint16_t work = 0;
   while (busy() && work < kStepWork) {
     if (d == 0) {
-      d = load(values);
+      d = distinct(a_, b_, phase_ == kRun, mask_, values, 0);
       work = static_cast<uint16_t>(work + n_ + kPairWork);
     }
     if (d <= static_cast<uint8_t>(phase_ * kFiltersRxB0)) {
@@ -186,10 +182,10 @@ void FilterPlanner::plan(FilterPlan& out) const {
   // common when they agree on the bits both masks keep: 2^(bits neither
   // keeps) ids.
   uint16_t accepted = best_cost_;
-  const uint8_t d0 = distinct(ids_, n_, best_a_, best_b_, true, m0, out.filter, kFiltersRxB0);
+  const uint8_t d0 = distinct(best_a_, best_b_, true, m0, out.filter, kFiltersRxB0);
   uint16_t* const rxb1 = out.filter + kFiltersRxB0;
   rxb1[0] = out.filter[0];  // an RXB1 without ids repeats RXF0 (exact m1): d1 0
-  const uint8_t d1 = distinct(ids_, n_, best_a_, best_b_, false, m1, rxb1, kFiltersRxB1);
+  const uint8_t d1 = distinct(best_a_, best_b_, false, m1, rxb1, kFiltersRxB1);
   const uint16_t common = accepted_by(1, m0 | m1);
   for (const uint16_t* p = out.filter; p < out.filter + d0; ++p) {
     for (const uint16_t* q = rxb1; q < rxb1 + d1; ++q) {

@@ -66,15 +66,15 @@ class FilterPlanner {
     kRest,      ///< mask search for RXB1's ids (the others)
     kDone,
   };
-  uint8_t load(uint16_t* values) const;
+  uint8_t distinct(uint8_t a, uint8_t b, bool run, uint16_t mask, uint16_t* out, uint8_t filters) const;
   void begin_round(uint16_t mask);
-  void finish_group(uint8_t distinct);
+  void finish_group(uint8_t values);
   void consider(uint16_t cost, uint16_t mask1);
   bool loses(uint16_t cost) const;
   void next_split();
 
   // A group search works on the group's ids (RXB0: ids_[a_, b_); RXB1: the
-  // others), one per distinct value under mask_ (load() recomputes them at
+  // others), one per distinct value under mask_ (distinct() finds them at
   // each step), and evaluates merging values i_ and j_ (j_ < i_).
   const uint16_t* ids_;
   uint8_t n_;

@@ -17,7 +17,7 @@ namespace mcp2515 {
 /// and a greedy mask search for each buffer: time grows steeply with the
 /// count. Measured on the ATmega328P at 16 MHz (simavr, cycle count; lines
 /// filter_plan_* of firmware/avr/measure-pass-time.sh), the whole plan:
-/// 6 ids 4.7 ms, 9 ids (a gateway in a ring) 58 ms, 12 ids 215 ms. In a loop
+/// 6 ids 4.0 ms, 9 ids (a gateway in a ring) 51 ms, 12 ids 195 ms. In a loop
 /// that must keep going, plan with FilterPlanner (at most ~1.1 ms a step).
 constexpr uint8_t kMaxSubscribedIds = 12;
 constexpr uint16_t kMaxStandardId = 0x7FF;
@@ -33,14 +33,14 @@ struct FilterPlan {
 /// peers while it plans: start(), then step() once per loop pass until it
 /// returns true, then plan(). The result is the one plan_filters gives.
 ///
-/// All zero (value-initialised) it is idle. No heap; 28 B on the AVR: it
+/// All zero (value-initialised) it is idle. No heap; 26 B on the AVR: it
 /// keeps a pointer to the caller's id list, not a copy.
 class FilterPlanner {
  public:
   /// Comparisons of masked ids one step() does before it stops (it finishes
   /// the candidate merge in progress: at most 66 more). The longest step,
-  /// the last one (it also builds the plan) included, takes 0.97 ms for 9
-  /// ids, 1.07 ms for 12 on the ATmega328P at 16 MHz (69 and 262 steps).
+  /// the last one (it also builds the plan) included, takes 0.78 ms for 9
+  /// ids, 0.88 ms for 12 on the ATmega328P at 16 MHz (77 and 289 steps).
   static const uint16_t kStepWork = 320;
 
   /// Begins a plan for ids[0..count): strictly ascending (sorted, no

@@ -7,38 +7,18 @@ namespace {
 constexpr uint8_t kFiltersRxB0 = 2;
 constexpr uint8_t kFiltersRxB1 = 4;
 constexpr uint16_t kNoCost = 0xFFFF;
+constexpr uint8_t kStandardIdBits = 11;  ///< kMaxStandardId = 2^11 - 1
 /// Work charged for a candidate merge besides its comparisons (its mask's
 /// width, bookkeeping), and for the end of a group search.
 constexpr uint16_t kPairWork = 8;
 
-/// Ids one filter value with `mask` accepts: 2^(bits the mask clears).
-__attribute__((noinline)) uint16_t ids_per_value(uint16_t mask) {
-  uint16_t ids = 1;
-  for (uint16_t bit = 1; bit <= kMaxStandardId; bit = static_cast<uint16_t>(bit << 1)) {
-    if ((mask & bit) == 0) ids = static_cast<uint16_t>(ids << 1);
+/// Ids `values` distinct filter values with `mask` accept: values * 2^(bits
+/// the mask clears).
+__attribute__((noinline)) uint16_t accepted_by(uint16_t values, uint16_t mask) {
+  for (uint8_t bit = 0; bit < kStandardIdBits; ++bit, mask = static_cast<uint16_t>(mask >> 1)) {
+    if ((mask & 1) == 0) values = static_cast<uint16_t>(values << 1);
   }
-  return ids;
-}
-
-/// Bits first..last-1 set.
-__attribute__((noinline)) uint16_t span(uint8_t first, uint8_t last) {
-  uint16_t bits = 0;
-  for (uint8_t k = first; k < last; ++k) bits = static_cast<uint16_t>(bits | (1u << k));
-  return bits;
-}
-
-/// Fills `out[0..filters)` with the distinct masked values (first one repeated
-/// into unused slots, so unused filters accept nothing new); returns how many
-/// are distinct.
-uint8_t group_filters(const uint16_t* ids, uint8_t n, uint16_t mask, uint16_t* out, uint8_t filters) {
-  uint8_t used = 0;
-  for (uint8_t i = 0; i < n; ++i) {
-    bool seen = false;
-    for (uint8_t j = 0; j < used && !seen; ++j) seen = ((out[j] ^ ids[i]) & mask) == 0;
-    if (!seen) out[used++] = ids[i];  // the search guarantees used <= filters
-  }
-  for (uint8_t j = used; j < filters; ++j) out[j] = out[0];
-  return used;
+  return values;
 }
 
 }  // namespace
@@ -60,7 +40,7 @@ bool plan_accepts(const FilterPlan& plan, uint16_t id) {
 // while more distinct values remain than the buffer has filters, merge the
 // pair of values whose merge (clearing the bits they differ in) lets the
 // fewest ids through (the first such pair, in the order (1,0), (2,0), (2,1),
-// (3,0) ..). It works on one member per distinct value: ids equal under a mask
+// (3,0) ..). It works on one id per distinct value: ids equal under a mask
 // stay equal under any narrower one, so the counts are the same.
 
 bool FilterPlanner::start(const uint16_t* ids, uint8_t count) {
@@ -72,50 +52,40 @@ bool FilterPlanner::start(const uint16_t* ids, uint8_t count) {
   ids_ = ids;
   n_ = count;
   a_ = 0;
-  b_ = 1;
+  b_ = 0;
   best_cost_ = kNoCost;
-  best_a_ = 0;
-  best_b_ = 0;
-  begin_group(kRun, span(0, 1));
+  next_split();
   return true;
 }
 
-uint8_t FilterPlanner::gather(uint16_t members, uint16_t* values) const {
-  uint8_t d = 0;
-  uint16_t bit = 1;
-  for (uint8_t k = 0; k < n_; ++k, bit = static_cast<uint16_t>(bit << 1)) {
-    if (members & bit) values[d++] = ids_[k];
+/// Keeps in `out`, in order, the first id of each distinct value under `mask`
+/// among the ids of ids_[0..n_) inside the run [a, b) (`run`) or outside it
+/// (!run), then repeats out[0] into out[used..filters) (unused filters then
+/// accept nothing new; with no ids at all out[0] stays as it was); returns
+/// how many are distinct.
+__attribute__((noinline)) uint8_t FilterPlanner::distinct(uint8_t a, uint8_t b, bool run, uint16_t mask,
+                                                          uint16_t* out, uint8_t filters) const {
+  uint8_t used = 0;
+  for (uint8_t i = 0; i < n_; ++i) {
+    if ((i >= a && i < b) != run) continue;
+    uint8_t j = 0;
+    while (j < used && ((out[j] ^ ids_[i]) & mask) != 0) ++j;
+    if (j == used) out[used++] = ids_[i];  // the search guarantees used <= filters
   }
-  return d;
+  for (uint8_t j = used; j < filters; ++j) out[j] = out[0];
+  return used;
 }
 
-uint16_t FilterPlanner::compact(uint16_t members, uint16_t mask) const {
-  uint16_t kept = 0;
-  uint16_t bit = 1;
-  for (uint8_t k = 0; k < n_; ++k, bit = static_cast<uint16_t>(bit << 1)) {
-    if ((members & bit) == 0) continue;
-    bool seen = false;
-    uint16_t earlier = 1;
-    for (uint8_t e = 0; e < k && !seen; ++e, earlier = static_cast<uint16_t>(earlier << 1)) {
-      seen = (kept & earlier) != 0 && ((ids_[k] ^ ids_[e]) & mask) == 0;
-    }
-    if (!seen) kept = static_cast<uint16_t>(kept | bit);
-  }
-  return kept;
-}
-
-void FilterPlanner::begin_group(Phase phase, uint16_t members) {
-  phase_ = phase;
-  members_ = members;  // distinct ids: one member per value already
-  mask_ = kMaxStandardId;
+__attribute__((noinline)) void FilterPlanner::begin_round(uint16_t mask) {
+  mask_ = mask;
   i_ = 1;
   j_ = 0;
   round_cost_ = kNoCost;
 }
 
-bool FilterPlanner::loses(uint16_t cost) const {
-  const uint8_t len = static_cast<uint8_t>(b_ - a_);
-  return cost > best_cost_ || (cost == best_cost_ && len <= best_b_ - best_a_);
+__attribute__((noinline)) bool FilterPlanner::loses(uint16_t cost) const {
+  return cost > best_cost_ ||
+         (cost == best_cost_ && static_cast<uint8_t>(b_ - a_) <= static_cast<uint8_t>(best_b_ - best_a_));
 }
 
 void FilterPlanner::consider(uint16_t cost, uint16_t mask1) {
@@ -132,54 +102,58 @@ void FilterPlanner::next_split() {
     ++a_;
     b_ = static_cast<uint8_t>(a_ + 1);
   }
-  if (a_ >= n_) {
-    phase_ = kDone;
-    return;
-  }
-  begin_group(kRun, span(a_, b_));
+  phase_ = a_ < n_ ? kRun : kDone;
+  begin_round(kMaxStandardId);
 }
 
-void FilterPlanner::finish_group(uint8_t distinct) {
-  const uint16_t cost = static_cast<uint16_t>(distinct * ids_per_value(mask_));
+void FilterPlanner::finish_group(uint8_t values) {
+  const uint16_t cost = accepted_by(values, mask_);
   if (phase_ == kRest) {
     consider(static_cast<uint16_t>(cost0_ + cost), mask_);
   } else {
     m0_ = mask_;
     cost0_ = cost;
     const uint8_t rest = static_cast<uint8_t>(n_ - (b_ - a_));
-    if (rest == 0) {
-      consider(cost, kMaxStandardId);
-    } else if (!loses(static_cast<uint16_t>(cost + rest))) {
+    if (!loses(static_cast<uint16_t>(cost + rest))) {
       // RXB1 lets at least its own ids through: its (costly) search only
-      // when even that could beat the best split so far.
-      begin_group(kRest, static_cast<uint16_t>(span(0, n_) & ~span(a_, b_)));
+      // when even that could beat the best split so far. Without ids it
+      // ends at once, exact and letting none through.
+      phase_ = kRest;
+      begin_round(kMaxStandardId);
       return;
     }
   }
   next_split();
 }
 
-bool FilterPlanner::step() {
+__attribute__((noinline)) bool FilterPlanner::step() {
+  static_assert(kRun * kFiltersRxB0 == kFiltersRxB0 && kRest * kFiltersRxB0 == kFiltersRxB1,
+                "a group's filters: its phase times RXB0's");
   uint16_t values[kMaxSubscribedIds];
-  uint8_t d = gather(members_, values);
+  uint8_t d = 0;
+  // Every pass of the loop starts by (re)loading the group's distinct
+  // values when `d` is 0: at the start, after a group or a round ended.
   uint16_t work = 0;
   while (busy() && work < kStepWork) {
-    if (d <= (phase_ == kRun ? kFiltersRxB0 : kFiltersRxB1)) {
+    if (d == 0) {
+      d = distinct(a_, b_, phase_ == kRun, mask_, values, 0);
+      work = static_cast<uint16_t>(work + n_ + kPairWork);
+    }
+    if (d <= static_cast<uint8_t>(phase_ * kFiltersRxB0)) {
       finish_group(d);
-      d = gather(members_, values);
-      work = static_cast<uint16_t>(work + kPairWork);
+      d = 0;
       continue;
     }
     // One candidate: merge values i_ and j_. Counting the distinct values
     // under it stops once the count shows it cannot beat the round's best.
     const uint16_t candidate = static_cast<uint16_t>(mask_ & ~(values[i_] ^ values[j_]));
-    const uint16_t per_value = ids_per_value(candidate);
+    const uint16_t per_value = accepted_by(1, candidate);
     uint16_t cost = 0;
     for (uint8_t k = 0; k < d && cost < round_cost_; ++k) {
-      bool seen = false;
-      for (uint8_t e = 0; e < k && !seen; ++e) seen = ((values[k] ^ values[e]) & candidate) == 0;
+      uint8_t e = 0;
+      while (e < k && ((values[k] ^ values[e]) & candidate) != 0) ++e;
       work = static_cast<uint16_t>(work + k);
-      if (!seen) cost = static_cast<uint16_t>(cost + per_value);
+      if (e == k) cost = static_cast<uint16_t>(cost + per_value);
     }
     work = static_cast<uint16_t>(work + kPairWork);
     if (cost < round_cost_) {
@@ -191,40 +165,31 @@ bool FilterPlanner::step() {
     if (++i_ < d) continue;
     // Round over: take its best merge (at least the merged pair became one
     // value, so the search ends).
-    mask_ = round_mask_;
-    members_ = compact(members_, mask_);
-    d = gather(members_, values);
-    i_ = 1;
-    round_cost_ = kNoCost;
-    work = static_cast<uint16_t>(work + n_);
+    begin_round(round_mask_);
+    d = 0;
   }
   return !busy();
 }
 
 void FilterPlanner::plan(FilterPlan& out) const {
-  uint16_t values[kMaxSubscribedIds];
-  const uint16_t run = span(best_a_, best_b_);
   const uint16_t m0 = best_m0_;
   const uint16_t m1 = best_m1_;
   out.mask[0] = m0;
   out.mask[1] = m1;
-  const uint8_t d0 = group_filters(values, gather(run, values), m0, out.filter, kFiltersRxB0);
-  uint8_t r = gather(static_cast<uint16_t>(span(0, n_) & ~run), values);
-  if (r == 0) {  // RXB1 repeats RXF0 exactly (m1 is exact then)
-    values[0] = out.filter[0];
-    r = 1;
-  }
-  const uint8_t d1 = group_filters(values, r, m1, out.filter + kFiltersRxB0, kFiltersRxB1);
   // Standard ids passing, counted without trying all 2048: the values of one
-  // buffer accept disjoint sets, so |RXB0 u RXB1| = |RXB0| + |RXB1| minus
-  // the ids both pass; a value of each has those in common when they agree on
-  // the bits both masks keep: 2^(bits neither keeps) ids.
-  uint16_t accepted = static_cast<uint16_t>(d0 * ids_per_value(m0) + d1 * ids_per_value(m1));
-  const uint16_t common = ids_per_value(m0 | m1);
-  for (uint8_t p = 0; p < d0; ++p) {
-    for (uint8_t q = kFiltersRxB0; q < kFiltersRxB0 + d1; ++q) {
-      if (((out.filter[p] ^ out.filter[q]) & m0 & m1) == 0)
-        accepted = static_cast<uint16_t>(accepted - common);
+  // buffer accept disjoint sets, so |RXB0 u RXB1| = |RXB0| + |RXB1| (the
+  // search's cost) minus the ids both pass; a value of each has those in
+  // common when they agree on the bits both masks keep: 2^(bits neither
+  // keeps) ids.
+  uint16_t accepted = best_cost_;
+  const uint8_t d0 = distinct(best_a_, best_b_, true, m0, out.filter, kFiltersRxB0);
+  uint16_t* const rxb1 = out.filter + kFiltersRxB0;
+  rxb1[0] = out.filter[0];  // an RXB1 without ids repeats RXF0 (exact m1): d1 0
+  const uint8_t d1 = distinct(best_a_, best_b_, false, m1, rxb1, kFiltersRxB1);
+  const uint16_t common = accepted_by(1, m0 | m1);
+  for (const uint16_t* p = out.filter; p < out.filter + d0; ++p) {
+    for (const uint16_t* q = rxb1; q < rxb1 + d1; ++q) {
+      if (((*p ^ *q) & m0 & m1) == 0) accepted = static_cast<uint16_t>(accepted - common);
     }
   }
   out.accepted_ids = accepted;

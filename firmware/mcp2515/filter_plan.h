@@ -17,7 +17,7 @@ namespace mcp2515 {
 /// and a greedy mask search for each buffer: time grows steeply with the
 /// count. Measured on the ATmega328P at 16 MHz (simavr, cycle count; lines
 /// filter_plan_* of firmware/avr/measure-pass-time.sh), the whole plan:
-/// 6 ids 4.7 ms, 9 ids (a gateway in a ring) 58 ms, 12 ids 215 ms. In a loop
+/// 6 ids 4.0 ms, 9 ids (a gateway in a ring) 51 ms, 12 ids 195 ms. In a loop
 /// that must keep going, plan with FilterPlanner (at most ~1.1 ms a step).
 constexpr uint8_t kMaxSubscribedIds = 12;
 constexpr uint16_t kMaxStandardId = 0x7FF;
@@ -33,14 +33,14 @@ struct FilterPlan {
 /// peers while it plans: start(), then step() once per loop pass until it
 /// returns true, then plan(). The result is the one plan_filters gives.
 ///
-/// All zero (value-initialised) it is idle. No heap; 28 B on the AVR: it
+/// All zero (value-initialised) it is idle. No heap; 26 B on the AVR: it
 /// keeps a pointer to the caller's id list, not a copy.
 class FilterPlanner {
  public:
   /// Comparisons of masked ids one step() does before it stops (it finishes
   /// the candidate merge in progress: at most 66 more). The longest step,
-  /// the last one (it also builds the plan) included, takes 0.97 ms for 9
-  /// ids, 1.07 ms for 12 on the ATmega328P at 16 MHz (69 and 262 steps).
+  /// the last one (it also builds the plan) included, takes 0.78 ms for 9
+  /// ids, 0.88 ms for 12 on the ATmega328P at 16 MHz (77 and 289 steps).
   static const uint16_t kStepWork = 320;
 
   /// Begins a plan for ids[0..count): strictly ascending (sorted, no
@@ -66,25 +66,23 @@ class FilterPlanner {
     kRest,      ///< mask search for RXB1's ids (the others)
     kDone,
   };
-  uint8_t gather(uint16_t members, uint16_t* values) const;
-  uint16_t compact(uint16_t members, uint16_t mask) const;
-  void begin_group(Phase phase, uint16_t members);
-  void finish_group(uint8_t distinct);
+  uint8_t distinct(uint8_t a, uint8_t b, bool run, uint16_t mask, uint16_t* out, uint8_t filters) const;
+  void begin_round(uint16_t mask);
+  void finish_group(uint8_t values);
   void consider(uint16_t cost, uint16_t mask1);
   bool loses(uint16_t cost) const;
   void next_split();
 
-  // Sets of ids are bit masks over ids_ (bit k: ids_[k]). A group search
-  // keeps, in ids_ order, one member per distinct value under mask_, and
-  // evaluates merging members i_ and j_ (positions among them, j_ < i_).
+  // A group search works on the group's ids (RXB0: ids_[a_, b_); RXB1: the
+  // others), one per distinct value under mask_ (distinct() finds them at
+  // each step), and evaluates merging values i_ and j_ (j_ < i_).
   const uint16_t* ids_;
   uint8_t n_;
   Phase phase_;
   uint8_t a_, b_;            ///< current split: RXB0 takes ids_[a_, b_)
   uint8_t i_, j_;            ///< next candidate pair of the current round
   uint8_t best_a_, best_b_;  ///< best split so far
-  uint16_t members_;         ///< group being searched, one per distinct value
-  uint16_t mask_;            ///< its mask so far
+  uint16_t mask_;            ///< the group's mask so far
   uint16_t round_mask_;      ///< best merge of this round (valid after its first pair)
   uint16_t round_cost_;      ///< ids that merge lets through; 0xFFFF: none yet
   uint16_t m0_, cost0_;      ///< RXB0's mask and accepted ids for the current split

@@ -214,6 +214,30 @@ TEST(FilterPlanner, GatewayListsTakeManyBoundedSteps) {
   }
 }
 
+TEST(FilterPlanner, AllIdsInRxb0LeaveRxb1RepeatingRxf0Exactly) {
+  // Two ids: RXB0 alone passes both exactly (a tie with one id in each
+  // buffer, and the longer run wins), so RXB1 has no ids of its own: its
+  // exact mask and RXF0 repeated in every filter add nothing.
+  const uint16_t ids[] = {0x181, 0x182};
+  FilterPlanner planner{};
+  ASSERT_TRUE(planner.start(ids, 2));
+  run(planner);
+  ASSERT_TRUE(planner.done());
+  FilterPlan got;
+  memset(&got, 0x5A, sizeof got);
+  planner.plan(got);
+  EXPECT_EQ(got.mask[0], kMaxStandardId);
+  EXPECT_EQ(got.mask[1], kMaxStandardId);
+  EXPECT_EQ(got.filter[0], 0x181);
+  EXPECT_EQ(got.filter[1], 0x182);
+  for (int f = 2; f < 6; ++f) EXPECT_EQ(got.filter[f], 0x181) << "RXF" << f;
+  EXPECT_TRUE(got.exact);
+  EXPECT_EQ(got.accepted_ids, 2);
+  FilterPlan want;
+  ref_plan_filters(ids, 2, want);
+  expect_same(got, want, std::vector<uint16_t>(ids, ids + 2));
+}
+
 TEST(FilterPlanner, StartOverMidwayGivesTheNewListsPlan) {
   const uint16_t first[] = {0x000, 0x080, 0x181, 0x183, 0x281, 0x602, 0x701, 0x703, 0x704, 0x705};
   const uint16_t second[] = {0x000, 0x080, 0x182, 0x184, 0x282, 0x603, 0x702, 0x704};

@@ -7,8 +7,10 @@
 //           (byte 2 & 7) << 8 | byte 3 (and byte 3 is consumed)
 //   then DLC data bytes (fewer if the input ends).
 // Invariants (violations abort): every frame sent passes frame_violation();
-// afterwards the const entries are unchanged and the node, put into
-// pre-operational, answers a valid SDO upload correctly.
+// afterwards the const entries are unchanged (a $NODEID-relative one less
+// the node id: frames may give the node another id, 2001h/1 + a reset) and
+// the node, put into pre-operational, answers a valid SDO upload correctly
+// under the id it has then.
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,6 +20,7 @@
 #include <vector>
 
 #include "fuzz/node_invariants.h"
+#include "fuzz_support.h"
 #include "ionode/io_node.h"
 
 namespace {
@@ -35,7 +38,7 @@ struct Bus {
               f.dlc);
       abort();
     }
-    if (f.id == 0x583) b.sdo.push_back(f);
+    if (f.id == 0x580u + b.node->od().node_id()) b.sdo.push_back(f);
     return true;
   }
 };
@@ -44,12 +47,7 @@ const uint32_t kIds[] = {0x000, 0x080, 0x603, 0x703, 0x183, 0x283, 0x383, 0x483,
                          0x203, 0x303, 0x403, 0x503, 0x705, 0x583, 0x083, 0x090};
 const uint32_t kScale[] = {1, 100, 10000, 1000000};
 
-void require(bool ok, const char* what) {
-  if (!ok) {
-    fprintf(stderr, "invariant violated: %s\n", what);
-    abort();
-  }
-}
+using fuzz::require;
 
 }  // namespace
 
@@ -61,12 +59,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   io.start(3, now);
 
   canopen::ObjectDictionary& od = io.od();
-  std::vector<std::vector<uint8_t>> consts;
-  for (uint16_t r = 0; r < od.row_count(); ++r) {
-    uint8_t buf[64];
-    const uint16_t n = (od.entry(r).attr & canopen::kAttrConst) ? od.copy_out(r, buf, sizeof buf) : 0;
-    consts.emplace_back(buf, buf + n);
-  }
+  const std::vector<uint8_t> consts = fuzz::const_values(od);
 
   size_t at = 0;
   while (at + 3 <= size) {
@@ -91,22 +84,19 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     io.process(now);
   }
 
-  for (uint16_t r = 0; r < od.row_count(); ++r) {
-    uint8_t buf[64];
-    const uint16_t n = (od.entry(r).attr & canopen::kAttrConst) ? od.copy_out(r, buf, sizeof buf) : 0;
-    require(consts[r] == std::vector<uint8_t>(buf, buf + n), "a const entry changed");
-  }
+  require(fuzz::const_values(od) == consts, "a const entry changed");
   // Pre-operational, then a valid upload of 1018h sub 2 must be answered.
+  const uint8_t id = od.node_id();
   CanFrame nmt = {};
   nmt.id = 0;
   nmt.dlc = 2;
   nmt.data[0] = 0x80;
-  nmt.data[1] = 3;
+  nmt.data[1] = id;
   io.receive(nmt, now);
   io.process(now);
   bus.sdo.clear();
   CanFrame req = {};
-  req.id = 0x603;
+  req.id = 0x600u + id;
   req.dlc = 8;
   req.data[0] = 0x40;
   req.data[1] = 0x18;

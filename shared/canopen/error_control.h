@@ -36,7 +36,7 @@ class ErrorControl {
   uint32_t next_heartbeat_us_;
   uint32_t life_deadline_us_;
   uint8_t node_id_;
-  bool restart_ = true;
+  bool restart_;  ///< set by init() (every reset) before the first process()
   bool toggle_;
   bool guarded_;    ///< a guarding request arrived since (re)start
   bool life_lost_;  ///< life guarding event raised, not yet resumed

@@ -42,9 +42,9 @@ uint8_t pdo_map_stride(const ObjectDictionary& od, uint16_t first_index);
 /// (comm_index + 200h, sub 0), and the mapping records' stride. One copy for
 /// the RPDOs and the TPDOs (the Uno's flash).
 struct PdoRecords {
-  uint16_t comm0;          ///< records are 5 (RPDO) or 6 (TPDO) rows apart
-  uint16_t map0;           ///< records are map_stride rows apart
-  uint8_t map_stride = 9;  ///< 1 + mapping entries per record in this OD
+  uint16_t comm0;      ///< records are 5 (RPDO) or 6 (TPDO) rows apart
+  uint16_t map0;       ///< records are map_stride rows apart
+  uint8_t map_stride;  ///< 1 + mapping entries per record in this OD (pdo_find_records)
 };
 void pdo_find_records(const ObjectDictionary& od, uint16_t comm_index, PdoRecords* out);
 /// Builds the payload of the mapping at `row0`; returns its length in bytes.

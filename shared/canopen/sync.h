@@ -42,7 +42,7 @@ class Sync {
   /// runs at least every 2^32 us - period (every pass does).
   uint32_t period_start_us_;
   uint8_t counter_;
-  bool restart_ = true;
+  bool restart_;  ///< set by init() (every reset) before the first process()
 };
 
 }  // namespace canopen

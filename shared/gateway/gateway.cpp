@@ -6,13 +6,12 @@ namespace gateway {
 using namespace canopen;
 
 Gateway::Gateway(const GatewayPorts& ports)
-    : values_(),
+    : GatewayState(),
       od_(od::GatewayDefinition, reinterpret_cast<uint8_t*>(&values_)),
       node_(od_, ports.can),
       bank_(od_),
       identity_(od_),
-      slave_(bank_, &identity_, ports.serial, 1, modbus::rtu_timing(ports.serial_baud)),
-      line_()
+      slave_(bank_, &identity_, ports.serial, 1, modbus::rtu_timing(ports.serial_baud))
 #if MB2CO_GATEWAY_NET
       ,
       net_(node_, od_, slave_, ports.can, &values_.x2000_10_networkAccess)

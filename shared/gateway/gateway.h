@@ -35,7 +35,17 @@ constexpr uint16_t kModbusFrameBytes = kMapFrameBytes;
 constexpr uint16_t kModbusFrameBytes = modbus::kMaxAduBytes;
 #endif
 
-class Gateway {
+/// The state of a Gateway that starts at zero: one block, value-initialised
+/// first by the Gateway's constructor (one zero-fill instead of one for the
+/// value block, one for the line application and a store per member).
+struct GatewayState {
+  od::GatewayValues values_;
+  LineApp line_;
+  uint32_t now_us_;     ///< time of the frame or call being handled
+  bool start_pending_;  ///< self-starting (2000h/8): NMT start after boot-up
+};
+
+class Gateway : private GatewayState {
  public:
   explicit Gateway(const GatewayPorts& ports);
 
@@ -81,16 +91,12 @@ class Gateway {
   static void on_heartbeat(void* ctx, uint8_t node_id, canopen::HbEvent event, uint8_t nmt);
   static void on_rpdo(void* ctx, uint8_t n);
 
-  od::GatewayValues values_;
   canopen::ObjectDictionary od_;
   canopen::Node node_;
   OdRegisterBank bank_;
   OdDeviceIdentity identity_;
   modbus::SlaveWithFrame<kModbusFrameBytes> slave_;
-  LineApp line_;
-  uint32_t now_us_ = 0;  ///< time of the frame or call being handled
   uint8_t default_node_id_ = 1;
-  bool start_pending_ = false;  ///< self-starting (2000h/8): NMT start after boot-up
 
 #if MB2CO_GATEWAY_NET
   // FC 2Bh / MEI 0Dh (modbus/net_switch.h): the whole network from Modbus.

@@ -51,7 +51,7 @@ void RtuFramer::push_char(uint8_t byte, uint32_t byte_us, bool error) {
     state_ = State::kReceiving;
     length_ = 0;
     flags_ = 0;
-  } else if (check_t15_ && silence_before(byte_us) > timing_.t15_us) {
+  } else if (!ignore_t15_ && silence_before(byte_us) > timing_.t15_us) {
     flags_ |= kFlagT15;
   }
   if (error) flags_ |= kFlagCharError;

@@ -26,21 +26,35 @@ enum class FrameStatus : uint8_t {
   kOverrun,       ///< longer than the buffer (its capacity): bytes were lost
 };
 
+/// The state of an RtuFramer that starts at zero: one block, value-initialised
+/// by its constructor (one zero-fill instead of a store per member).
+struct RtuFramerState {
+  enum class State : uint8_t { kIdle, kInitial, kReceiving };
+  uint32_t last_us_;  ///< stamp of the last character (or begin())
+  uint16_t length_;   ///< ≤ capacity_
+  State state_;
+  uint8_t flags_;
+  bool ignore_t15_;  ///< !set_check_t15(): stored inverted so that it starts at zero
+};
+
 /// Collects a frame into a caller-owned buffer (reused for the response).
 /// Not re-entrant: call from one context only (the main loop).
-class RtuFramer {
+class RtuFramer : private RtuFramerState {
  public:
   /// `buffer` holds `capacity` bytes (kMinAduBytes..kMaxAduBytes; a larger
   /// value counts as kMaxAduBytes) and must outlive the framer.
   RtuFramer(const RtuTiming& timing, uint8_t* buffer, uint16_t capacity)
-      : timing_(timing), buf_(buffer), capacity_(capacity < kMaxAduBytes ? capacity : kMaxAduBytes) {}
+      : RtuFramerState(),
+        timing_(timing),
+        buf_(buffer),
+        capacity_(capacity < kMaxAduBytes ? capacity : kMaxAduBytes) {}
 
   void set_timing(const RtuTiming& timing) { timing_ = timing; }
   const RtuTiming& timing() const { return timing_; }
   /// When false, a silence > t1.5 inside a frame is ignored (for ports whose
   /// timestamps jitter by more than t1.5, e.g. a busy main loop reading an
   /// interrupt-filled ring buffer).
-  void set_check_t15(bool check) { check_t15_ = check; }
+  void set_check_t15(bool check) { ignore_t15_ = !check; }
 
   /// Power-up ("initial state"): no frame is accepted until t3.5 of silence
   /// has passed since `now_us`. Without begin() the framer starts idle.
@@ -79,7 +93,6 @@ class RtuFramer {
   bool receiving() const { return state_ == State::kReceiving; }
 
  private:
-  enum class State : uint8_t { kIdle, kInitial, kReceiving };
   enum : uint8_t { kFlagT15 = 0x01, kFlagCharError = 0x02, kFlagOverrun = 0x04 };
 
   uint32_t silence_before(uint32_t byte_us) const;
@@ -89,12 +102,7 @@ class RtuFramer {
 
   RtuTiming timing_;
   uint8_t* buf_;
-  uint16_t capacity_;     ///< ≤ kMaxAduBytes
-  uint32_t last_us_ = 0;  ///< stamp of the last character (or begin())
-  uint16_t length_ = 0;   ///< ≤ capacity_
-  State state_ = State::kIdle;
-  uint8_t flags_ = 0;
-  bool check_t15_ = true;
+  uint16_t capacity_;  ///< ≤ kMaxAduBytes
 };
 
 }  // namespace modbus

@@ -24,7 +24,8 @@ bool broadcast_allowed(uint8_t function) {
 
 SlaveCore::SlaveCore(RegisterBank& bank, DeviceIdentity* identity, ByteSink sink, uint8_t address,
                      const RtuTiming& timing, uint8_t* frame, uint16_t frame_bytes)
-    : bank_(bank),
+    : SlaveCoreState(),
+      bank_(bank),
       identity_(identity),
       sink_(sink),
       framer_(timing, frame, frame_bytes),

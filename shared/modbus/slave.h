@@ -75,8 +75,22 @@ struct LinkStats {
   uint16_t send_failures;   ///< responses the ByteSink refused (also in CPT5)
 };
 
+/// The state of a SlaveCore that starts at zero: one block, value-initialised
+/// by the SlaveCore's constructor (one zero-fill instead of a store per
+/// member, as NodeState).
+struct SlaveCoreState {
+  DiagCounters counters_;
+  LinkStats stats_;
+  bool listen_only_;
+  bool restart_pending_;  ///< 08/01 answered: restart after sending
+#if MB2CO_GATEWAY_NET
+  const NetRequestHandler* net_handler_;  ///< FC 2Bh/0Dh service; null: exception 01
+  bool answer_pending_;                   ///< a 2B/0D answer is deferred (see answer_pending())
+#endif
+};
+
 /// The slave on a caller-owned frame buffer (see Memory above).
-class SlaveCore {
+class SlaveCore : private SlaveCoreState {
  public:
   /// `identity` may be null: FC 2B then answers exception 01.
   /// `address` outside 1..247 is replaced by 1 (check with set_address).
@@ -151,11 +165,7 @@ class SlaveCore {
   DeviceIdentity* identity_;
   ByteSink sink_;
   RtuFramer framer_;
-  DiagCounters counters_ = {};
-  LinkStats stats_ = {};
   uint8_t address_;
-  bool listen_only_ = false;
-  bool restart_pending_ = false;  ///< 08/01 answered: restart after sending
 
 #if MB2CO_GATEWAY_NET
   // FC 2Bh / MEI 0Dh (modbus/net_switch.h): the service and its deferred answer.
@@ -186,12 +196,12 @@ class SlaveCore {
 
  private:
   Reply network_request(uint16_t pdu_length);
-  const NetRequestHandler* net_handler_ = nullptr;
-  bool answer_pending_ = false;  ///< a 2B/0D answer is deferred (see answer_pending())
 #endif
 };
 
 /// Storage that must exist before SlaveCore is built from it (a base class).
+/// Left uninitialised: the framer writes a byte before it reads it (length()
+/// counts what was written), and a static slave's buffer is zero anyway.
 template <uint16_t kFrameBytes>
 struct SlaveFrame {
   uint8_t frame_[kFrameBytes];
@@ -204,8 +214,7 @@ class SlaveWithFrame : private SlaveFrame<kFrameBytes>, public SlaveCore {
   static_assert(kFrameBytes >= kMinSlaveFrameBytes && kFrameBytes <= kMaxAduBytes, "RTU frame size");
   SlaveWithFrame(RegisterBank& bank, DeviceIdentity* identity, ByteSink sink, uint8_t address,
                  const RtuTiming& timing)
-      : SlaveFrame<kFrameBytes>(),
-        SlaveCore(bank, identity, sink, address, timing, this->frame_, kFrameBytes) {}
+      : SlaveCore(bank, identity, sink, address, timing, this->frame_, kFrameBytes) {}
 };
 
 /// The slave with a buffer for every request the protocol allows.

@@ -150,7 +150,9 @@ void Node::receive(const CanFrame& f, uint32_t now_us) {
     return;
   }
   if (nmt_.pdo_allowed()) {
+#ifdef MB2CO_TPDO_RTR
     if (f.rtr() && tpdos_.on_rtr(f, sink_, now_us)) return;
+#endif
     if (rpdos_.on_frame(f, now_us)) return;
   }
   if (f.id > 0x700u && f.id <= 0x77Fu && nmt_.sdo_allowed()) hb_consumer_.on_frame(f, now_us);

@@ -156,12 +156,17 @@ void Tpdos::on_sync(uint8_t counter, const CanSink& sink, uint32_t now_us) {
       if (++s.sync_count < type) continue;
       s.sync_count = 0;
       build_and_send(n, cob, sink, now_us);
-    } else if (type == 252) {  // sample now, send on request
+    }
+#ifdef MB2CO_TPDO_RTR
+    else if (type == 252) {  // sample now, send on request
       s.last_len = pdo_build(*od_, map_row(n), s.last);
       s.flags |= kSyncStarted;  // for 252: a sample is held
     }
+#endif
   }
 }
+
+#ifdef MB2CO_TPDO_RTR
 
 bool Tpdos::on_rtr(const CanFrame& f, const CanSink& sink, uint32_t now_us) {
   for (uint8_t n = 0; n < kPdoCount; ++n) {
@@ -180,6 +185,7 @@ bool Tpdos::on_rtr(const CanFrame& f, const CanSink& sink, uint32_t now_us) {
   }
   return false;
 }
+#endif  // MB2CO_TPDO_RTR
 
 SdoAbort Tpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data, bool apply) {
   if (index >= 0x1A00) {  // mapping

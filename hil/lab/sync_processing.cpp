@@ -163,7 +163,7 @@ std::string sync_processing_section(const SyncProcessingResult& r) {
   s += strf("  %-8s %5zu %9llu %9.0f %9llu  | %9llu\n", "cycles", r.cycles.size(),
             static_cast<unsigned long long>(r.min_cycles), r.mean_cycles,
             static_cast<unsigned long long>(r.max_cycles),
-            static_cast<unsigned long long>(r.bound_us * kCyclesPerUs));
+            static_cast<unsigned long long>(r.bound_us) * kCyclesPerUs);
   s += strf("  %-8s %5zu %9.2f %9.2f %9.2f  | %9llu\n", "us", r.cycles.size(),
             static_cast<double>(r.min_cycles) / kCyclesPerUs, r.mean_cycles / kCyclesPerUs,
             static_cast<double>(r.max_cycles) / kCyclesPerUs, static_cast<unsigned long long>(r.bound_us));

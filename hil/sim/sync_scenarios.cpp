@@ -123,8 +123,8 @@ bool sync_params_for(Line& line, const SyncLabConfig& lab, timing::SyncParams* p
   return true;
 }
 
-SyncResult sync_roundtrip_scenario(LineConfig c, const SyncLabConfig& lab, uint32_t answers, EventLog* log,
-                                   const Progress& progress) {
+SyncResult sync_roundtrip_scenario(const LineConfig& c, const SyncLabConfig& lab, uint32_t answers,
+                                   EventLog* log, const Progress& progress) {
   SyncRun run(c, lab, answers, log, "sync-roundtrip");
   SyncResult& r = run.r;
   Line& line = run.line;
@@ -169,8 +169,8 @@ SyncResult sync_roundtrip_scenario(LineConfig c, const SyncLabConfig& lab, uint3
   return r;
 }
 
-SyncResult sync_latency_scenario(LineConfig c, const SyncLabConfig& lab, uint32_t presses, EventLog* log,
-                                 const Progress& progress) {
+SyncResult sync_latency_scenario(const LineConfig& c, const SyncLabConfig& lab, uint32_t presses,
+                                 EventLog* log, const Progress& progress) {
   SyncRun run(c, lab, presses, log, "sync-latency");
   SyncResult& r = run.r;
   Line& line = run.line;

@@ -57,11 +57,11 @@ struct SyncResult {
 /// §5.2: `answers` round trips. c.stations as given (≥ 2). Not measured
 /// (error set, not ok) when the SYNC period is not above the bound's worst
 /// round trip: an answer could then come after the next SYNC.
-SyncResult sync_roundtrip_scenario(LineConfig c, const SyncLabConfig& lab, uint32_t answers, EventLog* log,
-                                   const Progress& progress);
+SyncResult sync_roundtrip_scenario(const LineConfig& c, const SyncLabConfig& lab, uint32_t answers,
+                                   EventLog* log, const Progress& progress);
 /// §5.3: `presses` presses of B's START, the LED is A's lab LED.
-SyncResult sync_latency_scenario(LineConfig c, const SyncLabConfig& lab, uint32_t presses, EventLog* log,
-                                 const Progress& progress);
+SyncResult sync_latency_scenario(const LineConfig& c, const SyncLabConfig& lab, uint32_t presses,
+                                 EventLog* log, const Progress& progress);
 
 /// The bound's inputs for `line` as commissioned by the SYNC labs (every
 /// Arduino up): frames, the line's analysis, the node timing model.

@@ -2,6 +2,7 @@
 # Builds the libFuzzer targets (clang) into build-fuzz/ and runs each for
 # SECONDS on a copy of its corpus (tests/fuzz/corpus/<target>/, checked in):
 #   tests/fuzz/run.sh 600 register_bank     one target, 10 min, a random seed
+#   tests/fuzz/run.sh runs=10000000 eds     one target, 10 M executions, a random seed
 #   MB2CO_FUZZ_MERGE=1 tests/fuzz/run.sh 600 ...   and merge what it found into the corpus
 #   tests/fuzz/run.sh ci                    every target, seed 1, a fixed number of
 #                                           executions (scripts/test.sh)
@@ -12,7 +13,11 @@
 # input in build-fuzz/artifacts/. Prints each target's executions.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-seconds=${1:?usage: tests/fuzz/run.sh SECONDS|ci [TARGET...]}
+seconds=${1:?usage: tests/fuzz/run.sh SECONDS|runs=N|ci [TARGET...]}
+if [[ ! "$seconds" =~ ^(ci|[0-9]+|runs=[0-9]+)$ ]]; then
+  echo "fuzz: '$seconds' is not SECONDS, runs=N or ci (usage: tests/fuzz/run.sh SECONDS|runs=N|ci [TARGET...])" >&2
+  exit 2
+fi
 shift
 # Executions per target in "ci" mode: about 10 s each on one busy core.
 declare -A ci_runs=([node_frames]=60000 [gateway_modbus]=20000 [register_bank]=40000
@@ -38,6 +43,9 @@ for t in "${targets[@]}"; do
   if [ "$seconds" = ci ]; then
     limit=(-seed=1 -runs="${ci_runs[$t]}")
     span="seed 1"
+  elif [[ "$seconds" == runs=* ]]; then
+    limit=(-runs="${seconds#runs=}")
+    span="${seconds#runs=} runs"
   else
     limit=(-max_total_time="$seconds")
     span="${seconds} s"

@@ -4,6 +4,7 @@
 #   tests/fuzz/run.sh 600 register_bank     one target, 10 min, a random seed
 #   tests/fuzz/run.sh runs=10000000 eds     one target, 10 M executions, a random seed
 #   MB2CO_FUZZ_MERGE=1 tests/fuzz/run.sh 600 ...   and merge what it found into the corpus
+#   MB2CO_FUZZ_FLAGS=-max_len=512 tests/fuzz/run.sh ...   more libFuzzer options (long runs)
 #   tests/fuzz/run.sh ci                    every target, seed 1, a fixed number of
 #                                           executions (scripts/test.sh)
 # "ci" runs the same inputs on every machine: a landing is never refused by
@@ -50,7 +51,8 @@ for t in "${targets[@]}"; do
     limit=(-max_total_time="$seconds")
     span="${seconds} s"
   fi
-  if "$build/mb2co_fuzz_$t" "${limit[@]}" -timeout=10 -rss_limit_mb=2048 \
+  # shellcheck disable=SC2086 # MB2CO_FUZZ_FLAGS: options, split on spaces
+  if "$build/mb2co_fuzz_$t" "${limit[@]}" ${MB2CO_FUZZ_FLAGS:-} -timeout=10 -rss_limit_mb=2048 \
       -artifact_prefix="$build/artifacts/$t-" -print_final_stats=1 "$work" >"$log" 2>&1; then
     execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
     echo "fuzz $t: ${execs:-?} executions ($span), no failure"

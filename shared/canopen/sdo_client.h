@@ -43,8 +43,60 @@ enum SdoMode : uint8_t {
 #endif
 };
 
-class SdoClient {
+/// The members of an SdoClient that start at zero: one block, value-
+/// initialised by its constructor (one zero-fill instead of a store per
+/// member). The state enum's zero is kStIdle.
+struct SdoClientState {
+  enum State : uint8_t {
+    kStIdle,
+    kStDone,
+    kStFailed,
+    kStDownloadInitiate,  ///< waits for 60h
+    kStDownloadSegment,   ///< waits for the ack of segment pos_
+    kStUploadInitiate,    ///< waits for 4xh
+    kStUploadSegment,     ///< waits for a segment
+#ifdef MB2CO_SDO_BLOCK
+    kStBlockDownloadInitiate,
+    kStBlockDownloadSub,  ///< sends a sub-block, waits for its ack
+    kStBlockDownloadEnd,  ///< waits for A1h
+    kStBlockUploadInitiate,
+    kStBlockUploadSub,  ///< takes segments
+    kStBlockUploadEnd,  ///< waits for the server's end frame
+#endif
+  };
+
+  SdoData data_;
+  uint8_t* buffer_;  ///< the caller's buffer (start_* with a pointer), else null
+  uint32_t capacity_;
+  uint32_t size_;
+  uint32_t pos_;  ///< bytes moved: stored, or acknowledged by the server
+  uint32_t deadline_us_;
+  SdoAbort result_;
+#ifdef MB2CO_SDO_BLOCK
+  BlockSender sender_;
+  BlockReceiver receiver_;
+#endif
+  uint16_t request_id_;
+  uint16_t response_id_;
+  uint16_t index_;
+  uint8_t sub_;
+#ifdef MB2CO_SDO_BLOCK
+  uint8_t block_size_;  ///< 0: kBlockSizeMax
+  uint8_t pst_;
+  bool crc_;
+#endif
+  uint8_t toggle_;  ///< 0x00 or 0x10
+  uint8_t seg_n_;   ///< data bytes of the download segment awaiting its ack
+  State state_;
+  bool size_known_;
+  bool expedited_;
+  bool server_abort_;
+};
+
+class SdoClient : private SdoClientState {
  public:
+  SdoClient() : SdoClientState() {}
+
   /// How the last transfer stands.
   enum Status : uint8_t { kIdle, kBusy, kDone, kFailed };
   /// Default time the server may take to answer (CiA 301 leaves it open).
@@ -136,24 +188,6 @@ class SdoClient {
 #endif
 
  private:
-  enum State : uint8_t {
-    kStIdle,
-    kStDone,
-    kStFailed,
-    kStDownloadInitiate,  ///< waits for 60h
-    kStDownloadSegment,   ///< waits for the ack of segment pos_
-    kStUploadInitiate,    ///< waits for 4xh
-    kStUploadSegment,     ///< waits for a segment
-#ifdef MB2CO_SDO_BLOCK
-    kStBlockDownloadInitiate,
-    kStBlockDownloadSub,  ///< sends a sub-block, waits for its ack
-    kStBlockDownloadEnd,  ///< waits for A1h
-    kStBlockUploadInitiate,
-    kStBlockUploadSub,  ///< takes segments
-    kStBlockUploadEnd,  ///< waits for the server's end frame
-#endif
-  };
-
   void begin(uint16_t index, uint8_t sub, uint32_t now_us);
   void send(const CanSink& sink, const uint8_t data[8]);
   /// Sends index, sub and 4 bytes after command `cmd`.
@@ -174,33 +208,7 @@ class SdoClient {
   static SdoAbort buffer_write(void* ctx, uint32_t offset, const uint8_t* data, uint16_t n);
   static SdoAbort buffer_read(void* ctx, uint32_t offset, uint8_t* buf, uint16_t n);
 
-  SdoData data_;
-  uint8_t* buffer_;  ///< the caller's buffer (start_* with a pointer), else null
-  uint32_t capacity_;
-  uint32_t size_;
-  uint32_t pos_;  ///< bytes moved: stored, or acknowledged by the server
   uint32_t timeout_us_ = kDefaultTimeoutUs;
-  uint32_t deadline_us_;
-  SdoAbort result_;
-#ifdef MB2CO_SDO_BLOCK
-  BlockSender sender_;
-  BlockReceiver receiver_;
-#endif
-  uint16_t request_id_;
-  uint16_t response_id_;
-  uint16_t index_;
-  uint8_t sub_;
-#ifdef MB2CO_SDO_BLOCK
-  uint8_t block_size_ = kBlockSizeMax;
-  uint8_t pst_ = 0;
-  bool crc_;
-#endif
-  uint8_t toggle_;  ///< 0x00 or 0x10
-  uint8_t seg_n_;   ///< data bytes of the download segment awaiting its ack
-  State state_;
-  bool size_known_;
-  bool expedited_;
-  bool server_abort_;
 };
 
 }  // namespace canopen

@@ -33,16 +33,13 @@ uint32_t min32(uint32_t a, uint32_t b) {
 
 NetworkService::NetworkService(Node& node, ObjectDictionary& od, modbus::SlaveCore& slave,
                                const CanSink& sink, const uint8_t* enabled)
-    : node_(node),
+    : NetworkServiceState(),
+      node_(node),
       od_(od),
       slave_(slave),
       sink_(sink),
       enabled_(enabled),
-      handler_{&NetworkService::handle, this},
-      client_(),
-      view_(),
-      req_(),
-      held_() {}
+      handler_{&NetworkService::handle, this} {}
 
 uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, uint16_t capacity) {
   NetworkService& s = *static_cast<NetworkService*>(ctx);

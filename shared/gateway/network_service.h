@@ -34,7 +34,29 @@ namespace gateway {
 /// previous segment).
 constexpr uint32_t kNetSdoTimeoutUs = 500000u;
 
-class NetworkService {
+/// The members of a NetworkService that start at zero: one block, value-
+/// initialised by its constructor (one zero-fill instead of a store per
+/// member; the phase's zero is kIdle).
+struct NetworkServiceState {
+  enum Phase : uint8_t { kIdle, kUpload, kDownload, kDownloadHeld };
+
+  NetworkView view_;
+  CanFrame held_;            ///< a download's ack, held until the next part
+  uint32_t now_us_;
+  uint32_t window_end_;    ///< upload: end of the bytes wanted (start + room)
+  uint32_t part_start_;    ///< download: object offset of the part in the frame
+  uint32_t part_end_;      ///< download: end of the bytes available
+  uint32_t read_end_;      ///< download: end of the bytes the client has read
+  uint32_t carry_start_;   ///< download: object offset of carry_[0]
+  uint8_t carry_[7];       ///< a segment's bytes from the previous part
+  uint8_t carry_length_;
+  canopen::SdoAbort open_result_;  ///< how an open download ended between parts (0: kSdoOk)
+  Phase phase_;
+  bool release_due_;  ///< a part arrived: hand the held ack to the client
+  bool in_request_;   ///< inside handle(): the request is in the frame buffer
+};
+
+class NetworkService : private NetworkServiceState {
  public:
   /// All borrowed, outliving the service. `enabled` is the OD switch
   /// (2000h/10): 0 answers every request with exception 01.
@@ -62,8 +84,6 @@ class NetworkService {
   const NetworkView& view() const { return view_; }
 
  private:
-  enum Phase : uint8_t { kIdle, kUpload, kDownload, kDownloadHeld };
-
   static uint16_t handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, uint16_t capacity);
   /// `ended`: how the download open before this request ended (kSdoOk: none).
   uint16_t on_request(uint8_t* pdu, uint16_t capacity, canopen::SdoAbort ended);
@@ -95,21 +115,7 @@ class NetworkService {
   const uint8_t* enabled_;
   modbus::NetRequestHandler handler_;
   canopen::SdoClient client_;
-  NetworkView view_;
   modbus::NetMessage req_;  ///< the request being served (data: none kept)
-  CanFrame held_;           ///< a download's ack, held until the next part
-  uint32_t now_us_ = 0;
-  uint32_t window_end_ = 0;   ///< upload: end of the bytes wanted (start + room)
-  uint32_t part_start_ = 0;   ///< download: object offset of the part in the frame
-  uint32_t part_end_ = 0;     ///< download: end of the bytes available
-  uint32_t read_end_ = 0;     ///< download: end of the bytes the client has read
-  uint32_t carry_start_ = 0;  ///< download: object offset of carry_[0]
-  uint8_t carry_[7];          ///< a segment's bytes from the previous part
-  uint8_t carry_length_ = 0;
-  canopen::SdoAbort open_result_ = canopen::kSdoOk;  ///< how an open download ended between parts
-  Phase phase_ = kIdle;
-  bool release_due_ = false;  ///< a part arrived: hand the held ack to the client
-  bool in_request_ = false;   ///< inside handle(): the request is in the frame buffer
 };
 
 }  // namespace gateway

@@ -2,6 +2,8 @@
 // the last heartbeat (or boot-up) of every node it hears, fed from the frames
 // the node receives. What FC 2Bh/0Dh's network view service reports
 // (docs/gateway-network.md). Plain data, no heap; capacity at compile time.
+// All zero is empty: members have no initialisers, the owner value-
+// initialises the view (NetworkServiceState: one zero-fill on the Uno).
 #pragma once
 #include <stdint.h>
 
@@ -59,8 +61,8 @@ class NetworkView {
   uint8_t overflows() const { return overflows_; }
 
  private:
-  Entry entries_[kNetViewNodes] = {};
-  uint8_t overflows_ = 0;
+  Entry entries_[kNetViewNodes];
+  uint8_t overflows_;
 };
 
 }  // namespace gateway

@@ -73,14 +73,56 @@ inline void require_all_allowed(const canopen::ObjectDictionary& od, const char*
   }
 }
 
-/// The whole RAM value block (everything the device stores).
-inline std::vector<uint8_t> value_block(canopen::ObjectDictionary& od) {
-  std::vector<uint8_t> out;
-  for (uint16_t r = 0; r < od.row_count(); ++r) {
-    const uint8_t* p = static_cast<const canopen::ObjectDictionary&>(od).ram(r);
-    if (p != nullptr) out.insert(out.end(), p, p + od.capacity_of(r));
+/// The RAM value block (everything the device stores) as one byte range:
+/// from the first row's value to the end of the last, and where each numeric
+/// entry lies in it. Found once per input, so that a snapshot before each
+/// write is one copy and a limits check after it looks only at the entries
+/// that changed (walking every row for both was most of an execution).
+struct ValueRange {
+  struct Numeric {
+    uint16_t row;
+    uint16_t at;        ///< offset of its value in the range
+    uint16_t capacity;  ///< bytes
+  };
+  const uint8_t* begin = nullptr;
+  size_t size = 0;
+  std::vector<Numeric> numerics;  ///< RAM entries that are not byte strings
+
+  std::vector<uint8_t> snapshot() const { return std::vector<uint8_t>(begin, begin + size); }
+  bool unchanged_since(const std::vector<uint8_t>& before) const {
+    return before.size() == size && (size == 0 || memcmp(before.data(), begin, size) == 0);
   }
-  return out;
+};
+inline ValueRange value_range(const canopen::ObjectDictionary& od) {
+  ValueRange v;
+  const uint8_t* end = nullptr;
+  for (uint16_t r = 0; r < od.row_count(); ++r) {
+    const uint8_t* p = od.ram(r);
+    if (p == nullptr) continue;
+    if (v.begin == nullptr || p < v.begin) v.begin = p;
+    if (end == nullptr || p + od.capacity_of(r) > end) end = p + od.capacity_of(r);
+  }
+  v.size = v.begin == nullptr ? 0u : static_cast<size_t>(end - v.begin);
+  for (uint16_t r = 0; r < od.row_count(); ++r) {
+    const uint8_t a = od.attr(r);
+    if (!(a & canopen::kAttrRam) || (a & canopen::kAttrString)) continue;
+    v.numerics.push_back(ValueRange::Numeric{r, static_cast<uint16_t>(od.ram(r) - v.begin), od.capacity_of(r)});
+  }
+  return v;
+}
+
+/// Aborts unless every stored numeric value is one its entry's type and
+/// limits allow (require_all_allowed), given that all were when `at_check`
+/// (a snapshot of `range`) was taken: only the entries whose bytes changed
+/// since are checked again. Takes the new snapshot.
+inline void require_changed_allowed(const canopen::ObjectDictionary& od, const ValueRange& range,
+                                    std::vector<uint8_t>& at_check, const char* what) {
+  for (const ValueRange::Numeric& n : range.numerics) {
+    const uint8_t* p = range.begin + n.at;
+    if (memcmp(p, at_check.data() + n.at, n.capacity) == 0) continue;
+    require(od.value_allowed(n.row, p, od.size_of(n.row)), what);
+  }
+  at_check = range.snapshot();
 }
 
 }  // namespace fuzz

@@ -67,7 +67,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       fuzz::require(values_stored.unchanged_since(before), "a refused write changed a stored value");
       fuzz::require(g.od().revision() == revision, "a refused write changed the OD revision");
     }
-    fuzz::require_changed_allowed(g.od(), values_stored, at_check, "a stored value beyond its entry's limits");
+    fuzz::require_changed_allowed(g.od(), values_stored, at_check,
+                                  "a stored value beyond its entry's limits");
   }
   fuzz::require(fuzz::const_values(g.od()) == consts, "a const entry changed");
   return 0;

@@ -106,7 +106,8 @@ inline ValueRange value_range(const canopen::ObjectDictionary& od) {
   for (uint16_t r = 0; r < od.row_count(); ++r) {
     const uint8_t a = od.attr(r);
     if (!(a & canopen::kAttrRam) || (a & canopen::kAttrString)) continue;
-    v.numerics.push_back(ValueRange::Numeric{r, static_cast<uint16_t>(od.ram(r) - v.begin), od.capacity_of(r)});
+    v.numerics.push_back(
+        ValueRange::Numeric{r, static_cast<uint16_t>(od.ram(r) - v.begin), od.capacity_of(r)});
   }
   return v;
 }

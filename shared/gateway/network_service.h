@@ -41,14 +41,14 @@ struct NetworkServiceState {
   enum Phase : uint8_t { kIdle, kUpload, kDownload, kDownloadHeld };
 
   NetworkView view_;
-  CanFrame held_;            ///< a download's ack, held until the next part
+  CanFrame held_;  ///< a download's ack, held until the next part
   uint32_t now_us_;
-  uint32_t window_end_;    ///< upload: end of the bytes wanted (start + room)
-  uint32_t part_start_;    ///< download: object offset of the part in the frame
-  uint32_t part_end_;      ///< download: end of the bytes available
-  uint32_t read_end_;      ///< download: end of the bytes the client has read
-  uint32_t carry_start_;   ///< download: object offset of carry_[0]
-  uint8_t carry_[7];       ///< a segment's bytes from the previous part
+  uint32_t window_end_;   ///< upload: end of the bytes wanted (start + room)
+  uint32_t part_start_;   ///< download: object offset of the part in the frame
+  uint32_t part_end_;     ///< download: end of the bytes available
+  uint32_t read_end_;     ///< download: end of the bytes the client has read
+  uint32_t carry_start_;  ///< download: object offset of carry_[0]
+  uint8_t carry_[7];      ///< a segment's bytes from the previous part
   uint8_t carry_length_;
   canopen::SdoAbort open_result_;  ///< how an open download ended between parts (0: kSdoOk)
   Phase phase_;

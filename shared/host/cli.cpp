@@ -254,11 +254,19 @@ Parsed parse(const Program& program, int argc, const char* const* argv) {
   Parsed r;
   // Global options may stand before the command's name: skip them (they are
   // parsed with the command's own below).
+  // A value that is wrong for its option is that option's error, found
+  // here: `-t read 1 1000 0` would else end as "unknown command 1".
   int name_at = 1;
+  std::string global_error;
   while (name_at < argc && is_option_word(argv[name_at])) {
     const Option* g = find_in(program.global_options, option_name(argv[name_at]));
     if (g == nullptr) break;
     const bool inline_value = std::string(argv[name_at]).find('=') != std::string::npos;
+    if (g->takes_value() && !inline_value && name_at + 1 < argc && !is_option_word(argv[name_at + 1]) &&
+        global_error.empty()) {
+      const Status s = check_value(*g, argv[name_at + 1]);
+      if (!s) global_error = s.message();
+    }
     name_at += g->takes_value() && !inline_value ? 2 : 1;
   }
   const Command* command = has_commands(program) ? nullptr : &program.commands[0];
@@ -278,6 +286,7 @@ Parsed parse(const Program& program, int argc, const char* const* argv) {
     r.text = list_options(program, command);
     return r;
   }
+  if (!global_error.empty()) return usage_error(global_error);
   if (command == nullptr) {
     if (name_at >= argc) {
       return usage_error("missing command (" + command_names(program) + ") " + try_help(program, nullptr));

@@ -122,6 +122,8 @@ TEST(MasterOptions, UsageErrorsAreOneLineAndExit2) {
       {{"read", "1", "1000", "0", "-t"}, "--timeout needs a value"},
       {{"read", "1", "1000", "0", "--eds", "--json"}, "--eds needs a value"},
       {{"-t", "0", "scan"}, "--timeout must be a whole number 1..600000, got \"0\""},
+      // -t's value is missing: the command's name is taken as it.
+      {{"-t", "read", "1", "1000", "0"}, "--timeout must be a whole number 1..600000, got \"read\""},
       {{"sync", "--count", "0"}, "--count must be a whole number 1..1000000"},
       {{"watch", "--for", "1h"}, "--for must be a duration"},
       {{"scan", "1", "2", "3"}, "unexpected argument \"3\""},

@@ -3,6 +3,7 @@
 #include <avr/io.h>
 #include <string.h>
 
+#include "modbus/net_switch.h"
 #include "pins.h"
 
 namespace mb2co {
@@ -35,7 +36,14 @@ bool since(uint32_t now_us, uint32_t then_us, uint32_t span_us) {
 
 }  // namespace
 
-const CanControl CanPort::kControl MB2CO_FLASH = {&CanPort::set_bitrate_of, &CanPort::set_filters_of};
+// A network gateway (FC 2Bh/0Dh, modbus/net_switch.h) hears every node: its
+// SDO client's responses come on 580h + any node id and its network view
+// wants every heartbeat (701h-77Fh), ids the node's consumed list does not
+// hold. Its filters stay open, as mb2co-node then opens its kernel filter:
+// the core has no set_filters to call and the planner is not in the image.
+constexpr bool kPlansFilters = !MB2CO_GATEWAY_NET;
+const CanControl CanPort::kControl MB2CO_FLASH = {&CanPort::set_bitrate_of,
+                                                  kPlansFilters ? &CanPort::set_filters_of : nullptr};
 
 bool CanPort::begin(uint16_t kbit, uint32_t now_us) {
   last_service_us_ = now_us;
@@ -77,7 +85,7 @@ void CanPort::poll(canopen::Node& node, uint32_t now_us) {
   }
   CanFrame frame;
   while (driver_.receive(frame)) node.receive(frame, now_us);
-  if (planner_.busy() && planner_.step()) program_plan();
+  if (kPlansFilters && planner_.busy() && planner_.step()) program_plan();
 }
 
 void CanPort::service(canopen::Node& node, uint32_t now_us) {
@@ -89,7 +97,7 @@ void CanPort::service(canopen::Node& node, uint32_t now_us) {
 void CanPort::restart_filters() {
   planner_.stop();
   stale_ = false;
-  if (!ready_ || id_count_ == 0) return;  // begin() opens and plans
+  if (!kPlansFilters || !ready_ || id_count_ == 0) return;  // begin() opens and plans
   if (!open_) open_ = driver_.accept_all();
   if (open_) {
     planner_.start(ids_, id_count_);

@@ -10,6 +10,8 @@
 // the filters stay open (accept all: no consumed frame is missed, the node
 // ignores the rest), then programmed; new ids meanwhile start it again.
 // Remote requests for TPDOs are filtered out (RTR is deprecated, CiA AN 802).
+// A network gateway (built with FC 2Bh/0Dh) keeps the filters open: it must
+// hear every node's SDO responses and heartbeats (can_port.cpp).
 #pragma once
 #include <stdint.h>
 

@@ -205,7 +205,10 @@ GatewayNetwork::Step GatewayNetwork::upload(Transfer* t) {
 
 GatewayNetwork::Step GatewayNetwork::download(Transfer* t) {
   const size_t total = t->data.size();
-  if (total > 0xFFFFu + modbus::net::kMaxSdoData) {
+  // A part's starting address is 16 bits: the last part starts at 65535 at most.
+  size_t last_start = 0;
+  while (total - last_start > modbus::net::kMaxSdoData) last_start += modbus::net::kMaxPartBytes;
+  if (last_start > 0xFFFFu) {
     refuse(t, "object longer than 65535 bytes: a gateway writes at most that much (use SocketCAN)");
     return Step::kFailed;
   }
@@ -214,8 +217,9 @@ GatewayNetwork::Step GatewayNetwork::download(Transfer* t) {
   size_t start = 0;
   do {
     const size_t left = total - start;
+    // A last part of up to 237 bytes; parts before it of whole segments.
     const uint16_t count =
-        static_cast<uint16_t>(left < modbus::net::kMaxSdoData ? left : modbus::net::kMaxSdoData);
+        static_cast<uint16_t>(left <= modbus::net::kMaxSdoData ? left : modbus::net::kMaxPartBytes);
     const bool more = start + count < total;
     const uint16_t n = modbus::build_net_download(request, sizeof request, slave_, t->node, t->index, t->sub,
                                                   static_cast<uint32_t>(total), static_cast<uint16_t>(start),

@@ -114,6 +114,7 @@ bool SdoClient::start_download(uint16_t index, uint8_t sub, SdoMode mode, const 
   begin(index, sub, now_us);
   data_ = in;
   size_ = size;
+  available_ = size;
   size_known_ = true;
   expedited_ = mode == kSdoAuto && size >= 1 && size <= 4;
 #ifdef MB2CO_SDO_BLOCK
@@ -240,10 +241,21 @@ SdoAbort SdoClient::on_response(const CanFrame& f, const CanSink& sink) {
   }
 }
 
+void SdoClient::set_available(uint32_t end, const CanSink& sink) {
+  available_ = end;
+  if (state_ != kStDownloadWaiting) return;
+  state_ = kStDownloadSegment;
+  send_download_segment(sink);
+}
+
 // A segment is sent once; if it is lost the server's silence times out.
 void SdoClient::send_download_segment(const CanSink& sink) {
   const uint32_t left = size_ - pos_;
   seg_n_ = left < 7 ? static_cast<uint8_t>(left) : static_cast<uint8_t>(7);
+  if (pos_ + seg_n_ > available_) {
+    state_ = kStDownloadWaiting;  // set_available() sends it
+    return;
+  }
   const bool last = left <= 7;
   uint8_t d[8] = {static_cast<uint8_t>(toggle_ | ((7 - seg_n_) << 1) | (last ? 1 : 0)), 0, 0, 0, 0, 0, 0, 0};
   if (seg_n_ != 0) {

@@ -53,6 +53,7 @@ struct SdoClientState {
     kStFailed,
     kStDownloadInitiate,  ///< waits for 60h
     kStDownloadSegment,   ///< waits for the ack of segment pos_
+    kStDownloadWaiting,   ///< the next segment's bytes are not available yet
     kStUploadInitiate,    ///< waits for 4xh
     kStUploadSegment,     ///< waits for a segment
 #ifdef MB2CO_SDO_BLOCK
@@ -69,7 +70,8 @@ struct SdoClientState {
   uint8_t* buffer_;  ///< the caller's buffer (start_* with a pointer), else null
   uint32_t capacity_;
   uint32_t size_;
-  uint32_t pos_;  ///< bytes moved: stored, or acknowledged by the server
+  uint32_t pos_;        ///< bytes moved: stored, or acknowledged by the server
+  uint32_t available_;  ///< download: bytes [0, available_) of the data may be read
   uint32_t deadline_us_;
   SdoAbort result_;
 #ifdef MB2CO_SDO_BLOCK
@@ -142,6 +144,16 @@ class SdoClient : private SdoClientState {
   /// Writes `size` bytes read through `in` to (index, sub).
   bool start_download(uint16_t index, uint8_t sub, SdoMode mode, const SdoData& in, uint32_t size,
                       uint32_t now_us, const CanSink& sink);
+  /// A download whose data arrive while it runs (the gateway's multi-part
+  /// writes): only bytes [0, `end`) may be read now (start_download: all).
+  /// A segmented download stops before a segment that reaches beyond them
+  /// (waiting_for_data()) and sends it once a later call makes them
+  /// available. Its timeout keeps running from the server's last answer.
+  void set_available(uint32_t end, const CanSink& sink);
+  /// True while a segmented download waits for set_available().
+  bool waiting_for_data() const {
+    return state_ == kStDownloadWaiting;
+  }
 
   /// A frame on response_id() (others, RTR frames and frames that are not
   /// 8 bytes long are ignored).

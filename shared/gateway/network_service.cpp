@@ -1,7 +1,7 @@
 // FC 2Bh / MEI 0Dh service: request dispatch, the local OD for the
 // gateway's own node id, remote SDO transfers through the SDO client with
-// data in the slave's frame buffer, and multi-part downloads (the server's
-// ack is held until the next part brings the bytes of the next segment).
+// data in the slave's frame buffer, and multi-part downloads (the client
+// waits at the part's end, a segment boundary, until the next part).
 #include "modbus/net_switch.h"
 #if MB2CO_GATEWAY_NET  // else the image leaves the service out (net_switch.h)
 #include <string.h>
@@ -177,11 +177,10 @@ uint16_t NetworkService::start_remote(uint8_t* pdu, uint16_t capacity) {
   } else {
     part_start_ = 0;
     part_end_ = req_.count;
-    read_end_ = 0;
-    carry_length_ = 0;
     phase_ = kDownload;
     client_.start_download(req_.index, req_.sub, req_.more_follows ? kSdoSegmented : kSdoAuto, data,
                            req_.object_size, now_us_, sink_);
+    client_.set_available(part_end_, sink_);
   }
   in_request_ = false;
   return 0;  // answered when the transfer ends (answer())
@@ -196,7 +195,9 @@ void NetworkService::take_part() {
   part_start_ = req_.start;
   part_end_ = static_cast<uint32_t>(req_.start) + req_.count;
   phase_ = kDownload;
-  release_due_ = true;  // in process(), once the slave holds the answer open
+  in_request_ = true;  // the client reads the part's first segment now
+  client_.set_available(part_end_, sink_);
+  in_request_ = false;
 }
 
 void NetworkService::end_open_download(SdoAbort code) {
@@ -204,26 +205,14 @@ void NetworkService::end_open_download(SdoAbort code) {
   phase_ = kIdle;
 }
 
-bool NetworkService::byte_at(uint32_t offset, uint8_t& b) const {
-  if (offset >= carry_start_ && offset - carry_start_ < carry_length_) {
-    b = carry_[offset - carry_start_];
-    return true;
-  }
-  if (offset < part_start_ || offset >= part_end_) return false;
-  // The part's data are in the request, still in the frame buffer only
-  // while the slave holds the answer open (or the request is in hand).
-  if (!in_request_ && !slave_.answer_pending()) return false;
-  b = slave_.response_pdu()[modbus::net::kSizedHeaderBytes + (offset - part_start_)];
-  return true;
-}
-
 SdoAbort NetworkService::data_read(void* ctx, uint32_t offset, uint8_t* buf, uint16_t n) {
   NetworkService& s = *static_cast<NetworkService*>(ctx);
-  for (uint16_t i = 0; i < n; ++i) {
-    // Gone: the master sent another frame over this part's request.
-    if (!s.byte_at(offset + i, buf[i])) return kAbortGeneral;
-  }
-  if (offset + n > s.read_end_) s.read_end_ = offset + n;
+  // The part's data are in the request, still in the frame buffer only
+  // while the slave holds the answer open (or the request is in hand);
+  // gone when the master sent another frame over it. The client reads
+  // within [0, part_end_) (set_available) and from where it stopped.
+  if (offset < s.part_start_ || (!s.in_request_ && !s.slave_.answer_pending())) return kAbortGeneral;
+  memcpy(buf, s.slave_.response_pdu() + modbus::net::kSizedHeaderBytes + (offset - s.part_start_), n);
   return kSdoOk;
 }
 
@@ -236,34 +225,6 @@ SdoAbort NetworkService::data_write(void* ctx, uint32_t offset, const uint8_t* d
     if (at >= s.req_.start && at < s.window_end_) window[at - s.req_.start] = data[i];
   }
   return kSdoOk;
-}
-
-// The server acknowledged; the client would now read the next segment. Hold
-// the ack when that segment reaches beyond the part in hand.
-bool NetworkService::should_hold(const CanFrame& f) const {
-  if (f.dlc != 8u || f.rtr() || f.extended()) return false;
-  const uint8_t cmd = f.data[0];
-  if (cmd != 0x60u && (cmd & 0xE0u) != 0x20u) return false;
-  if (read_end_ >= req_.object_size) return false;
-  const uint32_t need = min32(7u, req_.object_size - read_end_);
-  return read_end_ + need > part_end_;
-}
-
-void NetworkService::hold(const CanFrame& f) {
-  held_ = f;
-  uint8_t tmp[sizeof carry_];
-  const uint8_t n = static_cast<uint8_t>(part_end_ - read_end_);  // < 7: a segment's worth
-  for (uint8_t i = 0; i < n; ++i) {
-    if (!byte_at(read_end_ + i, tmp[i])) {  // the part is gone: the master sent another frame
-      client_.abort(kAbortGeneral, sink_);
-      return answer();
-    }
-  }
-  memcpy(carry_, tmp, n);
-  carry_start_ = read_end_;
-  carry_length_ = n;
-  phase_ = kDownloadHeld;
-  answer();
 }
 
 void NetworkService::answer() {
@@ -296,25 +257,24 @@ void NetworkService::on_can_frame(const CanFrame& f, uint32_t now_us) {
   now_us_ = now_us;
   view_.on_frame(f, now_us);
   if (phase_ == kIdle || f.id != client_.response_id()) return;
-  if (phase_ == kDownload && !release_due_ && should_hold(f)) return hold(f);
   client_.on_frame(f, now_us, sink_);
   settle();
 }
 
 void NetworkService::process(uint32_t now_us) {
   now_us_ = now_us;
-  if (release_due_) {
-    release_due_ = false;
-    if (should_hold(held_)) return hold(held_);  // the part was too short for a segment
-    client_.on_frame(held_, now_us, sink_);
-  }
   if (phase_ != kIdle) client_.process(now_us, sink_);
   settle();
 }
 
-// A transfer that ended is answered; an open download that ended between
-// parts (server abort, our timeout) leaves its code for the next part.
+// A part all sent (the client waits for the next) and a transfer that ended
+// are answered; an open download that ended between parts (server abort,
+// our timeout) leaves its code for the next part.
 void NetworkService::settle() {
+  if (phase_ == kDownload && client_.waiting_for_data()) {
+    phase_ = kDownloadHeld;
+    return answer();
+  }
   if (phase_ == kIdle || client_.busy()) return;
   if (phase_ == kDownloadHeld) {
     open_result_ = client_.result();
@@ -325,7 +285,6 @@ void NetworkService::settle() {
 }
 
 void NetworkService::next_deadline(NextDeadline& d) const {
-  if (release_due_) d.now();
   if (phase_ != kIdle) client_.next_deadline(d);
 }
 

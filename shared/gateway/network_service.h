@@ -11,9 +11,11 @@
 //
 // Memory: no data buffer of its own. Upload data go straight to the slave's
 // frame buffer where the response is built; a download's data are read
-// from the request in that buffer, and 7 bytes carry a segment's remainder
-// from one part of a multi-part download to the next. RAM: the SDO client,
-// the network view (kNetViewNodes) and ~40 bytes.
+// from the request in that buffer. A part of a multi-part download before
+// the last carries whole segments (a multiple of 7 bytes: network_pdu.h),
+// so the SDO client waits between parts at a segment boundary and nothing
+// is carried over. RAM: the SDO client, the network view (kNetViewNodes)
+// and ~30 bytes.
 #pragma once
 #include <stdint.h>
 
@@ -41,19 +43,13 @@ struct NetworkServiceState {
   enum Phase : uint8_t { kIdle, kUpload, kDownload, kDownloadHeld };
 
   NetworkView view_;
-  CanFrame held_;  ///< a download's ack, held until the next part
   uint32_t now_us_;
-  uint32_t window_end_;   ///< upload: end of the bytes wanted (start + room)
-  uint32_t part_start_;   ///< download: object offset of the part in the frame
-  uint32_t part_end_;     ///< download: end of the bytes available
-  uint32_t read_end_;     ///< download: end of the bytes the client has read
-  uint32_t carry_start_;  ///< download: object offset of carry_[0]
-  uint8_t carry_[7];      ///< a segment's bytes from the previous part
-  uint8_t carry_length_;
+  uint32_t window_end_;            ///< upload: end of the bytes wanted (start + room)
+  uint32_t part_start_;            ///< download: object offset of the part in the frame
+  uint32_t part_end_;              ///< download: end of the bytes available
   canopen::SdoAbort open_result_;  ///< how an open download ended between parts (0: kSdoOk)
   Phase phase_;
-  bool release_due_;  ///< a part arrived: hand the held ack to the client
-  bool in_request_;   ///< inside handle(): the request is in the frame buffer
+  bool in_request_;  ///< inside handle(): the request is in the frame buffer
 };
 
 class NetworkService : private NetworkServiceState {
@@ -95,14 +91,9 @@ class NetworkService : private NetworkServiceState {
   /// True when `m` is the next part of the open download.
   bool continues_download(const modbus::NetMessage& m) const;
   void take_part();
-  /// Byte `offset` of the download's object, from the carry or the part in
-  /// the frame buffer; false when it is in neither (or the buffer is gone).
-  bool byte_at(uint32_t offset, uint8_t& b) const;
   void settle();
   /// The answer to the transfer that ended (or to a part taken).
   void answer();
-  bool should_hold(const CanFrame& f) const;
-  void hold(const CanFrame& f);
   void end_open_download(canopen::SdoAbort code);
 
   static canopen::SdoAbort data_write(void* ctx, uint32_t offset, const uint8_t* data, uint16_t n);

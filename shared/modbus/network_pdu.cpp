@@ -129,8 +129,9 @@ bool parse_sdo_download(const uint8_t* p, uint16_t length, NetMessage& m) {
   if (m.count != m.data_length) return false;
   const uint32_t end = static_cast<uint32_t>(m.start) + m.count;
   if (end > m.object_size) return false;
-  // The last part ends the object; a part before it carries data.
-  return m.more_follows ? (m.count != 0u && end < m.object_size) : end == m.object_size;
+  // The last part ends the object; a part before it carries whole segments.
+  return m.more_follows ? (m.count != 0u && m.count % net::kPartMultiple == 0u && end < m.object_size)
+                        : end == m.object_size;
 }
 
 bool parse_nmt(const uint8_t* p, uint16_t length, NetMessage& m) {

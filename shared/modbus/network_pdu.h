@@ -44,6 +44,12 @@ constexpr uint16_t kSizedHeaderBytes = 16;
 constexpr uint16_t kMaxPduBytes = kMaxAduBytes - 1u - kCrcBytes;
 /// Most object bytes one upload response or download request carries.
 constexpr uint16_t kMaxSdoData = kMaxPduBytes - kSizedHeaderBytes;  // 237
+/// A download part before the last carries whole SDO segments: a multiple
+/// of this many bytes (the gateway's client waits between parts at a
+/// segment boundary and keeps no bytes over).
+constexpr uint16_t kPartMultiple = 7;
+/// Most bytes of a download part before the last.
+constexpr uint16_t kMaxPartBytes = kMaxSdoData / kPartMultiple * kPartMultiple;  // 231
 /// One network view entry: node id, NMT state, heartbeat age ms (BE 16).
 constexpr uint16_t kViewEntryBytes = 4;
 /// Most view entries in one response.
@@ -95,7 +101,8 @@ inline bool is_net_pdu(const uint8_t* pdu, uint16_t pdu_length) {
 /// answer exception 03 (wrong length for the service, reserved bits or bytes
 /// not 0, a node id out of range, an NMT command CiA 301 does not define,
 /// fields a service does not use not 0, a download part longer than its
-/// object, an upload window beyond 65535).
+/// object, a part before the last that is not a multiple of 7 bytes, an
+/// upload window beyond 65535).
 bool parse_net_request(const uint8_t* pdu, uint16_t pdu_length, NetMessage& out);
 
 /// Writes the normal response `m` to `pdu` (at most `capacity` bytes) and

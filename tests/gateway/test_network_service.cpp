@@ -262,59 +262,8 @@ TEST_F(NetworkService, BusyWhileATransferRunsAndOwnRegistersAnswered) {
   EXPECT_EQ(upload_u32(2, 0x1018, 1), line.od_get(1, 0x1018, 1));
 }
 
-TEST_F(NetworkService, MultiPartDownloadHoldsOneSegmentedDownloadOpen) {
-  const uint8_t value[4] = {0x10, 0x27, 0x00, 0x00};  // 10000 us in 1006h
-  for (uint16_t at = 0; at < 4; ++at) {
-    const bool more = at < 3;
-    ASSERT_EQ(
-        ask(modbus::build_net_download(req, sizeof req, kAddress, 2, 0x1006, 0, 4, at, value + at, 1, more)),
-        ParseStatus::kOk)
-        << "part " << at;
-    EXPECT_EQ(r.message.start, at);
-    EXPECT_EQ(line.gw(0).network().download_open(), more);
-    if (more) {
-      EXPECT_EQ(line.od_get(1, 0x1006, 0), 0u) << "nothing written before the last part";
-    }
-  }
-  EXPECT_EQ(line.od_get(1, 0x1006, 0), 10000u);
-  const CanFrame* init = nullptr;
-  for (const Line::Sent& s : line.log) {
-    if (s.frame.id == 0x602 && s.frame.data[0] == 0x21) init = &s.frame;
-  }
-  ASSERT_NE(init, nullptr) << "a segmented download with the size indicated";
-  EXPECT_EQ(init->data[4], 4);
-}
-
-TEST_F(NetworkService, AnotherRequestAbortsTheOpenDownload) {
-  const uint8_t value[4] = {0x10, 0x27, 0x00, 0x00};
-  ASSERT_EQ(ask(modbus::build_net_download(req, sizeof req, kAddress, 2, 0x1006, 0, 4, 0, value, 3, true)),
-            ParseStatus::kOk);
-  ASSERT_TRUE(line.gw(0).network().download_open());
-  EXPECT_EQ(upload_u32(2, 0x1018, 1), line.od_get(1, 0x1018, 1)) << "served after the abort";
-  bool aborted = false;
-  for (const Line::Sent& s : line.log) {
-    if (s.frame.id == 0x602 && s.frame.data[0] == 0x80)
-      aborted = canopen::le32(&s.frame.data[4]) == canopen::kAbortGeneral;
-  }
-  EXPECT_TRUE(aborted) << "SDO abort 08000000h to the server";
-  EXPECT_EQ(line.od_get(1, 0x1006, 0), 0u);
-}
-
-TEST_F(NetworkService, ANextPartTooLateFindsTheTimeoutAbort) {
-  const uint8_t value[4] = {0x10, 0x27, 0x00, 0x00};
-  ASSERT_EQ(ask(modbus::build_net_download(req, sizeof req, kAddress, 2, 0x1006, 0, 4, 0, value, 2, true)),
-            ParseStatus::kOk);
-  line.run_ms(600);
-  EXPECT_FALSE(line.gw(0).network().download_open());
-  ASSERT_EQ(
-      ask(modbus::build_net_download(req, sizeof req, kAddress, 2, 0x1006, 0, 4, 2, value + 2, 2, false)),
-      ParseStatus::kException);
-  EXPECT_EQ(r.abort_code, canopen::kAbortTimeout);
-  EXPECT_EQ(line.od_get(1, 0x1006, 0), 0u);
-}
-
 // A DOMAIN 1F50h/1 at node 2 (as mb2co-node's program data): long enough for
-// parts whose bytes straddle the server's 7-byte segments.
+// downloads in several parts.
 struct Domain {
   std::vector<uint8_t> content, staging;
   static bool owns(void*, uint16_t index, uint8_t sub) { return index == 0x1F50 && sub == 1; }
@@ -348,30 +297,55 @@ struct Domain {
   }
 };
 
-TEST_F(NetworkService, MultiPartDownloadOfALongObjectCarriesStraddlingSegments) {
+// Node 2 serves a DOMAIN 1F50h/1 (3 bytes to start with).
+class MultiPart : public NetworkService {
+ protected:
   Domain domain;
-  domain.content.assign(3, 0xEE);
-  const canopen::SdoDomain table = domain.table();
-  line.gw(1).node().set_sdo_domain(&table);
-  std::vector<uint8_t> value(40);
-  for (size_t i = 0; i < value.size(); ++i) value[i] = static_cast<uint8_t>(0x30 + i);
-  // Parts of 5, 9, 1, 6 and 19 bytes: none ends on a 7-byte segment boundary.
-  const uint16_t parts[] = {5, 9, 1, 6, 19};
+  canopen::SdoDomain table{};
+  std::vector<uint8_t> value;
+
+  MultiPart() : value(40) {
+    domain.content.assign(3, 0xEE);
+    table = domain.table();
+    line.gw(1).node().set_sdo_domain(&table);
+    for (size_t i = 0; i < value.size(); ++i) value[i] = static_cast<uint8_t>(0x30 + i);
+  }
+  ~MultiPart() override { line.gw(1).node().set_sdo_domain(nullptr); }
+  ParseStatus part(uint16_t at, uint16_t n) {
+    const bool more = at + n < value.size();
+    return ask(modbus::build_net_download(req, sizeof req, kAddress, 2, 0x1F50, 1,
+                                          static_cast<uint32_t>(value.size()), at, value.data() + at, n,
+                                          more));
+  }
+};
+
+TEST_F(MultiPart, PartsOfWholeSegmentsHoldOneSegmentedDownloadOpen) {
+  // Parts of 14, 7, 7 and the last 12 bytes.
+  const uint16_t parts[] = {14, 7, 7, 12};
   uint16_t at = 0;
   for (const uint16_t n : parts) {
     const bool more = at + n < value.size();
-    ASSERT_EQ(ask(modbus::build_net_download(req, sizeof req, kAddress, 2, 0x1F50, 1, 40, at,
-                                             value.data() + at, n, more)),
-              ParseStatus::kOk)
-        << "part at " << at;
+    ASSERT_EQ(part(at, n), ParseStatus::kOk) << "part at " << at;
+    EXPECT_EQ(r.message.start, at);
     EXPECT_EQ(r.message.count, n);
     EXPECT_EQ(r.message.object_size, 40u);
+    EXPECT_EQ(line.gw(0).network().download_open(), more);
     if (more) {
       EXPECT_EQ(domain.content.size(), 3u) << "the object keeps its content until the last part";
     }
     at = static_cast<uint16_t>(at + n);
   }
   EXPECT_EQ(domain.content, value);
+  // One segmented download with the size indicated, 6 segments.
+  int initiates = 0;
+  int segments = 0;
+  for (const Line::Sent& s : line.log) {
+    if (s.frame.id != 0x602) continue;
+    if (s.frame.data[0] == 0x21 && canopen::le32(&s.frame.data[4]) == 40u) ++initiates;
+    if ((s.frame.data[0] & 0xE0) == 0x00) ++segments;
+  }
+  EXPECT_EQ(initiates, 1);
+  EXPECT_EQ(segments, 6);
   // And read back in windows through the gateway.
   std::string back;
   for (uint16_t start = 0; start < 40; start = static_cast<uint16_t>(start + 16)) {
@@ -380,7 +354,50 @@ TEST_F(NetworkService, MultiPartDownloadOfALongObjectCarriesStraddlingSegments) 
     back.append(r.message.data, r.message.data + r.message.data_length);
   }
   EXPECT_EQ(back, std::string(value.begin(), value.end()));
-  line.gw(1).node().set_sdo_domain(nullptr);
+}
+
+TEST_F(MultiPart, APartBeforeTheLastOfNoWholeSegmentsIsMalformed) {
+  const uint16_t no_whole_segments[] = {1, 6, 8, 13};
+  for (const uint16_t n : no_whole_segments) {
+    ASSERT_EQ(part(0, n), ParseStatus::kException) << n << " bytes";
+    EXPECT_EQ(r.exception, Exception::kIllegalDataValue) << n << " bytes";
+    EXPECT_FALSE(line.gw(0).network().download_open());
+  }
+  for (const Line::Sent& s : line.log) EXPECT_NE(s.frame.id, 0x602) << "nothing sent to the node";
+  ASSERT_EQ(part(0, 7), ParseStatus::kOk);
+  EXPECT_TRUE(line.gw(0).network().download_open());
+}
+
+TEST_F(MultiPart, AnotherRequestAbortsTheOpenDownload) {
+  ASSERT_EQ(part(0, 7), ParseStatus::kOk);
+  ASSERT_TRUE(line.gw(0).network().download_open());
+  EXPECT_EQ(upload_u32(2, 0x1018, 1), line.od_get(1, 0x1018, 1)) << "served after the abort";
+  bool aborted = false;
+  for (const Line::Sent& s : line.log) {
+    if (s.frame.id == 0x602 && s.frame.data[0] == 0x80)
+      aborted = canopen::le32(&s.frame.data[4]) == canopen::kAbortGeneral;
+  }
+  EXPECT_TRUE(aborted) << "SDO abort 08000000h to the server";
+  EXPECT_EQ(domain.content.size(), 3u);
+}
+
+TEST_F(MultiPart, ANextPartTooLateFindsTheTimeoutAbort) {
+  ASSERT_EQ(part(0, 14), ParseStatus::kOk);
+  line.run_ms(600);
+  EXPECT_FALSE(line.gw(0).network().download_open());
+  ASSERT_EQ(part(14, 26), ParseStatus::kException);
+  EXPECT_EQ(r.abort_code, canopen::kAbortTimeout);
+  EXPECT_EQ(domain.content.size(), 3u);
+}
+
+TEST_F(NetworkService, AFourByteObjectIsWrittenInOnePart) {
+  const uint8_t value[4] = {0x10, 0x27, 0x00, 0x00};  // 10000 us in 1006h
+  ASSERT_EQ(ask(modbus::build_net_download(req, sizeof req, kAddress, 2, 0x1006, 0, 4, 0, value, 3, true)),
+            ParseStatus::kException)
+      << "3 bytes are no whole segment";
+  ASSERT_EQ(ask(modbus::build_net_download(req, sizeof req, kAddress, 2, 0x1006, 0, 4, 0, value, 4, false)),
+            ParseStatus::kOk);
+  EXPECT_EQ(line.od_get(1, 0x1006, 0), 10000u);
 }
 
 }  // namespace

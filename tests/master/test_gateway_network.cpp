@@ -212,7 +212,9 @@ TEST(GatewayNetwork, LongDownloadGoesInPartsWithMoreFollowsOnAllButTheLast) {
     EXPECT_EQ(gw.seen[i].m.object_size, 500u);
     EXPECT_EQ(gw.seen[i].m.more_follows, i < 2) << "part " << i;
   }
-  EXPECT_EQ(gw.seen[2].data.size(), 500u - 2 * modbus::net::kMaxSdoData);
+  EXPECT_EQ(gw.seen[0].data.size(), modbus::net::kMaxPartBytes) << "whole 7-byte segments: 231 bytes";
+  EXPECT_EQ(gw.seen[1].m.start, modbus::net::kMaxPartBytes);
+  EXPECT_EQ(gw.seen[2].data.size(), 500u - 2 * modbus::net::kMaxPartBytes);
 }
 
 TEST(GatewayNetwork, EmptyDownloadIsOneLastPart) {

@@ -78,8 +78,8 @@ TEST(NetworkPdu, NmtStartAllAndView) {
 // Each malformed request, one defect at a time, starting from a good one.
 TEST(NetworkPdu, MalformedRequestsAreRefused) {
   uint8_t good[256];
-  const uint8_t value[3] = {1, 2, 3};
-  const uint16_t n = build_net_download(good, sizeof good, 1, 2, 0x2000, 1, 10, 4, value, 3, true);
+  const uint8_t value[7] = {1, 2, 3, 4, 5, 6, 7};
+  const uint16_t n = build_net_download(good, sizeof good, 1, 2, 0x2000, 1, 20, 7, value, 7, true);
   NetMessage m;
   ASSERT_TRUE(parse_net_request(good + 1, static_cast<uint16_t>(n - 3u), m));
   const uint16_t pdu = static_cast<uint16_t>(n - 3u);
@@ -106,6 +106,17 @@ TEST(NetworkPdu, MalformedRequestsAreRefused) {
     EXPECT_FALSE(parse_net_request(bad, pdu, m)) << d.what;
   }
   EXPECT_FALSE(parse_net_request(good + 1, 11, m)) << "shorter than the header";
+  const uint16_t no_whole_segments[] = {1, 6, 8, 13};
+  for (const uint16_t count : no_whole_segments) {
+    uint8_t part[256];
+    const uint16_t k = build_net_download(part, sizeof part, 1, 2, 0x2000, 1, 20, 0, value, count, true);
+    EXPECT_FALSE(parse_net_request(part + 1, static_cast<uint16_t>(k - 3u), m))
+        << count << " bytes before the last part: no whole segments";
+    const uint16_t last =
+        build_net_download(part, sizeof part, 1, 2, 0x2000, 1, count, 0, value, count, false);
+    EXPECT_TRUE(parse_net_request(part + 1, static_cast<uint16_t>(last - 3u), m))
+        << "a last part of " << count;
+  }
   uint8_t up[32];
   build_net_upload(up, sizeof up, 1, 2, 0x1000, 0, 0, 4);
   up[3] = 0x01;  // more follows on an upload request

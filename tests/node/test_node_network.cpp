@@ -248,11 +248,17 @@ TEST_F(NodeNetwork, OwnRegistersAnsweredWhileARemoteTransferRuns) {
 }
 
 TEST_F(NodeNetwork, MultiPartDownloadToTheSecondNodesDomain) {
-  // 1F50h/1 of mb2co-node (program data, a DOMAIN): 30 bytes in parts of 11,
-  // 12 and 7, each starting where the previous ended (control 21h, then 20h).
+  // 1F50h/1 of mb2co-node (program data, a DOMAIN): 30 bytes in parts of 14,
+  // 7 and 9, each starting where the previous ended (control 21h, then 20h);
+  // a part before the last is whole 7-byte segments (11 bytes: exception 03).
   Bytes value(30);
   for (size_t i = 0; i < value.size(); ++i) value[i] = static_cast<uint8_t>(0xA0 + i);
-  const uint16_t parts[][2] = {{0, 11}, {11, 12}, {23, 7}};
+  const Bytes eleven = {0x2B, 0x0D, 0x21, 0x00, 0x02, 0x1F, 0x50, 0x01,
+                        0x00, 0x00, 0x00, 11,   0x00, 0x00, 0x00, 30};
+  Bytes refused = eleven;
+  refused.insert(refused.end(), value.begin(), value.begin() + 11);
+  EXPECT_EQ(transact(refused), (Bytes{0xAB, 0x03})) << "11 bytes before the last part";
+  const uint16_t parts[][2] = {{0, 14}, {14, 7}, {21, 9}};
   for (const auto& part : parts) {
     const bool last = part[0] + part[1] == 30;
     Bytes req = {0x2B,

@@ -47,15 +47,13 @@ uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, ui
   NetMessage m;
   if (!modbus::parse_net_request(pdu, pdu_length, m)) return exception_pdu(pdu, Exception::kIllegalDataValue);
   if (s.transfer_running()) return exception_pdu(pdu, Exception::kServerDeviceBusy);
-  if (s.phase_ == kDownloadHeld) {
-    if (s.continues_download(m)) {
-      s.req_ = m;
-      s.take_part();
-      return 0;
-    }
-    s.end_open_download(kAbortGeneral);  // the master moved on
-  }
+  const bool next_part = s.phase_ == kDownloadHeld && s.continues_download(m);
+  if (s.phase_ == kDownloadHeld && !next_part) s.end_open_download(kAbortGeneral);  // the master moved on
   s.req_ = m;
+  if (next_part) {
+    s.take_part();
+    return 0;
+  }
   // How an open download ended between parts is news for its next part only.
   const SdoAbort ended = s.open_result_;
   s.open_result_ = kSdoOk;
@@ -123,12 +121,11 @@ uint16_t NetworkService::network_view(uint8_t* pdu, uint16_t capacity) {
     modbus::put_net_view_entry(pdu + offset + modbus::net::kViewEntryBytes * count, e);
     ++count;
   }
-  NetMessage r = req_;
-  r.more_follows = more;
-  r.count = static_cast<uint16_t>(count * modbus::net::kViewEntryBytes);
-  r.data = pdu + offset;
-  r.data_length = r.count;
-  return modbus::build_net_response(pdu, capacity, r);
+  req_.more_follows = more;
+  req_.count = static_cast<uint16_t>(count * modbus::net::kViewEntryBytes);
+  req_.data = pdu + offset;
+  req_.data_length = req_.count;
+  return modbus::build_net_response(pdu, capacity, req_);
 }
 
 // The gateway's own node: the local OD, as its SDO server would answer.
@@ -141,13 +138,12 @@ uint16_t NetworkService::local_upload(uint8_t* pdu, uint16_t capacity) {
   const uint16_t want = req_.count == 0u || req_.count > room ? room : req_.count;
   const uint16_t n = req_.start >= size ? 0u : static_cast<uint16_t>(min32(size - req_.start, want));
   memmove(pdu + offset, pdu + offset + req_.start, n);
-  NetMessage r = req_;
-  r.count = n;
-  r.object_size = size;
-  r.more_follows = static_cast<uint32_t>(req_.start) + n < size;
-  r.data = pdu + offset;
-  r.data_length = n;
-  return modbus::build_net_response(pdu, capacity, r);
+  req_.count = n;
+  req_.object_size = size;
+  req_.more_follows = static_cast<uint32_t>(req_.start) + n < size;
+  req_.data = pdu + offset;
+  req_.data_length = n;
+  return modbus::build_net_response(pdu, capacity, req_);
 }
 
 uint16_t NetworkService::local_download(uint8_t* pdu, uint16_t capacity) {
@@ -155,9 +151,8 @@ uint16_t NetworkService::local_download(uint8_t* pdu, uint16_t capacity) {
   if (req_.more_follows) return modbus::build_net_abort(pdu, kAbortTooLong);
   const SdoAbort code = od_.write(req_.index, req_.sub, req_.data, req_.count);
   if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
-  NetMessage r = req_;
-  r.data_length = 0;
-  return modbus::build_net_response(pdu, capacity, r);
+  req_.data_length = 0;
+  return modbus::build_net_response(pdu, capacity, req_);
 }
 
 // ---- remote transfers -------------------------------------------------------
@@ -237,18 +232,17 @@ void NetworkService::answer() {
     slave_.send_deferred(modbus::build_net_abort(pdu, client_.result()));
     return;
   }
-  NetMessage r = req_;
-  r.data_length = 0;
+  req_.data_length = 0;
   if (req_.service == NetService::kSdoUpload) {
     const uint32_t size = client_.size();
     const uint32_t end = min32(window_end_, size);
-    r.count = static_cast<uint16_t>(end > req_.start ? end - req_.start : 0u);
-    r.object_size = size;
-    r.more_follows = static_cast<uint32_t>(req_.start) + r.count < size;
-    r.data = pdu + modbus::net::kSizedHeaderBytes;
-    r.data_length = r.count;
+    req_.count = static_cast<uint16_t>(end > req_.start ? end - req_.start : 0u);
+    req_.object_size = size;
+    req_.more_follows = static_cast<uint32_t>(req_.start) + req_.count < size;
+    req_.data = pdu + modbus::net::kSizedHeaderBytes;
+    req_.data_length = req_.count;
   }
-  slave_.send_deferred(modbus::build_net_response(pdu, capacity, r));
+  slave_.send_deferred(modbus::build_net_response(pdu, capacity, req_));
 }
 
 // ---- driving ------------------------------------------------------------------

@@ -106,7 +106,10 @@ class NetworkService : private NetworkServiceState {
   const uint8_t* enabled_;
   modbus::NetRequestHandler handler_;
   canopen::SdoClient client_;
-  modbus::NetMessage req_;  ///< the request being served (data: none kept)
+  /// The request being served (data: none kept). Its answer is built from
+  /// it: the fields a response changes (count, size, more follows, data)
+  /// are set on it as it is answered; continues_download() reads the rest.
+  modbus::NetMessage req_;
 };
 
 }  // namespace gateway

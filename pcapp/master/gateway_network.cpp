@@ -32,7 +32,7 @@ Status gateway_nmt(GatewayChannel& channel, uint8_t slave, uint32_t timeout_ms, 
                    uint8_t node) {
   uint8_t request[modbus::kMaxAduBytes];
   const uint16_t n = modbus::build_net_nmt(request, sizeof request, slave, node, command);
-  modbus::NetResponse r;
+  modbus::NetResponse r{};
   const GatewayChannel::Outcome got = channel.exchange(request, n, timeout_ms, &r);
   if (got == GatewayChannel::Outcome::kInterrupted) return Status::failure("interrupted");
   if (got != GatewayChannel::Outcome::kAnswered) return Status::failure(channel.last_error());
@@ -183,7 +183,7 @@ GatewayNetwork::Step GatewayNetwork::upload(Transfer* t) {
     }
     const uint16_t n = modbus::build_net_upload(request, sizeof request, slave_, t->node, t->index, t->sub,
                                                 static_cast<uint16_t>(start), 0);
-    modbus::NetResponse r;
+    modbus::NetResponse r{};
     const Step s = ask(t, request, n, &r);
     if (s != Step::kDone) return s;
     const modbus::NetMessage& m = r.message;
@@ -224,7 +224,7 @@ GatewayNetwork::Step GatewayNetwork::download(Transfer* t) {
     const uint16_t n = modbus::build_net_download(request, sizeof request, slave_, t->node, t->index, t->sub,
                                                   static_cast<uint32_t>(total), static_cast<uint16_t>(start),
                                                   t->data.data() + start, count, more);
-    modbus::NetResponse r;
+    modbus::NetResponse r{};
     const Step s = ask(t, request, n, &r);
     if (s != Step::kDone) return s;
     start += count;

@@ -119,7 +119,7 @@ LinkResult ModbusLink::raw(const uint8_t* request, uint16_t length, uint8_t* res
     got = 0;
     const int64_t deadline = now_ms() + settings_.timeout_ms;
     modbus::Response parsed;
-    modbus::NetResponse net_parsed;  // FC 2Bh/0Dh has its own codec
+    modbus::NetResponse net_parsed{};  // FC 2Bh/0Dh has its own codec
     const bool net = modbus::is_net_pdu(request + 1, static_cast<uint16_t>(length - 1));
     modbus::ParseStatus st = modbus::ParseStatus::kTooShort;
     while (st != modbus::ParseStatus::kOk && st != modbus::ParseStatus::kException) {
@@ -161,7 +161,7 @@ LinkResult ModbusLink::network_view(std::vector<modbus::NetViewEntry>& view, boo
     const uint16_t n = modbus::build_net_view(request, sizeof request, slave, first);
     uint16_t got = 0;
     const LinkResult s = raw(request, n, response, sizeof response, got);
-    modbus::NetResponse r;
+    modbus::NetResponse r{};
     if (s.outcome == LinkStatus::exception) {
       modbus::parse_net_response(request, n, response, got, r);
       unsupported = r.exception == modbus::Exception::kIllegalFunction;

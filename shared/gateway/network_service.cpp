@@ -44,7 +44,7 @@ NetworkService::NetworkService(Node& node, ObjectDictionary& od, modbus::SlaveCo
 uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, uint16_t capacity) {
   NetworkService& s = *static_cast<NetworkService*>(ctx);
   if (s.enabled_ != nullptr && *s.enabled_ == 0u) return exception_pdu(pdu, Exception::kIllegalFunction);
-  NetMessage m;
+  NetMessage m{};
   if (!modbus::parse_net_request(pdu, pdu_length, m)) return exception_pdu(pdu, Exception::kIllegalDataValue);
   if (s.transfer_running()) return exception_pdu(pdu, Exception::kServerDeviceBusy);
   const bool next_part = s.phase_ == kDownloadHeld && s.continues_download(m);

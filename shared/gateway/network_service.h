@@ -43,6 +43,10 @@ struct NetworkServiceState {
   enum Phase : uint8_t { kIdle, kUpload, kDownload, kDownloadHeld };
 
   NetworkView view_;
+  /// The request being served (data: none kept). Its answer is built from
+  /// it: the fields a response changes (count, size, more follows, data)
+  /// are set on it as it is answered; continues_download() reads the rest.
+  modbus::NetMessage req_;
   uint32_t now_us_;
   uint32_t window_end_;            ///< upload: end of the bytes wanted (start + room)
   uint32_t part_start_;            ///< download: object offset of the part in the frame
@@ -106,10 +110,6 @@ class NetworkService : private NetworkServiceState {
   const uint8_t* enabled_;
   modbus::NetRequestHandler handler_;
   canopen::SdoClient client_;
-  /// The request being served (data: none kept). Its answer is built from
-  /// it: the fields a response changes (count, size, more follows, data)
-  /// are set on it as it is answered; continues_download() reads the rest.
-  modbus::NetMessage req_;
 };
 
 }  // namespace gateway

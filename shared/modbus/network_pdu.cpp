@@ -208,7 +208,7 @@ uint16_t build_net_request(uint8_t* out, uint16_t capacity, uint8_t address, con
 
 uint16_t build_net_upload(uint8_t* out, uint16_t capacity, uint8_t address, uint8_t node_id, uint16_t index,
                           uint8_t sub, uint16_t start, uint16_t max_count) {
-  NetMessage m;
+  NetMessage m{};
   m.service = NetService::kSdoUpload;
   m.node_id = node_id;
   m.index = index;
@@ -221,7 +221,7 @@ uint16_t build_net_upload(uint8_t* out, uint16_t capacity, uint8_t address, uint
 uint16_t build_net_download(uint8_t* out, uint16_t capacity, uint8_t address, uint8_t node_id, uint16_t index,
                             uint8_t sub, uint32_t object_size, uint16_t start, const uint8_t* data,
                             uint16_t count, bool more) {
-  NetMessage m;
+  NetMessage m{};
   m.service = NetService::kSdoDownload;
   m.more_follows = more;
   m.node_id = node_id;
@@ -236,7 +236,7 @@ uint16_t build_net_download(uint8_t* out, uint16_t capacity, uint8_t address, ui
 }
 
 uint16_t build_net_nmt(uint8_t* out, uint16_t capacity, uint8_t address, uint8_t node_id, uint8_t command) {
-  NetMessage m;
+  NetMessage m{};
   m.service = NetService::kNmt;
   m.node_id = node_id;
   m.count = 1;
@@ -246,7 +246,7 @@ uint16_t build_net_nmt(uint8_t* out, uint16_t capacity, uint8_t address, uint8_t
 }
 
 uint16_t build_net_view(uint8_t* out, uint16_t capacity, uint8_t address, uint8_t first_node_id) {
-  NetMessage m;
+  NetMessage m{};
   m.service = NetService::kNetworkView;
   m.node_id = first_node_id;
   return build_net_request(out, capacity, address, m);

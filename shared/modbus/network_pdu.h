@@ -72,17 +72,19 @@ enum class NetService : uint8_t {
 
 /// One request or normal response, decoded. `data` points into the PDU it
 /// was parsed from (valid while that buffer is), or at what a builder copies.
+/// Plain data without initialisers (the Uno's gateway holds one in a
+/// zero-filled block): declare it value-initialised, `NetMessage m{};`.
 struct NetMessage {
-  NetService service = NetService::kSdoUpload;
-  bool more_follows = false;
-  uint8_t node_id = 0;            ///< SDO 1..127; NMT 0 (all) ..127; view: first node listed
-  uint16_t index = 0;             ///< SDO only (0 otherwise)
-  uint8_t sub = 0;                ///< SDO only
-  uint16_t start = 0;             ///< SDO: byte offset into the object (0 otherwise)
-  uint16_t count = 0;             ///< number of data; upload request: most bytes wanted (0: all that fit)
-  uint32_t object_size = 0;       ///< SDO download request, SDO responses: the whole object's size
-  const uint8_t* data = nullptr;  ///< `data_length` bytes: download / NMT / upload + view responses
-  uint16_t data_length = 0;
+  NetService service;
+  bool more_follows;
+  uint8_t node_id;       ///< SDO 1..127; NMT 0 (all) ..127; view: first node listed
+  uint16_t index;        ///< SDO only (0 otherwise)
+  uint8_t sub;           ///< SDO only
+  uint16_t start;        ///< SDO: byte offset into the object (0 otherwise)
+  uint16_t count;        ///< number of data; upload request: most bytes wanted (0: all that fit)
+  uint32_t object_size;  ///< SDO download request, SDO responses: the whole object's size
+  const uint8_t* data;   ///< `data_length` bytes: download / NMT / upload + view responses
+  uint16_t data_length;
 };
 
 /// NMT command byte of a request's data (one byte; CiA 301 command specifiers).
@@ -132,7 +134,7 @@ uint16_t build_net_view(uint8_t* out, uint16_t capacity, uint8_t address, uint8_
 
 /// A decoded response: the normal one, an exception, or an SDO abort.
 struct NetResponse {
-  NetMessage message;                      ///< valid with ParseStatus::kOk
+  NetMessage message{};                    ///< valid with ParseStatus::kOk
   Exception exception = Exception::kNone;  ///< with ParseStatus::kException
   uint32_t abort_code = 0;                 ///< exception 04 with an SDO abort (0: a plain 04)
 };

@@ -58,7 +58,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   pdu[0] = fc::kEncapsulatedInterface;
   pdu[1] = kMeiCanopenReference;
   if (size != 0u) memcpy(pdu + 2, data, size);
-  NetMessage m;
+  NetMessage m{};
   const uint16_t length = static_cast<uint16_t>(size + 2u);
   if (parse_net_request(pdu, length, m)) check_accepted(pdu, length, m);
   if (parse_net_request(data, static_cast<uint16_t>(size), m)) {

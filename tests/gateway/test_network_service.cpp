@@ -29,7 +29,7 @@ class NetworkService : public ::testing::Test {
   uint8_t req[256];
   uint16_t req_len = 0;
   std::vector<uint8_t> rsp;
-  NetResponse r;
+  NetResponse r{};
   ParseStatus status = ParseStatus::kBadRequest;
 
   NetworkService() { line.run_ms(300); }  // boot-ups and a few heartbeats

@@ -79,7 +79,7 @@ std::vector<uint8_t> adu(std::vector<uint8_t> pdu) {
 /// The gateway's normal answer to `request` with `data` (an upload window).
 std::vector<uint8_t> upload_answer(const uint8_t* request, uint16_t length,
                                    const std::vector<uint8_t>& data) {
-  modbus::NetMessage m;
+  modbus::NetMessage m{};
   EXPECT_TRUE(modbus::parse_net_request(request + 1, static_cast<uint16_t>(length - 3), m));
   m.count = static_cast<uint16_t>(data.size());
   m.object_size = static_cast<uint32_t>(data.size());
@@ -101,7 +101,7 @@ class GatewayLinkTest : public ::testing::Test {
   GatewayLink link;
   uint8_t request[64];
   uint16_t length = 0;
-  modbus::NetResponse r;
+  modbus::NetResponse r{};
 };
 
 TEST_F(GatewayLinkTest, NormalResponseInTwoPiecesIsTakenWhole) {

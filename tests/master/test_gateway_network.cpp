@@ -42,7 +42,7 @@ class ScriptedGateway : public GatewayChannel {
   /// Every request as decoded, its data copied (m.data points nowhere
   /// after the exchange).
   struct Seen {
-    NetMessage m;
+    NetMessage m{};
     std::vector<uint8_t> data;
   };
   std::vector<Seen> seen;

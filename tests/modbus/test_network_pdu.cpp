@@ -34,7 +34,7 @@ TEST(NetworkPdu, UploadRequestBytesAsDocumented) {
   ASSERT_EQ(n, 15u);  // address + 12-byte PDU + CRC
   const Bytes body(buf, buf + 13);
   EXPECT_EQ(body, (Bytes{0x01, 0x2B, 0x0D, 0x00, 0x00, 0x03, 0x10, 0x18, 0x01, 0x00, 0x00, 0x00, 0x00}));
-  NetMessage m;
+  NetMessage m{};
   ASSERT_TRUE(parse_adu(buf, n, m));
   EXPECT_EQ(m.service, NetService::kSdoUpload);
   EXPECT_EQ(m.node_id, 3);
@@ -50,7 +50,7 @@ TEST(NetworkPdu, DownloadRequestCarriesSizeThenCanopenOrderData) {
   ASSERT_EQ(n, 1u + 16u + 2u + 2u);
   EXPECT_EQ(Bytes(buf + 1, buf + 19), (Bytes{0x2B, 0x0D, 0x20, 0x00, 0x02, 0x10, 0x17, 0x00, 0x00, 0x00, 0x00,
                                              0x02, 0x00, 0x00, 0x00, 0x02, 0xE8, 0x03}));
-  NetMessage m;
+  NetMessage m{};
   ASSERT_TRUE(parse_adu(buf, n, m));
   EXPECT_EQ(m.service, NetService::kSdoDownload);
   EXPECT_EQ(m.object_size, 2u);
@@ -64,7 +64,7 @@ TEST(NetworkPdu, NmtStartAllAndView) {
   uint16_t n = build_net_nmt(buf, sizeof buf, 1, 0, 0x01);
   EXPECT_EQ(Bytes(buf + 1, buf + 14),
             (Bytes{0x2B, 0x0D, 0x60, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x01, 0x01}));
-  NetMessage m;
+  NetMessage m{};
   ASSERT_TRUE(parse_adu(buf, n, m));
   EXPECT_EQ(m.service, NetService::kNmt);
   EXPECT_EQ(net_nmt_command(m), 0x01);
@@ -80,7 +80,7 @@ TEST(NetworkPdu, MalformedRequestsAreRefused) {
   uint8_t good[256];
   const uint8_t value[7] = {1, 2, 3, 4, 5, 6, 7};
   const uint16_t n = build_net_download(good, sizeof good, 1, 2, 0x2000, 1, 20, 7, value, 7, true);
-  NetMessage m;
+  NetMessage m{};
   ASSERT_TRUE(parse_net_request(good + 1, static_cast<uint16_t>(n - 3u), m));
   const uint16_t pdu = static_cast<uint16_t>(n - 3u);
   struct Defect {
@@ -137,7 +137,7 @@ TEST(NetworkPdu, MalformedRequestsAreRefused) {
 TEST(NetworkPdu, UploadResponseRoundTripsWithTotalSizeAndMoreFollows) {
   uint8_t req[32];
   const uint16_t req_n = build_net_upload(req, sizeof req, 1, 4, 0x1008, 0, 10, 5);
-  NetMessage q;
+  NetMessage q{};
   ASSERT_TRUE(parse_net_request(req + 1, static_cast<uint16_t>(req_n - 3u), q));
   const uint8_t window[5] = {'a', 'b', 'c', 'd', 'e'};
   NetMessage r = q;
@@ -151,7 +151,7 @@ TEST(NetworkPdu, UploadResponseRoundTripsWithTotalSizeAndMoreFollows) {
   EXPECT_EQ(net_response_data_offset(NetService::kSdoUpload), 16u);
   EXPECT_EQ(pdu[2], 0x01) << "more follows";
   const Bytes rsp = response_adu(pdu, len);
-  NetResponse out;
+  NetResponse out{};
   ASSERT_EQ(parse_net_response(req, req_n, rsp.data(), static_cast<uint16_t>(rsp.size()), out),
             ParseStatus::kOk);
   EXPECT_TRUE(out.message.more_follows);
@@ -165,7 +165,7 @@ TEST(NetworkPdu, UploadResponseRoundTripsWithTotalSizeAndMoreFollows) {
 TEST(NetworkPdu, ResponsesThatDoNotAnswerTheRequestAreRejected) {
   uint8_t req[32];
   const uint16_t req_n = build_net_upload(req, sizeof req, 1, 4, 0x1008, 0, 0, 0);
-  NetMessage r;
+  NetMessage r{};
   r.node_id = 5;  // another node
   r.index = 0x1008;
   r.object_size = 1;
@@ -176,7 +176,7 @@ TEST(NetworkPdu, ResponsesThatDoNotAnswerTheRequestAreRejected) {
   uint8_t pdu[64];
   uint16_t len = build_net_response(pdu, sizeof pdu, r);
   Bytes rsp = response_adu(pdu, len);
-  NetResponse out;
+  NetResponse out{};
   EXPECT_EQ(parse_net_response(req, req_n, rsp.data(), static_cast<uint16_t>(rsp.size()), out),
             ParseStatus::kMismatch);
   r.node_id = 4;
@@ -200,7 +200,7 @@ TEST(NetworkPdu, AbortExceptionCarriesTheCodeBigEndian) {
   ASSERT_EQ(build_net_abort(pdu, 0x05040000u), 7u);
   EXPECT_EQ(Bytes(pdu, pdu + 7), (Bytes{0xAB, 0x04, 0x0D, 0x05, 0x04, 0x00, 0x00}));
   Bytes rsp = response_adu(pdu, 7);
-  NetResponse out;
+  NetResponse out{};
   ASSERT_EQ(parse_net_response(req, req_n, rsp.data(), static_cast<uint16_t>(rsp.size()), out),
             ParseStatus::kException);
   EXPECT_EQ(out.exception, Exception::kServerDeviceFailure);
@@ -219,7 +219,7 @@ TEST(NetworkPdu, ViewEntriesAndNmtEcho) {
   uint8_t entries[8];
   put_net_view_entry(entries, NetViewEntry{1, 0x05, 12});
   put_net_view_entry(entries + 4, NetViewEntry{3, 0x7F, net::kAgeSaturated});
-  NetMessage r;
+  NetMessage r{};
   r.service = NetService::kNetworkView;
   r.count = 8;
   r.data = entries;
@@ -227,7 +227,7 @@ TEST(NetworkPdu, ViewEntriesAndNmtEcho) {
   uint8_t pdu[64];
   uint16_t len = build_net_response(pdu, sizeof pdu, r);
   Bytes rsp = response_adu(pdu, len);
-  NetResponse out;
+  NetResponse out{};
   ASSERT_EQ(parse_net_response(req, req_n, rsp.data(), static_cast<uint16_t>(rsp.size()), out),
             ParseStatus::kOk);
   ASSERT_EQ(out.message.data_length, 8u);
@@ -237,7 +237,7 @@ TEST(NetworkPdu, ViewEntriesAndNmtEcho) {
   EXPECT_EQ(net_view_entry(out.message, 0).age_ms, 12);
 
   req_n = build_net_nmt(req, sizeof req, 1, 7, 0x02);
-  NetMessage q;
+  NetMessage q{};
   ASSERT_TRUE(parse_net_request(req + 1, static_cast<uint16_t>(req_n - 3u), q));
   len = build_net_response(pdu, sizeof pdu, q);  // the echo
   rsp = response_adu(pdu, len);

@@ -21,7 +21,7 @@ std::vector<NetViewEntry> through_the_wire(const std::vector<NetViewEntry>& entr
   const uint16_t n = modbus::build_net_view(request, sizeof request, 1, 1);
   uint8_t data[240];
   for (size_t i = 0; i < entries.size(); ++i) modbus::put_net_view_entry(data + 4 * i, entries[i]);
-  modbus::NetMessage m;
+  modbus::NetMessage m{};
   m.service = modbus::NetService::kNetworkView;
   m.node_id = 1;
   m.count = static_cast<uint16_t>(4 * entries.size());
@@ -31,7 +31,7 @@ std::vector<NetViewEntry> through_the_wire(const std::vector<NetViewEntry>& entr
   response[0] = 1;
   const uint16_t pdu = modbus::build_net_response(response + 1, 253, m);
   const uint16_t adu = modbus::append_crc(response, static_cast<uint16_t>(pdu + 1));
-  modbus::NetResponse r;
+  modbus::NetResponse r{};
   EXPECT_EQ(modbus::parse_net_response(request, n, response, adu, r), modbus::ParseStatus::kOk);
   std::vector<NetViewEntry> out;
   EXPECT_TRUE(append_view_entries(r.message, &out));
@@ -51,7 +51,7 @@ TEST(NeighboursView, EntriesSurviveTheWire) {
 
 TEST(NeighboursView, RefusesDataThatAreNotWholeEntries) {
   const uint8_t data[6] = {4, 5, 0, 1, 5, 4};
-  modbus::NetMessage m;
+  modbus::NetMessage m{};
   m.service = modbus::NetService::kNetworkView;
   m.data = data;
   m.data_length = 6;

@@ -137,6 +137,13 @@ void Tpdos::next_deadline(NextDeadline& d) const {
   }
 }
 
+// Type 252 samples at the SYNC only for the answer to a remote request.
+#ifdef MB2CO_TPDO_RTR
+constexpr bool kAnswersRtr = true;
+#else
+constexpr bool kAnswersRtr = false;
+#endif
+
 void Tpdos::on_sync(uint8_t counter, const CanSink& sink, uint32_t now_us) {
   for (uint8_t n = 0; n < kPdoCount; ++n) {
     uint32_t cob = 0;
@@ -156,13 +163,10 @@ void Tpdos::on_sync(uint8_t counter, const CanSink& sink, uint32_t now_us) {
       if (++s.sync_count < type) continue;
       s.sync_count = 0;
       build_and_send(n, cob, sink, now_us);
-    }
-#ifdef MB2CO_TPDO_RTR
-    else if (type == 252) {  // sample now, send on request
+    } else if (kAnswersRtr && type == 252) {  // sample now, send on request
       s.last_len = pdo_build(*od_, map_row(n), s.last);
       s.flags |= kSyncStarted;  // for 252: a sample is held
     }
-#endif
   }
 }
 

@@ -29,9 +29,16 @@ uint64_t CanWire::frame_cycles(const CanFrame& frame) const {
   return (bits * cpu_hz_ + bps - 1u) / bps;
 }
 
-void CanWire::frame_from_bus(const CanFrame& frame, uint64_t now) {
-  inbound_.push_back(frame);
+void CanWire::frame_from_bus(const CanFrame& frame, uint64_t now, uint64_t arrival) {
+  if (arrival < now) arrival = now;
+  if (!inbound_.empty() && arrival < inbound_.back().arrival) arrival = inbound_.back().arrival;
+  inbound_.push_back(Inbound{frame, arrival});
   advance(now);
+}
+
+uint64_t CanWire::next_event() const {
+  if (busy_until_ != kIdle || inbound_.empty()) return busy_until_;
+  return inbound_.front().arrival;
 }
 
 void CanWire::advance(uint64_t now) {
@@ -50,12 +57,16 @@ void CanWire::advance(uint64_t now) {
   }
   CanFrame out{};
   const bool have_out = chip_.next_transmit(&out);
-  if (!have_out && inbound_.empty()) return;
-  on_wire_outbound_ = have_out && (inbound_.empty() || wins_arbitration(out, inbound_.front()));
+  // A frame from outside that has reached the bus by now contends for the
+  // wire; one still to come leaves the wire to the chip or idle.
+  const bool have_in = !inbound_.empty() && inbound_.front().arrival <= now;
+  if (!have_out && !have_in) return;
+  on_wire_outbound_ = have_out && (!have_in || wins_arbitration(out, inbound_.front().frame));
   if (on_wire_outbound_) {
     on_wire_ = out;
   } else {
-    on_wire_ = inbound_.front();
+    on_wire_ = inbound_.front().frame;
+    if (inbound_.front().arrival > start) start = inbound_.front().arrival;
     inbound_.pop_front();
   }
   busy_until_ = start + frame_cycles(on_wire_);

@@ -12,6 +12,12 @@
 // Time is the simulated CPU cycle count (16 MHz). The owner calls advance()
 // at next_event() and after anything that may start a frame (end of an SPI
 // instruction, a frame from outside).
+//
+// A frame from outside may carry the cycle it reached the bus: it waits for
+// that moment, so frames that came some time apart stay apart even when the
+// owner hands them over together (mb2co-uno reads a socket's backlog after
+// the host held the simulation up: squeezed back to back, those frames would
+// overrun the chip's two receive buffers, which no real bus would do).
 #pragma once
 #include <stdint.h>
 
@@ -35,13 +41,16 @@ class CanWire {
   /// INT pin of the chip (active low).
   bool int_low() const { return chip_.int_low(); }
 
-  /// A frame from another node, seen from `now`: it waits for the wire.
-  void frame_from_bus(const CanFrame& frame, uint64_t now);
+  /// A frame from another node that reached the bus at cycle `arrival` (at
+  /// the earliest `now`; never before the frame handed over before it): it
+  /// waits for that cycle and then for the idle wire.
+  void frame_from_bus(const CanFrame& frame, uint64_t now, uint64_t arrival = 0);
   /// Completes the frame on the wire if it ends by `now` and starts the next
   /// waiting one.
   void advance(uint64_t now);
-  /// Cycle at which the frame on the wire ends; kIdle when the wire is idle.
-  uint64_t next_event() const { return busy_until_; }
+  /// Cycle at which the frame on the wire ends or, with the wire idle, the
+  /// next frame from outside arrives; kIdle when nothing is to happen.
+  uint64_t next_event() const;
 
   /// A frame the chip put on the bus and when its last bit went.
   struct Sent {
@@ -58,7 +67,11 @@ class CanWire {
 
   mcp2515::model::Mcp2515Model chip_;
   uint32_t cpu_hz_;
-  std::deque<CanFrame> inbound_;  ///< from outside, waiting for the wire
+  struct Inbound {
+    CanFrame frame;
+    uint64_t arrival;  ///< cycle it reached the bus; not decreasing along inbound_
+  };
+  std::deque<Inbound> inbound_;  ///< from outside, waiting for their arrival and the wire
   std::vector<Sent> sent_;
   uint64_t busy_until_ = kIdle;    ///< end of the frame on the wire
   bool on_wire_outbound_ = false;  ///< the frame on the wire is the chip's

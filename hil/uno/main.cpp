@@ -176,7 +176,9 @@ int main(int argc, char** argv) {
       linux_port::TimedCanFrame frames[linux_port::SocketCanPort::kBatch];
       size_t got = 0;
       while ((got = can.receive(frames, linux_port::SocketCanPort::kBatch)) > 0) {
-        for (size_t i = 0; i < got; ++i) rig.can_in(frames[i].frame);
+        // At the kernel's receive time: a backlog read after the host held
+        // us up keeps its spacing (a burst would overrun the chip's buffers).
+        for (size_t i = 0; i < got; ++i) rig.can_in(frames[i].frame, pacer.sim_of(frames[i].rx_time_us));
       }
     }
     if (fds[2].revents & (POLLIN | POLLHUP)) {

@@ -12,8 +12,17 @@ uint64_t Pacer::allowed_sim_us(uint64_t sim_us, uint64_t wall_us) {
   if (!paced_) return UINT64_MAX;
   const uint64_t due_us = wall_us - offset_us_;  // where the simulation should stand
   if (due_us > sim_us + kLeadUs) behind_in_window_ = true;
-  if (due_us > sim_us + kBehindUs) offset_us_ = wall_us - sim_us;  // go on from here
+  if (due_us > sim_us + kBehindUs) {  // go on from here
+    moved_at_wall_us_ = wall_us;
+    offset_before_us_ = offset_us_;
+    offset_us_ = wall_us - sim_us;
+  }
   return wall_us - offset_us_ + kLeadUs;
+}
+
+uint64_t Pacer::sim_of(uint64_t wall_us) const {
+  const uint64_t offset = wall_us < moved_at_wall_us_ ? offset_before_us_ : offset_us_;
+  return wall_us > offset ? wall_us - offset : 0;
 }
 
 uint64_t Pacer::wait_us(uint64_t sim_us, uint64_t wall_us) const {

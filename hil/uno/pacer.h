@@ -30,6 +30,12 @@ class Pacer {
   uint64_t wait_us(uint64_t sim_us, uint64_t wall_us) const;
   /// The wall time (CLOCK_MONOTONIC µs) that simulated time `sim_us` stands for.
   uint64_t wall_of(uint64_t sim_us) const { return offset_us_ + sim_us; }
+  /// The simulated time at which something that happened at wall time
+  /// `wall_us` reaches the simulation (a CAN frame's kernel timestamp). A
+  /// time before the last move of the mapping keeps the mapping it happened
+  /// under: what came in while the simulation was held up arrives spread as
+  /// it came, after where the simulation stood, not all at once.
+  uint64_t sim_of(uint64_t wall_us) const;
 
   /// Once, the first time a whole window ran slower than 95 % of real time
   /// while the simulation was behind: a one-line report; otherwise "".
@@ -38,6 +44,8 @@ class Pacer {
  private:
   bool paced_;
   uint64_t offset_us_;       ///< wall_us - sim_us of the mapping
+  uint64_t moved_at_wall_us_ = 0;  ///< when the mapping last moved (0: never)
+  uint64_t offset_before_us_ = 0;  ///< the mapping before that move
   uint64_t window_wall_us_;  ///< start of the current speed window
   uint64_t window_sim_us_;
   bool behind_in_window_ = false;

@@ -110,8 +110,8 @@ void UnoRig::note_sent(const std::vector<CanWire::Sent>& sent) {
   }
 }
 
-void UnoRig::can_in(const CanFrame& frame) {
-  wire_.frame_from_bus(frame, board_.cycle());
+void UnoRig::can_in(const CanFrame& frame, uint64_t arrival_us) {
+  wire_.frame_from_bus(frame, board_.cycle(), UnoBoard::cycles_from_us(arrival_us));
   wire_event();
 }
 

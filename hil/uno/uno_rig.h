@@ -38,12 +38,14 @@ class UnoRig {
   void serial_in(const uint8_t* data, size_t length);
   /// Bytes the image sent since the last call.
   std::string take_serial_out();
-  /// A frame from the CAN bus, arriving now.
-  void can_in(const CanFrame& frame);
+  /// A frame from the CAN bus that reached the bus at simulated time
+  /// `arrival_us` (now, if that has passed): the chip receives it then.
+  void can_in(const CanFrame& frame, uint64_t arrival_us = 0);
   /// Frames the chip put on the bus since the last call.
   std::vector<CanWire::Sent> take_can_out();
   /// Cycle at which the frame on the wire ends (a frame from can_in() is
-  /// received then); CanWire::kIdle when the wire is idle.
+  /// received then) or a frame from can_in() arrives; CanWire::kIdle when
+  /// nothing is to happen.
   uint64_t wire_busy_until() const { return wire_.next_event(); }
   /// Measurements (mb2co-lab sync-processing): called at the end of every
   /// SPI instruction after which the chip holds a frame to send (TXREQ set),

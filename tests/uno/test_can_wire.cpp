@@ -99,6 +99,53 @@ TEST_F(Wire, WaitingFramesGoByArbitrationBackToBack) {
   EXPECT_EQ(got.id, 0x701u);
 }
 
+TEST_F(Wire, FramesHandedOverTogetherArriveAsTheyCame) {
+  // mb2co-uno reads a socket's backlog in one go after the host held it up:
+  // frames that came 2 ms apart must reach the chip 2 ms apart (an image
+  // that reads each within a millisecond loses none), not back to back
+  // (three of them would overrun the two receive buffers before it reads one).
+  const CanFrame frames[] = {frame(0x702, 1), frame(0x703, 1), frame(0x601, 8)};
+  const uint64_t came[] = {2000, 34000, 66000};
+  for (int i = 0; i < 3; ++i) wire_.frame_from_bus(frames[i], 0, came[i]);
+  EXPECT_EQ(wire_.next_event(), 2000u) << "idle until the first one came";
+  for (int i = 0; i < 3; ++i) {
+    const uint64_t in_at = came[i] + cycles_500k(frames[i]);
+    run_to(in_at - 1);
+    EXPECT_FALSE(wire_.int_low()) << "frame " << i << " not before its last bit";
+    run_to(in_at);
+    ASSERT_TRUE(wire_.int_low()) << "frame " << i;
+    CanFrame got{};
+    driver_.service();
+    ASSERT_TRUE(driver_.receive(got));
+    EXPECT_EQ(got.id, frames[i].id);
+    EXPECT_FALSE(wire_.int_low());
+  }
+  EXPECT_EQ(wire_.rx_dropped(), 0u);
+  EXPECT_EQ(wire_.next_event(), CanWire::kIdle);
+}
+
+TEST_F(Wire, ALateOrOutOfOrderArrivalIsNowAndInOrder) {
+  const CanFrame a = frame(0x181, 2), b = frame(0x182, 2);
+  wire_.frame_from_bus(a, 1000, 400);  // came before now: it is on the bus now
+  EXPECT_EQ(wire_.next_event(), 1000 + cycles_500k(a));
+  wire_.frame_from_bus(b, 1000, 900);  // never ahead of the one handed over before it
+  run_to(1000 + cycles_500k(a));
+  EXPECT_EQ(wire_.next_event(), 1000 + cycles_500k(a) + cycles_500k(b)) << "back to back, in order";
+}
+
+TEST_F(Wire, TheChipSendsWhileAFrameFromOutsideIsStillToCome) {
+  const CanFrame in = frame(0x080, 0), out = frame(0x701, 1);
+  wire_.frame_from_bus(in, 0, 100000);
+  ASSERT_TRUE(driver_.send(out));
+  wire_.advance(10);
+  EXPECT_EQ(wire_.next_event(), 10 + cycles_500k(out)) << "080h would win, but it is not there yet";
+  run_to(UINT64_MAX - 1);
+  const auto sent = wire_.take_sent();
+  ASSERT_EQ(sent.size(), 1u);
+  EXPECT_EQ(sent[0].end_cycle, 10 + cycles_500k(out));
+  EXPECT_TRUE(wire_.int_low()) << "and 080h arrived later";
+}
+
 }  // namespace
 }  // namespace uno
 }  // namespace mb2co

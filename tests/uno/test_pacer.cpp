@@ -23,6 +23,15 @@ TEST(Pacer, FallingFarBehindMovesTheMappingInsteadOfABurst) {
   EXPECT_EQ(p.wall_of(10000), 60000u);
 }
 
+TEST(Pacer, WhatCameInWhileHeldUpArrivesSpreadAsItCame) {
+  Pacer p(true, 0, 0);
+  EXPECT_EQ(p.sim_of(7000), 7000u) << "in step: the same time";
+  p.allowed_sim_us(10000, 60000);  // held up at 10 ms for 50 ms: the mapping moves
+  EXPECT_EQ(p.sim_of(30000), 30000u) << "came in while held up: 20 ms after where the simulation stood";
+  EXPECT_EQ(p.sim_of(45000), 45000u) << "15 ms after the one before, as it came";
+  EXPECT_EQ(p.sim_of(61000), 11000u) << "after the move: the new mapping";
+}
+
 TEST(Pacer, ReportsASlowSimulationOnceWithItsRatio) {
   Pacer p(true, 0, 0);
   uint64_t sim = 0, wall = 0;

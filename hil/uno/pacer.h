@@ -43,10 +43,10 @@ class Pacer {
 
  private:
   bool paced_;
-  uint64_t offset_us_;       ///< wall_us - sim_us of the mapping
+  uint64_t offset_us_;             ///< wall_us - sim_us of the mapping
   uint64_t moved_at_wall_us_ = 0;  ///< when the mapping last moved (0: never)
   uint64_t offset_before_us_ = 0;  ///< the mapping before that move
-  uint64_t window_wall_us_;  ///< start of the current speed window
+  uint64_t window_wall_us_;        ///< start of the current speed window
   uint64_t window_sim_us_;
   bool behind_in_window_ = false;
   bool reported_ = false;

@@ -31,9 +31,15 @@ bool eeprom_read(void* ctx, uint16_t offset, uint8_t* data, uint16_t len) {
   memcpy(data, e.bytes + offset, len);
   return true;
 }
-bool eeprom_write(void*, uint16_t, const uint8_t*, uint16_t) { return false; }  // a start never writes
-bool no_frame(void*, const CanFrame&) { return true; }
-bool no_bytes(void*, const uint8_t*, uint16_t) { return true; }
+bool eeprom_write(void*, uint16_t, const uint8_t*, uint16_t) {
+  return false;
+}  // a start never writes
+bool no_frame(void*, const CanFrame&) {
+  return true;
+}
+bool no_bytes(void*, const uint8_t*, uint16_t) {
+  return true;
+}
 
 struct Started {
   uint8_t node_id;

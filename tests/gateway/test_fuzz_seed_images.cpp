@@ -3,37 +3,24 @@
 // saved with. A seed of an older layout only ever reaches the "damaged"
 // branch; a random mutation cannot forge a CRC, so the fuzzer would never
 // see a loaded set and its value checks (that was the case from the two-slot
-// layout until 2026-11-26). Images saved by mb2co-node over Modbus (mbpoll),
-// the way README's commissioning example saves.
+// layout until 2026-11-26). Images saved by mb2co-node over Modbus (mbpoll:
+// FC 16 of 6576h 6173h, "save", to HR 11-12).
 #include <gtest/gtest.h>
 #include <stdint.h>
-#include <string.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <string>
 #include <vector>
 
+#include "../canopen/ram_storage.h"
 #include "canopen/param_storage.h"
 #include "gateway/gateway.h"
 
 namespace mb2co {
 namespace {
 
-constexpr uint16_t kEepromBytes = 1024;  // the Uno's EEPROM; beyond a file: erased (FFh)
-
-struct Eeprom {
-  uint8_t bytes[kEepromBytes];
-};
-bool eeprom_read(void* ctx, uint16_t offset, uint8_t* data, uint16_t len) {
-  Eeprom& e = *static_cast<Eeprom*>(ctx);
-  if (offset > kEepromBytes || len > kEepromBytes - offset) return false;
-  memcpy(data, e.bytes + offset, len);
-  return true;
-}
-bool eeprom_write(void*, uint16_t, const uint8_t*, uint16_t) {
-  return false;
-}  // a start never writes
 bool no_frame(void*, const CanFrame&) {
   return true;
 }
@@ -48,14 +35,15 @@ struct Started {
 };
 
 Started start_from(const std::string& seed) {
-  static Eeprom eeprom;
-  memset(eeprom.bytes, 0xFF, sizeof eeprom.bytes);
+  test::RamStorage eeprom;  // the Uno's 1 KiB; beyond the file: erased (FFh)
   std::ifstream in(std::string(MB2CO_FUZZ_CORPUS) + "/param_image/" + seed, std::ios::binary);
   EXPECT_TRUE(in.good()) << seed;
   const std::vector<uint8_t> file{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  EXPECT_LE(file.size(), sizeof eeprom.bytes) << seed;
-  memcpy(eeprom.bytes, file.data(), file.size() < sizeof eeprom.bytes ? file.size() : sizeof eeprom.bytes);
-  const canopen::ParamStorage storage{&eeprom_read, &eeprom_write, nullptr, &eeprom, nullptr};
+  EXPECT_LE(file.size(), eeprom.mem.size()) << seed;
+  std::copy(file.begin(), file.begin() + static_cast<long>(std::min(file.size(), eeprom.mem.size())),
+            eeprom.mem.begin());
+  const std::vector<uint8_t> before = eeprom.mem;
+  const canopen::ParamStorage storage = eeprom.api();
   gateway::Gateway g(gateway::GatewayPorts{CanSink{&no_frame, nullptr}, modbus::ByteSink{&no_bytes, nullptr},
                                            &storage, 115200});
   g.start(1000);
@@ -69,6 +57,7 @@ Started start_from(const std::string& seed) {
   s.debounce_ms = static_cast<uint16_t>(b[0] | b[1] << 8);
   EXPECT_EQ(g.od().read(0x2003, 0, b, 1, &n), canopen::kSdoOk);
   s.damage_count = b[0];
+  EXPECT_EQ(eeprom.mem, before) << seed << ": a start never writes";
   return s;
 }
 

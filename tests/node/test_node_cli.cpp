@@ -255,6 +255,9 @@ TEST(Eeprom, NodeIdPersistsAcrossRestarts) {
     EXPECT_EQ(modbus_write_registers(m.ctx(), 11, 2, wrong), -1) << "a wrong signature saves nothing";
     EXPECT_EQ(errno, EMBXSFAIL);
     ASSERT_EQ(modbus_write_registers(m.ctx(), 11, 2, save), 2);
+    // Answered at once, written over the loop's passes: the id changed
+    // before the save reaches 2000h/1 would be saved (CI saw 7 once).
+    ASSERT_TRUE(m.wait_saved(10s)) << "the save did not finish";
     ASSERT_EQ(modbus_write_register(m.ctx(), 2, 7), 1) << "changed again, not saved";
     m.close();
     EXPECT_EQ(node.stop(), 0);

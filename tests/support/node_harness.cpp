@@ -123,6 +123,15 @@ int ModbusMaster::holding_register(int address) {
   return modbus_read_registers(ctx_, address, 1, &v) == 1 ? v : -1;
 }
 
+bool ModbusMaster::wait_saved(std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  do {
+    uint16_t v[2] = {0xFFFF, 0xFFFF};
+    if (modbus_read_registers(ctx_, 11, 2, v) == 2 && v[0] == 0 && v[1] == 1) return true;
+  } while (std::chrono::steady_clock::now() < deadline);
+  return false;
+}
+
 bool ModbusMaster::wait_input(int address, int value, std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   do {

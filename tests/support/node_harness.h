@@ -102,6 +102,11 @@ class ModbusMaster {
   int holding_register(int address);
   /// Polls input register `address` until it equals `value`; false on timeout.
   bool wait_input(int address, int value, std::chrono::milliseconds timeout);
+  /// Polls HR 11-12 (1010h/1) until they read 0 1: the save answered at once
+  /// has been written (docs/register-map.md); false on timeout. What a save
+  /// keeps is each entry as the save reached it: a test that changes an
+  /// entry after "save" waits for this first.
+  bool wait_saved(std::chrono::milliseconds timeout);
   /// A request PDU to slave 1 sent by libmodbus (for FCs its API lacks: 08,
   /// 2B); the response read from the port, without CRC (empty: none).
   Bytes raw_transaction(const Bytes& pdu);

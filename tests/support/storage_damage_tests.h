@@ -77,12 +77,7 @@ class StorageDamage : public ::testing::TestWithParam<size_t> {
       // read 0 1 again (docs/register-map.md); a save meanwhile is busy (06).
       auto save = [&m] {
         const uint16_t signature[2] = {0x6576, 0x6173};  // "save", high word first
-        if (modbus_write_registers(m.ctx(), kHrSave, 2, signature) != 2) return false;
-        uint16_t state[2] = {0, 0};
-        for (int poll = 0; poll < 100000 && state[1] != 1; ++poll) {
-          if (modbus_read_registers(m.ctx(), kHrSave, 2, state) != 2) return false;
-        }
-        return state[1] == 1;
+        return modbus_write_registers(m.ctx(), kHrSave, 2, signature) == 2 && m.wait_saved(kSaveTimeout);
       };
       bool ok = modbus_write_register(m.ctx(), kHrDebounce, storage_damage::kMarker) == 1 &&
                 modbus_write_register(m.ctx(), kHrNodeId, 9) == 1 && save() &&

@@ -96,7 +96,11 @@ class Node : private NodeState {
   void set_can_control(const CanControl* control) { can_control_ = control; }
   const CanControl* can_control() const { return can_control_; }
   CanSink sink() const { return sink_; }
-  /// Node id used from the next reset communication on (1..127).
+  /// Node id used from the next reset communication on (1..127). Called
+  /// from the reset callback, it names the id of the reset under way
+  /// instead (the communication area is restored once more for it, before
+  /// the one boot-up): how an application's saved id wins over a pending
+  /// one at a reset node.
   void set_node_id_for_next_reset(uint8_t node_id) { next_node_id_ = node_id; }
 
   /// A reset as if by NMT command, carried out at the next process() (so that

@@ -95,6 +95,9 @@ class ObjectDictionary {
     return static_cast<uint8_t>(
         flash_read(reinterpret_cast<const uint8_t*>(&def_.rows[row]) + kOdEntryTypeHookOffset) >> 4);
   }
+  /// A row's default as a value: a node-id-relative one (kAttrNodeId) with
+  /// the node id in force added, as restore_defaults() stores it.
+  uint32_t default_value(uint16_t row) const { return constant_at(&def_.rows[row]); }
   /// Bit length of a data type, read from its data-type entry (0001h–001Fh)
   /// of this very OD (0 when the OD has no such entry): what a dummy
   /// mapping entry must name.

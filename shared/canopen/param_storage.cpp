@@ -29,6 +29,42 @@ bool param_is_saved(const ObjectDictionary& od, uint16_t row) {
 
 namespace {
 
+// Node-id-relative COB-IDs (kAttrNodeId rows: 1014h, the PDO COB-IDs), as
+// CANopenNode stores them: a COB-ID that is its default's, base + the node
+// id in force, is saved as "base + the node id", and loaded as base + the
+// node id in force then, so it follows every change of the id (a station
+// given its id over Modbus and saved sends its TPDOs and EMCY on its own
+// id after the power cycle). A COB-ID set to anything else is kept as set.
+// The mark is bit 11 of an 11-bit COB-ID, where CiA 301 has 0 (bits 11-28
+// of a COB-ID with bit 29 clear), so no value a master can set carries it;
+// unlike CANopenNode's "the base alone" the mark keeps a COB-ID set to the
+// base itself as set.
+// Worked on the little-endian bytes with 16-bit arithmetic, in one function
+// for both ways (the Uno's flash): the CAN id is byte 0 and bits 0-2 of
+// byte 1, the mark bit 3 of byte 1, bit 29 (a 29-bit id) bit 5 of byte 3.
+const uint8_t kMarkBit = 0x08;      // bit 11 in byte 1
+const uint8_t kExtendedBit = 0x20;  // bit 29 in byte 3: a 29-bit CAN id, never relative
+
+/// In place, the 4 value bytes of `row` on their way into a slot
+/// (`to_saved`) or out of one, for the node id in force now.
+__attribute__((noinline)) void convert_cob_id(const ObjectDictionary& od, uint16_t row, uint8_t* bytes,
+                                              bool to_saved) {
+  if (!(od.attr(row) & kAttrNodeId) || (bytes[3] & kExtendedBit)) return;
+  uint16_t id = static_cast<uint16_t>(bytes[0] | ((bytes[1] & 0x07) << 8));
+  uint8_t mark = 0;
+  if (to_saved) {
+    // (the low 16 bits only: no 32-bit compare on the AVR)
+    if (id != (static_cast<uint16_t>(od.default_value(row)) & 0x7FFu)) return;  // not base + the id in force
+    id = static_cast<uint16_t>(id - od.node_id());
+    mark = kMarkBit;
+  } else {
+    if (!(bytes[1] & kMarkBit)) return;
+    id = static_cast<uint16_t>(id + od.node_id());
+  }
+  bytes[0] = static_cast<uint8_t>(id);
+  bytes[1] = static_cast<uint8_t>((bytes[1] & 0xF0) | mark | ((id >> 8) & 0x07));
+}
+
 /// Bytes of the payload: every saved row at its capacity, in row order.
 uint16_t payload_length(const ObjectDictionary& od) {
   uint16_t len = 0;
@@ -39,19 +75,25 @@ uint16_t payload_length(const ObjectDictionary& od) {
 }
 
 /// Reads the payload of the slot at `at` row by row: the rows with from <=
-/// index <= to into the OD, each checked against its entry's limits (loading
-/// bypasses the write path; a CRC cannot tell a value that was never
-/// allowed). False when the storage fails or a loaded value is not allowed.
+/// index <= to into the OD, and every numeric row checked against its
+/// entry's limits, in the range or not (loading bypasses the write path; a
+/// CRC cannot tell a value that was never allowed). A set is valid or not
+/// whole, whatever area a reset loads: a reset communication never takes the
+/// communication area of a set a reset node refused. False when the storage
+/// fails or a saved value is not allowed.
 bool load_rows(ObjectDictionary& od, const ParamStorage& st, uint16_t at, uint16_t from, uint16_t to) {
   uint16_t where = static_cast<uint16_t>(at + kHeader);
   for (uint16_t r = 0; r < od.row_count(); ++r) {
     if (!param_is_saved(od, r)) continue;
     const uint16_t n = od.capacity_of(r);
     const uint16_t index = od.index_of(r);
-    uint8_t* p = od.ram_untracked(r);
-    if (index >= from && index <= to &&
-        (!st.read(st.ctx, where, p, n) || (n <= 4 && !od.value_allowed(r, p, n)))) {
-      return false;
+    uint8_t outside[4];  // a value of a row outside the range, read to be checked only
+    const bool inside = index >= from && index <= to;
+    uint8_t* p = inside ? od.ram_untracked(r) : outside;
+    if (inside || n <= 4) {
+      if (!st.read(st.ctx, where, p, n)) return false;
+      convert_cob_id(od, r, p, false);
+      if (n <= 4 && !od.value_allowed(r, p, n)) return false;
     }
     where = static_cast<uint16_t>(where + n);
   }
@@ -75,7 +117,9 @@ bool crc_right(const ObjectDictionary& od, const ParamStorage& st, uint16_t at, 
 
 /// Both headers (erased, invalidated or unreadable: magic 0); returns the
 /// slot whose header claims the newer set first (0 or 1). Sequence numbers
-/// compare wrap-safe: they only ever count up by one.
+/// count up by one per save, modulo 2^16 (0000h follows FFFFh): of two, the
+/// newer is the one 1..32767 ahead (their difference as int16). A header's
+/// claim is only a claim: its CRC says whether the set is there.
 uint8_t read_headers(const ParamStorage& st, uint8_t (*headers)[kHeader]) {
   for (uint8_t k = 0; k < 2; ++k) {
     if (!st.read(st.ctx, static_cast<uint16_t>(k * kSlotBytes), headers[k], kHeader))
@@ -93,13 +137,6 @@ bool barrier(const ParamStorage& st) {
 
 }  // namespace
 
-bool params_preload(ObjectDictionary& od, const ParamStorage* st, uint16_t from_index, uint16_t to_index) {
-  od.restore_defaults(from_index, to_index);
-  if (st != nullptr && param_set_loaded(params_load(od, *st, from_index, to_index))) return true;
-  od.restore_defaults(from_index, to_index);  // a failed read may have left some bytes
-  return false;
-}
-
 bool params_erase(const ParamStorage& st) {
   const uint8_t zero[2] = {0, 0};
   return st.write(st.ctx, 0, zero, 2) && st.write(st.ctx, kSlotBytes, zero, 2);
@@ -108,18 +145,30 @@ bool params_erase(const ParamStorage& st) {
 ParamLoad params_load(ObjectDictionary& od, const ParamStorage& st, uint16_t from_index, uint16_t to_index) {
   uint8_t headers[2][kHeader];
   const uint8_t newest = read_headers(st, headers);
+  // Both slots' CRCs are checked, whichever loads: a bit flipped in the
+  // newest slot's sequence number makes it claim to be the older one, and
+  // only its CRC tells (loading the older set then is a rollback the
+  // operator must hear of). A slot without a magic (erased, or invalidated
+  // by a save that began there) holds no set; any other slot whose CRC
+  // fails is damage, reported whichever set loads.
+  bool loaded = false;
   bool damaged = false;
   for (uint8_t k = 0; k < 2; ++k) {
-    const uint8_t slot = k == 0 ? newest : static_cast<uint8_t>(1u - newest);
+    const uint8_t slot = static_cast<uint8_t>(newest ^ k);
     const uint16_t magic = le16(headers[slot]);
     if (magic == 0x0000 || magic == 0xFFFF) continue;  // erased or invalidated: no set, no damage
     const uint16_t at = static_cast<uint16_t>(slot * kSlotBytes);
-    if (crc_right(od, st, at, headers[slot]) && load_rows(od, st, at, from_index, to_index)) {
-      return damaged ? ParamLoad::kLoadedOneDamaged : ParamLoad::kLoaded;
+    if (!crc_right(od, st, at, headers[slot])) {
+      damaged = true;
+    } else if (!loaded) {
+      loaded = load_rows(od, st, at, from_index, to_index);
+      if (!loaded) {
+        damaged = true;
+        od.restore_defaults(from_index, to_index);  // nothing of a refused set stays
+      }
     }
-    damaged = true;
-    od.restore_defaults(from_index, to_index);  // nothing of a refused set stays
   }
+  if (loaded) return damaged ? ParamLoad::kLoadedOneDamaged : ParamLoad::kLoaded;
   return damaged ? ParamLoad::kDamaged : ParamLoad::kNone;
 }
 
@@ -157,6 +206,7 @@ void ParamSave::next_row(const ObjectDictionary& od, uint16_t from) {
     // Copied now: a network write during the save cannot tear the entry.
     const uint8_t* p = od.ram(row_);
     for (uint8_t i = 0; i < sizeof entry_ && i < n; ++i) entry_[i] = p[i];
+    convert_cob_id(od, row_, entry_, true);
     return;
   }
 }

@@ -64,7 +64,8 @@ class ParamSave {
 enum class ParamLoad : uint8_t {
   kNone,              ///< nothing saved (both slots erased): defaults, nothing to report
   kLoaded,            ///< the newest valid set is loaded
-  kLoadedOneDamaged,  ///< a set is loaded; the other slot is damaged (report it)
+  kLoadedOneDamaged,  ///< the newest valid set is loaded; the other slot is damaged (report it:
+                      ///< it may have been the newer one, its sequence number cannot be trusted)
   kDamaged,           ///< no usable set, damage found (report it): defaults
 };
 inline bool param_set_loaded(ParamLoad r) {
@@ -75,15 +76,11 @@ inline bool param_damage_found(ParamLoad r) {
 }
 
 /// Loads the newest valid set (CRC right, every value within its entry's
-/// limits) into the rows with from <= index <= to. Without a loaded set the
-/// rows may hold some loaded bytes (only when the storage fails to read what
-/// it has just read): the caller restores defaults then.
+/// limits; both slots' CRCs are checked, so a damaged newer slot is reported
+/// even where its header claims to be the older) into the rows with from <= index <= to. Without a loaded set
+/// the rows may hold some loaded bytes (only when the storage fails to read what it has just read): the
+/// caller restores defaults then.
 ParamLoad params_load(ObjectDictionary& od, const ParamStorage& st, uint16_t from_index, uint16_t to_index);
-/// Before Node::start: the rows from_index..to_index that the start itself
-/// needs (a device's own node id, which its boot-up message already carries)
-/// from the newest valid saved set, else their defaults. True when a set was
-/// loaded; `st` null: defaults, false.
-bool params_preload(ObjectDictionary& od, const ParamStorage* st, uint16_t from_index, uint16_t to_index);
 /// Invalidates both slots: defaults apply from the next reset (1011h).
 bool params_erase(const ParamStorage& st);
 

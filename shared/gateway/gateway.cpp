@@ -32,15 +32,10 @@ Gateway::Gateway(const GatewayPorts& ports)
 void Gateway::start(uint32_t now_us, uint8_t default_node_id) {
   default_node_id_ = default_node_id;
   now_us_ = now_us;
-  // The node id is itself a saved parameter (2000h/1): read it before the
+  // The node id is itself a saved parameter (2000h/1): the reset node of the
+  // start loads it and names it the reset's id (on_reset) before the
   // boot-up, so the node never announces itself under another id.
-  uint8_t id = default_node_id;
-  od_.restore_defaults(0x2000, 0x2000);
-  const ParamStorage* storage = node_.storage();
-  if (storage != nullptr && param_set_loaded(params_load(od_, *storage, 0x2000, 0x2000))) {
-    id = values_.x2000_1_nodeId;
-  }
-  node_.start(id, now_us);
+  node_.start(default_node_id, now_us);
   slave_.begin(now_us);
   line_.start(now_us);
 }
@@ -50,13 +45,12 @@ void Gateway::on_reset(void* ctx, NmtReset kind) {
   od::GatewayValues& v = g.values_;
   // Without saved parameters the id given at power-on stays in force.
   if (kind == kResetNode && !g.node_.params_loaded()) v.x2000_1_nodeId = g.default_node_id_;
-  const uint8_t id = v.x2000_1_nodeId;
-  if (id != g.node_.node_id()) {
-    // 2000h/1 was changed since: reset once more with it, so that every
-    // node-id-relative default follows.
-    g.node_.set_node_id_for_next_reset(id);
-    g.node_.request_reset(kResetCommunication);
-  }
+  // Reset node with an id written and not saved, or the power-on reset that
+  // loaded a saved id: 2000h/1 is this reset's id, and the node runs the
+  // communication area's reset once more for it before its boot-up
+  // (Node::reset); the rest is done then, once.
+  g.node_.set_node_id_for_next_reset(v.x2000_1_nodeId);
+  if (v.x2000_1_nodeId != g.node_.node_id()) return;
   // The one place the bit rate reaches the controller (platform/device_port.h): at
   // every reset, before the boot-up message leaves.
   const CanControl* can = g.node_.can_control();

@@ -19,8 +19,9 @@ IoNode::IoNode(const CanSink& sink, uint32_t device_type)
 
 void IoNode::start(uint8_t default_node_id, uint32_t now_us) {
   default_node_id_ = default_node_id;
-  const bool saved = params_preload(od_, node_.storage(), 0x2001, 0x2001);
-  node_.start(saved ? values_.x2001_1_nodeId : default_node_id, now_us);
+  // The saved id (2001h/1) is loaded by the start's reset node and named
+  // the reset's id by on_reset, before the boot-up.
+  node_.start(default_node_id, now_us);
 }
 
 void IoNode::on_reset(void* ctx, NmtReset kind) {
@@ -36,13 +37,12 @@ void IoNode::on_reset(void* ctx, NmtReset kind) {
   } else if (!n.node_.params_loaded()) {
     v.x2001_1_nodeId = n.default_node_id_;
   }
-  if (v.x2001_1_nodeId != n.node_.node_id()) {
-    // Reset node only: the node took an id written since and not saved; the
-    // saved or power-on one wins, with one more reset so that the
-    // node-id-relative COB-IDs follow it.
-    n.node_.set_node_id_for_next_reset(v.x2001_1_nodeId);
-    n.node_.request_reset(kResetCommunication);
-  }
+  // Reset node only: the node took an id written since and not saved, or
+  // the power-on id where one is saved; 2001h/1 is this reset's id, and the
+  // node runs the communication area's reset once more for it before its
+  // boot-up (Node::reset); the rest is done then, once.
+  n.node_.set_node_id_for_next_reset(v.x2001_1_nodeId);
+  if (v.x2001_1_nodeId != n.node_.node_id()) return;
   // The bit rate reaches the controller at every reset, before the boot-up.
   const CanControl* can = n.node_.can_control();
   if (can != nullptr) {

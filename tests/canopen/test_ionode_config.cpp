@@ -93,15 +93,41 @@ TEST_F(IoNodeConfig, ASavedIdAndRateAreThoseOfTheNextPowerOn) {
   EXPECT_EQ(h->read(0x1400, 1), 0x202u);
 }
 
-// 1010h saves every COB-ID as it is (the gateway's 2000h/1 likewise): saved
-// before the reset, they are still those of the old id.
-TEST_F(IoNodeConfig, SavedBeforeTheResetTheCobIdsStayThoseOfTheOldId) {
+// Issue 22 item 1: saved before any reset, the COB-IDs of the pre-defined
+// connection set (180h + id, 200h + id, EMCY 80h + id) follow the id in
+// force at the next power-on, as CANopenNode stores them; one set by a
+// master to another value is kept as set.
+TEST_F(IoNodeConfig, SavedBeforeTheResetTheCobIdsFollowTheNewId) {
   bus.take();
+  ASSERT_EQ(h->write_u32(0x1801, 1, 0x2A5u), 0u) << "TPDO2 set by a master (and made valid)";
   ASSERT_EQ(h->write_u8(0x2001, 1, 2), 0u);
   ASSERT_EQ(save(), 0u);
   power_on();
   EXPECT_EQ(bus.take(), Frames({"<702> 00"}));
-  EXPECT_EQ(h->read(0x1800, 1), 0x1A0u);
+  EXPECT_EQ(h->read(0x1800, 1), 0x182u);
+  EXPECT_EQ(h->read(0x1400, 1), 0x202u);
+  EXPECT_EQ(h->read(0x1014, 0), 0x82u);
+  EXPECT_EQ(h->read(0x1802, 1), 0x80000382u) << "not valid, and on the new id";
+  EXPECT_EQ(h->read(0x1801, 1), 0x2A5u) << "a master's COB-ID stays";
+  // And it goes on following: a new id, saved, power cycle.
+  ASSERT_EQ(h->write_u8(0x2001, 1, 0x7F), 0u);
+  ASSERT_EQ(save(), 0u);
+  power_on();
+  EXPECT_EQ(bus.take(), Frames({"<77F> 00"}));
+  EXPECT_EQ(h->read(0x1800, 1), 0x1FFu);
+  EXPECT_EQ(h->read(0x1014, 0), 0xFFu);
+  EXPECT_EQ(h->read(0x1801, 1), 0x2A5u);
+}
+
+// A COB-ID a master set to the base of the pre-defined set itself (280h:
+// node 0's TPDO2) is a COB-ID like any other: kept as set, not made relative
+// (CANopenNode, storing the base alone, would move it to 280h + id).
+TEST_F(IoNodeConfig, ACobIdSetToTheBaseItselfIsKeptAsSet) {
+  ASSERT_EQ(h->write_u32(0x1801, 1, 0x280u), 0u);
+  ASSERT_EQ(h->write_u8(0x2001, 1, 2), 0u);
+  ASSERT_EQ(save(), 0u);
+  power_on();
+  EXPECT_EQ(h->read(0x1801, 1), 0x280u);
 }
 
 TEST_F(IoNodeConfig, AWrittenIdCountsFromTheNextResetCommunication) {
@@ -112,13 +138,14 @@ TEST_F(IoNodeConfig, AWrittenIdCountsFromTheNextResetCommunication) {
   EXPECT_EQ(h->read(0x1800, 1), 0x189u);
 }
 
+// Issue 22 item 2: one boot-up, on the id in force (no phantom node 9).
 TEST_F(IoNodeConfig, ResetNodeWithoutASavedSetGoesBackToThePowerOnId) {
+  bus.take();
   ASSERT_EQ(h->write_u8(0x2001, 1, 9), 0u);
   h->nmt(0x81, kDefaultId);
   h->advance_us(100);
-  const Frames boot = bus.take();
-  ASSERT_FALSE(boot.empty());
-  EXPECT_EQ(boot.back(), "<720> 00");
+  EXPECT_EQ(bus.take(), Frames({"<720> 00"})) << "one boot-up, on the power-on id";
+  EXPECT_EQ(h->read(0x1800, 1), 0x1A0u) << "the communication area is the power-on id's";
   EXPECT_EQ(h->id(), kDefaultId);
   EXPECT_EQ(h->read(0x2001, 1), kDefaultId);
 }
@@ -127,11 +154,10 @@ TEST_F(IoNodeConfig, ResetNodeKeepsTheSavedIdAndRate) {
   ASSERT_EQ(h->write_u8(0x2001, 1, 5), 0u);
   ASSERT_EQ(h->write_u16(0x2001, 2, 1000), 0u);
   ASSERT_EQ(save(), 0u);
+  bus.take();
   h->nmt(0x81, kDefaultId);
   h->advance_us(100);
-  const Frames boot = bus.take();
-  ASSERT_FALSE(boot.empty());
-  EXPECT_EQ(boot.back(), "<705> 00");
+  EXPECT_EQ(bus.take(), Frames({"<705> 00"})) << "one boot-up, on the saved id";
   EXPECT_EQ(bus.rates.back(), 1000u);
 }
 

@@ -60,6 +60,44 @@ TEST_F(DevicePort, ANewBitRateReachesThePortAtTheNextResetCommunication) {
   EXPECT_EQ(g_calls[2], "frame " + std::to_string(0x701));
 }
 
+/// The boot-up and heartbeat frames (700h-77Fh) among the port's calls (the
+/// self-starting station's TPDOs follow its boot-up).
+std::vector<std::string> frames_of(const std::vector<std::string>& calls) {
+  std::vector<std::string> frames;
+  for (const std::string& c : calls) {
+    if (c.rfind("frame ", 0) != 0) continue;
+    const int id = std::stoi(c.substr(6));
+    if (id >= 0x700 && id <= 0x77F) frames.push_back(c);
+  }
+  return frames;
+}
+
+// Issue 22 item 2: an id written (2000h/1 = 9) and not saved is pending. A
+// reset node restores the saved id (none saved: the power-on id 5), so its one
+// boot-up leaves on 705h: no phantom node 9 announced first. A reset
+// communication takes the pending id: one boot-up, on 709h.
+TEST_F(DevicePort, AResetNodeWithAnUnsavedIdSendsOneBootUpOnTheIdInForce) {
+  gw.start(0, 5);
+  g_calls.clear();
+  const uint8_t id9 = 9;
+  ASSERT_EQ(gw.od().write(0x2000, 1, &id9, 1), canopen::kSdoOk);
+  const uint8_t reset_node = 2;
+  ASSERT_EQ(gw.od().write(0x2001, 0, &reset_node, 1), canopen::kSdoOk);
+  gw.process(1000, 0);
+  gw.process(2000, 0);
+  EXPECT_EQ(frames_of(g_calls), std::vector<std::string>{"frame " + std::to_string(0x705)});
+  EXPECT_EQ(gw.node_id(), 5);
+
+  g_calls.clear();
+  ASSERT_EQ(gw.od().write(0x2000, 1, &id9, 1), canopen::kSdoOk);
+  const uint8_t reset_comm = 1;
+  ASSERT_EQ(gw.od().write(0x2001, 0, &reset_comm, 1), canopen::kSdoOk);
+  gw.process(3000, 0);
+  gw.process(4000, 0);
+  EXPECT_EQ(frames_of(g_calls), std::vector<std::string>{"frame " + std::to_string(0x709)});
+  EXPECT_EQ(gw.node_id(), 9);
+}
+
 }  // namespace
 }  // namespace test
 }  // namespace mb2co

@@ -147,9 +147,11 @@ int main(int argc, char** argv) {
 
   gw.start(port::monotonic_us(), opt.node_id);
   if (gw.node().storage_damage_count() != 0) {
-    std::fprintf(stderr, "mb2co-node: warning: %s: %s\n", opt.eeprom.c_str(),
-                 gw.node().params_loaded() ? "a damaged parameter set was skipped, the older one is in force"
-                                           : "the saved parameters are damaged, defaults are in force");
+    std::fprintf(
+        stderr, "mb2co-node: warning: %s: %s\n", opt.eeprom.c_str(),
+        gw.node().params_loaded()
+            ? "a damaged parameter slot was found, the newest valid set is in force (it may be the older one)"
+            : "the saved parameters are damaged, defaults are in force");
   }
   // Command-line settings are written like a technician would over SDO,
   // then take effect by a reset of communication.

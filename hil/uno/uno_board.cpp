@@ -151,6 +151,15 @@ Status UnoBoard::load(const std::string& elf_path, Wiring wiring) {
   avr_->io[AVR_DATA_TO_IO(kEecr)].w.param = this;
   avr_->io[AVR_DATA_TO_IO(kEecr)].r.c = &on_eecr_read;
   avr_->io[AVR_DATA_TO_IO(kEecr)].r.param = this;
+
+  // Ports B, C, D take the levels driven from outside (header comment):
+  // nothing driven yet.
+  static const uint8_t kFirstPinOfPort[3] = {8, 14, 0};  // PB0 = D8, PC0 = A0, PD0 = D0
+  for (const uint8_t first_pin_of_port : kFirstPinOfPort) {
+    if (!set_external(first_pin_of_port, false, false)) {
+      return Status::failure("simavr's atmega328p ports take no external levels (IOPORT_SET_EXTERNAL)");
+    }
+  }
   return Status::ok();
 }
 
@@ -190,8 +199,33 @@ void UnoBoard::watch_pin(uint8_t pin) {
   avr_irq_register_notify(pin_irq(pin), &on_pin, &watches_[pin]);
 }
 
+bool UnoBoard::set_external(uint8_t pin, bool driven, bool high) {
+  const PortBit pb = port_bit(pin);
+  const int port = pb.port - 'B';
+  const uint8_t bit = static_cast<uint8_t>(1u << pb.bit);
+  external_mask_[port] =
+      static_cast<uint8_t>(driven ? external_mask_[port] | bit : external_mask_[port] & ~bit);
+  external_high_[port] =
+      static_cast<uint8_t>(driven && high ? external_high_[port] | bit : external_high_[port] & ~bit);
+  avr_ioport_external_t external{};
+  external.name = static_cast<unsigned long>(pb.port) & 0x7Fu;
+  external.mask = external_mask_[port];
+  external.value = external_high_[port];
+  return avr_ioctl(avr_, static_cast<uint32_t>(AVR_IOCTL_IOPORT_SET_EXTERNAL(pb.port)), &external) == 0;
+}
+
 void UnoBoard::drive_pin(uint8_t pin, bool high) {
-  if (pin < 20) avr_raise_irq(pin_irq(pin), high ? 1u : 0u);
+  if (pin >= 20) return;
+  set_external(pin, true, high);
+  avr_raise_irq(pin_irq(pin), high ? 1u : 0u);  // the level now; the port's writes keep it
+}
+
+void UnoBoard::switch_to_gnd(uint8_t pin, bool closed) {
+  if (pin >= 20) return;
+  set_external(pin, closed, false);
+  // Open: high, as the pull-up pulls it (simavr raises it again at the next
+  // port write if the image has set its pull-up).
+  avr_raise_irq(pin_irq(pin), closed ? 0u : 1u);
 }
 
 void UnoBoard::on_pin(avr_irq_t*, uint32_t value, void* param) {

@@ -20,6 +20,17 @@
 // kEepromByteUs later, so a save takes the board's time and the firmware
 // sees the same busy bit (canopen::ParamSave polls it, avr::eeprom_storage).
 //
+// Pins driven from outside: simavr 1.6 drives every input pin whose PORT bit
+// is set (the image's pull-up) back high at every write of that PORT or DDR
+// register, and writes are frequent: D10 (PB2, the MCP2515's chip select) at
+// every SPI instruction, the LEDs on ports B, C and D. A level raised on the
+// pin's IRQ alone (a pressed button) is undone by the next such write,
+// where on the Uno a switch to GND holds the pin low against the 20-50 kOhm
+// pull-up. The board therefore gives simavr each driven pin as an external
+// level of its port (AVR_IOCTL_IOPORT_SET_EXTERNAL: the pull_mask/pull_value
+// that avr_ioport_update_irqs() takes for an input pin before the PORT bit),
+// so the pin keeps what drives it across every write.
+//
 // Time is the simulated CPU cycle count (cycle(), 62.5 ns each). Not
 // thread-safe; every callback runs inside run_until().
 #pragma once
@@ -74,8 +85,15 @@ class UnoBoard {
   /// Watches Arduino pin `pin` (0..19): Wiring::pin_out on every change of
   /// the level its PORT bit drives. Call after load().
   void watch_pin(uint8_t pin);
-  /// Drives input pin `pin` from outside (a button, the MCP2515's INT).
+  /// Drives input pin `pin` from outside with a push-pull output (the
+  /// MCP2515's INT): the pin has this level whatever the image writes to
+  /// its port, until the next call.
   void drive_pin(uint8_t pin, bool high);
+  /// A switch from input pin `pin` to GND (a button, a joystick direction):
+  /// closed, the pin is low whatever the image writes to its port; open,
+  /// nothing drives it and it reads high, as through the image's pull-up
+  /// (INPUT_PULLUP; an image without one would read a floating pin).
+  void switch_to_gnd(uint8_t pin, bool closed);
 
   /// Queues bytes for USART0's receiver; simavr spaces them at the UART's
   /// character time as they are taken. Bytes wait while its FIFO is full.
@@ -110,6 +128,9 @@ class UnoBoard {
 
  private:
   avr_irq_t* pin_irq(uint8_t pin) const;
+  /// Hands the externally driven levels of `pin`'s port to simavr; false
+  /// when simavr's port does not take them.
+  bool set_external(uint8_t pin, bool driven, bool high);
   void feed_uart();
   static void on_uart_out(avr_irq_t* irq, uint32_t value, void* param);
   static void on_uart_xon(avr_irq_t* irq, uint32_t value, void* param);
@@ -135,6 +156,9 @@ class UnoBoard {
     uint8_t pin;
   };
   Watch watches_[20] = {};
+  /// Pins driven from outside, per port B, C, D (bit = port bit), and their levels.
+  uint8_t external_mask_[3] = {};
+  uint8_t external_high_[3] = {};
   std::string stop_reason_;
   uint16_t static_end_ = 0;  ///< first RAM address above .data + .bss
   uint16_t ramend_ = 0;

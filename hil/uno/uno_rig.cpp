@@ -29,7 +29,8 @@ Status UnoRig::load(const std::string& elf_path) {
   Status loaded = board_.load(elf_path, std::move(w));
   if (!loaded) return loaded;
   for (uint8_t i = 0; i < image_.led_count; ++i) board_.watch_pin(image_.led_pins[i]);
-  for (int b = 0; b < image_.buttons.count; ++b) board_.drive_pin(image_.button_pins[b], true);  // released
+  for (int b = 0; b < image_.buttons.count; ++b)
+    board_.switch_to_gnd(image_.button_pins[b], false);  // released
   board_.drive_pin(kPinCanInt, true);
   return Status::ok();
 }
@@ -60,7 +61,7 @@ void UnoRig::apply_buttons() {
   const uint8_t want = panel_.buttons();
   for (int b = 0; b < image_.buttons.count; ++b) {
     const uint8_t bit = static_cast<uint8_t>(1u << b);
-    if ((want ^ buttons_driven_) & bit) board_.drive_pin(image_.button_pins[b], (want & bit) == 0);
+    if ((want ^ buttons_driven_) & bit) board_.switch_to_gnd(image_.button_pins[b], (want & bit) != 0);
   }
   buttons_driven_ = want;
 }
@@ -69,7 +70,10 @@ void UnoRig::apply_buttons() {
 
 void UnoRig::on_select(bool selected) {
   wire_.chip().select(selected);
-  if (selected) return;
+  if (selected) {
+    ++chip_selects_;
+    return;
+  }
   CanFrame pending;
   if (on_transmit_request && wire_.chip().next_transmit(&pending))
     on_transmit_request(board_.cycle(), pending);

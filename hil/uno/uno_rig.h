@@ -53,6 +53,8 @@ class UnoRig {
   std::function<void(uint64_t cycle, const CanFrame& frame)> on_transmit_request;
   /// Drives the button pins from the panel's levels (call after commands).
   void apply_buttons();
+  /// MCP2515 instructions the image has begun since load (CS falling edges).
+  uint64_t chip_selects() const { return chip_selects_; }
 
   /// True when a LED changed since the last call; `changed_us` then holds
   /// the simulated time of the last change.
@@ -79,6 +81,7 @@ class UnoRig {
   std::string serial_out_;
   std::vector<CanWire::Sent> can_out_;
   bool int_high_ = true;
+  uint64_t chip_selects_ = 0;
   uint8_t buttons_driven_ = 0;
   bool led_changed_ = false;
   uint64_t led_changed_us_ = 0;

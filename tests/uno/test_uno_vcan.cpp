@@ -11,6 +11,8 @@
 //   * a mixed line: the Uno (node 1) in a ring of three with two mb2co-node
 //     processes; STOP2 on node 3, the station before the Uno, stops the Uno:
 //     its RUN-self LED pin goes dark;
+//   * a line of three Unos (ids 1..3, a chain of 3 stations) started with
+//     `click START` at each board's panel: RUN state, RUN LEDs, neighbours;
 //   * spans a 32-bit microsecond deadline cannot hold: a SYNC period of
 //     F0000000h us and a life time of 40 min (100Ch x 100Dh) neither flood
 //     the bus nor expire at once; a 30 s heartbeat (1017h) gives the derived
@@ -36,9 +38,11 @@ namespace test {
 namespace {
 
 constexpr auto kDeadline = 30s;  // bounds a failure only (user-mode Linux is slow)
-constexpr int kHrRunCommand = 0, kHrStations = 5, kHrDebounce = 7, kHrHeartbeat = 8, kHrSave = 11,
-              kHrRestart = 13;
-constexpr int kIrRunState = 1, kIrStop2Count = 2, kIrStopCause = 3, kIrPrevStatus = 8, kIrPrevId = 20;
+constexpr int kHrRunCommand = 0, kHrNodeId = 2, kHrTopology = 4, kHrStations = 5, kHrDebounce = 7,
+              kHrHeartbeat = 8, kHrSave = 11, kHrRestart = 13;
+constexpr int kIrRunState = 1, kIrStop2Count = 2, kIrStopCause = 3, kIrStartCount = 4, kIrPrevRun = 6,
+              kIrPrevStatus = 8, kIrNextRun = 9, kIrNextStatus = 10, kIrLeds = 11, kIrPrevId = 20,
+              kIrNextId = 21;
 
 /// A raw CAN_RAW socket on vcan0: the test's own CANopen client.
 class RawCan {
@@ -303,6 +307,111 @@ TEST_F(UnoOnVcan, MixedRingStop2BeforeTheUnoStopsIt) {
   for (ModbusMaster& nm : node_masters) nm.close();
   EXPECT_EQ(uno.stop(), 0);
   for (NodeProcess& n : nodes) EXPECT_EQ(n.stop(), 0);
+}
+
+// Issue 22 item 8: a line of simulated Unos started from their panels. Three
+// mb2co-uno, set up as docs/mini-project.md section 5 sets up the Unos of a
+// 3-station line (ids 1..3, chain, 3 stations) but without the save: ids 2
+// and 3 are written to HR 2 and take effect at a reset of communication
+// (HR 13 = 1), as do topology and size; the first board keeps the id of an
+// erased EEPROM (1). (mb2co-uno takes no --node-id: on the Uno the id lives
+// in the EEPROM.) The test is each station's PC, as mb2co-plant is: it
+// writes the RUN command every cycle, 0 until the station's START press
+// counter (IR 4) goes up, then 1 (the counter, not the level: a 100 ms
+// press between two polls of a slow host still counts). START was never
+// seen before (D9 = PB1, undone by simavr at every chip-select write).
+TEST_F(UnoOnVcan, LineOfThreeUnosStartsWithStartClicks) {
+  constexpr int kStations = 3;
+  UnoProcess unos[kStations];
+  ModbusMaster pcs[kStations];
+  for (int i = 0; i < kStations; ++i) {
+    const int id = i + 1;
+    ASSERT_TRUE(
+        unos[i].start({"--can", "vcan0", "--pty", dir_.path("uno" + std::to_string(id) + ".pty")}, kDeadline))
+        << unos[i].error();
+    ASSERT_EQ(unos[i].node_id(), 1) << "an erased EEPROM";
+    ASSERT_TRUE(pcs[i].open(unos[i].device(), 1000ms)) << pcs[i].error();
+    ModbusMaster& m = pcs[i];
+    if (id != 1) {
+      ASSERT_EQ(modbus_write_register(m.ctx(), kHrNodeId, static_cast<uint16_t>(id)), 1);
+    }
+    ASSERT_EQ(modbus_write_register(m.ctx(), kHrTopology, 0), 1) << "chain";
+    ASSERT_EQ(modbus_write_register(m.ctx(), kHrStations, kStations), 1);
+    ASSERT_EQ(modbus_write_register(m.ctx(), kHrRestart, 1), 1) << "reset communication";
+    const std::string boot_up = "70" + std::to_string(id) + "#00";
+    double t = 0;
+    std::string frame;
+    ASSERT_TRUE(candump_.wait_line(
+        [&](const std::string& l) { return parse_candump(l, &t, &frame) && frame == boot_up; }, kDeadline))
+        << "no boot-up " << boot_up << " after the reset";
+    ASSERT_TRUE(m.wait_input(kIrPrevId, id - 1, kDeadline)) << "station " << id << ": previous id";
+    ASSERT_TRUE(m.wait_input(kIrNextId, id < kStations ? id + 1 : 0, kDeadline)) << "station " << id;
+  }
+
+  // In a chain the ends have no neighbour there (status 2, LED dark); every
+  // other neighbour is alive and heard (1: heartbeat and TPDO1).
+  auto want_status = [&](int i, bool prev) { return (prev ? i == 0 : i == kStations - 1) ? 2 : 1; };
+  uint16_t run_command[kStations] = {};
+  uint16_t ir[kStations][12] = {};
+  // One PC cycle at every station: read IR 0-11, write the RUN command.
+  auto pc_cycle = [&]() {
+    for (int i = 0; i < kStations; ++i) {
+      if (modbus_read_input_registers(pcs[i].ctx(), 0, 12, ir[i]) != 12) return false;
+      if (ir[i][kIrStartCount] > 0) run_command[i] = 1;
+      if (modbus_write_register(pcs[i].ctx(), kHrRunCommand, run_command[i]) != 1) return false;
+    }
+    return true;
+  };
+  auto every_station = [&](const std::function<bool(int)>& holds) {
+    for (int i = 0; i < kStations; ++i)
+      if (!holds(i)) return false;
+    return true;
+  };
+  auto wait_line = [&](const std::function<bool(int)>& holds) {
+    const auto deadline = std::chrono::steady_clock::now() + kDeadline;
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (!pc_cycle()) return false;
+      if (every_station(holds)) return true;
+    }
+    return false;
+  };
+  ASSERT_TRUE(wait_line([&](int i) {
+    return ir[i][kIrPrevStatus] == want_status(i, true) && ir[i][kIrNextStatus] == want_status(i, false) &&
+           ir[i][kIrRunState] == 0;
+  })) << "the line never formed (station 1 prev/next status "
+      << ir[0][kIrPrevStatus] << "/" << ir[0][kIrNextStatus] << ")";
+
+  for (UnoProcess& uno : unos) ASSERT_EQ(uno.ask("click START", "ok"), "ok");
+  const bool running = wait_line([&](int i) {
+    return ir[i][kIrRunState] == 1 && (i == 0 || ir[i][kIrPrevRun] == 1) &&
+           (i == kStations - 1 || ir[i][kIrNextRun] == 1);
+  });
+  for (int i = 0; i < kStations; ++i) {
+    EXPECT_EQ(ir[i][kIrStartCount], 1) << "station " << i + 1 << ": START presses counted";
+    EXPECT_EQ(ir[i][kIrRunState], 1) << "station " << i + 1 << ": RUN state (IR 1)";
+  }
+  ASSERT_TRUE(running) << "the line did not run after START at every station";
+
+  // What the operator sees: RUN-self lit everywhere, RUN-prev/RUN-next lit
+  // towards a running neighbour and dark at the ends of the chain. The LED
+  // pins are driven in the pass that set IR 11 (2200h), read before this.
+  // The `leds` lines of earlier changes still queued are dropped first: the
+  // answer to `leds?` looks the same.
+  for (int i = 0; i < kStations; ++i) {
+    unos[i].child.wait_line([](const std::string&) { return false; }, 0ms);
+    const std::string leds = unos[i].ask("leds?", "leds ");
+    SCOPED_TRACE("station " + std::to_string(i + 1) + ": " + leds);
+    EXPECT_EQ(field_of(leds, "self"), "1");
+    EXPECT_EQ(field_of(leds, "prev"), i == 0 ? "0" : "1");
+    EXPECT_EQ(field_of(leds, "next"), i == kStations - 1 ? "0" : "1");
+    EXPECT_EQ(ir[i][kIrLeds] & 0x07, 0x01 | (i == 0 ? 0 : 0x02) | (i == kStations - 1 ? 0 : 0x04));
+  }
+  ASSERT_TRUE(pc_cycle());
+  for (int i = 0; i < kStations; ++i) {
+    EXPECT_EQ(ir[i][kIrRunState], 1) << "station " << i + 1 << " still runs";
+    pcs[i].close();
+    EXPECT_EQ(unos[i].stop(), 0);
+  }
 }
 
 // Issue 16 item 7: a first full save on the Uno (both slots erased: every

@@ -147,12 +147,16 @@ TEST(StudentLine, ThreeUnosSetUpAsTheGuideSaysMakeAWorkingChain) {
     if (id >= 0) seen.insert(id);
   }
   EXPECT_EQ(candump.wait_exit(kDeadline), 0);
-  // Every board on its own ids: boot-up/heartbeat, TPDO1 (line state),
-  // TPDO2 (buttons: at entering operational, START at 3, STOP2 at 1).
-  // Nothing else (no EMCY: no
-  // heartbeat was lost).
-  const std::set<int> documented{0x701, 0x702, 0x703, 0x181, 0x182, 0x183, 0x281, 0x282, 0x283};
-  EXPECT_EQ(seen, documented);
+  // Every board on its own ids: boot-up/heartbeat, TPDO1 (line state) and
+  // TPDO2 (buttons: at entering operational, START at 3, STOP2 at 1) of each,
+  // and nothing on another station's id. EMCY may come, on 80h + its own id
+  // (a neighbour's heartbeat lost as the boards are switched off one by one;
+  // a receive overrun, docs/lab.md).
+  const std::set<int> required{0x701, 0x702, 0x703, 0x181, 0x182, 0x183, 0x281, 0x282, 0x283};
+  const std::set<int> allowed{0x701, 0x702, 0x703, 0x181, 0x182, 0x183,
+                              0x281, 0x282, 0x283, 0x081, 0x082, 0x083};
+  for (int id : required) EXPECT_EQ(seen.count(id), 1u) << "never seen: " << std::hex << id;
+  for (int id : seen) EXPECT_EQ(allowed.count(id), 1u) << "not a station's own id: " << std::hex << id;
 }
 
 }  // namespace

@@ -52,7 +52,8 @@ void LinkSupervisor::verify() {
     const bool definite = identified.outcome == LinkStatus::exception;
     if (!definite && identified.heard) {
       heard_ = true;
-      why += ", late or corrupt (--timeout-ms, --baud, --parity?)";
+      const bool late = identified.status.message().find("later than") != std::string::npos;
+      why += late ? " (--timeout-ms?)" : ", late or corrupt (--timeout-ms, --baud, --parity?)";
     } else if (!definite) {
       why += " (" + std::to_string(s.retries + 1) + " attempts of " + std::to_string(s.timeout_ms) + " ms)";
     }

@@ -105,6 +105,12 @@ LinkResult ModbusLink::attempt(const char* what, F request) {
   return LinkResult::failure(LinkStatus::failed, why, heard);
 }
 
+bool ModbusLink::late_answer_within(int wait_ms) {
+  pollfd p{modbus_get_socket(ctx_), POLLIN, 0};
+  if (poll(&p, 1, wait_ms) <= 0 || (p.revents & POLLIN) == 0) return false;
+  return drop_pending() > 0;
+}
+
 size_t ModbusLink::drop_pending() {
   const int fd = modbus_get_socket(ctx_);
   size_t dropped = 0;
@@ -258,6 +264,13 @@ LinkResult ModbusLink::identify(std::string& identity) {
                                                             "')");
     }
     return LinkResult::done();
+  }
+  if (s.outcome == LinkStatus::failed && !s.heard && late_answer_within(settings_.timeout_ms)) {
+    // Silence in every attempt, then bytes: a slave that answers, only later
+    // than the timeout. Not the same as no slave at all (LinkSupervisor).
+    return LinkResult::failure(LinkStatus::failed,
+                               "FC 2B/0E: answer later than " + std::to_string(settings_.timeout_ms) + " ms",
+                               true);
   }
   if (s.outcome != LinkStatus::exception)
     return LinkResult::failure(s.outcome, "FC 2B/0E: " + s.status.message(), s.heard);

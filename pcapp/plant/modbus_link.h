@@ -114,6 +114,8 @@ class ModbusLink {
   /// request, so that a late answer to an abandoned attempt is not taken for
   /// the next one's. The number of bytes dropped.
   size_t drop_pending();
+  /// Waits up to `wait_ms` for bytes and drops them: whether any came.
+  bool late_answer_within(int wait_ms);
 
   modbus_t* ctx_ = nullptr;
   LinkSettings settings_;

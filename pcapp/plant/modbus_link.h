@@ -1,6 +1,9 @@
 // The Modbus/RTU master: owns a libmodbus RTU context on one serial device
 // and runs the cycle's transactions (transaction_plan.h) with a response
-// timeout and retries. Calls block for at most (retries + 1) x timeout.
+// timeout and retries. Calls block for at most (retries + 1) x timeout
+// (identify(): one timeout more, listening for a late answer after silence).
+// Before every attempt it drops what waits on the port: a late answer to an
+// abandoned attempt must not be taken for the next one's.
 //
 // Where it runs: in the cycle timer's slot, on the GUI-less main thread,
 // not in a worker QThread. The controller cannot step before the read

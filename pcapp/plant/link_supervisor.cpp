@@ -15,6 +15,7 @@ LinkSupervisor::LinkSupervisor(const SupervisorConfig& config, QObject* parent)
 
 void LinkSupervisor::start() {
   first_ = true;
+  heard_ = false;
   attempt();
 }
 
@@ -46,7 +47,17 @@ void LinkSupervisor::verify() {
   const LinkResult identified = link_.identify(identity);
   if (!identified.ok()) {
     link_.close();
-    return failed(QString::fromStdString(link_.settings().path + ": " + identified.status.message()));
+    const LinkSettings& s = link_.settings();
+    std::string why = s.path + ": " + identified.status.message();
+    const bool definite = identified.outcome == LinkStatus::exception;
+    if (!definite && identified.heard) {
+      heard_ = true;
+      const bool late = identified.status.message().find("later than") != std::string::npos;
+      why += late ? " (--timeout-ms?)" : ", late or corrupt (--timeout-ms, --baud, --parity?)";
+    } else if (!definite) {
+      why += " (" + std::to_string(s.retries + 1) + " attempts of " + std::to_string(s.timeout_ms) + " ms)";
+    }
+    return failed(QString::fromStdString(why), definite);
   }
   up_ = true;
   first_ = false;
@@ -55,8 +66,8 @@ void LinkSupervisor::verify() {
                                         std::to_string(link_.settings().slave) + ": " + identity));
 }
 
-void LinkSupervisor::failed(const QString& reason) {
-  if (first_) {
+void LinkSupervisor::failed(const QString& reason, bool definite) {
+  if (first_ && (definite || !heard_)) {
     stopped_ = true;
     emit fatal(reason);
     return;

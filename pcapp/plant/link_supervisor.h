@@ -1,8 +1,15 @@
 // The serial link's life cycle: open the port (given, or the one Arduino on
 // USB), wait for the Uno's boot loader (opening the port resets it), verify
 // the slave (FC 2B/0E, else 08/00), then report it up. A lost link is closed
-// and reopened with back-off until the gateway answers again; the first
-// connection failing is fatal (a bad --port must end the program).
+// and reopened with back-off until the gateway answers again.
+//
+// The first connection is fatal when it cannot work as asked: the port cannot
+// be opened (or no single Arduino is found), nothing answers, or the slave
+// that answers is definitely not an mb2co gateway (a bad --port or --slave
+// must end the program with one line). A slave that answers, but late or
+// garbled (a loaded simulator, a disturbed line, a wrong baud rate), is there:
+// that is retried with back-off like a reconnection, one line per attempt,
+// from then on for every failure but a definite one.
 #pragma once
 #include <QObject>
 #include <QString>
@@ -41,7 +48,7 @@ class LinkSupervisor : public QObject {
   /// Verified; `description`: port, slave and its identity.
   void connected(const QString& description);
   void disconnected(const QString& reason);
-  /// An attempt to reconnect failed; the next one follows in `next_ms`.
+  /// An attempt to (re)connect failed; the next one follows in `next_ms`.
   void retrying(const QString& reason, int next_ms);
   /// The first connection failed: one line for the user.
   void fatal(const QString& message);
@@ -49,13 +56,16 @@ class LinkSupervisor : public QObject {
  private:
   void attempt();
   void verify();
-  void failed(const QString& reason);
+  /// `definite`: the slave is not an mb2co gateway (not worth retrying at
+  /// the first connection).
+  void failed(const QString& reason, bool definite = false);
 
   SupervisorConfig config_;
   ModbusLink link_;
   Backoff backoff_;
-  QTimer timer_;  ///< boot wait and reconnection delays (single shot)
-  bool first_ = true;
+  QTimer timer_;        ///< boot wait and reconnection delays (single shot)
+  bool first_ = true;   ///< not verified yet since start()
+  bool heard_ = false;  ///< a slave answered something since start()
   bool up_ = false;
   bool stopped_ = false;
 };

@@ -24,6 +24,35 @@ int64_t now_ms() {
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return static_cast<int64_t>(ts.tv_sec) * 1000 + ts.tv_nsec / 1000000;
 }
+
+/// The first frame in buf[0, got) that answers `request` (its exception
+/// included), moved to buf[0], `got` cut to its length. Before it may lie a
+/// late answer to an abandoned attempt that arrived in the same read (a slave
+/// catching up sends both back to back, so no silence separates them here),
+/// after it anything. kTooShort while there is none: more bytes may complete
+/// it. Every start at this slave's address and function is tried with every
+/// length: a wrong frame needs a matching CRC and consistent fields to pass.
+modbus::ParseStatus find_answer(const uint8_t* request, uint16_t length, bool net, uint8_t* buf,
+                                uint16_t& got) {
+  constexpr uint16_t kShortestFrame = 5;  // address, function, exception code, CRC
+  for (uint16_t start = 0; start + kShortestFrame <= got; ++start) {
+    if (buf[start] != request[0] || (buf[start + 1] & 0x7F) != request[1]) continue;
+    for (uint16_t end = static_cast<uint16_t>(start + kShortestFrame); end <= got; ++end) {
+      const uint16_t n = static_cast<uint16_t>(end - start);
+      modbus::Response parsed;
+      modbus::NetResponse net_parsed{};  // FC 2Bh/0Dh has its own codec
+      const modbus::ParseStatus st =
+          net ? modbus::parse_net_response(request, length, buf + start, n, net_parsed)
+              : modbus::parse_response(request, length, buf + start, n, parsed);
+      if (st == modbus::ParseStatus::kOk || st == modbus::ParseStatus::kException) {
+        std::memmove(buf, buf + start, n);
+        got = n;
+        return st;
+      }
+    }
+  }
+  return modbus::ParseStatus::kTooShort;
+}
 }  // namespace
 
 Status ModbusLink::open(const LinkSettings& settings) {
@@ -59,15 +88,42 @@ template <class F>
 LinkResult ModbusLink::attempt(const char* what, F request) {
   if (ctx_ == nullptr) return LinkResult::failure(LinkStatus::failed, std::string(what) + ": port closed");
   std::string why;
+  bool heard = false;
   for (int i = 0; i <= settings_.retries; ++i) {
     if (i > 0) ++retries_used_;
+    // libmodbus takes the first frame it reads for the answer: a late one to
+    // an abandoned attempt (this request's or the one before) must go first.
+    // One that arrives later still is read by libmodbus by its own length and
+    // refused (another function, CRC or count): a failed attempt, repeated.
+    if (drop_pending() > 0) heard = true;
     if (request() >= 0) return LinkResult::done();
     const int err = errno;
     why = std::string(what) + ": " + modbus_strerror(err);
     if (is_exception(err)) return LinkResult::failure(LinkStatus::exception, why);
-    modbus_flush(ctx_);  // a late answer must not be taken for the next one
+    if (err != ETIMEDOUT) heard = true;
   }
-  return LinkResult::failure(LinkStatus::failed, why);
+  return LinkResult::failure(LinkStatus::failed, why, heard);
+}
+
+bool ModbusLink::late_answer_within(int wait_ms) {
+  pollfd p{modbus_get_socket(ctx_), POLLIN, 0};
+  if (poll(&p, 1, wait_ms) <= 0 || (p.revents & POLLIN) == 0) return false;
+  return drop_pending() > 0;
+}
+
+size_t ModbusLink::drop_pending() {
+  const int fd = modbus_get_socket(ctx_);
+  size_t dropped = 0;
+  uint8_t junk[256];
+  for (;;) {
+    pollfd p{fd, POLLIN, 0};
+    if (poll(&p, 1, 0) <= 0 || (p.revents & POLLIN) == 0) break;
+    const ssize_t n = ::read(fd, junk, sizeof junk);
+    if (n <= 0) break;  // a hung-up device: the request's write or read says so
+    dropped += static_cast<size_t>(n);
+  }
+  stale_bytes_dropped_ += dropped;
+  return dropped;
 }
 
 LinkResult ModbusLink::read(const TransactionPlan& plan, const RegisterImage& out, RegisterImage& in) {
@@ -107,20 +163,19 @@ LinkResult ModbusLink::write(const TransactionPlan& plan, const RegisterImage& o
 LinkResult ModbusLink::raw(const uint8_t* request, uint16_t length, uint8_t* response, uint16_t capacity,
                            uint16_t& got) {
   const int fd = modbus_get_socket(ctx_);
+  const bool net = modbus::is_net_pdu(request + 1, static_cast<uint16_t>(length - 1));
   std::string why;
+  bool heard = false;
   for (int i = 0; i <= settings_.retries; ++i) {
-    if (i > 0) {
-      ++retries_used_;
-      modbus_flush(ctx_);
-    }
+    if (i > 0) ++retries_used_;
+    // What waits now answers nothing still asked (find_answer skips one that
+    // arrives during this attempt).
+    if (drop_pending() > 0) heard = true;
     if (::write(fd, request, length) != static_cast<ssize_t>(length)) {
       return LinkResult::failure(LinkStatus::failed, std::string("write: ") + std::strerror(errno));
     }
     got = 0;
     const int64_t deadline = now_ms() + settings_.timeout_ms;
-    modbus::Response parsed;
-    modbus::NetResponse net_parsed{};  // FC 2Bh/0Dh has its own codec
-    const bool net = modbus::is_net_pdu(request + 1, static_cast<uint16_t>(length - 1));
     modbus::ParseStatus st = modbus::ParseStatus::kTooShort;
     while (st != modbus::ParseStatus::kOk && st != modbus::ParseStatus::kException) {
       const int64_t left = deadline - now_ms();
@@ -133,18 +188,24 @@ LinkResult ModbusLink::raw(const uint8_t* request, uint16_t length, uint8_t* res
                                    std::string("read: ") + (n == 0 ? "end of file" : std::strerror(errno)));
       }
       got = static_cast<uint16_t>(got + n);
-      st = net ? modbus::parse_net_response(request, length, response, got, net_parsed)
-               : modbus::parse_response(request, length, response, got, parsed);
+      st = find_answer(request, length, net, response, got);
       if (got == capacity) break;
     }
     if (st == modbus::ParseStatus::kOk) return LinkResult::done();
     if (st == modbus::ParseStatus::kException) {
+      modbus::Response parsed;
+      modbus::NetResponse net_parsed{};
+      if (net)
+        modbus::parse_net_response(request, length, response, got, net_parsed);
+      else
+        modbus::parse_response(request, length, response, got, parsed);
       const modbus::Exception e = net ? net_parsed.exception : parsed.exception;
       return LinkResult::failure(LinkStatus::exception, "exception " + std::to_string(static_cast<int>(e)));
     }
+    if (got > 0) heard = true;
     why = got == 0 ? "no answer" : "bad answer (" + std::to_string(got) + " bytes)";
   }
-  return LinkResult::failure(LinkStatus::failed, why);
+  return LinkResult::failure(LinkStatus::failed, why, heard);
 }
 
 LinkResult ModbusLink::network_view(std::vector<modbus::NetViewEntry>& view, bool& unsupported) {
@@ -204,12 +265,20 @@ LinkResult ModbusLink::identify(std::string& identity) {
     }
     return LinkResult::done();
   }
+  if (s.outcome == LinkStatus::failed && !s.heard && late_answer_within(settings_.timeout_ms)) {
+    // Silence in every attempt, then bytes: a slave that answers, only later
+    // than the timeout. Not the same as no slave at all (LinkSupervisor).
+    return LinkResult::failure(LinkStatus::failed,
+                               "FC 2B/0E: answer later than " + std::to_string(settings_.timeout_ms) + " ms",
+                               true);
+  }
   if (s.outcome != LinkStatus::exception)
-    return LinkResult::failure(s.outcome, "FC 2B/0E: " + s.status.message());
+    return LinkResult::failure(s.outcome, "FC 2B/0E: " + s.status.message(), s.heard);
   // No FC 2B: an echo (FC 08/00) at least shows a live slave at this address.
   n = modbus::build_diagnostics(request, sizeof request, slave, 0x0000, 0xA55A);
   s = raw(request, n, response, sizeof response, got);
-  if (!s.ok()) return LinkResult::failure(s.outcome, "FC 08/00: " + s.status.message());
+  // An exception to FC 08 too: a slave is there, and it is not one of ours.
+  if (!s.ok()) return LinkResult::failure(s.outcome, "FC 08/00: " + s.status.message(), true);
   identity = "unidentified slave (FC 08/00 echo)";
   return s;
 }

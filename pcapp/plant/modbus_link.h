@@ -1,6 +1,9 @@
 // The Modbus/RTU master: owns a libmodbus RTU context on one serial device
 // and runs the cycle's transactions (transaction_plan.h) with a response
-// timeout and retries. Calls block for at most (retries + 1) x timeout.
+// timeout and retries. Calls block for at most (retries + 1) x timeout
+// (identify(): one timeout more, listening for a late answer after silence).
+// Before every attempt it drops what waits on the port: a late answer to an
+// abandoned attempt must not be taken for the next one's.
 //
 // Where it runs: in the cycle timer's slot, on the GUI-less main thread,
 // not in a worker QThread. The controller cannot step before the read
@@ -49,11 +52,14 @@ enum class LinkStatus : uint8_t {
 struct LinkResult {
   LinkStatus outcome = LinkStatus::ok;
   Status status;
+  /// failed, but bytes came back (a late, corrupt or foreign answer): a slave
+  /// is there, the exchange with it was disturbed. false: silence.
+  bool heard = false;
 
   bool ok() const { return outcome == LinkStatus::ok; }
   static LinkResult done() { return LinkResult(); }
-  static LinkResult failure(LinkStatus outcome, std::string why) {
-    return LinkResult{outcome, Status::failure(std::move(why))};
+  static LinkResult failure(LinkStatus outcome, std::string why, bool heard = false) {
+    return LinkResult{outcome, Status::failure(std::move(why)), heard};
   }
 };
 
@@ -74,6 +80,8 @@ class ModbusLink {
   /// Checks that an mb2co gateway answers: FC 2B/0E basic device
   /// identification (vendor "mb2co"); a slave without FC 2B (exception 01) is
   /// accepted when it echoes FC 08/00. `identity`: "vendor product revision".
+  /// exception: the answer is definitely not from an mb2co gateway (another
+  /// vendor, or neither FC 2B nor FC 08); failed: no valid answer in time.
   LinkResult identify(std::string& identity);
 
   /// The plan's reads into `in` (FC 03/04), or with plan.read_write one
@@ -91,18 +99,31 @@ class ModbusLink {
 
   /// Attempts that timed out or were corrupt and were repeated (only grows).
   uint64_t retries_used() const { return retries_used_; }
+  /// Bytes that were waiting before a request was sent and were dropped:
+  /// late answers to abandoned attempts (only grows).
+  uint64_t stale_bytes_dropped() const { return stale_bytes_dropped_; }
 
  private:
   template <class F>
   LinkResult attempt(const char* what, F request);
   /// One raw request/response on the device (for FC 2B and 08, which
   /// libmodbus 3.1 cannot receive); response parsed by the shared codec.
+  /// The answer is the first frame in what arrives that answers `request`:
+  /// a late answer to an earlier attempt read before or together with it is
+  /// skipped. On success it is response[0, got).
   LinkResult raw(const uint8_t* request, uint16_t length, uint8_t* response, uint16_t capacity,
                  uint16_t& got);
+  /// Reads and drops whatever waits on the device (no waiting): before every
+  /// request, so that a late answer to an abandoned attempt is not taken for
+  /// the next one's. The number of bytes dropped.
+  size_t drop_pending();
+  /// Waits up to `wait_ms` for bytes and drops them: whether any came.
+  bool late_answer_within(int wait_ms);
 
   modbus_t* ctx_ = nullptr;
   LinkSettings settings_;
   uint64_t retries_used_ = 0;
+  uint64_t stale_bytes_dropped_ = 0;
 };
 
 }  // namespace pcapp

@@ -125,7 +125,8 @@ int PlantApp::prepare() {
   connect(supervisor_, &LinkSupervisor::disconnected, this,
           [this](const QString& why) { log_event("link lost: " + why + " | plant safe, reconnecting"); });
   connect(supervisor_, &LinkSupervisor::retrying, this, [this](const QString& why, int next_ms) {
-    log_event("reconnect failed: " + why + " | next attempt in " + QString::number(next_ms) + " ms");
+    log_event((link_was_up_ ? "reconnect failed: " : "connect failed: ") + why + " | next attempt in " +
+              QString::number(next_ms) + " ms");
   });
   connect(supervisor_, &LinkSupervisor::fatal, this, [this](const QString& why) {
     say_error(why);
@@ -250,7 +251,8 @@ std::string PlantApp::cycle_summary() const {
   std::string s = "summary cycles=" + std::to_string(cycles_) + " late=" + std::to_string(late_cycles_) +
                   " link_losses=" + std::to_string(link_losses_) +
                   " exceptions=" + std::to_string(exceptions_) +
-                  " retries=" + std::to_string(supervisor_->link().retries_used());
+                  " retries=" + std::to_string(supervisor_->link().retries_used()) +
+                  " late_bytes_dropped=" + std::to_string(supervisor_->link().stale_bytes_dropped());
   if (modbus_us_.count() > 0) {
     s += " modbus_us_per_cycle min=" + std::to_string(modbus_us_.min_us()) +
          " mean=" + std::to_string(modbus_us_.mean_us()) +

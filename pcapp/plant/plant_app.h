@@ -1,7 +1,8 @@
 // The application object: owns the mode (station or latency), the link
 // supervisor, the cycle timer, the log and the status view, and runs one
 // control cycle per timer tick. Exit codes: 0 after a signal, --cycles or
-// --presses; 1 when the first connection fails; 2 for a bad config or log;
+// --presses; 1 when the first connection fails (LinkSupervisor: not for a
+// slave that answers late or garbled); 2 for a bad config or log;
 // 3 (kExitNotConfirmed) when it stops without the gateway having taken the
 // safe outputs (link down, or the last write failed).
 #pragma once

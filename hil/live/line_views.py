@@ -3,7 +3,8 @@ channel and mb2co-plant's event lines (formats in docs/mb2co-node.md and
 docs/mb2co-plant.md), and what the RUN LEDs of a line must show."""
 import re
 
-LEDS_RX = re.compile(r"^leds self=(\d) prev=(\d|blink) next=(\d|blink) lab=(\d) at_us=(\d+)$")
+# mb2co-node's and mb2co-uno's (which adds the shield's CAN LED: canerr=).
+LEDS_RX = re.compile(r"^leds self=(\d) prev=(\d|blink) next=(\d|blink) lab=(\d)(?: canerr=\d)? at_us=(\d+)$")
 STATE_RX = re.compile(r"^state node=(\d+) nmt=(\d+) run=(\d+) cause=(\d+) stop2=(\d+) "
                       r"prev=(\d+):(\d+):(\d+) next=(\d+):(\d+):(\d+) at_us=(\d+)$")
 READY_RX = re.compile(r"^ready node=(\d+) can=(\S+) serial=(\S+)(?: link=(\S+))?$")

@@ -5,7 +5,7 @@ stations' own reports. docs/mini-project.md explains it for students.
 
 usage: run-line.sh [--stations N] [--can IFACE] [--topology ring|chain]
                    [--stop2-at K] [--serial DEV1,DEV2,...] [--bin DIR]
-                   [--node PATH] [--plant PATH] [--timeout S] [--keep] [--verbose]
+                   [--node PATH] [--plant PATH] [--uno [PATH]] [--timeout S] [--keep] [--verbose]
 
 Exit status: 0 every check passed; 1 a check failed (one line on stderr naming
 it; the processes' output is kept in a directory named there); 2 bad command
@@ -21,6 +21,7 @@ import time
 from hw_line import HardwareLine
 from live_procs import Failure
 from sim_line import SimulatedLine
+from uno_line import UnoLine
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -44,8 +45,14 @@ def parse_args(argv):
     p.add_argument("--bin", default=os.path.join(ROOT, "build"), metavar="DIR", help="build directory (default build/)")
     p.add_argument("--node", default=None, help="mb2co-node (default DIR/firmware/linux/node/mb2co-node)")
     p.add_argument("--plant", default=None, help="mb2co-plant (default DIR/pcapp/plant/mb2co-plant)")
+    p.add_argument("--uno", nargs="?", const="", default=None, metavar="PATH",
+                   help="simulated Unos (mb2co-uno, default DIR/hil/uno/mb2co-uno) instead of mb2co-node, each "
+                        "given its place over Modbus as docs/mini-project.md says, the plants at their defaults")
+    p.add_argument("--plant-defaults", action="store_true",
+                   help="the plants at their documented defaults (25 ms timeout, 2 retries) instead of "
+                        "500 ms and 3 retries, which keep a loaded machine from losing a link")
     p.add_argument("--timeout", type=float, default=None, metavar="S",
-                   help="limit of each wait (default 10 s; 60 s with --serial)")
+                   help="limit of each wait (default 10 s; 30 s with --uno, 60 s with --serial)")
     p.add_argument("--keep", action="store_true", help="keep the directory with ptys and logs")
     p.add_argument("--verbose", action="store_true", help="echo every line of every process on stderr")
     a = p.parse_args(argv)
@@ -54,6 +61,8 @@ def parse_args(argv):
         sys.stderr.write(f"run-line: {msg}\n")
         sys.exit(2)
 
+    if a.uno is not None and a.serial is not None:
+        bad("--uno and --serial exclude each other (--uno simulates the boards that --serial reaches)")
     if a.serial is not None:
         if a.can is not None:
             bad("--can and --serial exclude each other (with --serial the gateways are on the ports)")
@@ -74,12 +83,18 @@ def parse_args(argv):
     if not 1 <= a.stop2_at <= a.stations:
         bad(f"--stop2-at {a.stop2_at}: want 1..{a.stations}")
     if a.timeout is None:
-        a.timeout = 60.0 if a.serial is not None else 10.0
+        # Simulated Unos run at most at real time, slower on a loaded host.
+        a.timeout = 60.0 if a.serial is not None else 30.0 if a.uno is not None else 10.0
     if not a.timeout > 0:
         bad(f"--timeout {a.timeout:g}: want > 0")
+    if a.uno is not None:
+        a.uno = a.uno or os.path.join(a.bin, "hil", "uno", "mb2co-uno")
+        if not shutil.which("mbpoll"):
+            bad("--uno gives each board its place with mbpoll: install it (scripts/deps.sh)")
     a.node = a.node or os.path.join(a.bin, "firmware", "linux", "node", "mb2co-node")
     a.plant = a.plant or os.path.join(a.bin, "pcapp", "plant", "mb2co-plant")
-    for path in ([a.plant] if a.serial is not None else [a.node, a.plant]):
+    programs = [a.plant] if a.serial is not None else [a.uno, a.plant] if a.uno is not None else [a.node, a.plant]
+    for path in programs:
         if not os.access(path, os.X_OK):
             bad(f"{path}: no such program (build it: scripts/build.sh, or give --bin DIR)")
     return a
@@ -87,7 +102,7 @@ def parse_args(argv):
 
 def main(argv):
     a = parse_args(argv)
-    run = HardwareLine(a) if a.serial is not None else SimulatedLine(a)
+    run = HardwareLine(a) if a.serial is not None else UnoLine(a) if a.uno is not None else SimulatedLine(a)
     # SIGTERM/SIGINT end the run through the cleanup below.
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     ok = False

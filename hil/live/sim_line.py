@@ -148,7 +148,8 @@ class SimulatedLine(Run):
         every = list(range(1, n + 1))
         self.start_nodes()
         self.say(f"{n} mb2co-node on {self.a.can} ({self.a.topology}), ptys in {self.tmp}")
-        self.start_plants([self.nodes[i].ready["link"] for i in every], lambda i: PLANT_OPTIONS)
+        options = [] if self.a.plant_defaults else PLANT_OPTIONS
+        self.start_plants([self.nodes[i].ready["link"] for i in every], lambda i: options)
         self.say(f"{n} mb2co-plant linked, panels read")
 
         # 1. START everywhere: each PC sees it and writes RUN command 1.

@@ -190,6 +190,7 @@ GatewayNetwork::Step GatewayNetwork::upload(Transfer* t) {
     t->data.insert(t->data.end(), m.data, m.data + m.data_length);
     start += m.data_length;
     moved_ = start;
+    t->bytes = start;
     size_ = m.object_size;
     // The last window has "more follows" clear and reaches the object's
     // size; either one not yet means another window.
@@ -229,6 +230,7 @@ GatewayNetwork::Step GatewayNetwork::download(Transfer* t) {
     if (s != Step::kDone) return s;
     start += count;
     moved_ = static_cast<uint32_t>(start);
+    t->bytes = moved_;
   } while (start < total);
   finish(t, canopen::kSdoOk, false);
   return Step::kDone;
@@ -260,7 +262,8 @@ bool GatewayNetwork::run(ProgressHook* progress) {
     queues_[id].pop_front();
     running_ = t;
     moved_ = size_ = 0;
-    t->started_us = now_us() | 1u;
+    t->started = true;
+    t->started_us = now_us();
     const Step s = t->upload ? upload(t) : download(t);
     running_ = nullptr;
     if (s == Step::kInterrupted && !t->finished) {

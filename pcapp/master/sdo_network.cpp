@@ -50,9 +50,10 @@ void SdoNetwork::start_next(uint8_t id, uint32_t now_us, const CanSink& sink) {
   Node& n = nodes_[id];
   while (!n.queue.empty() && !n.client.busy()) {
     Transfer* t = n.queue.front();
-    if (t->started_us != 0 || t->finished) return;  // running (or being finished)
+    if (t->started || t->finished) return;  // running (or being finished)
     if (t->not_before_us != 0 && !time_reached(now_us, t->not_before_us)) return;  // a poll's pause
-    t->started_us = now_us | 1u;                                                   // 0 means "not started"
+    t->started = true;
+    t->started_us = now_us;
     bool started;
     if (t->upload) {
       t->data.clear();
@@ -75,6 +76,7 @@ void SdoNetwork::finish_front(uint8_t id, uint32_t now_us, const CanSink& sink) 
   n.queue.pop_front();
   t->finished = true;
   t->ended_us = now_us;
+  t->bytes = n.client.transferred();
   if (n.client.status() == canopen::SdoClient::kDone) {
     t->result = canopen::kSdoOk;
   } else {
@@ -108,7 +110,7 @@ void SdoNetwork::end_queue(uint8_t id, size_t from, canopen::SdoAbort code, bool
 
 void SdoNetwork::drop_queued(uint8_t node, canopen::SdoAbort code) {
   const Node& n = nodes_[node];
-  const bool running = !n.queue.empty() && n.queue.front()->started_us != 0;  // it ends on its own
+  const bool running = !n.queue.empty() && n.queue.front()->started;  // it ends on its own
   end_queue(node, running ? 1 : 0, code, false, false);
 }
 
@@ -166,7 +168,7 @@ void SdoNetwork::next_deadline(NextDeadline& d) const {
     const Transfer* front = n.queue.front();
     if (n.client.busy())
       n.client.next_deadline(d);
-    else if (front->not_before_us != 0 && front->started_us == 0)
+    else if (front->not_before_us != 0 && !front->started)
       d.at(front->not_before_us);  // a poll's pause
     else
       d.now();  // a queued transfer waits to start

@@ -12,6 +12,7 @@
 #include "eds_value.h"
 #include "exit_codes.h"
 #include "transfer_run.h"
+#include "transfer_summary.h"
 #include "value_text.h"
 
 namespace mb2co {
@@ -86,6 +87,14 @@ std::string hex_word(uint32_t v, int digits) {
   return b;
 }
 
+/// The result line of an upload/download: text or JSON.
+void file_result(std::ostream& out, const Transfer& t, const std::string& path, bool json) {
+  if (json)
+    out << transfer_json(t, path) << "\n";
+  else
+    out << transfer_summary(t) << (t.upload ? " -> " + path : std::string()) << "\n";
+}
+
 }  // namespace
 
 int read_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
@@ -151,33 +160,6 @@ int write_command(const Options& o, Transport& transport, std::ostream& out, std
   return code;
 }
 
-namespace {
-
-/// "131072 bytes from node 3 1F50h/1 in 1.234 s (106.2 KiB/s, block with CRC)"
-std::string summary(const Transfer& t, bool upload) {
-  const double s = static_cast<double>(t.ended_us - t.started_us) / 1e6;
-  char line[200];
-  std::snprintf(line, sizeof line, "%s %zu bytes %s node %u %04Xh/%u in %.3f s (%.1f KiB/s, %s)",
-                upload ? "uploaded" : "downloaded", t.data.size(), upload ? "from" : "to", t.node, t.index,
-                t.sub, s, s > 0 ? static_cast<double>(t.data.size()) / 1024.0 / s : 0.0,
-                t.mode == canopen::kSdoBlock ? (t.crc ? "block with CRC" : "block") : "expedited/segmented");
-  return line;
-}
-
-/// The result line of an upload/download: text or JSON.
-void file_result(std::ostream& out, const Transfer& t, const std::string& path, bool upload, bool json) {
-  if (!json) {
-    out << summary(t, upload) << (upload ? " -> " + path : std::string()) << "\n";
-    return;
-  }
-  out << "{\"node\":" << unsigned(t.node) << ",\"file\":\"" << path << "\",\"bytes\":" << t.data.size()
-      << ",\"seconds\":" << (t.ended_us - t.started_us) / 1e6
-      << ",\"block\":" << (t.mode == canopen::kSdoBlock ? "true" : "false")
-      << ",\"crc\":" << (t.crc ? "true" : "false") << "}\n";
-}
-
-}  // namespace
-
 int upload_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
   const std::vector<std::string>& w = o.args.operands;  // at most 4 (the table)
   canopen::SdoMode mode = canopen::kSdoAuto;
@@ -205,7 +187,7 @@ int upload_command(const Options& o, Transport& transport, std::ostream& out, st
     }
     if (std::rename(tmp.c_str(), path.c_str()) != 0)
       return fail(err, kExitUsage, "upload: cannot write " + path);
-    file_result(out, *t, path, true, o.json);
+    file_result(out, *t, path, o.json);
   }
   return code;
 }
@@ -226,7 +208,7 @@ int download_command(const Options& o, Transport& transport, std::ostream& out, 
   const int code = run_all(o, transport, ts, err);
   for (auto& t : ts) {
     if (!t->ok()) continue;
-    file_result(out, *t, w[3], false, o.json);
+    file_result(out, *t, w[3], o.json);
   }
   return code;
 }

@@ -43,9 +43,16 @@ struct Transfer {
   /// gateway did not answer at all (or not usably).
   std::string gateway_error;
   bool link_down = false;
+  bool started = false;
+  /// When it started and ended, on one clock that never goes back (a bus
+  /// loop's ServiceClock, or the monotonic clock through a gateway).
   uint32_t started_us = 0;
   uint32_t ended_us = 0;
+  /// Bytes moved once finished: uploaded, or downloaded and acknowledged.
+  uint32_t bytes = 0;
   bool ok() const { return finished && result == canopen::kSdoOk; }
+  /// From start to end (wrapping µs: right up to ~71 min).
+  uint32_t elapsed_us() const { return ended_us - started_us; }
   /// "node 3 1018h/1: SDO abort 06020000h (object does not exist ...)" or "".
   std::string failure() const;
 };

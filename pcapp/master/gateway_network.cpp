@@ -187,7 +187,23 @@ GatewayNetwork::Step GatewayNetwork::upload(Transfer* t) {
     const Step s = ask(t, request, n, &r);
     if (s != Step::kDone) return s;
     const modbus::NetMessage& m = r.message;
-    t->data.insert(t->data.end(), m.data, m.data + m.data_length);
+    // The bounds of our own client (sdo_client.h): a size above max_bytes,
+    // or bytes beyond it, end the transfer with 05040005h. The gateway's
+    // client is not told (FC 2Bh has no abort); it ends the remote
+    // transfer by its own timeout.
+    if (m.object_size > t->max_bytes || m.data_length > t->max_bytes - start) {
+      finish(t, canopen::kAbortOutOfMemory, false);
+      return Step::kFailed;
+    }
+    if (t->write) {
+      const canopen::SdoAbort code = t->write(m.data, m.data_length);
+      if (code != canopen::kSdoOk) {
+        finish(t, code, false);
+        return Step::kFailed;
+      }
+    } else {
+      t->data.insert(t->data.end(), m.data, m.data + m.data_length);
+    }
     start += m.data_length;
     moved_ = start;
     t->bytes = start;

@@ -34,6 +34,7 @@ void SdoNetwork::progress(uint8_t node, uint32_t* moved, uint32_t* size) const {
 
 canopen::SdoAbort SdoNetwork::collect(void* ctx, uint32_t offset, const uint8_t* data, uint16_t n) {
   auto* t = static_cast<Transfer*>(ctx);
+  if (t->write) return t->write(data, n);                       // offsets come in order, from 0
   if (offset != t->data.size()) return canopen::kAbortGeneral;  // never: offsets come in order
   t->data.insert(t->data.end(), data, data + n);
   return canopen::kSdoOk;
@@ -59,7 +60,7 @@ void SdoNetwork::start_next(uint8_t id, uint32_t now_us, const CanSink& sink) {
       t->data.clear();
       started =
           n.client.start_upload(t->index, t->sub, t->mode, canopen::SdoData{&SdoNetwork::collect, nullptr, t},
-                                0xFFFFFFFFu, now_us, sink);
+                                t->max_bytes, now_us, sink);
     } else {
       started = n.client.start_download(t->index, t->sub, t->mode,
                                         canopen::SdoData{nullptr, &SdoNetwork::supply, t},

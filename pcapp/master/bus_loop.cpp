@@ -56,12 +56,12 @@ void BusLoop::pass(uint32_t end) {
     size_t got = 0;
     while ((got = port_.receive(frames, linux_port::SocketCanPort::kBatch)) > 0) {
       for (size_t k = 0; k < got; ++k) {
-        const uint32_t at = static_cast<uint32_t>(frames[k].rx_time_us);
+        const uint32_t at = clock_.at(static_cast<uint32_t>(frames[k].rx_time_us));
         for (int i = 0; i < count_; ++i) services_[i]->on_frame(frames[k].frame, at, out);
       }
     }
   }
-  const uint32_t now = now_us();
+  const uint32_t now = clock_.at(now_us());
   for (int i = 0; i < count_; ++i) services_[i]->process(now, out);
 }
 

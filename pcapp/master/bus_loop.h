@@ -8,13 +8,16 @@
 #include "canopen/can_frame.h"
 #include "canopen/clock.h"
 #include "host/status.h"
+#include "service_clock.h"
 #include "socketcan_port.h"
 
 namespace mb2co {
 namespace master {
 
 /// What the loop drives. Each call gets the same `now_us` the loop took once
-/// per pass, so services agree on time. Not owned by the loop.
+/// per pass, so services agree on time; a frame comes with its receive time.
+/// Both from one ServiceClock: a service never sees the time go back. Not
+/// owned by the loop.
 class BusService {
  public:
   virtual void on_frame(const CanFrame& frame, uint32_t now_us, const CanSink& sink) = 0;
@@ -67,6 +70,7 @@ class BusLoop {
   linux_port::SocketCanPort port_;
   BusService* services_[kMaxServices] = {};
   int count_ = 0;
+  ServiceClock clock_;
   bool interrupted_ = false;
 };
 

@@ -34,6 +34,15 @@ std::vector<cli::Option> sdo_mode_options() {
           cli::flag("--segmented", "segmented even when 4 bytes would go expedited")};
 }
 
+std::vector<cli::Option> upload_options() {
+  std::vector<cli::Option> o = sdo_mode_options();
+  o.push_back(cli::uint_range("--max-bytes", "N", 1, 0xFFFFFFFFu,
+                              "the most bytes taken: a larger size is refused at once, a\n"
+                              "transfer without one stopped there (05040005h sent; default " +
+                                  std::to_string(kUploadMaxBytesDefault) + ")"));
+  return o;
+}
+
 cli::Program make_program() {
   const Options defaults;
   cli::Program p;
@@ -47,7 +56,7 @@ cli::Program make_program() {
       command("read", "SDO upload, shown as TYPE (or as --eds says)", "NODE INDEX SUB [TYPE]", 4),
       command("write", "SDO download of VALUE (written as read prints it)", "NODE INDEX SUB [TYPE] VALUE", 5),
       command("upload", "an object into a file, with progress (several nodes: FILE.<node>)",
-              "NODE INDEX SUB FILE", 4, sdo_mode_options()),
+              "NODE INDEX SUB FILE", 4, upload_options()),
       command("download", "a file into an object, with progress", "NODE INDEX SUB FILE", 4,
               sdo_mode_options()),
       command("nmt", "an NMT command to one node or all", "start|stop|preop|reset|reset-comm NODE|all", 2),
@@ -78,7 +87,8 @@ cli::Program make_program() {
       cli::text("--interface", "IFACE", "SocketCAN interface (default " + defaults.iface + ")")
           .with_short('i'),
       cli::uint_range("--timeout", "MS", 1, 600000,
-                      "SDO timeout: how long a node may take to answer one frame\n(default " +
+                      "SDO timeout: how long a node may take to answer one frame,\n"
+                      "and a transfer to make progress (default " +
                           std::to_string(defaults.timeout_ms) + ")")
           .with_short('t'),
       cli::uint_range("--watchdog", "MS", 0, 65535,
@@ -101,9 +111,10 @@ cli::Program make_program() {
              "\n"
              "--watchdog is the SDO commands' heartbeat watchdog (it was --heartbeat); watch --heartbeat\n"
              "is watch's own consumer time.\n"
-             "exit status: 0 done, 1 a node refused (SDO abort, wrong identity), 2 usage error (or a bad\n"
-             "file or value), 3 CAN interface (--via-modbus: the port or the gateway), 4 no answer (SDO\n"
-             "timeout, a node lost, nobody answered), 130 interrupted\n";
+             "exit status: 0 done, 1 SDO abort (the node's, or ours: a broken protocol, a size bound),\n"
+             "wrong identity, 2 usage error (or a bad file or value), 3 CAN interface (--via-modbus: the\n"
+             "port or the gateway), 4 no answer (SDO timeout, also no progress; a node lost, nobody\n"
+             "answered), 130 interrupted\n";
   return p;
 }
 

@@ -17,6 +17,12 @@
 namespace mb2co {
 namespace master {
 
+/// upload --max-bytes: the most bytes an upload takes unless told (16 MiB:
+/// ten times the largest object an mb2co node serves, room for a device's
+/// firmware image). A value for `read` and the other commands takes at
+/// most kValueMaxBytes (transfer_network.h).
+static const uint32_t kUploadMaxBytesDefault = 16u * 1024u * 1024u;
+
 /// One invocation: the global options as values, the command's own options
 /// and operands as the parser left them (already checked against the table).
 struct Options {

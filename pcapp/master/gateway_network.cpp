@@ -187,9 +187,26 @@ GatewayNetwork::Step GatewayNetwork::upload(Transfer* t) {
     const Step s = ask(t, request, n, &r);
     if (s != Step::kDone) return s;
     const modbus::NetMessage& m = r.message;
-    t->data.insert(t->data.end(), m.data, m.data + m.data_length);
+    // The bounds of our own client (sdo_client.h): a size above max_bytes,
+    // or bytes beyond it, end the transfer with 05040005h. The gateway's
+    // client is not told (FC 2Bh has no abort); it ends the remote
+    // transfer by its own timeout.
+    if (m.object_size > t->max_bytes || m.data_length > t->max_bytes - start) {
+      finish(t, canopen::kAbortOutOfMemory, false);
+      return Step::kFailed;
+    }
+    if (t->write) {
+      const canopen::SdoAbort code = t->write(m.data, m.data_length);
+      if (code != canopen::kSdoOk) {
+        finish(t, code, false);
+        return Step::kFailed;
+      }
+    } else {
+      t->data.insert(t->data.end(), m.data, m.data + m.data_length);
+    }
     start += m.data_length;
     moved_ = start;
+    t->bytes = start;
     size_ = m.object_size;
     // The last window has "more follows" clear and reaches the object's
     // size; either one not yet means another window.
@@ -229,6 +246,7 @@ GatewayNetwork::Step GatewayNetwork::download(Transfer* t) {
     if (s != Step::kDone) return s;
     start += count;
     moved_ = static_cast<uint32_t>(start);
+    t->bytes = moved_;
   } while (start < total);
   finish(t, canopen::kSdoOk, false);
   return Step::kDone;
@@ -260,7 +278,8 @@ bool GatewayNetwork::run(ProgressHook* progress) {
     queues_[id].pop_front();
     running_ = t;
     moved_ = size_ = 0;
-    t->started_us = now_us() | 1u;
+    t->started = true;
+    t->started_us = now_us();
     const Step s = t->upload ? upload(t) : download(t);
     running_ = nullptr;
     if (s == Step::kInterrupted && !t->finished) {

@@ -34,6 +34,7 @@ void SdoNetwork::progress(uint8_t node, uint32_t* moved, uint32_t* size) const {
 
 canopen::SdoAbort SdoNetwork::collect(void* ctx, uint32_t offset, const uint8_t* data, uint16_t n) {
   auto* t = static_cast<Transfer*>(ctx);
+  if (t->write) return t->write(data, n);                       // offsets come in order, from 0
   if (offset != t->data.size()) return canopen::kAbortGeneral;  // never: offsets come in order
   t->data.insert(t->data.end(), data, data + n);
   return canopen::kSdoOk;
@@ -50,15 +51,16 @@ void SdoNetwork::start_next(uint8_t id, uint32_t now_us, const CanSink& sink) {
   Node& n = nodes_[id];
   while (!n.queue.empty() && !n.client.busy()) {
     Transfer* t = n.queue.front();
-    if (t->started_us != 0 || t->finished) return;  // running (or being finished)
+    if (t->started || t->finished) return;  // running (or being finished)
     if (t->not_before_us != 0 && !time_reached(now_us, t->not_before_us)) return;  // a poll's pause
-    t->started_us = now_us | 1u;                                                   // 0 means "not started"
+    t->started = true;
+    t->started_us = now_us;
     bool started;
     if (t->upload) {
       t->data.clear();
       started =
           n.client.start_upload(t->index, t->sub, t->mode, canopen::SdoData{&SdoNetwork::collect, nullptr, t},
-                                0xFFFFFFFFu, now_us, sink);
+                                t->max_bytes, now_us, sink);
     } else {
       started = n.client.start_download(t->index, t->sub, t->mode,
                                         canopen::SdoData{nullptr, &SdoNetwork::supply, t},
@@ -75,6 +77,7 @@ void SdoNetwork::finish_front(uint8_t id, uint32_t now_us, const CanSink& sink) 
   n.queue.pop_front();
   t->finished = true;
   t->ended_us = now_us;
+  t->bytes = n.client.transferred();
   if (n.client.status() == canopen::SdoClient::kDone) {
     t->result = canopen::kSdoOk;
   } else {
@@ -108,7 +111,7 @@ void SdoNetwork::end_queue(uint8_t id, size_t from, canopen::SdoAbort code, bool
 
 void SdoNetwork::drop_queued(uint8_t node, canopen::SdoAbort code) {
   const Node& n = nodes_[node];
-  const bool running = !n.queue.empty() && n.queue.front()->started_us != 0;  // it ends on its own
+  const bool running = !n.queue.empty() && n.queue.front()->started;  // it ends on its own
   end_queue(node, running ? 1 : 0, code, false, false);
 }
 
@@ -166,7 +169,7 @@ void SdoNetwork::next_deadline(NextDeadline& d) const {
     const Transfer* front = n.queue.front();
     if (n.client.busy())
       n.client.next_deadline(d);
-    else if (front->not_before_us != 0 && front->started_us == 0)
+    else if (front->not_before_us != 0 && !front->started)
       d.at(front->not_before_us);  // a poll's pause
     else
       d.now();  // a queued transfer waits to start

@@ -11,7 +11,9 @@
 #include "commands.h"
 #include "eds_value.h"
 #include "exit_codes.h"
+#include "part_file.h"
 #include "transfer_run.h"
+#include "transfer_summary.h"
 #include "value_text.h"
 
 namespace mb2co {
@@ -86,6 +88,14 @@ std::string hex_word(uint32_t v, int digits) {
   return b;
 }
 
+/// The result line of an upload/download: text or JSON.
+void file_result(std::ostream& out, const Transfer& t, const std::string& path, bool json) {
+  if (json)
+    out << transfer_json(t, path) << "\n";
+  else
+    out << transfer_summary(t) << (t.upload ? " -> " + path : std::string()) << "\n";
+}
+
 }  // namespace
 
 int read_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
@@ -151,33 +161,6 @@ int write_command(const Options& o, Transport& transport, std::ostream& out, std
   return code;
 }
 
-namespace {
-
-/// "131072 bytes from node 3 1F50h/1 in 1.234 s (106.2 KiB/s, block with CRC)"
-std::string summary(const Transfer& t, bool upload) {
-  const double s = static_cast<double>(t.ended_us - t.started_us) / 1e6;
-  char line[200];
-  std::snprintf(line, sizeof line, "%s %zu bytes %s node %u %04Xh/%u in %.3f s (%.1f KiB/s, %s)",
-                upload ? "uploaded" : "downloaded", t.data.size(), upload ? "from" : "to", t.node, t.index,
-                t.sub, s, s > 0 ? static_cast<double>(t.data.size()) / 1024.0 / s : 0.0,
-                t.mode == canopen::kSdoBlock ? (t.crc ? "block with CRC" : "block") : "expedited/segmented");
-  return line;
-}
-
-/// The result line of an upload/download: text or JSON.
-void file_result(std::ostream& out, const Transfer& t, const std::string& path, bool upload, bool json) {
-  if (!json) {
-    out << summary(t, upload) << (upload ? " -> " + path : std::string()) << "\n";
-    return;
-  }
-  out << "{\"node\":" << unsigned(t.node) << ",\"file\":\"" << path << "\",\"bytes\":" << t.data.size()
-      << ",\"seconds\":" << (t.ended_us - t.started_us) / 1e6
-      << ",\"block\":" << (t.mode == canopen::kSdoBlock ? "true" : "false")
-      << ",\"crc\":" << (t.crc ? "true" : "false") << "}\n";
-}
-
-}  // namespace
-
 int upload_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
   const std::vector<std::string>& w = o.args.operands;  // at most 4 (the table)
   canopen::SdoMode mode = canopen::kSdoAuto;
@@ -186,26 +169,40 @@ int upload_command(const Options& o, Transport& transport, std::ostream& out, st
   if (s) s = parse_target(w, &target);
   if (!s || w.size() != 4)
     return fail(err, kExitUsage, "upload: " + (s ? "want NODE INDEX SUB FILE" : s.message()));
+  const uint32_t max_bytes = static_cast<uint32_t>(o.args.uint("--max-bytes", kUploadMaxBytesDefault));
   if (const int code = open_transport(o, transport, err)) return code;
   std::vector<std::unique_ptr<Transfer>> ts = transfers_for(target, true, mode);
-  const int code = run_all(o, transport, ts, err);
+  // One file per node when several. The bytes go to PATH.part as they come
+  // (the memory stays flat however long the object) and it becomes PATH
+  // only when the transfer completed: a file is never half-written.
+  std::vector<std::unique_ptr<PartFile>> files;
   for (auto& t : ts) {
-    if (!t->ok()) continue;
-    // One file per node when several; written whole under a temporary name
-    // and renamed, so a file is never half-written.
-    const std::string path = target.nodes.size() > 1 ? w[3] + "." + std::to_string(t->node) : w[3];
-    const std::string tmp = path + ".part";
-    {
-      std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-      f.write(reinterpret_cast<const char*>(t->data.data()), static_cast<std::streamsize>(t->data.size()));
-      if (!f.good()) {
-        std::remove(tmp.c_str());
-        return fail(err, kExitUsage, "upload: cannot write " + tmp);
-      }
+    files.emplace_back(new PartFile(target.nodes.size() > 1 ? w[3] + "." + std::to_string(t->node) : w[3]));
+    PartFile* file = files.back().get();
+    const Status opened = file->open();
+    if (!opened) return fail(err, kExitUsage, "upload: " + opened.message());
+    t->max_bytes = max_bytes;
+    // A file that cannot take the bytes ends the transfer: 08000020h (data
+    // cannot be stored) to the node, the file's error to the user.
+    t->write = [file](const uint8_t* bytes, size_t n) {
+      return file->write(bytes, n) ? canopen::kSdoOk : canopen::kAbortStore;
+    };
+  }
+  int code = run_all(o, transport, ts, err);
+  for (size_t i = 0; i < ts.size(); ++i) {
+    const Transfer& t = *ts[i];
+    PartFile& file = *files[i];
+    if (!file.error().empty()) {
+      fail(err, kExitUsage, "upload: " + file.error());
+      code = kExitUsage;
     }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0)
-      return fail(err, kExitUsage, "upload: cannot write " + path);
-    file_result(out, *t, path, true, o.json);
+    if (!t.ok()) {
+      file.discard();
+      continue;
+    }
+    const Status committed = file.commit();
+    if (!committed) return fail(err, kExitUsage, "upload: " + committed.message());
+    file_result(out, t, file.path(), o.json);
   }
   return code;
 }
@@ -226,7 +223,7 @@ int download_command(const Options& o, Transport& transport, std::ostream& out, 
   const int code = run_all(o, transport, ts, err);
   for (auto& t : ts) {
     if (!t->ok()) continue;
-    file_result(out, *t, w[3], false, o.json);
+    file_result(out, *t, w[3], o.json);
   }
   return code;
 }

@@ -19,7 +19,12 @@ std::string Transfer::failure() const {
                                 : "SDO abort sent";
   std::snprintf(line, sizeof line, "node %u %04Xh/%u: %s %08Xh (%s)", node, index, sub, why,
                 static_cast<unsigned>(result), abort_text(result));
-  return line;
+  std::string text = line;
+  // Our own size bound: say which, or "out of memory" reads as a crash.
+  if (upload && result == canopen::kAbortOutOfMemory && !by_server && !node_lost)
+    text +=
+        ": the object is longer than " + std::to_string(max_bytes) + " bytes, the most this command takes";
+  return text;
 }
 
 }  // namespace master

@@ -5,6 +5,7 @@
 #pragma once
 #include <stdint.h>
 
+#include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
@@ -16,6 +17,11 @@
 namespace mb2co {
 namespace master {
 
+/// The most bytes an upload takes unless told otherwise (Transfer::
+/// max_bytes): a value for a terminal, a DCF or a poll, 64 KiB. `upload`
+/// raises it with --max-bytes; its data go to a file as they come.
+static const uint32_t kValueMaxBytes = 65536;
+
 /// One SDO transfer and, once done(), how it ended. Owned by the caller;
 /// must stay put (not move) while queued or running.
 struct Transfer {
@@ -24,7 +30,14 @@ struct Transfer {
   uint8_t sub = 0;
   bool upload = true;
   canopen::SdoMode mode = canopen::kSdoAuto;
-  std::vector<uint8_t> data;  ///< download: the bytes to write; upload: what came
+  std::vector<uint8_t> data;  ///< download: the bytes to write; upload: what came (unless `write`)
+  /// Upload: the most bytes taken. A larger size indicated by the node is
+  /// refused at once, a transfer without one is stopped at the first byte
+  /// beyond: 05040005h (out of memory) sent, either way.
+  uint32_t max_bytes = kValueMaxBytes;
+  /// Upload: where the bytes go as they come (a file), in order, instead of
+  /// into `data`. A code other than kSdoOk ends the transfer with it (sent).
+  std::function<canopen::SdoAbort(const uint8_t* bytes, size_t n)> write;
   /// Called when it ended (may queue more transfers for the same node).
   std::function<void(Transfer&)> on_done;
   /// 0: starts when its turn comes. Else not before this time of the
@@ -43,9 +56,16 @@ struct Transfer {
   /// gateway did not answer at all (or not usably).
   std::string gateway_error;
   bool link_down = false;
+  bool started = false;
+  /// When it started and ended, on one clock that never goes back (a bus
+  /// loop's ServiceClock, or the monotonic clock through a gateway).
   uint32_t started_us = 0;
   uint32_t ended_us = 0;
+  /// Bytes moved once finished: uploaded, or downloaded and acknowledged.
+  uint32_t bytes = 0;
   bool ok() const { return finished && result == canopen::kSdoOk; }
+  /// From start to end (wrapping µs: right up to ~71 min).
+  uint32_t elapsed_us() const { return ended_us - started_us; }
   /// "node 3 1018h/1: SDO abort 06020000h (object does not exist ...)" or "".
   std::string failure() const;
 };

@@ -55,6 +55,8 @@ class BlockSender {
   SdoAbort pump(uint16_t cob_id, const CanSink& sink);
   /// True while segments of the current sub-block are still to be sent.
   bool pending() const { return sent_ < blksize_ && last_seq_ == 0; }
+  /// Segments of the current sub-block sent so far.
+  uint8_t sent() const { return sent_; }
   /// The receiver's ack of the sub-block: `ackseq` segments arrived in
   /// sequence (the next sub-block starts after them), next sub-blocks hold
   /// `blksize` segments. 05040003h / 05040002h when either is out of range.
@@ -112,6 +114,14 @@ class BlockReceiver {
   SdoAbort finish(uint8_t unused);
   /// Bytes stored into `data` so far (all of them after finish()).
   uint32_t received() const { return stored_; }
+  /// True when the bytes known to be data are more than `limit`: those
+  /// stored and the held segment's 7 unless it is the last one (a segment
+  /// with c = 0 is full, CiA 301). A sender going beyond a limit shows at
+  /// the segment that does, not one segment later when it is stored.
+  bool beyond(uint32_t limit) const {
+    if (stored_ > limit) return true;
+    return held_valid_ && !last_ && kBlockSegmentBytes > limit - stored_;
+  }
   /// CRC of the bytes stored so far.
   uint16_t crc() const { return crc_; }
 

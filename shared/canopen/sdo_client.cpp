@@ -46,6 +46,7 @@ void SdoClient::begin(uint16_t index, uint8_t sub, uint32_t now_us) {
   toggle_ = 0;
 #ifdef MB2CO_SDO_BLOCK
   crc_ = false;
+  repeats_ = 0;
 #endif
   server_abort_ = false;
   result_ = kSdoOk;
@@ -168,7 +169,9 @@ void SdoClient::process(uint32_t now_us, const CanSink& sink) {
   if (state_ == kStBlockDownloadSub && sender_.pending()) {
     const SdoAbort code = sender_.pump(request_id_, sink);
     if (code != kSdoOk) return abort(code, sink);
-    if (!sender_.pending()) deadline_us_ = now_us + timeout_us_;
+    // The answer may take the timeout from the sub-block's last segment on;
+    // a sub-block sent again keeps the deadline of the last progress.
+    if (!sender_.pending() && repeats_ == 0) deadline_us_ = now_us + timeout_us_;
     return;
   }
 #endif
@@ -187,11 +190,17 @@ void SdoClient::on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink
   if (f.id != response_id_ || f.rtr() || f.extended() || f.dlc != 8 || !busy()) return;
   // 80h is the abort frame in every state (no block segment has seqno 0).
   if (f.data[0] == 0x80) return finish(static_cast<SdoAbort>(le32(&f.data[4])), true);
-  deadline_us_ = now_us + timeout_us_;
+  const uint32_t pos_before = pos_;
+  const State state_before = state_;
   const SdoAbort code = on_response(f, sink);
-  if (code != kSdoOk) abort(code, sink);
+  if (code != kSdoOk) return abort(code, sink);
+  // Only progress restarts the timeout: bytes moved or a step of the
+  // protocol. A frame that moves nothing (an empty segment, a block segment
+  // out of sequence, an ack of nothing) leaves it running, so a server that
+  // answers forever without progress ends like a silent one (05040000h).
   // While a sub-block goes out the timeout waits for its ack: it starts
   // once the last segment is sent (process()).
+  if (pos_ != pos_before || state_ != state_before) deadline_us_ = now_us + timeout_us_;
 }
 
 bool SdoClient::mux_matches(const CanFrame& f) const {
@@ -324,6 +333,16 @@ SdoAbort SdoClient::on_upload_segment(const CanFrame& f, const CanSink& sink) {
 // ---- block transfer -----------------------------------------------------------
 #ifdef MB2CO_SDO_BLOCK
 
+SdoAbort SdoClient::count_repeat(bool repeat) {
+  if (!repeat) {
+    repeats_ = 0;
+    return kSdoOk;
+  }
+  // Sequence numbers that never get through: 05040003h (invalid sequence
+  // number) rather than waiting for the timeout with the bus flooded.
+  return ++repeats_ > kBlockRepeatsMax ? kAbortSequence : kSdoOk;
+}
+
 SdoAbort SdoClient::on_block_download(const CanFrame& f, const CanSink& sink) {
   const uint8_t cmd = f.data[0];
   if ((cmd & 0xE0) != 0xA0) return kAbortCommand;
@@ -339,10 +358,14 @@ SdoAbort SdoClient::on_block_download(const CanFrame& f, const CanSink& sink) {
     return sender_.pump(request_id_, sink);
   }
   if (state_ == kStBlockDownloadSub && ss == 2 && !sender_.pending()) {
+    const bool repeat = f.data[1] < sender_.sent();
     const SdoAbort code = sender_.on_ack(f.data[1], f.data[2]);
     if (code != kSdoOk) return code;
     pos_ = sender_.acked();
-    if (!sender_.finished()) return sender_.pump(request_id_, sink);
+    if (!sender_.finished()) {
+      const SdoAbort bound = count_repeat(repeat);
+      return bound != kSdoOk ? bound : sender_.pump(request_id_, sink);
+    }
     uint8_t d[8] = {static_cast<uint8_t>(0xC1 | (sender_.unused() << 2)), 0, 0, 0, 0, 0, 0, 0};
     if (crc_) put_le16(&d[1], sender_.crc());
     send(sink, d);
@@ -370,7 +393,8 @@ SdoAbort SdoClient::on_block_upload(const CanFrame& f, const CanSink& sink) {
     size_ = size_known_ ? le32(&f.data[4]) : 0;
     if (size_known_ && size_ > capacity_) return kAbortOutOfMemory;
     // The tighter limit decides the code: more than announced is the
-    // server's error (06070012h), more than we hold is ours (05040005h).
+    // server's error (06070012h), more than we hold is ours (05040005h);
+    // an announced size above the capacity was refused above.
     if (size_known_) {
       receiver_.start(data_, size_, kAbortTooLong, block_size_);
     } else {
@@ -383,10 +407,15 @@ SdoAbort SdoClient::on_block_upload(const CanFrame& f, const CanSink& sink) {
   }
   if (state_ == kStBlockUploadSub) {
     bool ack = false;
-    const SdoAbort code = receiver_.on_segment(f, &ack);
+    SdoAbort code = receiver_.on_segment(f, &ack);
     if (code != kSdoOk) return code;
     pos_ = receiver_.received();
+    // A full segment (c = 0) beyond the limit ends the transfer at once.
+    if (size_known_ && receiver_.beyond(size_)) return kAbortTooLong;
+    if (receiver_.beyond(capacity_)) return kAbortOutOfMemory;
     if (!ack) return kSdoOk;
+    code = count_repeat(!receiver_.complete() && receiver_.ackseq() < block_size_);
+    if (code != kSdoOk) return code;
     const uint8_t d[8] = {0xA2, receiver_.ackseq(), block_size_, 0, 0, 0, 0, 0};
     send(sink, d);
     receiver_.next_sub_block(block_size_);

@@ -7,6 +7,20 @@
 // aborts with 05040000h, and the abort code of every failure, sent by us or
 // received from the server, as the result.
 //
+// Every transfer ends, whatever the server does: the timeout runs from the
+// last progress (bytes moved or a step of the protocol), not from the last
+// frame, so a server that keeps answering without moving on (empty
+// segments, sub-blocks that never arrive in sequence) is timed out like a
+// silent one; at most kBlockRepeatsMax sub-blocks in a row are sent or taken
+// again (then 05040003h); more bytes than the server indicated end the
+// transfer at the frame that shows them (06070012h), more than the caller's
+// capacity likewise (05040005h), and an indicated size above the capacity is
+// refused at the initiate. The codes are CANopenNode's (CO_SDOclient.c:
+// 06070012h beyond the indicated size, 05040005h beyond its buffer); the
+// timer from the last progress and the repeat bound are ours (CANopenNode
+// restarts its timer on every frame and repeats sub-blocks without limit;
+// CiA 301 leaves both open).
+//
 // One client per server node (the seed 002 "Node" object); several run at
 // once, each with its own COB-IDs: nothing is global. No heap: the caller
 // hands in the data, as a buffer or as an SdoData stream (a 1 MiB object to
@@ -85,6 +99,7 @@ struct SdoClientState {
 #ifdef MB2CO_SDO_BLOCK
   uint8_t block_size_;  ///< 0: kBlockSizeMax
   uint8_t pst_;
+  uint8_t repeats_;  ///< sub-blocks in a row that had to be sent again (in part or whole)
   bool crc_;
 #endif
   uint8_t toggle_;  ///< 0x00 or 0x10
@@ -115,9 +130,15 @@ class SdoClient : private SdoClientState {
   }
   uint16_t request_id() const { return request_id_; }
   uint16_t response_id() const { return response_id_; }
-  /// The server's answer must come within `us` of our last frame.
+  /// The server's answer must come within `us` of our last frame, and the
+  /// transfer must make progress within `us` of its last progress.
   void set_timeout_us(uint32_t us) { timeout_us_ = us; }
 #ifdef MB2CO_SDO_BLOCK
+  /// Sub-blocks in a row that may be repeated (the receiver took less than
+  /// was sent); one more ends the transfer with 05040003h. A lost frame
+  /// costs one repeat; a peer that never takes a sub-block whole would
+  /// otherwise flood the bus until the timeout.
+  static const uint8_t kBlockRepeatsMax = 8;
   /// Block size we offer as receiver of a block upload (1..127; others: 127).
   void set_block_size(uint8_t blksize) {
     block_size_ = blksize;
@@ -130,8 +151,10 @@ class SdoClient : private SdoClientState {
 #endif
 
   /// Reads (index, sub) into `buf`, at most `capacity` bytes (more: the
-  /// transfer ends with 05040005h, out of memory, sent to the server). `buf`
-  /// must outlive the transfer. False when busy (nothing is sent).
+  /// transfer ends with 05040005h, out of memory, sent to the server at the
+  /// initiate when the server indicates a larger size, else at the frame
+  /// that brings more). `buf` must outlive the transfer. False when busy
+  /// (nothing is sent).
   bool start_upload(uint16_t index, uint8_t sub, SdoMode mode, uint8_t* buf, uint32_t capacity,
                     uint32_t now_us, const CanSink& sink);
   /// Reads (index, sub) through `out` (its write() may refuse with a code),
@@ -214,6 +237,9 @@ class SdoClient : private SdoClientState {
 #ifdef MB2CO_SDO_BLOCK
   SdoAbort on_block_download(const CanFrame& f, const CanSink& sink);
   SdoAbort on_block_upload(const CanFrame& f, const CanSink& sink);
+  /// Counts a sub-block that must be repeated (`repeat`) or resets the
+  /// count; 05040003h once there were more than kBlockRepeatsMax in a row.
+  SdoAbort count_repeat(bool repeat);
 #endif
   bool mux_matches(const CanFrame& f) const;
 

@@ -193,6 +193,37 @@ TEST(GatewayNetwork, LongUploadComesInWindowsAtGrowingStartingAddresses) {
   EXPECT_EQ(gw.seen[2].m.start, 2 * modbus::net::kMaxSdoData);
 }
 
+TEST(GatewayNetwork, AnUploadTakesAtMostMaxBytesAndStreamsThroughWrite) {
+  ScriptedGateway gw;
+  const std::vector<uint8_t> name = pattern(600);
+  gw.od[ScriptedGateway::key(4, 0x1008, 0)] = name;
+  GatewayNetwork net(gw, kSlave, 3000);
+  // 600 bytes of at most 500: refused at the first window, which names the
+  // size, as our own client refuses an indicated size (05040005h).
+  auto t = upload(4, 0x1008, 0);
+  t->max_bytes = 500;
+  net.queue(t.get());
+  ASSERT_TRUE(net.run(nullptr));
+  EXPECT_EQ(t->result, canopen::kAbortOutOfMemory);
+  EXPECT_FALSE(t->by_server);
+  EXPECT_EQ(gw.seen.size(), 1u);
+  EXPECT_NE(t->failure().find("longer than 500 bytes"), std::string::npos) << t->failure();
+  // Within the bound, every window goes to `write` as it comes, none to data.
+  std::vector<uint8_t> written;
+  auto u = upload(4, 0x1008, 0);
+  u->max_bytes = 600;
+  u->write = [&written](const uint8_t* bytes, size_t n) {
+    written.insert(written.end(), bytes, bytes + n);
+    return canopen::kSdoOk;
+  };
+  net.queue(u.get());
+  ASSERT_TRUE(net.run(nullptr));
+  EXPECT_TRUE(u->ok()) << u->failure();
+  EXPECT_EQ(written, name);
+  EXPECT_TRUE(u->data.empty());
+  EXPECT_EQ(u->bytes, 600u);
+}
+
 TEST(GatewayNetwork, LongDownloadGoesInPartsWithMoreFollowsOnAllButTheLast) {
   ScriptedGateway gw;
   GatewayNetwork net(gw, kSlave, 3000);

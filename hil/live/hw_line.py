@@ -86,7 +86,8 @@ class HardwareLine(Run):
         n, k = self.n, self.a.stop2_at
         every = list(range(1, n + 1))
         self.tails = {i: LogTail(os.path.join(self.tmp, f"plant{i}.jsonl")) for i in every}
-        self.start_plants(self.a.ports, lambda i: PLANT_OPTIONS + ["--log", self.tails[i].path])
+        options = [] if self.a.plant_defaults else PLANT_OPTIONS
+        self.start_plants(self.a.ports, lambda i: options + ["--log", self.tails[i].path])
         self.say(f"{n} mb2co-plant linked to {', '.join(self.a.ports)} (station 1 first), panels read")
 
         marks = {i: len(self.plants[i].events) for i in every}

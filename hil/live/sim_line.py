@@ -141,6 +141,22 @@ class SimulatedLine(Run):
                 return ms
         return None
 
+    def start_station_plants(self):
+        """A plant on each station's pty (PLANT_OPTIONS, or with
+        --plant-defaults none); returns the options in words."""
+        options = [] if self.a.plant_defaults else PLANT_OPTIONS
+        self.start_plants([self.nodes[i].ready["link"] for i in range(1, self.n + 1)], lambda i: options)
+        return " ".join(options) or "default options"
+
+    def wait_stop2_logged(self, k, nxt, plant_marks):
+        """After STOP2 at station k: its PC and the next station's log why
+        they stopped (local_stop2, prev_stop2), after their `plant_marks`."""
+        self.wait(lambda: self.plants[k].seen_since(plant_marks[k], r"^state stopped cause=local_stop2$"),
+                  f"plant {k}: 'state stopped cause=local_stop2' after STOP2 at station {k}")
+        if nxt:
+            self.wait(lambda: self.plants[nxt].seen_since(plant_marks[nxt], r"^state stopped cause=prev_stop2$"),
+                      f"plant {nxt}: 'state stopped cause=prev_stop2' after STOP2 at station {k}")
+
     # --- the scenario -----------------------------------------------------
 
     def run(self):
@@ -148,8 +164,7 @@ class SimulatedLine(Run):
         every = list(range(1, n + 1))
         self.start_nodes()
         self.say(f"{n} mb2co-node on {self.a.can} ({self.a.topology}), ptys in {self.tmp}")
-        options = [] if self.a.plant_defaults else PLANT_OPTIONS
-        self.start_plants([self.nodes[i].ready["link"] for i in every], lambda i: options)
+        self.start_station_plants()
         self.say(f"{n} mb2co-plant linked, panels read")
 
         # 1. START everywhere: each PC sees it and writes RUN command 1.
@@ -169,11 +184,7 @@ class SimulatedLine(Run):
         marks = {i: len(self.nodes[i].events) for i in every}
         plant_marks = {i: len(self.plants[i].events) for i in every}
         stop2_at = self.click([k], "STOP2", r"^buttons STOP2$")[k]
-        self.wait(lambda: self.plants[k].seen_since(plant_marks[k], r"^state stopped cause=local_stop2$"),
-                  f"plant {k}: 'state stopped cause=local_stop2' after STOP2 at station {k}")
-        if nxt:
-            self.wait(lambda: self.plants[nxt].seen_since(plant_marks[nxt], r"^state stopped cause=prev_stop2$"),
-                      f"plant {nxt}: 'state stopped cause=prev_stop2' after STOP2 at station {k}")
+        self.wait_stop2_logged(k, nxt, plant_marks)
         running = set(every) - stopped
         self.wait_line(running, f"after STOP2 at station {k}, stations {sorted(stopped)} stopped, "
                        f"{sorted(running)} run on, LEDs show it", causes)

@@ -12,7 +12,7 @@ import re
 import signal
 import subprocess
 
-from line_base import PLANT_OPTIONS
+from line_base import RUNNING_STATES
 from line_views import NodeView, expected_leds, neighbours
 from live_procs import Failure
 from sim_line import SimulatedLine
@@ -157,12 +157,11 @@ class UnoLine(SimulatedLine):
         every = list(range(1, n + 1))
         self.start_nodes()
         self.say(f"{n} mb2co-uno powered on on {self.a.can} ({self.a.topology}), each on its saved id")
-        options = [] if self.a.plant_defaults else PLANT_OPTIONS
-        self.start_plants([self.nodes[i].ready["link"] for i in every], lambda i: options)
-        self.say(f"{n} mb2co-plant ({' '.join(options) or 'default options'}) linked, panels read")
+        options = self.start_station_plants()
+        self.say(f"{n} mb2co-plant ({options}) linked, panels read")
 
         # 1. START everywhere.
-        self.click(every, "START", r"^state (moving|approach|filling)$")
+        self.click(every, "START", RUNNING_STATES)
         self.wait_line(set(every), "after START everywhere, every board's RUN LEDs self/prev/next on")
         self.say("[ok] START at every station: all run, every RUN LED as the guide says")
 
@@ -172,11 +171,7 @@ class UnoLine(SimulatedLine):
         marks = {i: len(self.nodes[i].events) for i in every}
         plant_marks = {i: len(self.plants[i].events) for i in every}
         self.click([k], "STOP2", r"^buttons STOP2$")
-        self.wait(lambda: self.plants[k].seen_since(plant_marks[k], r"^state stopped cause=local_stop2$"),
-                  f"plant {k}: 'state stopped cause=local_stop2' after STOP2 at station {k}")
-        if nxt:
-            self.wait(lambda: self.plants[nxt].seen_since(plant_marks[nxt], r"^state stopped cause=prev_stop2$"),
-                      f"plant {nxt}: 'state stopped cause=prev_stop2' after STOP2 at station {k}")
+        self.wait_stop2_logged(k, nxt, plant_marks)
         running = set(every) - stopped
         self.wait_line(running, f"after STOP2 at station {k}, {sorted(stopped)} stopped, {sorted(running)} run on")
         self.never_stopped(sorted(running), marks, plant_marks, f"STOP2 at station {k}")
@@ -185,7 +180,7 @@ class UnoLine(SimulatedLine):
                  f"{', '.join(map(str, sorted(running))) or 'no other'} run on")
 
         # 3. START at the stopped ones.
-        self.click(sorted(stopped), "START", r"^state (moving|approach|filling)$")
+        self.click(sorted(stopped), "START", RUNNING_STATES)
         self.wait_line(set(every), f"after START at {sorted(stopped)}, every station runs again")
         self.say(f"[ok] START at {', '.join(map(str, sorted(stopped)))}: every station runs again")
 
@@ -218,7 +213,7 @@ class UnoLine(SimulatedLine):
         if self.ran_since(p, 0):
             raise Failure(f"station {p} ran by itself after its power came back")
         self.never_stopped(others, marks, plant_marks, f"station {p}'s power cycle")
-        self.click([p], "START", r"^state (moving|approach|filling)$")
+        self.click([p], "START", RUNNING_STATES)
         self.wait_line(set(every), f"after START at station {p}, every station runs again")
         self.say(f"[ok] power off and on at station {p}: its PC went safe and reconnected, the board "
                  f"stayed stopped until START; the others ran on")

@@ -74,13 +74,7 @@ bool parse_candump(const std::string& line, LoggedFrame* f) {
 
 /// Modbus reads of one node until every (register, value) pair holds.
 bool wait_inputs(ModbusMaster& m, const std::vector<std::pair<int, int>>& want) {
-  const auto deadline = std::chrono::steady_clock::now() + kUmlDeadline;
-  while (std::chrono::steady_clock::now() < deadline) {
-    bool all = true;
-    for (const auto& w : want) all = all && m.input_register(w.first) == w.second;
-    if (all) return true;
-  }
-  return false;
+  return m.wait_inputs(want, kUmlDeadline);
 }
 
 /// The node's own time of the first state event after `after_us` whose

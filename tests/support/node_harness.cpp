@@ -140,6 +140,16 @@ bool ModbusMaster::wait_input(int address, int value, std::chrono::milliseconds 
   return false;
 }
 
+bool ModbusMaster::wait_inputs(const std::vector<std::pair<int, int>>& want, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  do {
+    bool all = true;
+    for (const auto& w : want) all = all && input_register(w.first) == w.second;
+    if (all) return true;
+  } while (std::chrono::steady_clock::now() < deadline);
+  return false;
+}
+
 Bytes ModbusMaster::raw_transaction(const Bytes& pdu) {
   Bytes req{1};
   req.insert(req.end(), pdu.begin(), pdu.end());

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "line_child.h"
@@ -102,6 +103,8 @@ class ModbusMaster {
   int holding_register(int address);
   /// Polls input register `address` until it equals `value`; false on timeout.
   bool wait_input(int address, int value, std::chrono::milliseconds timeout);
+  /// Polls until every (input register, value) pair holds at once; false on timeout.
+  bool wait_inputs(const std::vector<std::pair<int, int>>& want, std::chrono::milliseconds timeout);
   /// Polls HR 11-12 (1010h/1) until they read 0 1: the save answered at once
   /// has been written (docs/register-map.md); false on timeout. What a save
   /// keeps is each entry as the save reached it: a test that changes an

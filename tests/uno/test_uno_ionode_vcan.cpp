@@ -181,6 +181,36 @@ TEST(IoNodeUno, AnIdSetBySdoAndSavedIsTheBootUpIdOfTheNextStart) {
   EXPECT_EQ(m.read(kFreshId, 0x2001, 1), Master::kNoAnswer) << "nobody answers as 20h";
 }
 
+// Issue 22 item 1 on the I/O node image: the id written and saved at once,
+// without the reset communication between (the COB-IDs in RAM are still node
+// 20h's when they are saved): after the power cycle every COB-ID of the
+// pre-defined set is node 3's.
+TEST(IoNodeUno, AnIdSavedBeforeAnyResetBringsItsOwnCobIds) {
+  Master m;
+  ASSERT_TRUE(m.ok());
+  TempDir dir;
+  const std::string eeprom = dir.path("board.eeprom");
+  {
+    UnoProcess board;
+    ASSERT_TRUE(start_board(board, eeprom)) << board.error();
+    ASSERT_EQ(board.node_id(), kFreshId);
+    ASSERT_EQ(m.write(kFreshId, 0x2001, 1, 3, 1), 0u);
+    ASSERT_EQ(m.write(kFreshId, 0x1010, 1, kSave, 4), 0u);
+    const auto deadline = std::chrono::steady_clock::now() + kDeadline;
+    while (m.read(kFreshId, 0x1010, 1) != 1u)
+      ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "save never ended";
+    EXPECT_EQ(board.stop(), 0);
+  }
+  m.drain();
+  UnoProcess board;
+  ASSERT_TRUE(start_board(board, eeprom)) << board.error();
+  EXPECT_EQ(board.node_id(), 3);
+  EXPECT_EQ(m.read(3, 0x1800, 1), 0x183u) << "TPDO1";
+  EXPECT_EQ(m.read(3, 0x1400, 1), 0x203u) << "RPDO1";
+  EXPECT_EQ(m.read(3, 0x1014, 0), 0x83u) << "EMCY";
+  EXPECT_EQ(m.read(3, 0x1801, 1), 0x80000283u) << "TPDO2, not valid";
+}
+
 TEST(IoNodeUno, AsJoystickLightsBsLedAndAsSyncDrivesBsTpdo) {
   Master m;
   ASSERT_TRUE(m.ok());

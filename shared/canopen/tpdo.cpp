@@ -56,14 +56,18 @@ bool Tpdos::send(uint8_t n, uint32_t cob, const uint8_t* data, uint8_t len, cons
     // 32-bit product: an AVR's int is 16 bits (a 100 ms timer wrapped to 34.5 ms there).
     s.inhibit_until_us = now_us + static_cast<uint32_t>(inhibit) * 100u;
   }
+  start_event_timer(n, now_us);
+  return true;
+}
+
+void Tpdos::start_event_timer(uint8_t n, uint32_t now_us) {
+  State& s = st_[n];
   const uint16_t event_ms = static_cast<uint16_t>(comm(n, kEvent));
+  s.flags = static_cast<uint8_t>(s.flags & ~(kEventTimer | kEventWritten));
   if (event_ms != 0) {
     s.flags |= kEventTimer;
     s.event_deadline_us = now_us + static_cast<uint32_t>(event_ms) * 1000u;
-  } else {
-    s.flags = static_cast<uint8_t>(s.flags & ~kEventTimer);
   }
-  return true;
 }
 
 void Tpdos::build_and_send(uint8_t n, uint32_t cob, const CanSink& sink, uint32_t now_us) {
@@ -97,6 +101,9 @@ void Tpdos::process(uint32_t now_us, const CanSink& sink) {
       if (!(s.flags & kPending) || (s.flags & kInhibiting)) continue;
     }
     s.flags = static_cast<uint8_t>(s.flags & ~kEventType);
+    // A written event time counts from its write (the write changed the
+    // OD, so this full look follows it at once).
+    if (s.flags & kEventWritten) start_event_timer(n, now_us);
     uint32_t cob = 0;
     if (!valid(n, &cob)) continue;
     const uint8_t type = static_cast<uint8_t>(comm(n, kType));
@@ -221,7 +228,8 @@ SdoAbort Tpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data, bool 
       }
       if (sub == 6 && data[0] > 240) return kAbortInvalidValue;
       return kSdoOk;
-    case 5:  // event timer: takes effect from the next transmission
+    case 5:  // event timer: restarted with the new time (process(), the time of the write)
+      if (apply) st_[n].flags |= kEventWritten;
       return kSdoOk;
     default:
       return kAbortNoSubindex;

@@ -64,13 +64,16 @@ class Tpdos {
   enum : uint8_t {
     kPending = 0x01,  ///< send when inhibit time allows
     kInhibiting = 0x02,
-    kEventTimer = 0x04,   ///< event timer armed
-    kSyncStarted = 0x08,  ///< SYNC start value reached (1–240); 252: a sample is held
-    kSent = 0x10,         ///< `last` holds a transmitted payload
-    kEventType = 0x20,    ///< valid with type 254/255 at the last full look (process)
+    kEventTimer = 0x04,    ///< event timer armed
+    kSyncStarted = 0x08,   ///< SYNC start value reached (1–240); 252: a sample is held
+    kSent = 0x10,          ///< `last` holds a transmitted payload
+    kEventType = 0x20,     ///< valid with type 254/255 at the last full look (process)
+    kEventWritten = 0x40,  ///< 1800h/5 written: the timer restarts at the next process()
   };
   bool valid(uint8_t n, uint32_t* cob) const;
   bool send(uint8_t n, uint32_t cob, const uint8_t* data, uint8_t len, const CanSink& sink, uint32_t now_us);
+  /// Event timer of PDO n from `now_us` with its 1800h/5 (0: off).
+  void start_event_timer(uint8_t n, uint32_t now_us);
   /// Builds PDO n's payload from the OD and sends it (one copy for SYNC and
   /// RTR).
   void build_and_send(uint8_t n, uint32_t cob, const CanSink& sink, uint32_t now_us);

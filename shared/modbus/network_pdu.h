@@ -97,6 +97,14 @@ inline bool is_net_pdu(const uint8_t* pdu, uint16_t pdu_length) {
   return pdu_length >= 2u && pdu[0] == fc::kEncapsulatedInterface && pdu[1] == kMeiCanopenReference;
 }
 
+/// True when a 2Bh/0Dh request asks for the NMT service (protocol control
+/// bits 6-7 = 1), whatever the rest: the one service of the function a
+/// slave executes when it is broadcast (a write; SDO and the network view
+/// return data, so a broadcast of them is ignored, as FC 17h's).
+inline bool is_net_nmt_pdu(const uint8_t* pdu, uint16_t pdu_length) {
+  return is_net_pdu(pdu, pdu_length) && pdu_length >= 3u && (pdu[2] >> net::kServiceShift) == 1u;
+}
+
 // ---- Slave side ---------------------------------------------------------
 
 /// Parses a request PDU (FC first, `pdu_length` bytes). False: malformed,

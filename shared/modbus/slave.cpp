@@ -4,6 +4,9 @@
 #include "modbus/slave.h"
 
 #include "modbus/crc16.h"
+#if MB2CO_GATEWAY_NET
+#include "modbus/network_pdu.h"
+#endif
 
 namespace mb2co {
 namespace modbus {
@@ -14,8 +17,15 @@ bool valid_address(uint8_t address) {
 }
 
 // Only these are executed when broadcast (serial line spec §2.1: broadcast
-// requests are writes). FC 17 returns data, so it is not among them.
-bool broadcast_allowed(uint8_t function) {
+// requests are writes). FC 17 returns data, so it is not among them; of
+// FC 2Bh/0Dh only its NMT command is a write (docs/gateway-network.md).
+bool broadcast_allowed(const uint8_t* pdu, uint16_t pdu_length) {
+  const uint8_t function = pdu[0];
+#if MB2CO_GATEWAY_NET
+  if (is_net_nmt_pdu(pdu, pdu_length)) return true;
+#else
+  (void)pdu_length;
+#endif
   return function == fc::kWriteSingleCoil || function == fc::kWriteSingleRegister ||
          function == fc::kWriteMultipleCoils || function == fc::kWriteMultipleRegisters;
 }
@@ -95,7 +105,7 @@ void SlaveCore::handle_request(uint16_t pdu_length, bool broadcast) {
     return;
   }
   const uint8_t function = pdu()[0];
-  if (broadcast && !broadcast_allowed(function)) {
+  if (broadcast && !broadcast_allowed(pdu(), pdu_length)) {
     ++counters_.no_responses;
     return;
   }

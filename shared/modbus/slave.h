@@ -11,8 +11,9 @@
 // Responses go out through the ByteSink from inside process() (or on_byte(),
 // when process() was late and a new frame starts after t3.5).
 //
-// Rules. Broadcast (address 0): only 05 06 0F 10 are executed, nothing is
-// ever answered; other broadcast requests are ignored (counted unanswered).
+// Rules. Broadcast (address 0): only 05 06 0F 10 are executed (and, where
+// FC 2Bh/0Dh is built in, its NMT command), nothing is ever answered; other
+// broadcast requests are ignored (counted unanswered).
 // Listen-only mode (08/04): frames are counted, only 08/01 to our address is
 // acted upon (it ends the mode, clears the counters and is not answered).
 // Exceptions, checked in this order (application protocol state diagrams):

@@ -239,12 +239,40 @@ TEST_F(Tpdo, EventTimerResendsWithoutChange) {
   EXPECT_EQ(h.take(), Frames({}));
   h.run_us(200);
   EXPECT_EQ(h.take(), Frames({"<183> 09 00"}));
-  // 0 switches it off (from the next transmission on).
+  // 0 switches it off, at once (the write restarts the timer: below).
   ASSERT_EQ(h.write_u16(0x1800, 5, 0), 0u);
-  h.run_us(100000);
-  EXPECT_EQ(h.take(), Frames({"<183> 09 00"}));
-  h.run_us(500000, 1000);
+  h.run_us(600000, 1000);
   EXPECT_EQ(h.take(), Frames({}));
+}
+
+// Issue 22 item 7: a new event time counts from its write, not from the
+// next transmission. Written while the old, long timer runs, the next TPDO
+// comes the new time after the write (before: when the old 1 s had run out,
+// and only the one after it at the new period).
+TEST_F(Tpdo, WritingTheEventTimerRestartsIt) {
+  ASSERT_EQ(h.write_u16(0x1800, 5, 1000), 0u);  // ms
+  h.nmt(0x01, kId);
+  EXPECT_EQ(h.take(), Frames({"<183> 00 00"}));
+  h.run_us(300000, 1000);  // 300 ms into the 1 s
+  EXPECT_EQ(h.take(), Frames({}));
+  ASSERT_EQ(h.write_u16(0x1800, 5, 50), 0u);
+  const uint32_t written = h.now;
+  std::vector<uint32_t> at_us;
+  for (int i = 0; i < 1600; ++i) {  // 160 ms in 100 us steps
+    h.advance_us(100);
+    if (!h.take().empty()) at_us.push_back(h.now - written);
+  }
+  EXPECT_EQ(at_us, std::vector<uint32_t>({50000, 100000, 150000}));
+  // Longer again: the running 50 ms give way to the new 200 ms at once.
+  h.run_us(20000, 1000);  // 30 ms into a 50 ms interval
+  ASSERT_EQ(h.write_u16(0x1800, 5, 200), 0u);
+  const uint32_t rewritten = h.now;
+  at_us.clear();
+  for (int i = 0; i < 4500; ++i) {  // 450 ms
+    h.advance_us(100);
+    if (!h.take().empty()) at_us.push_back(h.now - rewritten);
+  }
+  EXPECT_EQ(at_us, std::vector<uint32_t>({200000, 400000}));
 }
 
 TEST_F(Tpdo, RtrIsAnsweredUnlessBit30IsSet) {

@@ -189,6 +189,37 @@ TEST_F(NetworkService, NmtToOneNodeAndToAll) {
   EXPECT_EQ(frames_with_id(0x000), nmt_frames);
 }
 
+// Issue 22 item 7: sent to address 0, the NMT service is executed like
+// any broadcast write and never answered; the SDO services and the view
+// return data, so a broadcast of them is ignored (no transfer on the bus).
+TEST_F(NetworkService, BroadcastNmtIsExecutedUnansweredAndSdoIsIgnored) {
+  const uint16_t unanswered = line.gw(0).modbus_slave().counters().no_responses;
+  send_only(req, modbus::build_net_nmt(req, sizeof req, modbus::kBroadcastAddress, 2, canopen::kNmtStop));
+  line.run_ms(20);
+  EXPECT_EQ(line.gw(1).node().nmt_state(), canopen::kNmtStopped) << "executed";
+  EXPECT_EQ(line.gw(0).node().nmt_state(), canopen::kNmtOperational) << "only node 2";
+  EXPECT_TRUE(line.station(0).serial_out.empty()) << "never answered";
+  send_only(req, modbus::build_net_nmt(req, sizeof req, modbus::kBroadcastAddress, 0, canopen::kNmtStart));
+  line.run_ms(20);
+  EXPECT_EQ(line.gw(1).node().nmt_state(), canopen::kNmtOperational) << "all nodes";
+  EXPECT_TRUE(line.station(0).serial_out.empty());
+
+  const size_t requests = frames_with_id(0x602);
+  send_only(req, modbus::build_net_upload(req, sizeof req, modbus::kBroadcastAddress, 2, 0x1018, 1, 0, 0));
+  line.run_ms(20);
+  const uint8_t value[2] = {0xE8, 0x03};
+  send_only(req, modbus::build_net_download(req, sizeof req, modbus::kBroadcastAddress, 2, 0x1017, 0, 2, 0,
+                                            value, 2, false));
+  line.run_ms(20);
+  send_only(req, modbus::build_net_view(req, sizeof req, modbus::kBroadcastAddress, 0));
+  line.run_ms(20);
+  EXPECT_EQ(frames_with_id(0x602), requests) << "no SDO transfer started";
+  EXPECT_TRUE(line.station(0).serial_out.empty());
+  EXPECT_EQ(line.gw(0).modbus_slave().counters().no_responses, unanswered + 5u) << "all five unanswered";
+  // The master's next request to the gateway is served as usual.
+  EXPECT_EQ(upload_u32(2, 0x1017, 0), 100u) << "the broadcast download wrote nothing";
+}
+
 TEST_F(NetworkService, NetworkViewListsTheGatewayAndWhatItHears) {
   ASSERT_EQ(ask(modbus::build_net_nmt(req, sizeof req, kAddress, 2, canopen::kNmtStop)), ParseStatus::kOk);
   line.run_ms(150);  // a heartbeat in the new state

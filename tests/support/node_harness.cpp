@@ -140,7 +140,8 @@ bool ModbusMaster::wait_input(int address, int value, std::chrono::milliseconds 
   return false;
 }
 
-bool ModbusMaster::wait_inputs(const std::vector<std::pair<int, int>>& want, std::chrono::milliseconds timeout) {
+bool ModbusMaster::wait_inputs(const std::vector<std::pair<int, int>>& want,
+                               std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   do {
     bool all = true;

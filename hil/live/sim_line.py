@@ -148,6 +148,16 @@ class SimulatedLine(Run):
         self.start_plants([self.nodes[i].ready["link"] for i in range(1, self.n + 1)], lambda i: options)
         return " ".join(options) or "default options"
 
+    def quit_stations(self):
+        """`quit` to every station's program (mb2co-node, mb2co-uno): each exits 0."""
+        for view in self.nodes.values():
+            view.proc.exit_expected = True
+            view.proc.send("quit\n")
+        for i, view in self.nodes.items():
+            code = self.pump.wait_exit(view.proc, self.a.timeout)
+            if code != 0:
+                raise Failure(f"station {i}: {view.proc.name} exit {code} after quit, want 0")
+
     def wait_stop2_logged(self, k, nxt, plant_marks):
         """After STOP2 at station k: its PC and the next station's log why
         they stopped (local_stop2, prev_stop2), after their `plant_marks`."""
@@ -205,13 +215,7 @@ class SimulatedLine(Run):
         self.stop_plants()
         self.wait(lambda: all(v.state["run"] == 0 for v in self.nodes.values()),
                   "after SIGTERM of every plant, every node shows run=0")
-        for i, view in self.nodes.items():
-            view.proc.exit_expected = True
-            view.proc.send("quit\n")
-        for i, view in self.nodes.items():
-            code = self.pump.wait_exit(view.proc, self.a.timeout)
-            if code != 0:
-                raise Failure(f"node {i}: exit code {code} after quit, want 0")
+        self.quit_stations()
         self.say("[ok] SIGTERM to every plant: RUN=0 written, exit 0; every node shows run=0; nodes quit")
 
         self.report_stop2(k, nxt, stop2_at, changes)

@@ -221,11 +221,5 @@ class UnoLine(SimulatedLine):
         # 5. The PCs leave: RUN=0 written, every RUN-self LED goes off.
         self.stop_plants()
         self.wait_line(set(), "after SIGTERM of every plant, every board's RUN LEDs off")
-        for i, view in self.nodes.items():
-            view.proc.exit_expected = True
-            view.proc.send("quit\n")
-        for i, view in self.nodes.items():
-            code = self.pump.wait_exit(view.proc, self.a.timeout)
-            if code != 0:
-                raise Failure(f"station {i}: mb2co-uno exit {code} after quit, want 0")
+        self.quit_stations()
         self.say("[ok] SIGTERM to every plant: RUN=0 written, exit 0; every RUN LED off; boards off")

@@ -72,9 +72,9 @@ void Node::reset(NmtReset kind, uint32_t now_us) {
   // power-on id is in force (CiA 301: a pending id takes effect at reset
   // communication; a reset node restores what was saved). The communication
   // area once more for that id, so that every node-id-relative entry is its
-  // own and the one boot-up leaves on it. At most once: a reset communication
-  // leaves the application's area, and so its id, as it is.
-  if (next_node_id_ != node_id_) return reset(kResetCommunication, now_us);
+  // own and the one boot-up leaves on it. Only after a reset node, so at
+  // most once (a bounded stack on the AVR, whatever the callback does).
+  if (kind == kResetNode && next_node_id_ != node_id_) return reset(kResetCommunication, now_us);
   od_.find_rows(kIndices, kRows, row_);
   row_1010_ = od_.find(0x1010, 1);
   // 1010h sub 1 reads the storage capability: 1 = saves on command.

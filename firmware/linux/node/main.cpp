@@ -56,10 +56,11 @@ constexpr uint32_t kLongestWaitUs = 1000000;
 // Frames handed in per loop pass at most. A pass runs the due timers
 // (heartbeat, TPDO timers, SDO timeouts) before its frames, so a timer
 // waits at most for one pass's frames, each of which may cost a send (an
-// SDO answer): 16 take 0.3-1.6 ms under user-mode Linux, where a system
-// call costs 16-100 us, and microseconds on a real host. The rest wait in
-// the socket for the next pass, which polls without sleeping.
-constexpr size_t kMaxFramesPerPass = 16;
+// SDO answer): a system call costs 16-100 us under user-mode Linux on an
+// idle host and far more on a busy one (16 frames a pass let a heartbeat
+// come 18 ms late there, node.sdo_flood), microseconds on a real host. The
+// rest wait in the socket for the next pass, which polls without sleeping.
+constexpr size_t kMaxFramesPerPass = 4;
 
 timespec as_timespec(uint32_t us) {
   return timespec{static_cast<time_t>(us / 1000000u), static_cast<long>(us % 1000000u) * 1000L};

@@ -141,9 +141,12 @@ bool ModbusMaster::wait_input(int address, int value, std::chrono::milliseconds 
 }
 
 bool ModbusMaster::wait_inputs(const std::vector<std::pair<int, int>>& want,
-                               std::chrono::milliseconds timeout) {
+                               std::chrono::milliseconds timeout, const std::vector<ModbusMaster*>& also) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   do {
+    for (ModbusMaster* other : also) {
+      if (other != this) other->input_register(0);
+    }
     bool all = true;
     for (const auto& w : want) all = all && input_register(w.first) == w.second;
     if (all) return true;

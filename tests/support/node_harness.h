@@ -103,8 +103,12 @@ class ModbusMaster {
   int holding_register(int address);
   /// Polls input register `address` until it equals `value`; false on timeout.
   bool wait_input(int address, int value, std::chrono::milliseconds timeout);
-  /// Polls until every (input register, value) pair holds at once; false on timeout.
-  bool wait_inputs(const std::vector<std::pair<int, int>>& want, std::chrono::milliseconds timeout);
+  /// Polls until every (input register, value) pair holds at once; false on
+  /// timeout. Each round also reads input register 0 of every master in
+  /// `also`: a station no PC asks for 2000h/9 (2 s) latches a stop (its Modbus
+  /// watchdog), so a test that plays the PCs of a line keeps them all asking.
+  bool wait_inputs(const std::vector<std::pair<int, int>>& want, std::chrono::milliseconds timeout,
+                   const std::vector<ModbusMaster*>& also = {});
   /// Polls HR 11-12 (1010h/1) until they read 0 1: the save answered at once
   /// has been written (docs/register-map.md); false on timeout. What a save
   /// keeps is each entry as the save reached it: a test that changes an

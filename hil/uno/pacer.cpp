@@ -13,6 +13,8 @@ uint64_t Pacer::allowed_sim_us(uint64_t sim_us, uint64_t wall_us) {
   const uint64_t due_us = wall_us - offset_us_;  // where the simulation should stand
   if (due_us > sim_us + kLeadUs) behind_in_window_ = true;
   if (due_us > sim_us + kBehindUs) {  // go on from here
+    ++jumps_;
+    dropped_us_ += due_us - sim_us;
     moved_at_wall_us_ = wall_us;
     offset_before_us_ = offset_us_;
     offset_us_ = wall_us - sim_us;

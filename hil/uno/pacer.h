@@ -15,7 +15,16 @@ namespace uno {
 
 class Pacer {
  public:
-  static constexpr uint64_t kLeadUs = 1000;
+  /// How far the simulation may run ahead, which is also how long one pass
+  /// of the loop lasts: a sleep and a wake-up per kLeadUs. 2 ms, not 1: a
+  /// wake-up costs ~80 us of CPU under user-mode Linux (the vcan tests and
+  /// hil/live run there, all boards on its one CPU), and three boards with
+  /// 1000 of them a second plus simavr's own ~18 % each took that CPU over
+  /// its limit (hold-ups, late Modbus answers). What it costs: a byte or
+  /// frame from outside reaches the image up to kLeadUs late, one the image
+  /// sends leaves up to kLeadUs early (on average the two cancel: the Modbus
+  /// master's mean exchange time was the same with 1 and 2 ms).
+  static constexpr uint64_t kLeadUs = 2000;
   static constexpr uint64_t kBehindUs = 20000;
   /// Speed is judged over windows of this much wall time.
   static constexpr uint64_t kWindowUs = 1000000;
@@ -37,6 +46,11 @@ class Pacer {
   /// it came, after where the simulation stood, not all at once.
   uint64_t sim_of(uint64_t wall_us) const;
 
+  /// Times the mapping moved (the simulation was held up more than
+  /// kBehindUs) and the simulated time it did not catch up in all.
+  uint64_t jumps() const { return jumps_; }
+  uint64_t dropped_us() const { return dropped_us_; }
+
   /// Once, the first time a whole window ran slower than 95 % of real time
   /// while the simulation was behind: a one-line report; otherwise "".
   std::string slow_report(uint64_t sim_us, uint64_t wall_us);
@@ -50,6 +64,8 @@ class Pacer {
   uint64_t window_sim_us_;
   bool behind_in_window_ = false;
   bool reported_ = false;
+  uint64_t jumps_ = 0;
+  uint64_t dropped_us_ = 0;
 };
 
 }  // namespace uno

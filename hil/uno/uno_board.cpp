@@ -23,6 +23,10 @@ constexpr uint16_t kSpdr = 0x4E;
 constexpr uint8_t kSpcrSpe = 0x40, kSpcrMstr = 0x10, kSpsrSpi2x = 0x01;
 constexpr uint16_t kEecr = 0x3F;
 constexpr uint8_t kEecrEepe = 0x02, kEecrEempe = 0x04;
+// USART0 (datasheet, 20.11): every register that sets its character time.
+constexpr uint16_t kUcsr0a = 0xC0, kUcsr0b = 0xC1, kUcsr0c = 0xC2, kUbrr0l = 0xC4, kUbrr0h = 0xC5;
+constexpr uint8_t kUcsr0aU2x = 0x02, kUcsr0bUcsz2 = 0x04;
+constexpr uint8_t kUcsr0cUpm1 = 0x20, kUcsr0cUsbs = 0x08, kUcsr0cUcszShift = 1;
 
 /// Port letter and bit of an Arduino Uno pin (variants/standard).
 struct PortBit {
@@ -61,6 +65,15 @@ bool is_avr_elf(const std::string& path) {
                 "ELF",
                 4) == 0 &&
          h[4] == 1 && h[5] == 1 && h[18] == 83 && h[19] == 0;
+}
+
+avr_uart_t* find_uart0(avr_t* avr) {
+  for (avr_io_t* io = avr->io_port; io != nullptr; io = io->next) {
+    if (io->kind != nullptr && strcmp(io->kind, "uart") == 0 &&
+        reinterpret_cast<avr_uart_t*>(io)->name == '0')
+      return reinterpret_cast<avr_uart_t*>(io);
+  }
+  return nullptr;
 }
 
 avr_spi_t* find_spi(avr_t* avr) {
@@ -128,6 +141,19 @@ Status UnoBoard::load(const std::string& elf_path, Wiring wiring) {
                           this);
   avr_irq_register_notify(avr_io_getirq(avr_, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUT_XOFF), &on_uart_xoff,
                           this);
+
+  // USART0's character time from every register that sets it (header
+  // comment): simavr's handlers run first, ours recomputes after them.
+  uart_ = find_uart0(avr_);
+  if (uart_ == nullptr) return Status::failure("simavr's atmega328p has no USART0");
+  static const uint16_t kUartTimingRegs[kUartTimingRegCount] = {kUcsr0a, kUcsr0b, kUcsr0c, kUbrr0l, kUbrr0h};
+  for (int i = 0; i < kUartTimingRegCount; ++i) {
+    auto& slot = avr_->io[AVR_DATA_TO_IO(kUartTimingRegs[i])];
+    uart_reg_[i] = UartReg{this, slot.w.c, slot.w.param};
+    slot.w.c = &on_uart_timing_write;
+    slot.w.param = &uart_reg_[i];
+  }
+  set_uart_timing();
 
   // SPI: our SPDR write handler (header comment), CS on D10.
   // (The ATmega328P's SPI unit has no name in simavr 1.6: no GETIRQ('0').)
@@ -254,6 +280,33 @@ void UnoBoard::feed_uart() {
     uart_queue_.clear();
     uart_queue_head_ = 0;
   }
+}
+
+void UnoBoard::on_uart_timing_write(avr_t* avr, uint16_t addr, uint8_t value, void* param) {
+  const UartReg* reg = static_cast<const UartReg*>(param);
+  if (reg->write != nullptr) {
+    reg->write(avr, addr, value, reg->param);
+  } else {
+    avr_core_watch_write(avr, addr, value);  // what simavr does for a register without a handler
+  }
+  reg->board->set_uart_timing();
+}
+
+void UnoBoard::set_uart_timing() {
+  const uint8_t* d = avr_->data;
+  const uint32_t ubrr = static_cast<uint32_t>(d[kUbrr0l] | ((d[kUbrr0h] & 0x0Fu) << 8));
+  // Datasheet, table 20-1: a bit is 16 (U2X0: 8) clocks of the rate UBRR0 + 1 divides.
+  const uint32_t cycles_per_bit = (ubrr + 1u) * ((d[kUcsr0a] & kUcsr0aU2x) ? 8u : 16u);
+  static const uint8_t kDataBits[8] = {5, 6, 7, 8, 8, 8, 8, 9};  // UCSZ0[2:0]; reserved codes as 8
+  const uint8_t ucsz =
+      static_cast<uint8_t>(((d[kUcsr0c] >> kUcsr0cUcszShift) & 3u) | ((d[kUcsr0b] & kUcsr0bUcsz2) ? 4u : 0u));
+  const uint32_t bits = 1u /* start */ + kDataBits[ucsz] + ((d[kUcsr0c] & kUcsr0cUpm1) ? 1u : 0u) +
+                        ((d[kUcsr0c] & kUcsr0cUsbs) ? 2u : 1u);
+  uart_->cycles_per_byte = cycles_per_bit * bits;
+}
+
+uint64_t UnoBoard::uart_cycles_per_char() const {
+  return uart_ != nullptr ? uart_->cycles_per_byte : 0;
 }
 
 void UnoBoard::on_uart_out(avr_irq_t*, uint32_t value, void* param) {

@@ -20,6 +20,17 @@
 // kEepromByteUs later, so a save takes the board's time and the firmware
 // sees the same busy bit (canopen::ParamSave polls it, avr::eeprom_storage).
 //
+// USART0 timing: simavr 1.6 works out the character time only when UBRR0L
+// is written, from the U2X0 bit as it stands then, and always counts a
+// parity bit (11 bits for 8N1). The image (firmware/avr/port/uart.cpp)
+// writes UBRR0 first and sets U2X0 after it, as the datasheet allows (the
+// rate follows U2X0 at once on the chip): simavr then ran the UART at half
+// the speed, 187 us a character instead of 85 us at 115200 8N1 (117.6 kbaud
+// from UBRR0 16 with U2X0), and every Modbus answer took twice its wire time.
+// The board wraps simavr's write handlers of UCSR0A..C and UBRR0L/H (io[]
+// table, as for SPDR) and sets the character time after every write from
+// all of them: UBRR0, U2X0, data bits, parity (UPM01), stop bits.
+//
 // Pins driven from outside: simavr 1.6 drives every input pin whose PORT bit
 // is set (the image's pull-up) back high at every write of that PORT or DDR
 // register, and writes are frequent: D10 (PB2, the MCP2515's chip select) at
@@ -44,6 +55,7 @@
 struct avr_t;
 struct avr_irq_t;
 struct avr_spi_t;
+struct avr_uart_t;
 
 namespace mb2co {
 namespace uno {
@@ -98,6 +110,9 @@ class UnoBoard {
   /// Queues bytes for USART0's receiver; simavr spaces them at the UART's
   /// character time as they are taken. Bytes wait while its FIFO is full.
   void uart_receive(const uint8_t* data, size_t length);
+  /// USART0's character time in CPU cycles (start, data, parity, stop
+  /// bits at the rate UBRR0 and U2X0 set), as the board keeps it.
+  uint64_t uart_cycles_per_char() const;
   /// Bytes queued but not yet taken by the UART.
   size_t uart_backlog() const { return uart_queue_.size() - uart_queue_head_; }
 
@@ -136,6 +151,9 @@ class UnoBoard {
   static void on_uart_xon(avr_irq_t* irq, uint32_t value, void* param);
   static void on_uart_xoff(avr_irq_t* irq, uint32_t value, void* param);
   static void on_pin(avr_irq_t* irq, uint32_t value, void* param);
+  static void on_uart_timing_write(avr_t* avr, uint16_t addr, uint8_t value, void* param);
+  /// Sets simavr's USART0 character time from UCSR0A..C and UBRR0.
+  void set_uart_timing();
   static void on_spdr_write(avr_t* avr, uint16_t addr, uint8_t value, void* param);
   static uint64_t on_spi_done(avr_t* avr, uint64_t when, void* param);
   static uint64_t on_timer(avr_t* avr, uint64_t when, void* param);
@@ -147,6 +165,15 @@ class UnoBoard {
   avr_spi_t* spi_ = nullptr;
   avr_irq_t* spi_input_ = nullptr;
   avr_irq_t* uart_input_ = nullptr;
+  avr_uart_t* uart_ = nullptr;
+  /// simavr's write handler of one USART0 timing register, which ours wraps.
+  struct UartReg {
+    UnoBoard* board;
+    void (*write)(avr_t*, uint16_t, uint8_t, void*);
+    void* param;
+  };
+  static constexpr int kUartTimingRegCount = 5;
+  UartReg uart_reg_[kUartTimingRegCount] = {};
   bool uart_xoff_ = false;
   std::string uart_queue_;
   size_t uart_queue_head_ = 0;

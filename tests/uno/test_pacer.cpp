@@ -8,18 +8,48 @@ namespace mb2co {
 namespace uno {
 namespace {
 
-TEST(Pacer, NeverLetsTheSimulationRunMoreThan1msAhead) {
+TEST(Pacer, NeverLetsTheSimulationRunMoreThanItsLeadAhead) {
+  static_assert(Pacer::kLeadUs == 2000, "the lead this test and docs/uno-sim.md state");
   Pacer p(true, 5000000, 0);
   EXPECT_EQ(p.allowed_sim_us(0, 5000000), Pacer::kLeadUs);
-  EXPECT_EQ(p.allowed_sim_us(1000, 5000400), 1400u);
-  EXPECT_EQ(p.wait_us(1400, 5000400), 1000u) << "wait until the wall reaches the simulation";
-  EXPECT_EQ(p.wall_of(1400), 5001400u);
+  EXPECT_EQ(p.allowed_sim_us(1000, 5000400), 2400u);
+  EXPECT_EQ(p.wait_us(2400, 5000400), 2000u) << "wait until the wall reaches the simulation";
+  EXPECT_EQ(p.wall_of(2400), 5002400u);
+}
+
+// mb2co-uno reads the clock once a pass (after the run) and, after a wait
+// that timed out, takes the reading plus the timeout as the wall time: never
+// later than the true one, so the lead holds, and the next reading catches
+// up whatever the wake-up was late by.
+TEST(Pacer, AWallTimeThatIsLateOnlyHoldsTheSimulationBack) {
+  Pacer p(true, 0, 0);
+  uint64_t sim = 0, read_us = 0;
+  for (int pass = 0; pass < 1000; ++pass) {
+    const uint64_t true_wall = read_us + p.wait_us(sim, read_us) + 300;  // woken 300 us late
+    const uint64_t known = read_us + p.wait_us(sim, read_us);
+    sim = p.allowed_sim_us(sim, known);
+    ASSERT_LE(sim, true_wall + Pacer::kLeadUs) << "pass " << pass;
+    read_us = true_wall + 200;  // the run took 200 us
+  }
+  EXPECT_GE(sim + Pacer::kLeadUs, read_us) << "kept pace: no more behind than one lead";
+  EXPECT_EQ(p.jumps(), 0u);
+}
+
+TEST(Pacer, CountsHoldUpsAndTheSimulatedTimeTheyDropped) {
+  Pacer p(true, 0, 0);
+  p.allowed_sim_us(10000, 25000);  // 15 ms behind: caught up, nothing dropped
+  EXPECT_EQ(p.jumps(), 0u);
+  EXPECT_EQ(p.dropped_us(), 0u);
+  p.allowed_sim_us(10000, 60000);   // 50 ms behind: gone on from here
+  p.allowed_sim_us(20000, 100000);  // 30 ms behind under the new mapping
+  EXPECT_EQ(p.jumps(), 2u);
+  EXPECT_EQ(p.dropped_us(), 50000u + 30000u);
 }
 
 TEST(Pacer, FallingFarBehindMovesTheMappingInsteadOfABurst) {
   Pacer p(true, 0, 0);
-  EXPECT_EQ(p.allowed_sim_us(10000, 15000), 16000u) << "5 ms behind: catch up";
-  EXPECT_EQ(p.allowed_sim_us(10000, 60000), 11000u) << "50 ms behind: go on from here";
+  EXPECT_EQ(p.allowed_sim_us(10000, 15000), 15000u + Pacer::kLeadUs) << "5 ms behind: catch up";
+  EXPECT_EQ(p.allowed_sim_us(10000, 60000), 10000u + Pacer::kLeadUs) << "50 ms behind: go on from here";
   EXPECT_EQ(p.wall_of(10000), 60000u);
 }
 

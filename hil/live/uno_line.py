@@ -204,8 +204,11 @@ class UnoLine(SimulatedLine):
                       f"station {i}: RUN-{side} LED blinking (station {p} unknown) after its power went off")
         plant_up = len(self.plants[p].events)
         view = self.power_on(p)
-        self.wait(lambda: self.plants[p].seen_since(plant_up, r"^link up "),
-                  f"plant {p}: 'link up' again after station {p}'s power came back")
+        # Its first read of the panel after "link up" is the baseline: a press
+        # before it is no edge for the plant (a clean-clone CI run pressed
+        # START 35 ms too early and the station never started).
+        self.wait(lambda: self.empty_panel_after_link_up(p, plant_up),
+                  f"plant {p}: 'link up' again and the panel read after station {p}'s power came back")
         self.wait_line(set(others), f"after station {p}'s power came back: it stands still, the others run")
         # It has been heard (its neighbours show it alive and stopped) and its
         # PC has polled it since: had it run by itself, its RUN-self LED would

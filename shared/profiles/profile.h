@@ -18,7 +18,8 @@
 #if !defined(MB2CO_PROFILE_NAME) || !defined(MB2CO_CONFIG_NETWORK) || !defined(MB2CO_CONFIG_GUARDING) || \
     !defined(MB2CO_CONFIG_DIAGNOSTICS) || !defined(MB2CO_CONFIG_TYPE_DESCRIPTIONS) ||                    \
     !defined(MB2CO_CONFIG_RESTORE_DEFAULTS) || !defined(MB2CO_CONFIG_SDO_BLOCK) ||                       \
-    !defined(MB2CO_CONFIG_TPDO_RTR) || !defined(MB2CO_CONFIG_WIDE_TYPES)
+    !defined(MB2CO_CONFIG_TPDO_RTR) || !defined(MB2CO_CONFIG_WIDE_TYPES) ||                              \
+    !defined(MB2CO_CONFIG_MODBUS_TCP)
 #error \
     "mb2co_profile.h: every MB2CO_CONFIG_* switch must be defined (shared/profiles/station/mb2co_profile.h lists them)"
 #endif
@@ -26,6 +27,11 @@
 // Rows of an OD list that belong to a service: MB2CO_WITH_<SERVICE>(rows...)
 // keeps them where the profile has the service and drops them elsewhere, so
 // an object an image leaves out is absent from its OD, its EDS and its docs.
+#if MB2CO_CONFIG_MODBUS_TCP && !MB2CO_CONFIG_NETWORK
+#error \
+    "mb2co_profile.h: Modbus/TCP routes FC 2Bh/0Dh's deferred answers: MB2CO_CONFIG_MODBUS_TCP needs MB2CO_CONFIG_NETWORK"
+#endif
+
 #if MB2CO_CONFIG_GUARDING
 #define MB2CO_WITH_GUARDING(...) __VA_ARGS__
 #else
@@ -75,6 +81,10 @@ constexpr bool kTpdoRtr = MB2CO_CONFIG_TPDO_RTR != 0;
 /// The OD's wide extras: 64-bit limits, data types 0008h-001Bh, Modbus map
 /// items wider than 32 bits, the gateway's example entries of 2500h.
 constexpr bool kWideTypes = MB2CO_CONFIG_WIDE_TYPES != 0;
+/// Requests from other framers than the RTU one (Modbus/TCP's MBAP) into
+/// the one slave core, their deferred FC 2Bh/0Dh answers on their own
+/// channel (mb2co-node --tcp).
+constexpr bool kModbusTcp = MB2CO_CONFIG_MODBUS_TCP != 0;
 
 }  // namespace profile
 }  // namespace mb2co

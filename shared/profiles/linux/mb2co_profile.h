@@ -13,3 +13,4 @@
 #define MB2CO_CONFIG_SDO_BLOCK 1          // SDO block transfer, domains
 #define MB2CO_CONFIG_TPDO_RTR 1           // TPDOs answer remote requests
 #define MB2CO_CONFIG_WIDE_TYPES 1         // 64-bit types, 0008h-001Bh, 2500h
+#define MB2CO_CONFIG_MODBUS_TCP 1         // Modbus/TCP channels into the slave

@@ -13,3 +13,4 @@
 #define MB2CO_CONFIG_SDO_BLOCK 0          // SDO block transfer, domains
 #define MB2CO_CONFIG_TPDO_RTR 0           // TPDOs answer remote requests
 #define MB2CO_CONFIG_WIDE_TYPES 0         // 64-bit types, 0008h-001Bh, 2500h
+#define MB2CO_CONFIG_MODBUS_TCP 0         // Modbus/TCP channels into the slave

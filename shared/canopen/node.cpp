@@ -313,7 +313,8 @@ SdoAbort Node::on_hb_consumer_write(uint8_t sub, uint32_t value, bool apply) {
 }
 
 HookResult Node::on_store_write(uint16_t index, uint32_t value, bool apply) {
-  const bool save = index == 0x1010;
+  // 1011h is absent where the profile leaves it out: every write here saves.
+  const bool save = !profile::kRestoreDefaults || index == 0x1010;
   // CiA 301 §7.5.2.13/14: the signature "save" or "load", and a storage.
   if (value != (save ? kSaveSignature : kLoadSignature) || storage_ == nullptr) return kAbortStore;
   if (save_.running()) return kAbortDeviceState;  // busy: poll 1010h/1 until it reads 1

@@ -98,8 +98,9 @@ const uint32_t kLoadSignature = 0x64616F6Cu;  ///< "load" (1011h)
   N(0x100D, 0, x100D_0_lifeTimeFactor, U8, RW, 0, kHookNmt, 0, "Life time factor"))                                  \
   N(0x1010, 0, x1010_0_highestSubIndex, U8, CONST, 0, kHookNone, 1, "Store parameters: highest sub-index")           \
   N(0x1010, 1, x1010_1_saveAllParameters, U32, RW, 0, kHookStore, 1, "Save all parameters")                          \
+  MB2CO_WITH_RESTORE_DEFAULTS(                                                                                       \
   N(0x1011, 0, x1011_0_highestSubIndex, U8, CONST, 0, kHookNone, 1, "Restore default parameters: highest sub-index") \
-  N(0x1011, 1, x1011_1_restoreAllDefaults, U32, RW, 0, kHookStore, 1, "Restore all default parameters")              \
+  N(0x1011, 1, x1011_1_restoreAllDefaults, U32, RW, 0, kHookStore, 1, "Restore all default parameters"))             \
   N(0x1014, 0, x1014_0_cobIdEmcy, U32, RW, kAttrNodeId, kHookEmcy, 0x80, "COB-ID EMCY")                              \
   N(0x1015, 0, x1015_0_inhibitTimeEmcy, U16, RW, 0, kHookEmcy, 0, "Inhibit time EMCY (100 us)")                      \
   N(0x1016, 0, x1016_0_highestSubIndex, U8, CONST, 0, kHookNone, 4, "Consumer heartbeat time: highest sub-index")    \

@@ -18,6 +18,9 @@ using namespace std::chrono_literals;
 /// Path of the mb2co-uno binary and of the AVR image under test.
 const char* uno_program();
 const char* uno_elf();
+/// True when this build tree's AVR images include mb2co-gateway-network.elf
+/// (`mb2co-uno --image network`): tests/uno/CMakeLists.txt, MB2CO_NET_GATEWAY.
+bool uno_network_image_built();
 
 /// Same control channel and ready line as mb2co-node's: a NodeProcess
 /// started with mb2co-uno --elf <the image>.

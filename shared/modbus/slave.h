@@ -84,10 +84,9 @@ struct SlaveCoreState {
   LinkStats stats_;
   bool listen_only_;
   bool restart_pending_;  ///< 08/01 answered: restart after sending
-#if MB2CO_GATEWAY_NET
+  // FC 2Bh/0Dh (profile::kNetwork; never set in a profile without it).
   const NetRequestHandler* net_handler_;  ///< FC 2Bh/0Dh service; null: exception 01
   bool answer_pending_;                   ///< a 2B/0D answer is deferred (see answer_pending())
-#endif
 };
 
 /// The slave on a caller-owned frame buffer (see Memory above).
@@ -168,36 +167,27 @@ class SlaveCore : private SlaveCoreState {
   RtuFramer framer_;
   uint8_t address_;
 
-#if MB2CO_GATEWAY_NET
-  // FC 2Bh / MEI 0Dh (modbus/net_switch.h): the service and its deferred answer.
+  // FC 2Bh / MEI 0Dh (profile::kNetwork): the service and its deferred
+  // answer. In every profile; unused code is dropped where the switch is off.
  public:
   /// The FC 2Bh/0Dh service; null (the default): exception 01. Borrowed:
   /// it must outlive the slave or be cleared.
-  void set_net_handler(const NetRequestHandler* handler) {
-    net_handler_ = handler;
-  }
+  void set_net_handler(const NetRequestHandler* handler) { net_handler_ = handler; }
   /// True while a deferred answer may still be sent: the handler deferred
   /// it and no character has been received since (the master gave it up
   /// once it sends anything else: a later answer could be taken for the
   /// answer to its next request).
-  bool answer_pending() const {
-    return answer_pending_;
-  }
+  bool answer_pending() const { return answer_pending_; }
   /// The frame buffer's PDU area: where a deferred response is built. Only
   /// while answer_pending() (else a request may be arriving there).
-  uint8_t* response_pdu() {
-    return pdu();
-  }
-  uint16_t response_capacity() const {
-    return static_cast<uint16_t>(framer_.capacity() - 1u - kCrcBytes);
-  }
+  uint8_t* response_pdu() { return pdu(); }
+  uint16_t response_capacity() const { return static_cast<uint16_t>(framer_.capacity() - 1u - kCrcBytes); }
   /// Sends the deferred response of `pdu_length` bytes built in
   /// response_pdu(). False, nothing sent, when no answer is pending.
   bool send_deferred(uint16_t pdu_length);
 
  private:
   Reply network_request(uint16_t pdu_length);
-#endif
 };
 
 /// Storage that must exist before SlaveCore is built from it (a base class).

@@ -15,6 +15,7 @@ enum : uint8_t { kStreamBasic = 1, kStreamRegular = 2, kStreamExtended = 3, kInd
 }  // namespace
 
 bool SlaveCore::is_restart_request(uint16_t pdu_length) const {
+  if (!profile::kDiagnostics) return false;
   const uint8_t* p = framer_.buffer() + 1;
   if (pdu_length != 5u || p[0] != fc::kDiagnostics) return false;
   if (get_be16(p + 1) != diag::kRestartCommunications) return false;
@@ -79,7 +80,6 @@ SlaveCore::Reply SlaveCore::diagnostics(uint16_t pdu_length) {
   return Reply{5, Exception::kNone};
 }
 
-#if MB2CO_GATEWAY_NET
 // FC 2B / MEI 0D: the handler answers now (an exception PDU is answered by
 // the usual path, so that it is counted once) or later (send_deferred).
 SlaveCore::Reply SlaveCore::network_request(uint16_t pdu_length) {
@@ -94,13 +94,11 @@ SlaveCore::Reply SlaveCore::network_request(uint16_t pdu_length) {
   }
   return Reply{length, Exception::kNone};
 }
-#endif
 
 SlaveCore::Reply SlaveCore::device_identification(uint16_t pdu_length) {
   uint8_t* p = pdu();
-#if MB2CO_GATEWAY_NET
-  if (pdu_length >= 2u && p[1] == kMeiCanopenReference) return network_request(pdu_length);
-#endif
+  if (profile::kNetwork && pdu_length >= 2u && p[1] == kMeiCanopenReference)
+    return network_request(pdu_length);
   if (identity_ == nullptr) return Reply{0, Exception::kIllegalFunction};
   if (pdu_length < 2u) return Reply{0, Exception::kIllegalDataValue};
   if (p[1] != kMeiReadDeviceId) return Reply{0, Exception::kIllegalFunction};

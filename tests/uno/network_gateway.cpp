@@ -10,7 +10,7 @@ std::unique_ptr<NodeProcess> start_network_gateway(const std::string& pty, std::
                                                    const std::vector<std::string>& extra) {
   std::unique_ptr<NodeProcess> gateway;
   bool started = false;
-  if (uno_network_image_built()) {
+  if (network_gateway_is_uno()) {
     std::vector<std::string> argv{uno_program(), "--image", "network", "--can", "vcan0", "--pty", pty};
     argv.insert(argv.end(), extra.begin(), extra.end());
     gateway.reset(new UnoProcess);
@@ -28,7 +28,7 @@ std::unique_ptr<NodeProcess> start_network_gateway(const std::string& pty, std::
 }
 
 const char* network_gateway_name() {
-  return uno_network_image_built() ? "mb2co-uno --image network" : "mb2co-node";
+  return network_gateway_is_uno() ? "mb2co-uno --image network" : "mb2co-node";
 }
 
 }  // namespace test

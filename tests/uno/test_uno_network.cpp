@@ -366,7 +366,7 @@ using UnoNetworkImage = UnoNetwork;
 // (the gateway's SDO client mid-transfer) while its own registers and the
 // network view are asked, after segmented uploads from both remote nodes.
 TEST_F(UnoNetworkImage, StackKeepsRoomWhileASegmentedRemoteTransferRuns) {
-  if (!uno_network_image_built())
+  if (!network_gateway_is_uno())
     GTEST_SKIP() << "needs mb2co-uno --image network (tests/uno/CMakeLists.txt, MB2CO_NET_GATEWAY)";
   UnoProcess& uno = static_cast<UnoProcess&>(*gateway_);
   EXPECT_EQ(field_of(client("read 32 1008 0"), "data"), hex_of("mb2co I/O node"));

@@ -96,7 +96,7 @@ uint64_t field_u64(const std::string& line, const char* name) {
 TEST(UnoNetworkLoad, HeartbeatKeepsItsPeriodAndEveryRequestIsAnsweredAtFullBusLoad) {
   TempDir dir;
   std::string error;
-  const bool uno = uno_network_image_built();
+  const bool uno = network_gateway_is_uno();
   std::printf("gateway under test: %s\n", network_gateway_name());
   const std::unique_ptr<NodeProcess> gateway =
       start_network_gateway(dir.path("gw.pty"), kDeadline, &error,

@@ -9,7 +9,7 @@ const char* uno_program() {
 const char* uno_elf() {
   return MB2CO_UNO_ELF;
 }
-bool uno_network_image_built() {
+bool network_gateway_is_uno() {
   return MB2CO_NET_GATEWAY_UNO != 0;
 }
 

@@ -194,7 +194,8 @@ void Node::update_guard_emcy() {
 
 void Node::update_filters() {
   filters_stale_ = false;
-  if (can_control_ == nullptr) return;
+  // An image without filters receives everything: no ranges to compute.
+  if (!profile::kAcceptanceFilters || can_control_ == nullptr) return;
   const CanControl control = flash_read(can_control_);
   if (control.set_filters == nullptr) return;
   CanIdRange ranges[kMaxAcceptanceRanges];

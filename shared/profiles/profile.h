@@ -85,6 +85,11 @@ constexpr bool kWideTypes = MB2CO_CONFIG_WIDE_TYPES != 0;
 /// the one slave core, their deferred FC 2Bh/0Dh answers on their own
 /// channel (mb2co-node --tcp).
 constexpr bool kModbusTcp = MB2CO_CONFIG_MODBUS_TCP != 0;
+/// The node hands its acceptance ranges to the CAN port's filters
+/// (CanControl::set_filters). Off: the image receives every frame and
+/// carries no code for filters (the network gateway: it hears every node's
+/// SDO responses and heartbeats, more than the MCP2515's filters hold).
+constexpr bool kAcceptanceFilters = MB2CO_CONFIG_ACCEPTANCE_FILTERS != 0;
 
 }  // namespace profile
 }  // namespace mb2co

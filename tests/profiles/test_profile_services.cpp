@@ -101,6 +101,8 @@ TEST(Profiles, TheUnoImagesAreWhatIssue23Decided) {
   EXPECT_EQ(profile::kTypeDescriptions, !network);
   EXPECT_TRUE(profile::kRestoreDefaults);
   EXPECT_FALSE(profile::kWideTypes);
+  // The network image hears every node: its filters stay open.
+  EXPECT_EQ(profile::kAcceptanceFilters, !network);
 }
 
 }  // namespace

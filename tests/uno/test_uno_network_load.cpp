@@ -122,8 +122,8 @@ TEST(UnoNetworkLoad, HeartbeatKeepsItsPeriodAndEveryRequestIsAnsweredAtFullBusLo
   // The gateway's heartbeats over SocketCAN (mb2co-node) with kernel stamps.
   linux_port::SocketCanPort heartbeats;
   ASSERT_TRUE(heartbeats.open("vcan0"));
-  const uint16_t heartbeat_id = 0x701;
-  ASSERT_TRUE(heartbeats.set_consumed_ids(&heartbeat_id, 1));
+  const CanIdRange heartbeat{0x701, kCanRangeExact};
+  ASSERT_TRUE(heartbeats.set_ranges(&heartbeat, 1));
   const std::string bus_before = uno ? static_cast<UnoProcess&>(*gateway).ask("bus?", "bus ") : "";
 
   std::atomic<bool> stop{false};
@@ -161,7 +161,7 @@ TEST(UnoNetworkLoad, HeartbeatKeepsItsPeriodAndEveryRequestIsAnsweredAtFullBusLo
       poll(&p, 1, 100);
       linux_port::TimedCanFrame t;
       while (heartbeats.receive(t))
-        if (t.frame.id == heartbeat_id && t.rx_time_us >= flood_from_us) beats.push_back(t.rx_time_us);
+        if (t.frame.id == heartbeat.id && t.rx_time_us >= flood_from_us) beats.push_back(t.rx_time_us);
     }
   }
   stop = true;

@@ -156,9 +156,8 @@ void Node::receive(const CanFrame& f, uint32_t now_us) {
     return;
   }
   if (nmt_.pdo_allowed()) {
-#ifdef MB2CO_TPDO_RTR
-    if (f.rtr() && tpdos_.on_rtr(f, sink_, now_us)) return;
-#endif
+    // Answered where the profile has it (profile::kTpdoRtr).
+    if (profile::kTpdoRtr && f.rtr() && tpdos_.on_rtr(f, sink_, now_us)) return;
     if (rpdos_.on_frame(f, now_us)) return;
   }
   if (f.id > 0x700u && f.id <= 0x77Fu && nmt_.sdo_allowed()) hb_consumer_.on_frame(f, now_us);

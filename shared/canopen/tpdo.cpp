@@ -145,7 +145,7 @@ void Tpdos::next_deadline(NextDeadline& d) const {
 }
 
 // Type 252 samples at the SYNC only for the answer to a remote request.
-#ifdef MB2CO_TPDO_RTR
+#if MB2CO_CONFIG_TPDO_RTR
 constexpr bool kAnswersRtr = true;
 #else
 constexpr bool kAnswersRtr = false;
@@ -177,7 +177,7 @@ void Tpdos::on_sync(uint8_t counter, const CanSink& sink, uint32_t now_us) {
   }
 }
 
-#ifdef MB2CO_TPDO_RTR
+#if MB2CO_CONFIG_TPDO_RTR
 
 bool Tpdos::on_rtr(const CanFrame& f, const CanSink& sink, uint32_t now_us) {
   for (uint8_t n = 0; n < kPdoCount; ++n) {
@@ -196,7 +196,7 @@ bool Tpdos::on_rtr(const CanFrame& f, const CanSink& sink, uint32_t now_us) {
   }
   return false;
 }
-#endif  // MB2CO_TPDO_RTR
+#endif  // MB2CO_CONFIG_TPDO_RTR
 
 SdoAbort Tpdos::on_write(uint16_t index, uint8_t sub, const uint8_t* data, bool apply) {
   if (index >= 0x1A00) {  // mapping

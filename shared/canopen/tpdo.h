@@ -26,14 +26,13 @@ class Tpdos {
   void request(uint8_t n);
   /// A SYNC with `counter` (0 if the SYNC has none).
   void on_sync(uint8_t counter, const CanSink& sink, uint32_t now_us);
-#ifdef MB2CO_TPDO_RTR
-  /// An RTR on one of our COB-IDs; returns true if it was for a TPDO. Only
-  /// where MB2CO_TPDO_RTR is defined (every host build): the Uno's CAN port
-  /// admits no remote frames for TPDOs (RTR is deprecated, CiA AN 802), so
-  /// its image leaves the answer and type 252's sampling out; types 252/253
-  /// are accepted there and never transmit, as before.
+  /// An RTR on one of our COB-IDs; returns true if it was for a TPDO.
+  /// Defined only where the profile has it (profile::kTpdoRtr, every host
+  /// build; callers test the constant): the Uno's CAN port admits no remote
+  /// frames for TPDOs (RTR is deprecated, CiA AN 802), so its image leaves
+  /// the answer and type 252's sampling out; types 252/253 are accepted
+  /// there and never transmit, as before.
   bool on_rtr(const CanFrame& f, const CanSink& sink, uint32_t now_us);
-#endif
   /// Builds TPDO `n` from its mapping and sends it now, whatever its
   /// transmission type and timers say (the lab's pdo_send). kSendNowInvalid
   /// when its COB-ID is marked invalid or nothing is mapped.
@@ -48,9 +47,7 @@ class Tpdos {
   /// Validates writes to 1800h–1803h and 1A00h–1A03h (OD hook).
   SdoAbort on_write(uint16_t index, uint8_t sub, const uint8_t* data, bool apply);
   /// Frames the port refused (never decrements).
-  uint16_t send_failures() const {
-    return send_failures_;
-  }
+  uint16_t send_failures() const { return send_failures_; }
 
  private:
   struct State {
@@ -77,14 +74,10 @@ class Tpdos {
   /// Builds PDO n's payload from the OD and sends it (one copy for SYNC and
   /// RTR).
   void build_and_send(uint8_t n, uint32_t cob, const CanSink& sink, uint32_t now_us);
-  uint16_t comm_row(uint8_t n) const {
-    return static_cast<uint16_t>(rec_.comm0 + n * 6u);
-  }
+  uint16_t comm_row(uint8_t n) const { return static_cast<uint16_t>(rec_.comm0 + n * 6u); }
   /// Value of row `k` of PDO n's communication record (out of line: many callers).
   uint32_t comm(uint8_t n, uint8_t k) const;
-  uint16_t map_row(uint8_t n) const {
-    return static_cast<uint16_t>(rec_.map0 + n * rec_.map_stride);
-  }
+  uint16_t map_row(uint8_t n) const { return static_cast<uint16_t>(rec_.map0 + n * rec_.map_stride); }
 
   ObjectDictionary* od_;
   PdoRecords rec_;  ///< rows of 1800h and 1A00h sub 0, the mapping stride

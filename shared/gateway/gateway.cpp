@@ -14,15 +14,9 @@ Gateway::Gateway(const GatewayPorts& ports)
       node_(od_, ports.can),
       bank_(od_),
       identity_(od_),
-      slave_(bank_, &identity_, ports.serial, 1, modbus::rtu_timing(ports.serial_baud))
-#if MB2CO_GATEWAY_NET
-      ,
-      net_(node_, od_, slave_, ports.can, &values_.x2000_10_networkAccess)
-#endif
-{
-#if MB2CO_GATEWAY_NET
+      slave_(bank_, &identity_, ports.serial, 1, modbus::rtu_timing(ports.serial_baud)),
+      net_(node_, od_, slave_, ports.can, &values_.x2000_10_networkAccess) {
   net_.attach();
-#endif
   constexpr uint8_t kRanges = sizeof kNetworkServiceRanges / sizeof kNetworkServiceRanges[0];
   static_assert(kRanges <= kMaxServiceRanges, "the node has room for the network service's ranges");
   if (profile::kNetwork) node_.set_service_ranges(kNetworkServiceRanges, kRanges);
@@ -105,16 +99,12 @@ HookResult Gateway::app_write(void* ctx, uint8_t, uint16_t index, uint8_t sub, c
 
 uint8_t Gateway::process(uint32_t now_us, uint8_t raw_buttons) {
   now_us_ = now_us;
-#if MB2CO_GATEWAY_NET
   net_.set_now(now_us);
-#endif
   // 2003h for Modbus and SDO: the node counts at its resets (start(), an NMT
   // command, a pending reset), each followed by a pass that runs at once.
   values_.x2003_0_storageDamageCount = node_.storage_damage_count();
   slave_.process(now_us);
-#if MB2CO_GATEWAY_NET
   net_.process(now_us);
-#endif
   const uint8_t leds =
       line_.process(now_us, raw_buttons, node_.nmt_state(), slave_.counters().server_messages);
   node_.process(now_us);
@@ -133,9 +123,7 @@ bool Gateway::next_deadline(uint32_t now_us, uint32_t* at_us) const {
   if (slave_.next_deadline(now_us, &frame_end_us)) d.at(frame_end_us);
   line_.next_deadline(d, node_.nmt_state(), slave_.counters().server_messages);
   node_.next_deadline(d);
-#if MB2CO_GATEWAY_NET
   net_.next_deadline(d);
-#endif
   return d.result(at_us);
 }
 

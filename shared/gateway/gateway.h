@@ -10,13 +10,10 @@
 #include "canopen/node.h"
 #include "gateway/gateway_od.h"
 #include "gateway/line_app.h"
+#include "gateway/network_slot.h"  // FC 2Bh/0Dh where the profile has it
 #include "gateway/od_register_bank.h"
-#include "modbus/net_switch.h"  // MB2CO_GATEWAY_NET
 #include "modbus/slave.h"
 #include "platform/device_port.h"  // GatewayPorts: the platform contract
-#if MB2CO_GATEWAY_NET
-#include "gateway/network_service.h"
-#endif
 
 namespace mb2co {
 namespace gateway {
@@ -118,17 +115,12 @@ class Gateway : private GatewayState {
   OdDeviceIdentity identity_;
   modbus::SlaveWithFrame<kModbusFrameBytes> slave_;
   uint8_t default_node_id_ = 1;
+  // FC 2Bh / MEI 0Dh: the whole network from Modbus (network_slot.h:
+  // the service, or nothing where the profile leaves it out).
+  NetworkSlot net_;
 
-#if MB2CO_GATEWAY_NET
-  // FC 2Bh / MEI 0Dh (modbus/net_switch.h): the whole network from Modbus.
  public:
-  const NetworkService& network() const {
-    return net_;
-  }
-
- private:
-  NetworkService net_;
-#endif
+  const NetworkSlot& network() const { return net_; }
 };
 
 inline void Gateway::on_can_frame(const CanFrame& f, uint32_t now_us) {
@@ -136,15 +128,11 @@ inline void Gateway::on_can_frame(const CanFrame& f, uint32_t now_us) {
   // the last process(): a caller that skips idle passes stamps the same.
   now_us_ = now_us;
   node_.receive(f, now_us);
-#if MB2CO_GATEWAY_NET
   net_.on_can_frame(f, now_us);
-#endif
 }
 
 inline void Gateway::on_serial_byte(uint8_t byte, uint32_t byte_us) {
-#if MB2CO_GATEWAY_NET
   net_.set_now(byte_us);  // a late frame end runs a request from in here
-#endif
   slave_.on_byte(byte, byte_us);
 }
 

@@ -2,8 +2,8 @@
 // gateway's own node id, remote SDO transfers through the SDO client with
 // data in the slave's frame buffer, and multi-part downloads (the client
 // waits at the part's end, a segment boundary, until the next part).
-#include "modbus/net_switch.h"
-#if MB2CO_GATEWAY_NET  // else the image leaves the service out (net_switch.h)
+#include "profiles/profile.h"
+#if MB2CO_CONFIG_NETWORK  // else the image leaves the service out (network_slot.h)
 #include <string.h>
 
 #include "canopen/frame_out.h"
@@ -284,4 +284,4 @@ void NetworkService::next_deadline(NextDeadline& d) const {
 
 }  // namespace gateway
 }  // namespace mb2co
-#endif  // MB2CO_GATEWAY_NET
+#endif  // MB2CO_CONFIG_NETWORK

@@ -115,12 +115,10 @@ Exception OdRegisterBank::read_items(Table table, uint16_t start, uint16_t count
   for (uint16_t i = 0; i < count; ++i) {
     const uint16_t a = static_cast<uint16_t>(start + i);
     if (!reach(&w, a)) return Exception::kIllegalDataAddress;
-#if MB2CO_OD_WIDE_TYPES
-    if (is_run(it)) {
+    if (profile::kWideTypes && is_run(it)) {
       modbus::put_be16(bytes + 2u * i, run_register(it, static_cast<uint16_t>(a - it.first)));
       continue;
     }
-#endif
     uint32_t v = od_.get(it.row);
     if (w.bit_table) {
       modbus::BitSpan{bytes, count}.set(i, (v & 1u) != 0);
@@ -153,7 +151,6 @@ Exception OdRegisterBank::exception_of(canopen::SdoAbort r) {
   return r == canopen::kAbortDeviceState ? Exception::kServerDeviceBusy : Exception::kServerDeviceFailure;
 }
 
-#if MB2CO_OD_WIDE_TYPES
 bool OdRegisterBank::is_run(const Item& it) const {
   return it.row != ObjectDictionary::kNoRow && (it.width > 2 || (od_.attr(it.row) & canopen::kAttrString));
 }
@@ -190,7 +187,6 @@ Exception OdRegisterBank::write_run(const Item& it, const uint8_t* registers, bo
   }
   return exception_of(od_.write_row(it.row, value, len, apply));
 }
-#endif
 
 namespace {
 // Old values of the entries a multi-item write changed, to undo them if a
@@ -251,14 +247,12 @@ Exception OdRegisterBank::write_step(Table table, uint16_t start, uint16_t count
       break;
     }
     undo.save(od_, it.row);
-#if MB2CO_OD_WIDE_TYPES
-    if (is_run(it)) {
+    if (profile::kWideTypes && is_run(it)) {
       ex = write_run(it, bytes + 2u * i, apply);
       if (ex != Exception::kNone) break;
       i = static_cast<uint16_t>(i + it.width);
       continue;
     }
-#endif
     uint32_t v;
     if (w.bit_table) {
       v = modbus::packed_bit(bytes, i) ? 1u : 0u;
@@ -298,14 +292,13 @@ canopen::SdoAbort OdRegisterBank::check_map_write(uint16_t index, uint8_t sub, c
   const uint8_t bits = canopen::map_bits(entry);
   const uint16_t size = od.capacity_of(row);
   if (od.attr(row) & canopen::kAttrString) {
-#if MB2CO_OD_WIDE_TYPES
-    // A register run of the whole string: 16 bits per 2 characters.
-    const uint8_t type = od.type_of(row);
-    if (!is_bit_table(table) && (type == canopen::kVisibleString || type == canopen::kOctetString) &&
-        size <= kRunBytes && bits == 16u * ((size + 1u) / 2u)) {
-      return canopen::kSdoOk;
+    // A register run of the whole string: 16 bits per 2 characters (where
+    // the profile has the wide types; the type is read only then).
+    if (profile::kWideTypes && !is_bit_table(table) && size <= kRunBytes &&
+        bits == 16u * ((size + 1u) / 2u)) {
+      const uint8_t type = od.type_of(row);
+      if (type == canopen::kVisibleString || type == canopen::kOctetString) return canopen::kSdoOk;
     }
-#endif
     return canopen::kAbortInvalidValue;
   }
   if (is_bit_table(table)) {

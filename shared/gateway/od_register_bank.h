@@ -84,14 +84,13 @@ class OdRegisterBank : public modbus::RegisterBank {
   modbus::Exception write_value(const Item& item, uint32_t value, bool apply);
   /// What the OD's answer to a write is in Modbus.
   static modbus::Exception exception_of(canopen::SdoAbort r);
-#if MB2CO_OD_WIDE_TYPES
+  // Register runs: used where the profile has the wide types (profile::kWideTypes).
   /// True for an item wider than 32 bits or a string (a register run).
   bool is_run(const Item& item) const;
   /// Register `k` (0: the item's first address) of a register run.
   uint16_t run_register(const Item& item, uint16_t k) const;
   /// A register run's value from its registers (big-endian, 2 bytes each).
   modbus::Exception write_run(const Item& item, const uint8_t* registers, bool apply);
-#endif
   /// One step of write_items(): check (`apply` false) or apply.
   modbus::Exception write_step(modbus::Table table, uint16_t start, uint16_t count, const uint8_t* bytes,
                                bool apply);

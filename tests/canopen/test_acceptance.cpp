@@ -46,11 +46,8 @@ Wanted wanted(const CanIdRange* ranges, uint8_t count) {
 /// The node's own ranges besides its ids: every remote frame where its
 /// TPDOs answer remote requests (host builds).
 std::vector<std::pair<uint16_t, uint16_t>> remote_policy() {
-#ifdef MB2CO_TPDO_RTR
-  return {{kCanRangeRemote, kCanRangeRemote}};
-#else
+  if (profile::kTpdoRtr) return {{kCanRangeRemote, kCanRangeRemote}};
   return {};
-#endif
 }
 
 /// Every set_filters call the node made, in order.

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Each extra compiler option alone on the Uno gateway image with FC 2Bh
-# (MB2CO_GATEWAY_NET=1, as size-with-network.sh builds it): flash, text +
+# Each extra compiler option alone on the Uno network gateway image
+# (mb2co-gateway-network.elf, profile "network"): flash, text +
 # data, next to the build without any (docs/gateway-network.md, "Why the Uno
 # image does not have it yet"). One build per option into a scratch dir.
 # Usage: firmware/avr/size-option-sweep.sh [OPTION...]   (default: the list below)
@@ -15,13 +15,13 @@ options=("$@")
   -fno-split-wide-types -fno-gcse)
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
-flash() {  # flash of mb2co-gateway with FC 2Bh built with extra option $1 (may be empty)
+flash() {  # flash of mb2co-gateway-network built with extra option $1 (may be empty)
   rm -rf "$dir/b"
-  CXXFLAGS="-DMB2CO_GATEWAY_NET=1 $1" CFLAGS="$1" LDFLAGS="-Wl,--defsym=__TEXT_REGION_LENGTH__=0x10000 $1" \
+  CXXFLAGS="$1" CFLAGS="$1" LDFLAGS="-Wl,--defsym=__TEXT_REGION_LENGTH__=0x10000 $1" \
     cmake -S firmware/avr -B "$dir/b" -G Ninja -DCMAKE_TOOLCHAIN_FILE="$root/cmake/avr-toolchain.cmake" \
     -DCMAKE_BUILD_TYPE=MinSizeRel >/dev/null
-  if cmake --build "$dir/b" --target mb2co-gateway >/dev/null 2>&1; then
-    avr-size --format=berkeley "$dir/b/mb2co-gateway.elf" | tail -n 1 | awk '{ print $1 + $2 }'
+  if cmake --build "$dir/b" --target mb2co-gateway-network >/dev/null 2>&1; then
+    avr-size --format=berkeley "$dir/b/mb2co-gateway-network.elf" | tail -n 1 | awk '{ print $1 + $2 }'
   else
     echo "does not build"
   fi

@@ -57,19 +57,29 @@ void CanWire::advance(uint64_t now) {
   }
   CanFrame out{};
   const bool have_out = chip_.next_transmit(&out);
-  // A frame from outside that has reached the bus by now contends for the
-  // wire; one still to come leaves the wire to the chip or idle.
-  const bool have_in = !inbound_.empty() && inbound_.front().arrival <= now;
+  // The frames from outside that have reached the bus by now contend for
+  // the wire, the chip's with them; one still to come leaves the wire to the
+  // chip or idle. Of those waiting the lowest identifier goes first, as on a
+  // bus where they come from several nodes: a remote node's SDO response is
+  // not held up behind a backlog of lower-priority traffic.
+  std::deque<Inbound>::iterator in = inbound_.end();
+  for (auto i = inbound_.begin(); i != inbound_.end() && i->arrival <= now; ++i) {
+    if (in == inbound_.end() || wins_arbitration(i->frame, in->frame)) in = i;
+  }
+  const bool have_in = in != inbound_.end();
   if (!have_out && !have_in) return;
-  on_wire_outbound_ = have_out && (!have_in || wins_arbitration(out, inbound_.front().frame));
+  on_wire_outbound_ = have_out && (!have_in || wins_arbitration(out, in->frame));
   if (on_wire_outbound_) {
     on_wire_ = out;
   } else {
-    on_wire_ = inbound_.front().frame;
-    if (inbound_.front().arrival > start) start = inbound_.front().arrival;
-    inbound_.pop_front();
+    on_wire_ = in->frame;
+    if (in->arrival > start) start = in->arrival;
+    inbound_.erase(in);
+    ++carried_in_;
   }
-  busy_until_ = start + frame_cycles(on_wire_);
+  const uint64_t cycles = frame_cycles(on_wire_);
+  busy_cycles_ += cycles;
+  busy_until_ = start + cycles;
 }
 
 std::vector<CanWire::Sent> CanWire::take_sent() {

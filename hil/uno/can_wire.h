@@ -6,7 +6,8 @@
 // A frame the chip sends leaves its TX buffer (TXREQ clears, TXnIF sets) and
 // is handed out at the end of its last bit; a frame from the outside is
 // received into RXB0/RXB1 at the end of its last bit. When both wait for the
-// idle wire, the lower identifier wins (arbitration). Not modelled: ACK and
+// idle wire, the lower identifier wins (arbitration), and so among frames
+// from outside that wait for it. Not modelled: ACK and
 // error frames (every frame is acknowledged), bit errors, overload frames.
 //
 // Time is the simulated CPU cycle count (16 MHz). The owner calls advance()
@@ -61,6 +62,12 @@ class CanWire {
   std::vector<Sent> take_sent();
   /// Frames from outside that the chip's filters or full buffers dropped.
   uint64_t rx_dropped() const { return rx_dropped_; }
+  /// Frames from outside the wire has carried (put on it; the chip receives
+  /// or drops each at its last bit), and the cycles the wire has been or is
+  /// busy with any frame: the bus load the image sees is their growth over
+  /// its time.
+  uint64_t carried_in() const { return carried_in_; }
+  uint64_t busy_cycles() const { return busy_cycles_; }
 
  private:
   uint64_t frame_cycles(const CanFrame& frame) const;
@@ -77,6 +84,8 @@ class CanWire {
   bool on_wire_outbound_ = false;  ///< the frame on the wire is the chip's
   CanFrame on_wire_{};
   uint64_t rx_dropped_ = 0;
+  uint64_t carried_in_ = 0;
+  uint64_t busy_cycles_ = 0;
 };
 
 /// True when `a` wins arbitration against `b` (lower identifier; with equal

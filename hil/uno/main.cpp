@@ -201,13 +201,18 @@ int main(int argc, char** argv) {
         input.append(buf, static_cast<size_t>(r));
         for (size_t nl; (nl = input.find('\n')) != std::string::npos;) {
           const std::string line = input.substr(0, nl);
-          // The stack's high-water mark is the board's, not the panel's.
-          const std::string reply = line == "stack?"
-                                        ? "stack used=" + std::to_string(rig.board().stack_used()) +
-                                              " room=" + std::to_string(rig.board().stack_room()) +
-                                              " at_us=" + std::to_string(at_us(rig.now_us())) +
-                                              " sim_us=" + std::to_string(static_cast<uint32_t>(rig.now_us()))
-                                        : rig.panel().handle(line, rig.now_us(), at_us(rig.now_us()));
+          // The stack's high-water mark and the wire's counts are the
+          // board's, not the panel's.
+          const std::string times = " at_us=" + std::to_string(at_us(rig.now_us())) +
+                                    " sim_us=" + std::to_string(static_cast<uint32_t>(rig.now_us()));
+          const std::string reply =
+              line == "stack?" ? "stack used=" + std::to_string(rig.board().stack_used()) +
+                                     " room=" + std::to_string(rig.board().stack_room()) + times
+              : line == "bus?"
+                  ? "bus in=" + std::to_string(rig.wire().carried_in()) +
+                        " dropped=" + std::to_string(rig.wire().rx_dropped()) + " busy_us=" +
+                        std::to_string(rig.wire().busy_cycles() / (uno::UnoBoard::kCpuHz / 1000000u)) + times
+                  : rig.panel().handle(line, rig.now_us(), at_us(rig.now_us()));
           input.erase(0, nl + 1);
           if (!reply.empty()) say(reply);
         }

@@ -15,7 +15,8 @@ std::string PanelChannel::handle(const std::string& line, uint64_t now_us, uint3
     if (!c.rest.empty()) return "error unexpected '" + c.rest + "'";
     if (c.word == "leds?") return leds_line(at_us);
     if (c.word == "help") {
-      return panel_help_lines(image_.buttons) + "\nhelp leds? | stack? | quit | help   (docs/uno-sim.md)";
+      return panel_help_lines(image_.buttons) +
+             "\nhelp leds? | stack? | bus? | quit | help   (docs/uno-sim.md)";
     }
     if (c.word == "quit") {
       quit_ = true;

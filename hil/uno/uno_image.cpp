@@ -22,6 +22,9 @@ const UnoImage* images() {
   static const UnoImage kImages[] = {
       {"gateway", "mb2co-gateway.elf", panel_station_buttons(), kStationButtonPins, kStationLeds,
        kStationLedPins, 5, true},
+      // The station plus FC 2Bh/0Dh (docs/gateway-network.md): the same board.
+      {"network", "mb2co-gateway-network.elf", panel_station_buttons(), kStationButtonPins, kStationLeds,
+       kStationLedPins, 5, true},
       {"ionode", "mb2co-ionode.elf", {kJoystick, 5}, kJoystickPins, kShieldLeds, kShieldLedPins, 2, false},
       {"echo", "mcp2515-echo.elf", panel_station_buttons(), kStationButtonPins, kStationLeds, kStationLedPins,
        5, false},

@@ -32,10 +32,11 @@ const UnoImage& gateway_image();
 /// A2 LEFT, A5 RIGHT, A4 CLICK (6000h/1 bits 0-4); LEDs D7, D8 (6200h/1
 /// bits 0, 1).
 const UnoImage& ionode_image();
-/// The image named `name` (gateway, ionode; echo: mcp2515-echo.elf on the
-/// gateway's wiring), nullptr for another name.
+/// The image named `name` (gateway, ionode; network: the network gateway
+/// mb2co-gateway-network.elf, echo: mcp2515-echo.elf, both on the gateway's
+/// wiring), nullptr for another name.
 const UnoImage* find_image(const std::string& name);
-/// "gateway, ionode, echo"
+/// "gateway, network, ionode, echo"
 std::string image_names();
 
 }  // namespace uno

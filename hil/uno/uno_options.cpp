@@ -16,8 +16,9 @@ cli::Program make_program() {
       "SocketCAN, buttons and LEDs on stdin/stdout (docs/uno-sim.md).\n";
   cli::Command c;
   c.options = {
-      cli::choice("--image", {"gateway", "ionode", "echo"},
-                  "which image and board wiring (default gateway; ionode: joystick and LEDs D7, D8)"),
+      cli::choice("--image", {"gateway", "network", "ionode", "echo"},
+                  "which image and board wiring (default gateway; network: the gateway with\n"
+                  "FC 2Bh/0Dh on the same wiring; ionode: joystick and LEDs D7, D8)"),
       cli::file("--elf", "FILE", "the AVR image file (default: --image's, made by this build tree)"),
       cli::text("--can", "IFACE", "SocketCAN interface (default vcan0), or 'none'"),
       cli::file("--pty", "PATH", "symlink to the pty at PATH (removed at exit)"),
@@ -33,7 +34,8 @@ cli::Program make_program() {
   p.commands = {c};
   p.footer =
       "\nControl (stdin, one command per line): press B | release B | click B [ms] (B: START,\n"
-      "STOP, STOP2; --image ionode: UP, DOWN, LEFT, RIGHT, CLICK) | leds? | stack? | help | quit.\n"
+      "STOP, STOP2; --image ionode: UP, DOWN, LEFT, RIGHT, CLICK) | leds? | stack? | bus? | help |\n"
+      "quit. bus?: frames from the bus the wire carried, those the chip dropped, its busy time.\n"
       "exit status: 0 on SIGINT/SIGTERM/quit, 1 runtime error, 2 usage error\n";
   return p;
 }

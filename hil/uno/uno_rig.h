@@ -43,6 +43,8 @@ class UnoRig {
   void can_in(const CanFrame& frame, uint64_t arrival_us = 0);
   /// Frames the chip put on the bus since the last call.
   std::vector<CanWire::Sent> take_can_out();
+  /// The wire's counters (frames carried, dropped, busy time).
+  const CanWire& wire() const { return wire_; }
   /// Cycle at which the frame on the wire ends (a frame from can_in() is
   /// received then) or a frame from can_in() arrives; CanWire::kIdle when
   /// nothing is to happen.

@@ -1,5 +1,12 @@
 // mb2co-od: prints a node's Object Dictionary as Markdown or as an EDS file.
-//   mb2co-od --node ionode|gateway --format md|eds|registers
+//   mb2co-od --node ionode|gateway --format md|eds|registers [--profile P]
+// One build per gateway profile (shared/profiles): this program describes
+// the OD of the profile it was built with (mb2co-od: linux) and hands a
+// request for another profile to that profile's build, mb2co-od-<profile>,
+// next to it.
+#include <limits.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -21,7 +28,10 @@ mb2co::cli::Program make_program() {
   cli::Command c;
   c.options = {
       cli::choice("--node", {"ionode", "gateway"}, "the node (default ionode)"),
-      cli::choice("--format", {"md", "eds", "registers"}, "md (default), eds, or registers (gateway only)")};
+      cli::choice("--format", {"md", "eds", "registers"}, "md (default), eds, or registers (gateway only)"),
+      cli::choice("--profile", {"linux", "station", "network"},
+                  "the gateway image: linux (mb2co-node, default), station (mb2co-gateway.elf),\n"
+                  "network (mb2co-gateway-network.elf); an object an image leaves out is absent")};
   p.commands = {c};
   p.footer = "\nexit status: 0 done, 2 usage error (one line on stderr)\n";
   return p;
@@ -30,6 +40,25 @@ mb2co::cli::Program make_program() {
 const mb2co::cli::Program& program() {
   static const mb2co::cli::Program p = make_program();
   return p;
+}
+
+// Runs the build of `profile` (mb2co-od-<profile> next to this program)
+// with the same arguments; returns only when it cannot.
+// The EDS's product: the image's name (the linux profile: mb2co-node's OD,
+// the EDS of old, docs/mb2co-gateway.eds).
+std::string gateway_product(const std::string& profile) {
+  return profile == "network" ? "mb2co-gateway-network" : "mb2co-gateway";
+}
+
+int run_profile_build(const std::string& profile, char** argv) {
+  char self[PATH_MAX];
+  const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+  std::string path = n > 0 ? std::string(self, static_cast<size_t>(n)) : std::string(argv[0]);
+  path = path.substr(0, path.rfind('/') + 1) + "mb2co-od-" + profile;
+  execv(path.c_str(), argv);
+  std::fprintf(stderr, "mb2co-od: no build of profile %s (%s: not found or not runnable)\n", profile.c_str(),
+               path.c_str());
+  return mb2co::cli::kExitUsage;
 }
 
 }  // namespace
@@ -44,6 +73,12 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "mb2co-od: --format registers is the gateway's (add --node gateway)\n");
     return mb2co::cli::kExitUsage;
   }
+  const std::string profile = parsed.args.get("--profile", "linux");
+  if (profile != "linux" && node != "gateway") {
+    std::fprintf(stderr, "mb2co-od: --profile is the gateway's (add --node gateway)\n");
+    return mb2co::cli::kExitUsage;
+  }
+  if (profile != mb2co::profile::kName) return run_profile_build(profile, argv);
   const mb2co::CanSink nowhere{[](void*, const mb2co::CanFrame&) { return true; }, nullptr};
   static mb2co::ionode::IoNode io(nowhere);
   static mb2co::gateway::Gateway gw(mb2co::gateway::GatewayPorts{
@@ -56,7 +91,7 @@ int main(int argc, char** argv) {
       format == "registers" ? mb2co::odtool::register_map_markdown(od)
       : format == "md"      ? mb2co::odtool::od_markdown(od, is_gw ? "Object Dictionary: gateway"
                                                                    : "Object Dictionary: CiA 401 I/O test node")
-                            : mb2co::odtool::od_eds(od, is_gw ? "mb2co-gateway" : "mb2co-ionode");
+                            : mb2co::odtool::od_eds(od, is_gw ? gateway_product(profile) : "mb2co-ionode");
   std::fwrite(out.data(), 1, out.size(), stdout);
   return 0;
 }

@@ -31,7 +31,8 @@ uint8_t Node::consumed_ids(uint16_t* ids) const {
   add_id(ids, count, 0x000);                                     // NMT
   add_id(ids, count, static_cast<uint16_t>(sync_.cob_id()));     // SYNC (1005h)
   add_id(ids, count, static_cast<uint16_t>(0x600u + node_id_));  // SDO request
-  add_id(ids, count, static_cast<uint16_t>(0x700u + node_id_));  // node guarding (RTR)
+  if (profile::kGuarding)
+    add_id(ids, count, static_cast<uint16_t>(0x700u + node_id_));  // node guarding (RTR)
   for (uint8_t n = 0; n < kPdoCount; ++n) {
     const uint32_t cob = rpdos_.cob_id(n);
     // Valid (bit 31 clear) and a standard id (bit 29 clear).
@@ -150,10 +151,10 @@ void Node::receive(const CanFrame& f, uint32_t now_us) {
     return;
   }
   if (f.id == 0x700u + node_id_) {
-    if (f.rtr()) {
-      error_control_.on_guard_request(
-          now_us, nmt_.state(), sink_, static_cast<uint16_t>(od_.get(row_[k1017])),
-          static_cast<uint16_t>(od_.get(row_[k100C])), static_cast<uint8_t>(od_.get(row_[k100D])));
+    if (profile::kGuarding && f.rtr()) {
+      error_control_.on_guard_request(now_us, nmt_.state(), sink_,
+                                      static_cast<uint16_t>(od_.get(row_[k1017])), guard_time_ms(),
+                                      life_time_factor());
     }
     return;
   }
@@ -178,6 +179,16 @@ void Node::on_sync_event(uint8_t counter, uint32_t now_us) {
   if (!nmt_.pdo_allowed()) return;
   rpdos_.on_sync();
   tpdos_.on_sync(counter, sink_, now_us);
+}
+
+// 100Ch and 100Dh, or 0 (no guarding) where the profile leaves guarding out
+// (the rows are then absent from the OD).
+uint16_t Node::guard_time_ms() const {
+  return profile::kGuarding ? static_cast<uint16_t>(od_.get(row_[k100C])) : 0u;
+}
+
+uint8_t Node::life_time_factor() const {
+  return profile::kGuarding ? static_cast<uint8_t>(od_.get(row_[k100D])) : 0u;
 }
 
 void Node::update_guard_emcy() {
@@ -234,9 +245,8 @@ void Node::next_deadline(NextDeadline& d) const {
   if (filters_stale_) return d.now();
   if (emcy_.active(kEmcyCanOverrun)) d.at(overflow_us_ + kControllerEventHoldUs);
   if (emcy_.active(kEmcyBusOffRecovered)) d.at(recovered_us_ + kControllerEventHoldUs);
-  error_control_.next_deadline(d, static_cast<uint16_t>(od_.get(row_[k1017])),
-                               static_cast<uint16_t>(od_.get(row_[k100C])),
-                               static_cast<uint8_t>(od_.get(row_[k100D])));
+  error_control_.next_deadline(d, static_cast<uint16_t>(od_.get(row_[k1017])), guard_time_ms(),
+                               life_time_factor());
   if (nmt_.sdo_allowed()) {
     hb_consumer_.next_deadline(d);
     sync_.next_deadline(d);
@@ -259,9 +269,9 @@ void Node::process(uint32_t now_us) {
   if (nmt_.state() == kNmtInitialising) return;
   if (filters_stale_) update_filters();
   expire_controller_emcy(now_us);
-  const ErrorControl::Event ev = error_control_.process(
-      now_us, nmt_.state(), sink_, static_cast<uint16_t>(od_.get(row_[k1017])),
-      static_cast<uint16_t>(od_.get(row_[k100C])), static_cast<uint8_t>(od_.get(row_[k100D])));
+  const ErrorControl::Event ev =
+      error_control_.process(now_us, nmt_.state(), sink_, static_cast<uint16_t>(od_.get(row_[k1017])),
+                             guard_time_ms(), life_time_factor());
   if (ev != ErrorControl::kNoEvent) {
     life_lost_ = ev == ErrorControl::kLifeGuardLost;
     update_guard_emcy();
@@ -303,7 +313,8 @@ SdoAbort Node::on_hb_consumer_write(uint8_t sub, uint32_t value, bool apply) {
 }
 
 HookResult Node::on_store_write(uint16_t index, uint32_t value, bool apply) {
-  const bool save = index == 0x1010;
+  // 1011h is absent where the profile leaves it out: every write here saves.
+  const bool save = !profile::kRestoreDefaults || index == 0x1010;
   // CiA 301 §7.5.2.13/14: the signature "save" or "load", and a storage.
   if (value != (save ? kSaveSignature : kLoadSignature) || storage_ == nullptr) return kAbortStore;
   if (save_.running()) return kAbortDeviceState;  // busy: poll 1010h/1 until it reads 1

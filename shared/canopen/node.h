@@ -192,6 +192,8 @@ class Node : private NodeState {
   void on_transition(NmtState before);
   void on_sync_event(uint8_t counter, uint32_t now_us);
   void update_guard_emcy();
+  uint16_t guard_time_ms() const;
+  uint8_t life_time_factor() const;
   void update_filters();
   void expire_controller_emcy(uint32_t now_us);
   void step_save();

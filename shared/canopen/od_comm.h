@@ -1,5 +1,6 @@
 // The entries every mb2co node has: data types (0001h–0007h, 0020h–0023h) and
-// the CiA 301 communication area (1000h–1A03h). A node's OD list is
+// the CiA 301 communication area (1000h–1A03h); the rows of a service the
+// image's profile leaves out are absent (MB2CO_WITH_*, profiles/profile.h). A node's OD list is
 //   MB2CO_OD_DATA_TYPES(N, S)
 //   MB2CO_OD_COMM_1000(N, S, <1000h..1018h parameters>)
 //   MB2CO_OD_PDOS(...)   per-PDO defaults
@@ -56,6 +57,7 @@ const uint32_t kLoadSignature = 0x64616F6Cu;  ///< "load" (1011h)
   N(0x0006, 0, x0006_0_unsigned16, U32, CONST, kAttrPdo, kHookNone, 16, "UNSIGNED16")                             \
   N(0x0007, 0, x0007_0_unsigned32, U32, CONST, kAttrPdo, kHookNone, 32, "UNSIGNED32")                             \
   MB2CO_OD_DATA_TYPES_WIDE(N, S)                                                                                  \
+  MB2CO_WITH_TYPE_DESCRIPTIONS(                                                                                   \
   N(0x0020, 0, x0020_0_highestSubIndex, U8, CONST, 0, kHookNone, 6, "PDO_COMM_PAR: highest sub-index")            \
   N(0x0020, 1, x0020_1_cobIdType, U16, CONST, 0, kHookNone, 0x0007, "COB-ID type")                                \
   N(0x0020, 2, x0020_2_transmissionTypeType, U16, CONST, 0, kHookNone, 0x0005, "transmission type type")          \
@@ -73,7 +75,7 @@ const uint32_t kLoadSignature = 0x64616F6Cu;  ///< "load" (1011h)
   N(0x0023, 1, x0023_1_vendorIdType, U16, CONST, 0, kHookNone, 0x0007, "vendor-ID type")                          \
   N(0x0023, 2, x0023_2_productCodeType, U16, CONST, 0, kHookNone, 0x0007, "product code type")                    \
   N(0x0023, 3, x0023_3_revisionNumberType, U16, CONST, 0, kHookNone, 0x0007, "revision number type")              \
-  N(0x0023, 4, x0023_4_serialNumberType, U16, CONST, 0, kHookNone, 0x0007, "serial number type")
+  N(0x0023, 4, x0023_4_serialNumberType, U16, CONST, 0, kHookNone, 0x0007, "serial number type"))
 
 // 1000h–1200h. DEVTYPE: device type default (the node may set it at start),
 // NAME/HW/SW: texts of 1008h–100Ah, VENDOR/PRODUCT/REVISION: 1018h,
@@ -91,12 +93,14 @@ const uint32_t kLoadSignature = 0x64616F6Cu;  ///< "load" (1011h)
   S(0x1008, 0, x1008_0_deviceName, CONST, kHookNone, 0, NAME, "Manufacturer device name")                            \
   S(0x1009, 0, x1009_0_hardwareVersion, CONST, kHookNone, 0, HW, "Manufacturer hardware version")                    \
   S(0x100A, 0, x100A_0_softwareVersion, CONST, kHookNone, 0, SW, "Manufacturer software version")                    \
+  MB2CO_WITH_GUARDING(                                                                                               \
   N(0x100C, 0, x100C_0_guardTime, U16, RW, 0, kHookNmt, 0, "Guard time (ms)")                                        \
-  N(0x100D, 0, x100D_0_lifeTimeFactor, U8, RW, 0, kHookNmt, 0, "Life time factor")                                   \
+  N(0x100D, 0, x100D_0_lifeTimeFactor, U8, RW, 0, kHookNmt, 0, "Life time factor"))                                  \
   N(0x1010, 0, x1010_0_highestSubIndex, U8, CONST, 0, kHookNone, 1, "Store parameters: highest sub-index")           \
   N(0x1010, 1, x1010_1_saveAllParameters, U32, RW, 0, kHookStore, 1, "Save all parameters")                          \
+  MB2CO_WITH_RESTORE_DEFAULTS(                                                                                       \
   N(0x1011, 0, x1011_0_highestSubIndex, U8, CONST, 0, kHookNone, 1, "Restore default parameters: highest sub-index") \
-  N(0x1011, 1, x1011_1_restoreAllDefaults, U32, RW, 0, kHookStore, 1, "Restore all default parameters")              \
+  N(0x1011, 1, x1011_1_restoreAllDefaults, U32, RW, 0, kHookStore, 1, "Restore all default parameters"))             \
   N(0x1014, 0, x1014_0_cobIdEmcy, U32, RW, kAttrNodeId, kHookEmcy, 0x80, "COB-ID EMCY")                              \
   N(0x1015, 0, x1015_0_inhibitTimeEmcy, U16, RW, 0, kHookEmcy, 0, "Inhibit time EMCY (100 us)")                      \
   N(0x1016, 0, x1016_0_highestSubIndex, U8, CONST, 0, kHookNone, 4, "Consumer heartbeat time: highest sub-index")    \

@@ -4,22 +4,15 @@
 #include <stddef.h>
 #include <stdint.h>
 
+// The OD's wide extras (64-bit limits, Modbus map items wider than 32 bits
+// and strings, data types 0008h-001Bh, the gateway's 2500h) are the
+// profile's MB2CO_CONFIG_WIDE_TYPES (on for host builds, off on the Uno: its
+// flash; the Uno's OD still knows every type's size, SDO transfer and PDO
+// mapping).
+#include "profiles/profile.h"
+
 namespace mb2co {
 namespace canopen {
-
-/// The OD's wide extras, one switch: limits of 64 bits (else 32), Modbus
-/// map items wider than 32 bits and strings (gateway/od_register_bank.h),
-/// data-type entries 0008h–001Bh and the gateway's example entries of the
-/// wider types (2500h). On for host builds, off on the AVR (its flash): the
-/// Uno's OD still knows every type's size, SDO transfer and PDO mapping.
-/// Every translation unit of one image must see the same value.
-#ifndef MB2CO_OD_WIDE_TYPES
-#ifdef __AVR__
-#define MB2CO_OD_WIDE_TYPES 0
-#else
-#define MB2CO_OD_WIDE_TYPES 1
-#endif
-#endif
 
 /// CiA 301 basic data types (the index of their data-type entry, 0001h–001Bh:
 /// every one is below 20h, a row holds it in 5 bits). Entries 0001h–0007h of

@@ -4,9 +4,7 @@
 #include "modbus/slave.h"
 
 #include "modbus/crc16.h"
-#if MB2CO_GATEWAY_NET
 #include "modbus/network_pdu.h"
-#endif
 
 namespace mb2co {
 namespace modbus {
@@ -21,11 +19,7 @@ bool valid_address(uint8_t address) {
 // FC 2Bh/0Dh only its NMT command is a write (docs/gateway-network.md).
 bool broadcast_allowed(const uint8_t* pdu, uint16_t pdu_length) {
   const uint8_t function = pdu[0];
-#if MB2CO_GATEWAY_NET
-  if (is_net_nmt_pdu(pdu, pdu_length)) return true;
-#else
-  (void)pdu_length;
-#endif
+  if (profile::kNetwork && is_net_nmt_pdu(pdu, pdu_length)) return true;
   return function == fc::kWriteSingleCoil || function == fc::kWriteSingleRegister ||
          function == fc::kWriteMultipleCoils || function == fc::kWriteMultipleRegisters;
 }
@@ -49,12 +43,10 @@ bool SlaveCore::set_address(uint8_t address) {
 
 void SlaveCore::on_char(uint8_t byte, uint32_t byte_us, bool error) {
   if (framer_.frame_due_before(byte_us)) handle_frame();
-#if MB2CO_GATEWAY_NET
-  if (line_answer_pending()) {  // the master sent something else: it gave the answer up
+  if (profile::kNetwork && line_answer_pending()) {  // the master sent something else: it gave the answer up
     answer_pending_ = false;
     ++counters_.no_responses;
   }
-#endif
   framer_.push_char(byte, byte_us, error);
 }
 
@@ -89,11 +81,11 @@ void SlaveCore::handle_frame() {
   const bool broadcast = target == kBroadcastAddress;
   if (!broadcast && target != address_) return;  // another slave's frame
   ++counters_.server_messages;
-#if MB2CO_MODBUS_TCP
+#if MB2CO_CONFIG_MODBUS_TCP
   channel_ = nullptr;  // the request in hand is the line's
 #endif
   handle_request(static_cast<uint16_t>(framer_.length() - 1u - kCrcBytes), broadcast);
-#if MB2CO_MODBUS_TCP
+#if MB2CO_CONFIG_MODBUS_TCP
   channel_ = answer_pending_ ? answer_channel_ : nullptr;
 #endif
 }
@@ -125,16 +117,14 @@ void SlaveCore::handle_request(uint16_t pdu_length, bool broadcast) {
       pdu()[1] = static_cast<uint8_t>(reply.exception);
       send(2);
     }
-#if MB2CO_GATEWAY_NET
-  } else if (deferred_in_hand()) {
+  } else if (profile::kNetwork && deferred_in_hand()) {
     // 2B/0D deferred: counted when it is sent or dropped.
-#endif
   } else if (broadcast || reply.pdu_length == 0u) {
     ++counters_.no_responses;  // broadcast, or 08/04 (never answered)
   } else {
-#if MB2CO_GATEWAY_NET
-    if ((pdu()[0] & fc::kExceptionFlag) != 0u) ++counters_.exceptions;  // 2B/0D: 04 with an abort code
-#endif
+    if (profile::kNetwork && (pdu()[0] & fc::kExceptionFlag) != 0u) {
+      ++counters_.exceptions;  // 2B/0D: 04 with an abort code
+    }
     send(reply.pdu_length);
   }
   if (restart_pending_) {  // 08/01: answered first, then restarted
@@ -144,21 +134,19 @@ void SlaveCore::handle_request(uint16_t pdu_length, bool broadcast) {
   }
 }
 
-#if MB2CO_GATEWAY_NET
 bool SlaveCore::send_deferred(uint16_t pdu_length) {
   if (!answer_pending_) return false;
   answer_pending_ = false;
   if ((pdu()[0] & fc::kExceptionFlag) != 0u) ++counters_.exceptions;
   send(pdu_length);
-#if MB2CO_MODBUS_TCP
+#if MB2CO_CONFIG_MODBUS_TCP
   channel_ = answer_channel_ = nullptr;
 #endif
   return true;
 }
-#endif
 
 void SlaveCore::send(uint16_t pdu_length) {
-#if MB2CO_MODBUS_TCP
+#if MB2CO_CONFIG_MODBUS_TCP
   if (channel_ != nullptr) return send_to_channel(pdu_length);
 #endif
   uint8_t* adu = framer_.buffer();
@@ -185,6 +173,9 @@ SlaveCore::Reply SlaveCore::execute(uint16_t pdu_length) {
     case fc::kWriteSingleRegister:
       return write_single_register(pdu_length);
     case fc::kDiagnostics:
+      // An image whose profile leaves FC 08 out answers it as any code it
+      // does not know.
+      if (!profile::kDiagnostics) return Reply{0, Exception::kIllegalFunction};
       return diagnostics(pdu_length);
     case fc::kWriteMultipleCoils:
       return write_multiple(pdu_length, Table::kCoils);

@@ -12,7 +12,7 @@
 // when process() was late and a new frame starts after t3.5).
 // On the host a second framer may hand in requests: serve() takes a PDU
 // from Modbus/TCP (modbus/tcp_framer.h) and answers it through its
-// PduChannel, the same function codes behind both (modbus/tcp_switch.h).
+// PduChannel, the same function codes behind both (profile::kModbusTcp).
 //
 // Rules. Broadcast (address 0): only 05 06 0F 10 are executed (and, where
 // FC 2Bh/0Dh is built in, its NMT command), nothing is ever answered; other
@@ -41,8 +41,7 @@
 #include "modbus/register_bank.h"
 #include "modbus/rtu_framer.h"
 #include "modbus/rtu_timing.h"
-#include "modbus/tcp_switch.h"
-#if MB2CO_MODBUS_TCP
+#if MB2CO_CONFIG_MODBUS_TCP
 #include "modbus/tcp_channel.h"
 #endif
 
@@ -91,13 +90,12 @@ struct SlaveCoreState {
   LinkStats stats_;
   bool listen_only_;
   bool restart_pending_;  ///< 08/01 answered: restart after sending
-#if MB2CO_GATEWAY_NET
+  // FC 2Bh/0Dh (profile::kNetwork; never set in a profile without it).
   const NetRequestHandler* net_handler_;  ///< FC 2Bh/0Dh service; null: exception 01
   bool answer_pending_;                   ///< a 2B/0D answer is deferred (see answer_pending())
-#endif
-#if MB2CO_MODBUS_TCP
-  PduChannel* channel_;         ///< where the request in hand came from (null: the RTU framer)
-  PduChannel* answer_channel_;  ///< where the deferred answer goes (null: the RTU line)
+#if MB2CO_CONFIG_MODBUS_TCP               // the service's own state: no RAM where the profile leaves it out
+  PduChannel* channel_;                   ///< where the request in hand came from (null: the RTU framer)
+  PduChannel* answer_channel_;            ///< where the deferred answer goes (null: the RTU line)
 #endif
 };
 
@@ -157,7 +155,7 @@ class SlaveCore : private SlaveCoreState {
   /// Listen-only mode (08/04) holds for the request in hand: it is the
   /// serial line's, a request from another framer is served anyway.
   bool line_listen_only() const {
-#if MB2CO_MODBUS_TCP
+#if MB2CO_CONFIG_MODBUS_TCP
     return listen_only_ && channel_ == nullptr;
 #else
     return listen_only_;
@@ -180,7 +178,7 @@ class SlaveCore : private SlaveCoreState {
 
   /// The PDU of the request in hand (or of the deferred answer).
   uint8_t* pdu() {
-#if MB2CO_MODBUS_TCP
+#if MB2CO_CONFIG_MODBUS_TCP
     if (channel_ != nullptr) return channel_->pdu;
 #endif
     return framer_.buffer() + 1;
@@ -196,8 +194,8 @@ class SlaveCore : private SlaveCoreState {
   RtuFramer framer_;
   uint8_t address_;
 
-#if MB2CO_GATEWAY_NET
-  // FC 2Bh / MEI 0Dh (modbus/net_switch.h): the service and its deferred answer.
+  // FC 2Bh / MEI 0Dh (profile::kNetwork): the service and its deferred
+  // answer. In every profile; unused code is dropped where the switch is off.
  public:
   /// The FC 2Bh/0Dh service; null (the default): exception 01. Borrowed:
   /// it must outlive the slave or be cleared.
@@ -228,7 +226,7 @@ class SlaveCore : private SlaveCoreState {
   /// True when the deferred answer is the serial line's: a character from
   /// the line drops it, not one a Modbus/TCP client is waiting for.
   bool line_answer_pending() const {
-#if MB2CO_MODBUS_TCP
+#if MB2CO_CONFIG_MODBUS_TCP
     return answer_pending_ && answer_channel_ == nullptr;
 #else
     return answer_pending_;
@@ -238,16 +236,15 @@ class SlaveCore : private SlaveCoreState {
   /// is deferred at a time: the service answers 06 to another while its
   /// transfer runs).
   bool deferred_in_hand() const {
-#if MB2CO_MODBUS_TCP
+#if MB2CO_CONFIG_MODBUS_TCP
     return answer_pending_ && answer_channel_ == channel_;
 #else
     return answer_pending_;
 #endif
   }
-#endif
 
-#if MB2CO_MODBUS_TCP
-  // Modbus/TCP (modbus/tcp_switch.h): requests from another framer.
+#if MB2CO_CONFIG_MODBUS_TCP
+  // Modbus/TCP (profile::kModbusTcp): requests from another framer.
  public:
   /// Serves the request PDU of `pdu_length` bytes (1..kMaxPduBytes) in
   /// `channel.pdu`, whatever the unit id it came with (a Modbus/TCP server

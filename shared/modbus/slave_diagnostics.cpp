@@ -15,6 +15,7 @@ enum : uint8_t { kStreamBasic = 1, kStreamRegular = 2, kStreamExtended = 3, kInd
 }  // namespace
 
 bool SlaveCore::is_restart_request(uint16_t pdu_length) const {
+  if (!profile::kDiagnostics) return false;
   const uint8_t* p = framer_.buffer() + 1;
   if (pdu_length != 5u || p[0] != fc::kDiagnostics) return false;
   if (get_be16(p + 1) != diag::kRestartCommunications) return false;
@@ -23,7 +24,7 @@ bool SlaveCore::is_restart_request(uint16_t pdu_length) const {
 }
 
 SlaveCore::Reply SlaveCore::diagnostics(uint16_t pdu_length) {
-#if MB2CO_MODBUS_TCP
+#if MB2CO_CONFIG_MODBUS_TCP
   // Serial line only (application protocol §6.8): its counters and modes
   // are the line's, not a Modbus/TCP client's.
   if (channel_ != nullptr) return Reply{0, Exception::kIllegalFunction};
@@ -84,7 +85,6 @@ SlaveCore::Reply SlaveCore::diagnostics(uint16_t pdu_length) {
   return Reply{5, Exception::kNone};
 }
 
-#if MB2CO_GATEWAY_NET
 // FC 2B / MEI 0D: the handler answers now (an exception PDU is answered by
 // the usual path, so that it is counted once) or later (send_deferred).
 SlaveCore::Reply SlaveCore::network_request(uint16_t pdu_length) {
@@ -92,7 +92,7 @@ SlaveCore::Reply SlaveCore::network_request(uint16_t pdu_length) {
   const uint16_t length = net_handler_->handle(net_handler_->ctx, pdu(), pdu_length, response_capacity());
   if (length == 0u) {
     answer_pending_ = true;
-#if MB2CO_MODBUS_TCP
+#if MB2CO_CONFIG_MODBUS_TCP
     answer_channel_ = channel_;
 #endif
     return Reply{0, Exception::kNone};
@@ -102,13 +102,11 @@ SlaveCore::Reply SlaveCore::network_request(uint16_t pdu_length) {
   }
   return Reply{length, Exception::kNone};
 }
-#endif
 
 SlaveCore::Reply SlaveCore::device_identification(uint16_t pdu_length) {
   uint8_t* p = pdu();
-#if MB2CO_GATEWAY_NET
-  if (pdu_length >= 2u && p[1] == kMeiCanopenReference) return network_request(pdu_length);
-#endif
+  if (profile::kNetwork && pdu_length >= 2u && p[1] == kMeiCanopenReference)
+    return network_request(pdu_length);
   if (identity_ == nullptr) return Reply{0, Exception::kIllegalFunction};
   if (pdu_length < 2u) return Reply{0, Exception::kIllegalDataValue};
   if (p[1] != kMeiReadDeviceId) return Reply{0, Exception::kIllegalFunction};

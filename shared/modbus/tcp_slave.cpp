@@ -3,7 +3,7 @@
 // the line and answered through its channel, at once or when done.
 #include "modbus/slave.h"
 
-#if MB2CO_MODBUS_TCP  // else the image has no other framer (the AVR)
+#if MB2CO_CONFIG_MODBUS_TCP  // else the image has no other framer (its profile: shared/profiles)
 
 namespace mb2co {
 namespace modbus {
@@ -36,4 +36,4 @@ void SlaveCore::send_to_channel(uint16_t pdu_length) {
 
 }  // namespace modbus
 }  // namespace mb2co
-#endif  // MB2CO_MODBUS_TCP
+#endif  // MB2CO_CONFIG_MODBUS_TCP

@@ -10,7 +10,7 @@ here=$(dirname "$0")
 mkdir -p "$out"
 flags="-std=gnu++14 -mmcu=atmega328p -Os -fno-exceptions -fno-rtti -fno-threadsafe-statics
   -ffunction-sections -fdata-sections -Wall -Wextra -Wconversion -Wsign-conversion -Wshadow
-  -Werror -I$shared"
+  -Werror -I$shared/profiles/station -I$shared"
 objects=""
 for src in "$shared"/modbus/*.cpp; do
   obj="$out/$(basename "${src%.cpp}").o"

@@ -146,6 +146,28 @@ TEST_F(Wire, TheChipSendsWhileAFrameFromOutsideIsStillToCome) {
   EXPECT_TRUE(wire_.int_low()) << "and 080h arrived later";
 }
 
+TEST_F(Wire, AmongWaitingFramesFromOutsideTheLowestIdentifierGoesFirst) {
+  // A backlog of low-priority traffic (a flood at the bus's capacity) and a
+  // remote node's SDO response that came after it: the response takes the
+  // wire when it is next free, as it wins arbitration on a real bus.
+  const CanFrame flood = frame(0x790, 8), response = frame(0x582, 8);
+  for (int i = 0; i < 5; ++i) wire_.frame_from_bus(flood, 0, 0);
+  wire_.frame_from_bus(response, 0, 10);
+  const uint64_t first_end = cycles_500k(flood);
+  run_to(first_end);
+  CanFrame got{};
+  driver_.service();
+  ASSERT_TRUE(driver_.receive(got));
+  EXPECT_EQ(got.id, 0x790u) << "the frame on the wire when the response came";
+  run_to(first_end + cycles_500k(response));
+  driver_.service();
+  ASSERT_TRUE(driver_.receive(got));
+  EXPECT_EQ(got.id, 0x582u) << "next: before the four flood frames that waited longer";
+  run_to(UINT64_MAX - 1);
+  EXPECT_EQ(wire_.carried_in(), 6u);
+  EXPECT_EQ(wire_.busy_cycles(), 5 * cycles_500k(flood) + cycles_500k(response));
+}
+
 }  // namespace
 }  // namespace uno
 }  // namespace mb2co

@@ -147,6 +147,50 @@ TEST(UnoCli, NodeIdSavedInEepromSurvivesARestart) {
   EXPECT_EQ(again.stop(), 0);
 }
 
+// --image network: mb2co-gateway-network.elf of this build tree on the
+// station's wiring (the panel's buttons and LEDs), the gateway's control
+// channel. While that image is built larger than the part (OVERSIZE), the
+// board refuses it with one line naming the file.
+TEST(UnoCli, NetworkImageIsTheStationBoardWithItsOwnFile) {
+  TempDir dir;
+  LineChild help;
+  ASSERT_TRUE(help.start({uno_program(), "--help"}));
+  EXPECT_TRUE(help.wait_prefix("  --image gateway|network|ionode|echo", 10s));
+  EXPECT_EQ(help.wait_exit(10s), 0);
+  UnoProcess uno;
+  const bool started = uno.start_command(
+      {uno_program(), "--image", "network", "--can", "none", "--pty", dir.path("uno.pty")}, 20s);
+  if (!network_gateway_is_uno()) {
+    EXPECT_FALSE(started);
+    EXPECT_EQ(uno.child.wait_exit(10s), 1);
+    EXPECT_NE(uno.child.stderr_text().find("/mb2co-gateway-network.elf: "), std::string::npos)
+        << uno.child.stderr_text();
+    EXPECT_TRUE(one_line(uno.child.stderr_text())) << uno.child.stderr_text();
+  } else {
+    ASSERT_TRUE(started) << uno.error();
+    ModbusMaster m;
+    ASSERT_TRUE(m.open(uno.device(), 2000ms)) << m.error();
+    // Network view (docs/gateway-network.md): the gateway itself, node 1.
+    const Bytes view = m.raw_transaction({0x2B, 0x0D, 0x80, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+    ASSERT_GE(view.size(), 16u) << "no FC 2Bh/0Dh answer";
+    EXPECT_EQ(view[12], 1);
+    EXPECT_EQ(uno.stop(), 0);
+  }
+  // The station's wiring, whatever the file: the panel's buttons and LEDs.
+  UnoProcess wired;
+  ASSERT_TRUE(wired.start_command({uno_program(), "--image", "network", "--elf", uno_elf(), "--can", "none",
+                                   "--pty", dir.path("wired.pty")},
+                                  20s))
+      << wired.error();
+  EXPECT_EQ(wired.ask("press STOP2", "ok"), "ok");
+  EXPECT_EQ(wired.ask("release STOP2", "ok"), "ok");
+  const std::string leds = wired.ask("leds?", "leds ");
+  for (const char* led : {"self", "prev", "next", "lab", "canerr"})
+    EXPECT_NE(field_of(leds, led), "") << led << " in " << leds;
+  EXPECT_EQ(wired.ask("state?", "error").rfind("error state?", 0), 0u) << "the gateway's control channel";
+  EXPECT_EQ(wired.stop(), 0);
+}
+
 }  // namespace
 }  // namespace test
 }  // namespace mb2co

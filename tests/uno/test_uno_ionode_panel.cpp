@@ -87,10 +87,16 @@ TEST(UnoPanel, EachImageHasItsOwnButtonNames) {
 }
 
 TEST(UnoImages, NamesFilesAndUnknownNames) {
-  EXPECT_EQ(image_names(), "gateway, ionode, echo");
+  EXPECT_EQ(image_names(), "gateway, network, ionode, echo");
   ASSERT_NE(find_image("ionode"), nullptr);
   EXPECT_STREQ(find_image("ionode")->elf, "mb2co-ionode.elf");
   EXPECT_STREQ(find_image("gateway")->elf, "mb2co-gateway.elf");
+  // The network gateway: its own file on the station's pins.
+  ASSERT_NE(find_image("network"), nullptr);
+  EXPECT_STREQ(find_image("network")->elf, "mb2co-gateway-network.elf");
+  EXPECT_EQ(find_image("network")->button_pins, gateway_image().button_pins);
+  EXPECT_EQ(find_image("network")->led_pins, gateway_image().led_pins);
+  EXPECT_TRUE(find_image("network")->gateway);
   EXPECT_EQ(find_image("bridge"), nullptr);
 }
 

@@ -9,6 +9,9 @@ const char* uno_program() {
 const char* uno_elf() {
   return MB2CO_UNO_ELF;
 }
+bool network_gateway_is_uno() {
+  return MB2CO_NET_GATEWAY_UNO != 0;
+}
 
 bool UnoProcess::start(const std::vector<std::string>& args, std::chrono::milliseconds timeout) {
   std::vector<std::string> argv{uno_program(), "--elf", uno_elf()};

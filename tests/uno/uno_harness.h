@@ -18,6 +18,11 @@ using namespace std::chrono_literals;
 /// Path of the mb2co-uno binary and of the AVR image under test.
 const char* uno_program();
 const char* uno_elf();
+/// True when the network tests run against `mb2co-uno --image network`
+/// (mb2co-gateway-network.elf), false while they run against mb2co-node
+/// because that image does not fit the part yet: tests/uno/CMakeLists.txt,
+/// MB2CO_NET_GATEWAY.
+bool network_gateway_is_uno();
 
 /// Same control channel and ready line as mb2co-node's: a NodeProcess
 /// started with mb2co-uno --elf <the image>.

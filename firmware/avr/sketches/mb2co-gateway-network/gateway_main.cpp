@@ -1,0 +1,1 @@
+../mb2co-gateway/gateway_main.cpp

@@ -1,0 +1,16 @@
+// Profile "bridge": the Uno serial-segment bridge mb2co-bridge.elf (its CANopen core is the segment's
+// nodes').
+// One switch per service (1 in, 0 out); shared/profiles/profile.h says what
+// each means and how code reads them.
+#pragma once
+
+#define MB2CO_PROFILE_NAME "bridge"
+#define MB2CO_CONFIG_NETWORK 0            // FC 2Bh/0Dh to every node (CiA 309-2)
+#define MB2CO_CONFIG_GUARDING 1           // node/life guarding, 100Ch/100Dh
+#define MB2CO_CONFIG_DIAGNOSTICS 1        // Modbus FC 08
+#define MB2CO_CONFIG_TYPE_DESCRIPTIONS 1  // OD 0020h-0023h
+#define MB2CO_CONFIG_RESTORE_DEFAULTS 1   // OD 1011h
+#define MB2CO_CONFIG_SDO_BLOCK 0          // SDO block transfer, domains
+#define MB2CO_CONFIG_TPDO_RTR 0           // TPDOs answer remote requests
+#define MB2CO_CONFIG_WIDE_TYPES 0         // 64-bit types, 0008h-001Bh, 2500h
+#define MB2CO_CONFIG_MODBUS_TCP 0         // Modbus/TCP channels into the slave

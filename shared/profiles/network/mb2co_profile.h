@@ -1,0 +1,16 @@
+// Profile "network": the Uno network gateway mb2co-gateway-network.elf: the station plus FC 2Bh/0Dh,
+// without exactly guarding, FC 08 and 0020h-0023h (issue 23's decision).
+// One switch per service (1 in, 0 out); shared/profiles/profile.h says what
+// each means and how code reads them.
+#pragma once
+
+#define MB2CO_PROFILE_NAME "network"
+#define MB2CO_CONFIG_NETWORK 1            // FC 2Bh/0Dh to every node (CiA 309-2)
+#define MB2CO_CONFIG_GUARDING 0           // node/life guarding, 100Ch/100Dh
+#define MB2CO_CONFIG_DIAGNOSTICS 0        // Modbus FC 08
+#define MB2CO_CONFIG_TYPE_DESCRIPTIONS 0  // OD 0020h-0023h
+#define MB2CO_CONFIG_RESTORE_DEFAULTS 1   // OD 1011h
+#define MB2CO_CONFIG_SDO_BLOCK 0          // SDO block transfer, domains
+#define MB2CO_CONFIG_TPDO_RTR 0           // TPDOs answer remote requests
+#define MB2CO_CONFIG_WIDE_TYPES 0         // 64-bit types, 0008h-001Bh, 2500h
+#define MB2CO_CONFIG_MODBUS_TCP 0         // Modbus/TCP channels into the slave

@@ -64,14 +64,7 @@ bool from_kernel_frame(const struct ::can_frame& in, CanFrame& out) {
 }
 
 SocketCanPort::SocketCanPort()
-    : fd_(-1),
-      rcvbuf_bytes_(0),
-      last_rx_overflows_(0),
-      counters_{},
-      ifname_{},
-      error_{},
-      also_{},
-      also_count_(0) {}
+    : fd_(-1), rcvbuf_bytes_(0), last_rx_overflows_(0), counters_{}, ifname_{}, error_{} {}
 
 SocketCanPort::~SocketCanPort() {
   close();
@@ -161,11 +154,7 @@ Status SocketCanPort::set_filters(const CanAcceptance* filters, size_t count) {
     kernel[i].can_id = f.id | (f.extended ? CAN_EFF_FLAG : 0u);
     kernel[i].can_mask = f.mask | CAN_EFF_FLAG;
   }
-  const socklen_t bytes = static_cast<socklen_t>(count * sizeof(can_filter));
-  if (setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, count ? kernel : nullptr, bytes) != 0) {
-    return fail("CAN_RAW_FILTER", errno);
-  }
-  return Status::ok();
+  return install(kernel, count);
 }
 
 Status SocketCanPort::accept_all() {
@@ -173,46 +162,37 @@ Status SocketCanPort::accept_all() {
   return set_filters(all, 2);
 }
 
-Status SocketCanPort::set_also_accepted(const CanAcceptance* ranges, size_t count) {
-  if (count > kMaxAlsoAccepted) return fail("more than 4 extra filter ranges", 0);
+Status SocketCanPort::set_ranges(const CanIdRange* ranges, size_t count) {
+  if (fd_ < 0) return fail("not open", 0);
+  if (count > kMaxFilters) return fail("more than 512 filters", 0);
+  can_filter kernel[kMaxFilters];
+  // The remote bit of a range is the kernel's CAN_RTR_FLAG; the format bit
+  // always takes part (standard frames only).
+  const auto kernel_bits = [](uint16_t v) {
+    return (v & CAN_SFF_MASK) | ((v & kCanRangeRemote) != 0 ? CAN_RTR_FLAG : 0u);
+  };
   for (size_t i = 0; i < count; ++i) {
-    if (ranges[i].extended || !id_fits(ranges[i].id, false) || !id_fits(ranges[i].mask, false))
-      return fail("extra filter range out of range", 0);
-    also_[i] = ranges[i];
+    kernel[i].can_id = kernel_bits(ranges[i].id);
+    kernel[i].can_mask = kernel_bits(ranges[i].mask) | CAN_EFF_FLAG;
   }
-  also_count_ = count;
-  return Status::ok();
+  return install(kernel, count);
 }
 
-Status SocketCanPort::set_consumed_ids(const uint16_t* ids, uint8_t count) {
-  if (fd_ < 0) return fail("not open", 0);
-  can_filter kernel[256 + 1 + kMaxAlsoAccepted];
-  size_t n = 0;
-  for (uint8_t i = 0; i < count; ++i) {
-    kernel[n].can_id = ids[i] & CAN_SFF_MASK;
-    kernel[n++].can_mask = CAN_SFF_MASK | CAN_EFF_FLAG;
+Status SocketCanPort::install(const can_filter* kernel, size_t count) {
+  const socklen_t bytes = static_cast<socklen_t>(count * sizeof(can_filter));
+  if (setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, count ? kernel : nullptr, bytes) != 0) {
+    return fail("CAN_RAW_FILTER", errno);
   }
-  // Every standard remote frame as well: the node answers RTRs for its
-  // TPDOs (transmission types 252/253), which consumed_ids leaves out (the
-  // MCP2515 port filters them, RTR being deprecated; here they stay).
-  kernel[n].can_id = CAN_RTR_FLAG;
-  kernel[n++].can_mask = CAN_RTR_FLAG | CAN_EFF_FLAG;
-  for (size_t i = 0; i < also_count_; ++i) {
-    kernel[n].can_id = also_[i].id;
-    kernel[n++].can_mask = also_[i].mask | CAN_EFF_FLAG;
-  }
-  const socklen_t bytes = static_cast<socklen_t>(n * sizeof(can_filter));
-  if (setsockopt(fd_, SOL_CAN_RAW, CAN_RAW_FILTER, kernel, bytes) != 0) return fail("CAN_RAW_FILTER", errno);
   return Status::ok();
 }
 
 const CanControl SocketCanPort::kControl = {nullptr, &SocketCanPort::set_filters_of};
 
-void SocketCanPort::set_filters_of(void* ctx, const uint16_t* ids, uint8_t count) {
-  // A refusal leaves the previous filters (last_io_error() tells); the node
-  // ignores frames it does not consume, so an open filter is safe.
+void SocketCanPort::set_filters_of(void* ctx, const CanIdRange* ranges, uint8_t count) {
+  // A refusal leaves the previous filters (last_io_error() tells); the
+  // device ignores frames it does not consume, so an open filter is safe.
   SocketCanPort& port = *static_cast<SocketCanPort*>(ctx);
-  const Status done = port.set_consumed_ids(ids, count);
+  const Status done = port.set_ranges(ranges, count);
   if (!done) snprintf(port.error_, sizeof port.error_, "%s", done.message().c_str());
 }
 

@@ -10,7 +10,8 @@
 #include "canopen/can_frame.h"
 #include "host/status.h"
 
-struct can_frame;  // <linux/can.h>
+struct can_frame;   // <linux/can.h>
+struct can_filter;  // <linux/can.h>
 
 namespace mb2co {
 namespace linux_port {
@@ -90,16 +91,10 @@ class SocketCanPort {
   Status set_filters(const CanAcceptance* filters, size_t count);
   /// Back to receiving every frame.
   Status accept_all();
-  /// Receives the standard ids[0..count) (CanControl::set_filters), every
-  /// standard remote frame (RTRs for TPDOs, not in Node::consumed_ids) and
-  /// the ranges of set_also_accepted().
-  Status set_consumed_ids(const uint16_t* ids, uint8_t count);
-  /// Id/mask ranges that set_consumed_ids() lets through as well, from its
-  /// next call on: services beside the node core that take frames the
-  /// core's list leaves out (the gateway's SDO client and network view:
-  /// 580h-5FFh, 700h-77Fh). At most kMaxAlsoAccepted; copied.
-  static const size_t kMaxAlsoAccepted = 4;
-  Status set_also_accepted(const CanAcceptance* ranges, size_t count);
+  /// Receives what a device's acceptance ranges admit (CanControl::
+  /// set_filters, platform/device_port.h): one kernel filter per range, its
+  /// remote bit as CAN_RTR_FLAG; no extended frame. At most 512 ranges.
+  Status set_ranges(const CanIdRange* ranges, size_t count);
 
   /// Takes up to `capacity` waiting frames without blocking; returns how many
   /// (0 when none are waiting or on a read error, counted in io_errors).
@@ -117,8 +112,9 @@ class SocketCanPort {
   /// The port as the core's frame sink; valid while this object lives.
   CanSink sink() { return CanSink{&SocketCanPort::send_to, this}; }
   /// The core's controller settings (shared/platform/device_port.h), with sink()'s
-  /// ctx: kernel filters for the ids the node consumes; no bit rate (a raw
-  /// socket cannot set it: `ip link set can0 type can bitrate ...` does).
+  /// ctx: kernel filters from the device's acceptance ranges (set_ranges);
+  /// no bit rate (a raw socket cannot set it: `ip link set can0 type can
+  /// bitrate ...` does).
   static const CanControl kControl;
 
   const SocketCanCounters& counters() const { return counters_; }
@@ -127,7 +123,9 @@ class SocketCanPort {
 
  private:
   static bool send_to(void* ctx, const CanFrame& frame);
-  static void set_filters_of(void* ctx, const uint16_t* ids, uint8_t count);
+  static void set_filters_of(void* ctx, const CanIdRange* ranges, uint8_t count);
+  /// Replaces the kernel filters by kernel[0..count) (CAN_RAW_FILTER).
+  Status install(const struct ::can_filter* kernel, size_t count);
   /// "socketcan IFACE: what[: strerror(err)]" into `line` (err 0: no errno text).
   void describe(char* line, size_t cap, const char* what, int err) const;
   Status fail(const char* what, int err) const;
@@ -141,8 +139,6 @@ class SocketCanPort {
   SocketCanCounters counters_;
   char ifname_[16];
   char error_[160];
-  CanAcceptance also_[kMaxAlsoAccepted];
-  size_t also_count_;
 };
 
 }  // namespace linux_port

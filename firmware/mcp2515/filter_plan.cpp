@@ -7,6 +7,7 @@ namespace {
 constexpr uint8_t kFiltersRxB0 = 2;
 constexpr uint8_t kFiltersRxB1 = 4;
 constexpr uint16_t kNoCost = 0xFFFF;
+constexpr uint16_t kNoId = 0xFFFF;       ///< above every standard id
 constexpr uint8_t kStandardIdBits = 11;  ///< kMaxStandardId = 2^11 - 1
 /// Work charged for a candidate merge besides its comparisons (its mask's
 /// width, bookkeeping), and for the end of a group search.
@@ -21,7 +22,39 @@ __attribute__((noinline)) uint16_t accepted_by(uint16_t values, uint16_t mask) {
   return values;
 }
 
+/// Adds `id` to the sorted, duplicate-free ids[0..n); false when it is new
+/// and kMaxSubscribedIds are there already.
+bool insert_id(uint16_t* ids, uint8_t& n, uint16_t id) {
+  uint8_t at = n;
+  while (at > 0 && ids[at - 1] > id) --at;
+  if (at > 0 && ids[at - 1] == id) return true;
+  if (n == kMaxSubscribedIds) return false;
+  for (uint8_t k = n; k > at; --k) ids[k] = ids[k - 1];
+  ids[at] = id;
+  ++n;
+  return true;
+}
+
 }  // namespace
+
+// Ascending by selection: each round takes the least id not yet taken (at
+// most kMaxSubscribedIds + 1 rounds over the ranges: no sort, no shifting).
+uint8_t admitted_ids(const CanIdRange* ranges, uint8_t count, uint16_t* ids) {
+  uint8_t n = 0;
+  uint16_t floor = 0;  // every id below it is taken
+  for (;;) {
+    uint16_t next = kNoId;
+    for (const CanIdRange* r = ranges; r < ranges + count; ++r) {
+      if ((r->mask & kMaxStandardId) != kMaxStandardId) return 0;  // more than one id: open
+      const uint16_t id = r->id & kMaxStandardId;
+      if (id >= floor && id < next) next = id;
+    }
+    if (next == kNoId) return n;
+    if (n == kMaxSubscribedIds) return 0;
+    ids[n++] = next;
+    floor = static_cast<uint16_t>(next + 1);
+  }
+}
 
 bool plan_accepts(const FilterPlan& plan, uint16_t id) {
   for (uint8_t f = 0; f < 6; ++f) {
@@ -43,19 +76,13 @@ bool plan_accepts(const FilterPlan& plan, uint16_t id) {
 // (3,0) ..). It works on one id per distinct value: ids equal under a mask
 // stay equal under any narrower one, so the counts are the same.
 
-bool FilterPlanner::start(const uint16_t* ids, uint8_t count) {
-  phase_ = kIdle;
-  if (count == 0 || count > kMaxSubscribedIds || ids[count - 1] > kMaxStandardId) return false;
-  for (uint8_t k = 1; k < count; ++k) {
-    if (ids[k - 1] >= ids[k]) return false;
-  }
+void FilterPlanner::start(const uint16_t* ids, uint8_t count) {
   ids_ = ids;
   n_ = count;
   a_ = 0;
   b_ = 0;
   best_cost_ = kNoCost;
   next_split();
-  return true;
 }
 
 /// Keeps in `out`, in order, the first id of each distinct value under `mask`
@@ -203,14 +230,8 @@ bool plan_filters(const uint16_t* ids, uint8_t count, FilterPlan& plan) {
   uint16_t sorted[kMaxSubscribedIds];
   uint8_t n = 0;
   for (uint8_t i = 0; i < count; ++i) {
-    const uint16_t id = ids[i];
-    if (id > kMaxStandardId) return false;
-    uint8_t at = n;
-    while (at > 0 && sorted[at - 1] > id) --at;
-    if (at > 0 && sorted[at - 1] == id) continue;
-    for (uint8_t k = n; k > at; --k) sorted[k] = sorted[k - 1];
-    sorted[at] = id;
-    ++n;
+    if (ids[i] > kMaxStandardId) return false;
+    insert_id(sorted, n, ids[i]);  // count <= kMaxSubscribedIds: room for every id
   }
   FilterPlanner planner;
   planner.start(sorted, n);

@@ -1,5 +1,7 @@
-// Acceptance masks and filters of the MCP2515 computed from the list of
-// standard CAN ids a node subscribes to. Pure computation, no chip access.
+// Acceptance masks and filters of the MCP2515 computed from what a device
+// must receive: its acceptance ranges (platform/device_port.h, CanIdRange)
+// as the standard ids they admit (admitted_ids), then a plan for those ids.
+// Pure computation, no chip access; no CANopen in here.
 //
 // The chip has RXB0 with mask RXM0 and filters RXF0..RXF1, and RXB1 with mask
 // RXM1 and filters RXF2..RXF5. A frame is accepted when, for some filter F of
@@ -9,6 +11,8 @@
 // (FilterPlan::exact is false then and accepted_ids says how many pass).
 #pragma once
 #include <stdint.h>
+
+#include "platform/device_port.h"  // CanIdRange
 
 namespace mb2co {
 namespace mcp2515 {
@@ -43,12 +47,12 @@ class FilterPlanner {
   /// ids, 0.88 ms for 12 on the ATmega328P at 16 MHz (77 and 289 steps).
   static const uint16_t kStepWork = 320;
 
-  /// Begins a plan for ids[0..count): strictly ascending (sorted, no
-  /// duplicates), each <= kMaxStandardId, 1 <= count <= kMaxSubscribedIds.
-  /// The planner reads ids[] at every step: they must stay valid and
-  /// unchanged until step() returned true or stop(). False (idle then) on a
-  /// list breaking these rules.
-  bool start(const uint16_t* ids, uint8_t count);
+  /// Begins a plan for ids[0..count) as admitted_ids gives them: strictly
+  /// ascending (sorted, no duplicates), each <= kMaxStandardId, 1 <= count
+  /// <= kMaxSubscribedIds (not checked: the lists come from admitted_ids or
+  /// plan_filters). The planner reads ids[] at every step: they must stay
+  /// valid and unchanged until step() returned true or stop().
+  void start(const uint16_t* ids, uint8_t count);
   /// Does a bounded piece of the search (kStepWork). True when no work is
   /// left: done() (a plan is ready) or idle.
   bool step();
@@ -89,6 +93,16 @@ class FilterPlanner {
   uint16_t best_cost_;       ///< accepted ids of the best split; 0xFFFF: none yet
   uint16_t best_m0_, best_m1_;
 };
+
+/// The standard ids ranges[0..count) admit, sorted ascending without
+/// duplicates, into ids[0..n) (room for kMaxSubscribedIds); returns n. The
+/// remote bit of a range is no id bit (the chip filters data and remote
+/// frames alike: a superset). 0 (no plan: the filters stay open, a
+/// superset) when a range admits more than one id (a network gateway's
+/// 580h-5FFh; planning for wider ranges would cost the station's flash and
+/// no image needs it), when the ids are more than kMaxSubscribedIds, or when
+/// there are none.
+uint8_t admitted_ids(const CanIdRange* ranges, uint8_t count, uint16_t* ids);
 
 /// Computes a plan accepting at least every id in ids[0..count) in one go
 /// (FilterPlanner to the end). Duplicates are allowed. Returns false (plan

@@ -1,5 +1,6 @@
 #include "mcp2515.h"
 
+#include <stddef.h>
 #include <string.h>
 
 #include "mcp2515_regs.h"
@@ -183,15 +184,22 @@ bool Driver::set_mode(Mode mode) {
 
 bool Driver::configure_filters(const FilterPlan* plan) {
   if (!request_mode(reg::kModeConfig)) return false;  // masks/filters are writable only here
-  uint8_t bytes[12];
   if (plan != nullptr) {
-    encode_standard(plan->mask[0], bytes);
-    encode_standard(plan->mask[1], bytes + 4);
-    write(reg::kRxM0Sidh, bytes, 8);
-    for (uint8_t f = 0; f < 3; ++f) encode_standard(plan->filter[f], bytes + 4 * f);
-    write(reg::rxf_sidh(0), bytes, 12);
-    for (uint8_t f = 0; f < 3; ++f) encode_standard(plan->filter[3 + f], bytes + 4 * f);
-    write(reg::rxf_sidh(3), bytes, 12);
+    // Three writes of consecutive registers: RXF0-2, RXF3-5, then RXM0-1
+    // (the masks are the two words before the filters in FilterPlan).
+    static_assert(reg::rxf_sidh(3) == reg::rxf_sidh(0) + 0x10 && reg::kRxM0Sidh == reg::rxf_sidh(0) + 0x20 &&
+                      reg::kRxM1Sidh == reg::kRxM0Sidh + 4,
+                  "filter and mask blocks 10h apart");
+    static_assert(offsetof(FilterPlan, filter) == offsetof(FilterPlan, mask) + 2 * sizeof(uint16_t),
+                  "masks right before the filters");
+    const uint16_t* words = plan->filter;
+    for (uint8_t block = 0; block < 3; ++block) {
+      const uint8_t count = block < 2 ? 3 : 2;
+      uint8_t bytes[12];
+      for (uint8_t k = 0; k < count; ++k) encode_standard(words[k], bytes + 4 * k);
+      write(static_cast<uint8_t>(reg::rxf_sidh(0) + 0x10 * block), bytes, static_cast<uint8_t>(4 * count));
+      words = block == 0 ? words + 3 : plan->mask;
+    }
   }
   // RXB0 rolls over into RXB1, so RXB0's ids get two buffers of depth.
   const uint8_t rxm = plan != nullptr ? 0 : reg::kRxCtrlRxmAny;

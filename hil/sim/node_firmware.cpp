@@ -3,6 +3,7 @@
 // commissioning, and the OD state the line watches. The pass scheduler is
 // node_station.cpp.
 #include <algorithm>
+#include <vector>
 
 #include "canopen/pdo_map.h"
 #include "filter_plan.h"
@@ -52,13 +53,23 @@ void NodeStation::commission(const std::function<void(canopen::ObjectDictionary&
   serial_pending_.clear();
 }
 
-void NodeStation::set_filters(void* ctx, const uint16_t* ids, uint8_t count) {
+void NodeStation::set_filters(void* ctx, const CanIdRange* ranges, uint8_t count) {
   NodeStation& n = *static_cast<NodeStation*>(ctx);
   if (!n.timing_.can_filters || n.bench_) return;
+  // The station the line runs is the Uno's station image: no network
+  // service (580h-5FFh, 700h-77Fh) and no TPDO answering remote requests
+  // (every remote frame), the host build's ranges wider than one id. Its
+  // filters are planned for the node's own ids only, as the Uno plans them.
+  std::vector<CanIdRange> station;
+  for (const CanIdRange* r = ranges; r < ranges + count; ++r) {
+    if (ids_in(*r) == 1) station.push_back(*r);
+  }
   // The whole plan at once: the firmware's planner reaches the same plan in
   // steps (mcp2515.FilterPlanner tests), with the filters open meanwhile.
+  uint16_t ids[mcp2515::kMaxSubscribedIds];
+  const uint8_t n_ids = mcp2515::admitted_ids(station.data(), static_cast<uint8_t>(station.size()), ids);
   mcp2515::FilterPlan plan;
-  if (mcp2515::plan_filters(ids, count, plan)) n.can_.set_acceptance(&plan);
+  n.can_.set_acceptance(n_ids != 0 && mcp2515::plan_filters(ids, n_ids, plan) ? &plan : nullptr);
 }
 
 NodeState NodeStation::read_state() {

@@ -105,8 +105,9 @@ class NodeStation final : public Handler {
   uint32_t micros_at(SimNs t) const { return static_cast<uint32_t>((t - boot_ns_) / kNsPerUs); }
 
   void on_event(uint32_t code, uint64_t arg) override;
-  /// CanControl::set_filters: the controller admits the ids the core consumes.
-  static void set_filters(void* ctx, const uint16_t* ids, uint8_t count);
+  /// CanControl::set_filters: the controller admits what the gateway's
+  /// acceptance ranges admit (planned as the Uno plans them).
+  static void set_filters(void* ctx, const CanIdRange* ranges, uint8_t count);
 
  private:
   enum Code : uint32_t { kPass, kRelease };

@@ -40,8 +40,9 @@ struct NodeTiming {
   bool isr_stamps = true;
   size_t can_rx_buffers = 2;  ///< MCP2515 RXB0 + RXB1
   /// The port programs the MCP2515's masks and filters (mcp2515::
-  /// plan_filters) with the ids the gateway consumes (Node::consumed_ids,
-  /// handed over by CanControl::set_filters at each reset and after a change).
+  /// plan_filters) for the gateway's acceptance ranges (Node::acceptance,
+  /// handed over by CanControl::set_filters at each reset and after a change;
+  /// open when they admit more ids than the planner takes).
   bool can_filters = true;
   /// Speed only, same results: the firmware is not called in a pass that
   /// provably does nothing (the rule: NodeStation, "Idle passes"). Off =

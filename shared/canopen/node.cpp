@@ -11,42 +11,39 @@ Node::Node(ObjectDictionary& od, const CanSink& sink) : NodeState(), od_(od), si
 
 static const uint16_t kIndices[] MB2CO_FLASH = {0x1016, 0x1017, 0x100C, 0x100D};
 
+constexpr uint16_t Node::kWidestRange;
+
 namespace {
 
-// Adds `id` to the sorted, duplicate-free ids[0..count) (room for it is
-// guaranteed by kMaxConsumedIds).
-void add_id(uint16_t* ids, uint8_t& count, uint16_t id) {
-  uint8_t at = 0;
-  while (at < count && ids[at] < id) ++at;
-  if (at < count && ids[at] == id) return;
-  for (uint8_t i = count; i > at; --i) ids[i] = ids[i - 1];
-  ids[at] = id;
-  ++count;
+/// Writes the range of exactly `id` at `r`; returns the next place.
+CanIdRange* exact(CanIdRange* r, uint32_t id) {
+  r->id = static_cast<uint16_t>(id);
+  r->mask = kCanRangeExact;
+  return r + 1;
 }
 
 }  // namespace
 
-uint8_t Node::consumed_ids(uint16_t* ids) const {
-  uint8_t count = 0;
-  add_id(ids, count, 0x000);                                     // NMT
-  add_id(ids, count, static_cast<uint16_t>(sync_.cob_id()));     // SYNC (1005h)
-  add_id(ids, count, static_cast<uint16_t>(0x600u + node_id_));  // SDO request
-  if (profile::kGuarding)
-    add_id(ids, count, static_cast<uint16_t>(0x700u + node_id_));  // node guarding (RTR)
+uint8_t Node::acceptance(CanIdRange* ranges) const {
+  CanIdRange* r = exact(ranges, 0x000);                     // NMT
+  r = exact(r, sync_.cob_id());                             // SYNC (1005h)
+  r = exact(r, 0x600u + node_id_);                          // SDO request
+  if (profile::kGuarding) r = exact(r, 0x700u + node_id_);  // node guarding (RTR)
   for (uint8_t n = 0; n < kPdoCount; ++n) {
     const uint32_t cob = rpdos_.cob_id(n);
     // Valid (bit 31 clear) and a standard id (bit 29 clear).
-    if ((cob & 0xA0000000u) == 0) add_id(ids, count, static_cast<uint16_t>(cob & 0x7FFu));
+    if ((cob & 0xA0000000u) == 0) r = exact(r, cob & 0x7FFu);
   }
   for (uint8_t sub = 1; sub <= kHbConsumers; ++sub) {
     const uint32_t entry = od_.get(static_cast<uint16_t>(row_[k1016] + sub));
     const uint8_t remote = static_cast<uint8_t>(entry >> 16);
     // Node id 1..127 and a consumer time: a heartbeat to watch.
-    if (remote >= 1 && remote <= 127 && (entry & 0xFFFFu) != 0) {
-      add_id(ids, count, static_cast<uint16_t>(0x700u + remote));
-    }
+    if (remote >= 1 && remote <= 127 && (entry & 0xFFFFu) != 0) r = exact(r, 0x700u + remote);
   }
-  return count;
+  if (profile::kTpdoRtr) *r++ = kTpdoRemoteRange;
+  const uint8_t services = service_range_count_;
+  if (services != 0) flash_copy(r, service_ranges_, services * sizeof *r);  // none: no table (null)
+  return static_cast<uint8_t>(r - ranges + services);
 }
 
 void Node::start(uint8_t node_id, uint32_t now_us) {
@@ -200,9 +197,9 @@ void Node::update_filters() {
   if (can_control_ == nullptr) return;
   const CanControl control = flash_read(can_control_);
   if (control.set_filters == nullptr) return;
-  uint16_t ids[kMaxConsumedIds];
-  const uint8_t count = consumed_ids(ids);
-  control.set_filters(sink_.ctx, ids, count);
+  CanIdRange ranges[kMaxAcceptanceRanges];
+  const uint8_t count = acceptance(ranges);
+  control.set_filters(sink_.ctx, ranges, count);
 }
 
 void Node::on_controller_state(uint8_t events, bool passive, uint32_t now_us) {
@@ -339,7 +336,8 @@ HookResult Node::od_hook(void* ctx, uint8_t hook, uint16_t index, uint8_t sub, c
                          uint16_t len, bool apply) {
   Node& n = *static_cast<Node*>(ctx);
   // What the node consumes may change (1016h, 1005h, 1400h-1403h; 1003h and
-  // 1014h/1015h lie between them: the same ids again, which the port drops).
+  // 1014h/1015h lie between them: the same ranges again, which a port finds
+  // in force).
   static_assert(kHookHbConsumer < kHookSync && kHookSync < kHookRpdoComm, "hooks in this order");
   if (apply && hook >= kHookHbConsumer && hook <= kHookRpdoComm) n.filters_stale_ = true;
   switch (hook) {

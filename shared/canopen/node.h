@@ -17,6 +17,7 @@
 #include "canopen/sdo_server.h"
 #include "canopen/sync.h"
 #include "canopen/tpdo.h"
+#include "profiles/profile.h"
 
 namespace mb2co {
 namespace canopen {
@@ -29,6 +30,17 @@ typedef void (*ResetCallback)(void* ctx, NmtReset kind);
 /// Most standard CAN ids a node consumes: NMT, SYNC, SDO request, node
 /// guarding, one per RPDO, one per heartbeat consumer.
 const uint8_t kMaxConsumedIds = 4 + kPdoCount + kHbConsumers;
+/// The remote requests the TPDOs answer where the profile has them
+/// (profile::kTpdoRtr): every standard remote frame (a TPDO's COB-ID may
+/// change with any write of 1800h-1803h; RTR is rare).
+constexpr CanIdRange kTpdoRemoteRange = {kCanRangeRemote, kCanRangeRemote};
+const uint8_t kRemoteRanges = profile::kTpdoRtr ? 1 : 0;
+/// Most ranges of a device's other services besides its node
+/// (Node::set_service_ranges: the gateway's network service has 2).
+const uint8_t kMaxServiceRanges = 2;
+/// Most acceptance ranges a device hands its CAN port (Node::acceptance,
+/// CanControl::set_filters).
+const uint8_t kMaxAcceptanceRanges = kMaxConsumedIds + kRemoteRanges + kMaxServiceRanges;
 
 /// The state of a Node that starts at zero: one block, value-initialised by
 /// the Node's constructor (a zero-fill, then the services' few non-zero
@@ -49,8 +61,11 @@ struct NodeState {
   SdoServer sdo_;
   ParamSave save_;                 ///< 1010h "save", running over passes of process()
   const CanControl* can_control_;  ///< MB2CO_FLASH; null: no bit rate, no filters
-  uint32_t overflow_us_;           ///< last CAN overrun (8110h held until + kControllerEventHoldUs)
-  uint32_t recovered_us_;          ///< last bus-off recovery (8140h likewise)
+  /// MB2CO_FLASH, the device's other services' ranges (set_service_ranges).
+  const CanIdRange* service_ranges_;
+  uint8_t service_range_count_;
+  uint32_t overflow_us_;   ///< last CAN overrun (8110h held until + kControllerEventHoldUs)
+  uint32_t recovered_us_;  ///< last bus-off recovery (8140h likewise)
   /// Rows of 1016h, 1017h, 100Ch, 100Dh (sub 0), in this order.
   enum : uint8_t { k1016, k1017, k100C, k100D, kRows };
   uint16_t row_[kRows];
@@ -65,7 +80,7 @@ struct NodeState {
   bool hb_lost_;
   bool life_lost_;
   /// A write changed what the node consumes: the next process() hands
-  /// consumed_ids() to CanControl::set_filters.
+  /// acceptance() to CanControl::set_filters.
   bool filters_stale_;
 };
 
@@ -95,6 +110,14 @@ class Node : private NodeState {
   /// the first reset on.
   void set_can_control(const CanControl* control) { can_control_ = control; }
   const CanControl* can_control() const { return can_control_; }
+  /// What the device's other services receive besides what the node
+  /// consumes (the gateway's network service: every SDO response and
+  /// heartbeat), added to acceptance(): ranges[0..count), a MB2CO_FLASH
+  /// table outliving the node, count <= kMaxServiceRanges. Set before start().
+  void set_service_ranges(const CanIdRange* ranges, uint8_t count) {
+    service_ranges_ = ranges;
+    service_range_count_ = count;
+  }
   CanSink sink() const { return sink_; }
   /// Node id used from the next reset communication on (1..127). Called
   /// from the reset callback, it names the id of the reset under way
@@ -150,17 +173,20 @@ class Node : private NodeState {
   /// context as receive().
   void on_controller_state(uint8_t events, bool passive, uint32_t now_us);
 
-  /// The one derivation of the standard CAN ids this node consumes, as the
-  /// OD configures them now (valid after start()): NMT 000h, SYNC (1005h),
-  /// SDO request 600h+id, node guarding 700h+id, every valid standard RPDO
-  /// COB-ID (1400h-1403h/1) and 700h+n for each heartbeat consumer (1016h,
-  /// node 1..127 with a time). Writes them sorted ascending, without
-  /// duplicates, to ids[0..n) and returns n (1..kMaxConsumedIds): `ids` holds
-  /// kMaxConsumedIds. Frames with other ids the node ignores, so a port may
-  /// filter them out in hardware (the CAN ports, the simulator), except
-  /// remote requests for its TPDOs (RTR, deprecated by CiA: the MCP2515
-  /// port drops them, the SocketCAN port lets remote frames through).
-  uint8_t consumed_ids(uint16_t* ids) const;
+  /// The one derivation of what the device must receive, as the OD
+  /// configures it now (valid after start()), written to ranges[0..n)
+  /// (room for kMaxAcceptanceRanges) and n returned: one exact range per
+  /// standard id the node consumes (NMT 000h, SYNC 1005h, SDO request
+  /// 600h+id, node guarding 700h+id, every valid standard RPDO COB-ID of
+  /// 1400h-1403h/1, 700h+n for each heartbeat consumer of 1016h with a node
+  /// 1..127 and a time; one may repeat another), then kTpdoRemoteRange where
+  /// the TPDOs answer remote requests, then the service ranges. Frames
+  /// outside them the device ignores, so a port may filter them out in
+  /// hardware (CanControl::set_filters: the CAN ports, the simulator).
+  uint8_t acceptance(CanIdRange* ranges) const;
+  /// The most ids one range of a node's own admits (a port's choice of
+  /// filters, avr::CanPortFor; a device with wider services says more).
+  static constexpr uint16_t kWidestRange = profile::kTpdoRtr ? ids_in(kTpdoRemoteRange) : 1;
 
   NmtState nmt_state() const { return nmt_.state(); }
   uint8_t node_id() const { return node_id_; }

@@ -5,6 +5,9 @@ namespace gateway {
 
 using namespace canopen;
 
+constexpr uint16_t Gateway::kNetworkWidest;
+constexpr uint16_t Gateway::kWidestRange;
+
 Gateway::Gateway(const GatewayPorts& ports)
     : GatewayState(),
       od_(od::GatewayDefinition, reinterpret_cast<uint8_t*>(&values_)),
@@ -20,6 +23,9 @@ Gateway::Gateway(const GatewayPorts& ports)
 #if MB2CO_GATEWAY_NET
   net_.attach();
 #endif
+  constexpr uint8_t kRanges = sizeof kNetworkServiceRanges / sizeof kNetworkServiceRanges[0];
+  static_assert(kRanges <= kMaxServiceRanges, "the node has room for the network service's ranges");
+  if (profile::kNetwork) node_.set_service_ranges(kNetworkServiceRanges, kRanges);
   node_.set_storage(ports.storage);
   node_.set_can_control(ports.can_control);
   node_.set_app_hook(&Gateway::app_write, this);

@@ -21,6 +21,12 @@
 namespace mb2co {
 namespace gateway {
 
+/// What FC 2Bh/0Dh's network service receives besides what the node
+/// consumes, where the profile has it (profile::kNetwork): every SDO
+/// response (580h-5FFh: its SDO client talks to any node) and every
+/// heartbeat (700h-77Fh: its network view).
+constexpr CanIdRange kNetworkServiceRanges[] MB2CO_FLASH = {{0x580, 0x780}, {0x700, 0x780}};
+
 /// Longest frame a request the register maps can cover needs: the response
 /// to a read of a whole map of 32-bit entries (2 registers each); the longest
 /// such write (FC 10h/17h) is shorter. Every request that can succeed fits.
@@ -55,6 +61,15 @@ class Gateway : private GatewayState {
   /// A received frame: to the node, and to FC 2Bh/0Dh's service (its SDO
   /// client's responses, the heartbeats of its view). Inline, below.
   void on_can_frame(const CanFrame& f, uint32_t now_us);
+  /// The gateway as a CAN port's device (platform/device_port.h): every
+  /// frame to on_can_frame, the controller's events to the node.
+  CanInput can_input() { return CanInput{&Gateway::receive, &Gateway::controller_state, this}; }
+  /// The network service's widest range in ids (0: not in this image).
+  static constexpr uint16_t kNetworkWidest = profile::kNetwork ? widest(kNetworkServiceRanges) : 0;
+  /// The most ids one of the gateway's acceptance ranges admits (a port's
+  /// choice of filters: avr::CanPortFor).
+  static constexpr uint16_t kWidestRange =
+      kNetworkWidest > canopen::Node::kWidestRange ? kNetworkWidest : canopen::Node::kWidestRange;
   /// A received character: to the Modbus slave. Inline, below.
   void on_serial_byte(uint8_t byte, uint32_t byte_us);
   /// Runs everything due at `now_us` with the raw button levels (Button bits,
@@ -77,9 +92,9 @@ class Gateway : private GatewayState {
   bool next_deadline(uint32_t now_us, uint32_t* at_us) const;
 
   uint8_t node_id() const { return node_.node_id(); }
-  /// The CAN ids the gateway consumes (Node::consumed_ids: the gateway's
-  /// services all sit on its node).
-  uint8_t consumed_ids(uint16_t* ids) const { return node_.consumed_ids(ids); }
+  /// What the gateway must receive (Node::acceptance: the node's ids and,
+  /// with FC 2Bh/0Dh, kNetworkServiceRanges).
+  uint8_t acceptance(CanIdRange* ranges) const { return node_.acceptance(ranges); }
   canopen::Node& node() { return node_; }
   canopen::ObjectDictionary& od() { return od_; }
   modbus::SlaveCore& modbus_slave() { return slave_; }
@@ -90,6 +105,12 @@ class Gateway : private GatewayState {
   static void on_reset(void* ctx, canopen::NmtReset kind);
   static void on_heartbeat(void* ctx, uint8_t node_id, canopen::HbEvent event, uint8_t nmt);
   static void on_rpdo(void* ctx, uint8_t n);
+  static void receive(void* ctx, const CanFrame& f, uint32_t now_us) {
+    static_cast<Gateway*>(ctx)->on_can_frame(f, now_us);
+  }
+  static void controller_state(void* ctx, uint8_t events, bool passive, uint32_t now_us) {
+    static_cast<Gateway*>(ctx)->node_.on_controller_state(events, passive, now_us);
+  }
 
   canopen::ObjectDictionary od_;
   canopen::Node node_;

@@ -5,6 +5,8 @@ namespace ionode {
 
 using namespace canopen;
 
+constexpr uint16_t IoNode::kWidestRange;
+
 IoNode::IoNode(const CanSink& sink, uint32_t device_type)
     : values_(),
       od_(od::IoNodeDefinition, reinterpret_cast<uint8_t*>(&values_)),

@@ -25,6 +25,11 @@ class IoNode {
   /// (node().set_storage) and the CAN control before.
   void start(uint8_t default_node_id, uint32_t now_us);
   void receive(const CanFrame& f, uint32_t now_us) { node_.receive(f, now_us); }
+  /// The I/O node as a CAN port's device (platform/device_port.h): frames
+  /// and the controller's events to its node.
+  CanInput can_input() { return CanInput{&IoNode::receive_of, &IoNode::controller_state_of, this}; }
+  /// Its acceptance ranges are the node's (a port's choice of filters).
+  static constexpr uint16_t kWidestRange = canopen::Node::kWidestRange;
   void process(uint32_t now_us) { node_.process(now_us); }
 
   /// Input byte `n` (0 or 1) as read from the pins; published on change.
@@ -39,6 +44,12 @@ class IoNode {
   static canopen::HookResult app_write(void* ctx, uint8_t hook, uint16_t index, uint8_t sub,
                                        const uint8_t* data, uint16_t len, bool apply);
   static void on_reset(void* ctx, canopen::NmtReset kind);
+  static void receive_of(void* ctx, const CanFrame& f, uint32_t now_us) {
+    static_cast<IoNode*>(ctx)->node_.receive(f, now_us);
+  }
+  static void controller_state_of(void* ctx, uint8_t events, bool passive, uint32_t now_us) {
+    static_cast<IoNode*>(ctx)->node_.on_controller_state(events, passive, now_us);
+  }
 
   od::IoNodeValues values_;
   canopen::ObjectDictionary od_;

@@ -28,9 +28,9 @@
 // queues are full) wait in the bridge's own queue (8 each way) and are
 // retried in order by process(); beyond that they are dropped and counted.
 //
-// Contract: hand in every CAN frame (on_can) and every line byte (on_byte,
-// never the bridge's own echo); call process() at next_deadline(). One
-// context; no heap.
+// Contract: hand in every CAN frame (on_can, or through can_input() from a
+// CAN port) and every line byte (on_byte, never the bridge's own echo);
+// call process() at next_deadline(). One context; no heap.
 #pragma once
 #include <stdint.h>
 
@@ -88,6 +88,10 @@ class Bridge {
 
   /// A frame from the CAN bus.
   void on_can(const CanFrame& f, uint32_t now_us);
+  /// The bridge as a CAN port's device (platform/device_port.h): every frame
+  /// to on_can; it takes no controller events. It sets no filters: a port
+  /// keeps them open (every frame the routes above may forward).
+  CanInput can_input() { return CanInput{&Bridge::from_can, nullptr, this}; }
   /// A byte from the segment, `byte_us` when it was complete.
   void on_byte(uint8_t byte, uint32_t byte_us) { link_.on_byte(byte, byte_us); }
   /// Retries what waits, runs the segment's bus access.
@@ -118,6 +122,9 @@ class Bridge {
 
  private:
   static void receive(void* ctx, const CanFrame& f, uint32_t now_us);
+  static void from_can(void* ctx, const CanFrame& f, uint32_t now_us) {
+    static_cast<Bridge*>(ctx)->on_can(f, now_us);
+  }
   void from_serial(const CanFrame& f);
   /// Sends what waits, in order, until a queue refuses.
   void flush();

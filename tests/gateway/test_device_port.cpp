@@ -1,13 +1,16 @@
 // The gateway's side of the platform contract (shared/platform/device_port.h): the
 // bit rate of 2000h/2 reaches the port by CanControl::set_bitrate at every
-// reset, before the boot-up message and before set_filters. Black box: OD
-// writes in, the port's calls and frames out, in one log.
+// reset, before the boot-up message and before set_filters; what it must
+// receive (its acceptance ranges); frames and controller events through its
+// CanInput. Black box: OD writes in, the port's calls and frames out, in one
+// log.
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
 #include "gateway/gateway.h"
+#include "profiles/profile.h"
 
 namespace mb2co {
 namespace test {
@@ -25,7 +28,7 @@ bool no_serial(void*, const uint8_t*, uint16_t) {
 void log_bitrate(void*, uint16_t kbit) {
   g_calls.push_back("bitrate " + std::to_string(kbit));
 }
-void log_filters(void*, const uint16_t*, uint8_t count) {
+void log_filters(void*, const CanIdRange*, uint8_t count) {
   g_calls.push_back("filters " + std::to_string(count));
 }
 const CanControl kControl = {&log_bitrate, &log_filters};
@@ -39,8 +42,8 @@ class DevicePort : public ::testing::Test {
 
 TEST_F(DevicePort, ResetSetsBitRateThenFiltersThenSendsBootUp) {
   gw.start(0, 1);
-  uint16_t ids[canopen::kMaxConsumedIds];
-  const uint8_t n = gw.consumed_ids(ids);
+  CanIdRange ranges[canopen::kMaxAcceptanceRanges];
+  const uint8_t n = gw.acceptance(ranges);
   EXPECT_EQ(g_calls, (std::vector<std::string>{"bitrate 500", "filters " + std::to_string(n),
                                                "frame " + std::to_string(0x701)}));
 }
@@ -58,6 +61,45 @@ TEST_F(DevicePort, ANewBitRateReachesThePortAtTheNextResetCommunication) {
   ASSERT_GE(g_calls.size(), 3u);
   EXPECT_EQ(g_calls[0], "bitrate 250");
   EXPECT_EQ(g_calls[2], "frame " + std::to_string(0x701));
+}
+
+// What the gateway must receive: its node's ids, and the network service's
+// ranges where the profile has FC 2Bh/0Dh (every SDO response, every
+// heartbeat), handed to the port as they are.
+TEST_F(DevicePort, AcceptanceIsTheNodesIdsAndTheNetworkServicesRanges) {
+  gw.start(0, 1);
+  CanIdRange ranges[canopen::kMaxAcceptanceRanges];
+  const uint8_t n = gw.acceptance(ranges);
+  bool sdo_request = false, sdo_responses = false, heartbeats = false;
+  for (uint8_t i = 0; i < n; ++i) {
+    sdo_request |= ranges[i].id == 0x601 && ranges[i].mask == kCanRangeExact;
+    sdo_responses |= ranges[i].id == 0x580 && ranges[i].mask == 0x780;
+    heartbeats |= ranges[i].id == 0x700 && ranges[i].mask == 0x780;
+  }
+  EXPECT_TRUE(sdo_request);
+  EXPECT_EQ(sdo_responses, profile::kNetwork);
+  EXPECT_EQ(heartbeats, profile::kNetwork);
+  EXPECT_EQ(gateway::Gateway::kWidestRange > 1, profile::kNetwork || profile::kTpdoRtr)
+      << "a port can plan single ids only";
+}
+
+// The gateway as a port's device: frames to the node (and the network
+// service), the controller's events to the node's EMCY policy.
+TEST_F(DevicePort, CanInputRoutesFramesAndControllerEvents) {
+  gw.start(0, 1);
+  gw.process(1000, 0);  // self-start: operational
+  ASSERT_EQ(gw.node().nmt_state(), canopen::kNmtOperational);
+  const CanInput in = gw.can_input();
+  ASSERT_NE(in.controller_state, nullptr);
+  in.controller_state(in.ctx, kControllerRxOverflow, false, 2000);
+  EXPECT_TRUE(gw.node().emcy().active(0x8110));
+  CanFrame stop{};
+  stop.id = 0x000;
+  stop.dlc = 2;
+  stop.data[0] = 0x02;  // stop
+  stop.data[1] = 1;
+  in.receive(in.ctx, stop, 3000);
+  EXPECT_EQ(gw.node().nmt_state(), canopen::kNmtStopped);
 }
 
 /// The boot-up and heartbeat frames (700h-77Fh) among the port's calls (the

@@ -20,7 +20,10 @@
 namespace {
 
 using mb2co::CanFrame;
+using mb2co::CanIdRange;
 using mb2co::CanSink;
+using mb2co::kCanRangeExact;
+using mb2co::kCanRangeRemote;
 using mb2co::Status;
 using mb2co::linux_port::CanAcceptance;
 using mb2co::linux_port::SocketCanPort;
@@ -300,20 +303,46 @@ TEST_F(SocketCanVcan, KernelFiltersPassOnlyListedFrames) {
   EXPECT_EQ(peer.quit(), 0);
 }
 
-// The core's filter callback (CanControl::set_filters at reset, ids from
-// Node::consumed_ids): those standard ids, and every standard RTR (the node
-// answers RTRs for its TPDOs); a flood of anything else stays in the kernel.
-TEST_F(SocketCanVcan, CoreFiltersPassConsumedIdsAndRemoteFrames) {
-  const uint16_t consumed[] = {0x000, 0x080, 0x605, 0x705};
-  SocketCanPort::kControl.set_filters(&port_, consumed, 4);
+// The core's filter callback (CanControl::set_filters at reset, the ranges
+// of Node::acceptance): exact ids, every standard RTR (the node answers
+// RTRs for its TPDOs) and a network service's 580h-5FFh; a flood of
+// anything else, extended frames included, stays in the kernel.
+TEST_F(SocketCanVcan, CoreFiltersPassWhatTheRangesAdmit) {
+  const CanIdRange ranges[] = {{0x000, kCanRangeExact}, {0x080, kCanRangeExact},
+                               {0x605, kCanRangeExact}, {0x705, kCanRangeExact},
+                               {0x580, 0x780},          {kCanRangeRemote, kCanRangeRemote}};
+  SocketCanPort::kControl.set_filters(&port_, ranges, 6);
   EXPECT_STREQ(port_.last_io_error(), "");
   const CanFrame marker = make_frame(0x605, 0, 1, "FF");  // passes; everything before it has arrived then
   const std::vector<CanFrame> offered = {
-      make_frame(0x000, 0, 2, "0105"),  make_frame(0x123, 0, 1, "01"), make_frame(0x080, 0, 0),
-      make_frame(0x605, kExt, 1, "02"), make_frame(0x185, kRtr, 8),    make_frame(0x185, kExt | kRtr, 8),
-      make_frame(0x705, kRtr, 0),       make_frame(0x7FF, 0, 1, "03"), marker,
+      make_frame(0x000, 0, 2, "0105"),  make_frame(0x124, 0, 1, "01"),    make_frame(0x080, 0, 0),
+      make_frame(0x605, kExt, 1, "02"), make_frame(0x185, kRtr, 8),       make_frame(0x185, kExt | kRtr, 8),
+      make_frame(0x705, kRtr, 0),       make_frame(0x7FF, 0, 1, "03"),    make_frame(0x5A3, 0, 1, "04"),
+      make_frame(0x600, 0, 1, "05"),    make_frame(0x580, kExt, 1, "06"), marker,
   };
-  const std::vector<CanFrame> passing = {offered[0], offered[2], offered[4], offered[6], marker};
+  const std::vector<CanFrame> passing = {offered[0], offered[2], offered[4], offered[6], offered[8], marker};
+  PythonPeer peer;
+  ASSERT_TRUE(peer.start(kBus));
+  ASSERT_TRUE(peer.send(offered));
+  EXPECT_EQ(texts(receive_frames(port_, passing.size())), texts(passing));
+  EXPECT_EQ(peer.quit(), 0);
+}
+
+// The remote bit of a range (kCanRangeRemote) is the kernel's RTR flag:
+// with it in the mask, a range takes only data or only remote frames.
+TEST_F(SocketCanVcan, RangesTellDataFromRemoteFrames) {
+  const uint16_t kBoth = kCanRangeExact | kCanRangeRemote;
+  const CanIdRange ranges[] = {{0x181, kBoth}, {0x281 | kCanRangeRemote, kBoth}};
+  ASSERT_TRUE(done(port_.set_ranges(ranges, 2)));
+  const CanFrame marker = make_frame(0x181, 0, 1, "FF");
+  const std::vector<CanFrame> offered = {
+      make_frame(0x181, 0, 1, "01"),
+      make_frame(0x181, kRtr, 1),
+      make_frame(0x281, 0, 1, "02"),
+      make_frame(0x281, kRtr, 2),
+      marker,
+  };
+  const std::vector<CanFrame> passing = {offered[0], offered[3], marker};
   PythonPeer peer;
   ASSERT_TRUE(peer.start(kBus));
   ASSERT_TRUE(peer.send(offered));

@@ -133,16 +133,9 @@ int main(int argc, char** argv) {
                                              : can.sink();
   gateway::GatewayPorts ports{can_sink, modbus::ByteSink{&serial_write, &serial},
                               opt.eeprom.empty() ? nullptr : &storage, opt.baud};
-  // Kernel filters on the node's consumed ids (a flood of other frames never
-  // reaches the loop), and with FC 2Bh/0Dh the two ranges its network
-  // service takes that the node's list leaves out: the SDO client's
-  // responses (581h-5FFh) and every heartbeat for the network view.
+  // Kernel filters from the gateway's acceptance ranges (a flood of other
+  // frames never reaches the loop): the core sets them at every reset.
   if (with_can) {
-    if (MB2CO_GATEWAY_NET) {
-      const linux_port::CanAcceptance network[] = {{0x580, 0x780, false}, {0x700, 0x780, false}};
-      const Status also = can.set_also_accepted(network, 2);
-      if (!also) return fail(also.message());
-    }
     ports.can_control = trace.is_open() ? &node::TracedCan::kControl : &linux_port::SocketCanPort::kControl;
   }
   static gateway::Gateway gw(ports);  // static like on the Uno (and large)

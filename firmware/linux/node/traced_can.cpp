@@ -14,8 +14,8 @@ bool TracedCan::send_to(void* ctx, const CanFrame& frame) {
   return true;
 }
 
-void TracedCan::set_filters_of(void* ctx, const uint16_t* ids, uint8_t count) {
-  linux_port::SocketCanPort::kControl.set_filters(&static_cast<TracedCan*>(ctx)->port_, ids, count);
+void TracedCan::set_filters_of(void* ctx, const CanIdRange* ranges, uint8_t count) {
+  linux_port::SocketCanPort::kControl.set_filters(&static_cast<TracedCan*>(ctx)->port_, ranges, count);
 }
 
 uint64_t TracedCan::realtime_us() {

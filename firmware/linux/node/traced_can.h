@@ -28,7 +28,7 @@ class TracedCan {
 
  private:
   static bool send_to(void* ctx, const CanFrame& frame);
-  static void set_filters_of(void* ctx, const uint16_t* ids, uint8_t count);
+  static void set_filters_of(void* ctx, const CanIdRange* ranges, uint8_t count);
   static uint64_t realtime_us();
 
   linux_port::SocketCanPort& port_;

@@ -9,6 +9,8 @@
 
 #include "mcp2515.h"
 #include "pins.h"
+#include "port/can_int.h"
+#include "port/can_port.h"
 #include "port/gpio.h"
 #include "port/mcp2515_spi.h"
 #include "port/uart.h"
@@ -19,7 +21,7 @@ namespace {
 using namespace mb2co;
 
 constexpr uint32_t kBaud = 115200;
-constexpr uint32_t kServicePeriodUs = 10000;  // the MCP2515's error state, bus-off recovery
+constexpr uint16_t kCanKbit = 500;
 
 serialnet::BridgeConfig segment_config() {
   serialnet::BridgeConfig c = {};
@@ -36,9 +38,11 @@ serialnet::BridgeConfig segment_config() {
 }
 
 mcp2515::Driver driver(avr::mcp2515_spi());
-serialnet::Bridge bridge(segment_config(), avr::uart_sink(), driver.sink());
-uint32_t last_service_us = 0;
-bool can_ready = false;
+// The bridge sets no filters (it forwards by function code whatever the
+// segment consumes): the chip stays open, no planner in the image.
+avr::CanPort<false> can_port(driver);
+serialnet::Bridge bridge(segment_config(), avr::uart_sink(),
+                         CanSink{&avr::CanPort<false>::send_to, &can_port});
 
 }  // namespace
 
@@ -46,22 +50,13 @@ void setup() {
   avr::gpio_input(pins::kCanInt, false);  // the MCP2515 drives INT push-pull
   avr::mcp2515_spi_begin();
   avr::uart_begin(kBaud, modbus::Parity::kNone);
-  can_ready = driver.begin(mcp2515::Bitrate::k500k, mcp2515::Mode::kNormal) && driver.accept_all();
+  can_port.begin(kCanKbit, micros());  // poll() retries while the chip does not answer
 }
 
 void loop() {
   const uint32_t now_us = micros();
   avr::UartChar c;
   while (avr::uart_read(c)) bridge.on_byte(c.byte, c.stamp_us);
-  if (now_us - last_service_us >= kServicePeriodUs) {
-    last_service_us = now_us;
-    if (!can_ready) {
-      can_ready = driver.begin(mcp2515::Bitrate::k500k, mcp2515::Mode::kNormal) && driver.accept_all();
-    } else {
-      driver.service();
-    }
-  }
-  CanFrame f;
-  while (can_ready && driver.receive(f)) bridge.on_can(f, now_us);
+  can_port.poll(bridge.can_input(), avr::can_int_low(), now_us);
   bridge.process(now_us);
 }

@@ -1,8 +1,10 @@
 // mb2co-gateway: one station of the line on an Arduino Uno with the SparkFun
 // CAN-BUS shield. The portable gateway (shared/gateway: CANopen node, Modbus/
 // RTU slave on the OD, RUN/STOP2 line application) on the Uno's ports:
-//   CAN      MCP2515 (port/can_port.h): the bit rate (2000h/2) and the
-//            filters as the core sets them (shared/platform/device_port.h)
+//   CAN      MCP2515 (port/can_port.h): every frame to the gateway, which
+//            routes it; the bit rate (2000h/2) and the filters as the core
+//            sets them (shared/platform/device_port.h); built with FC 2Bh/0Dh
+//            the filters stay open (Gateway::kWidestRange)
 //   Modbus   USART0 = USB serial, 115200 8N1 (port/uart.h), stamped bytes
 //   storage  EEPROM (port/eeprom_storage.h): 1010h save, node id at power-on
 //   panel    START/STOP/STOP2 buttons, RUN-self/prev/next LEDs (pins.h);
@@ -21,6 +23,7 @@
 #include "gateway/gateway.h"
 #include "mcp2515.h"
 #include "pins.h"
+#include "port/can_int.h"
 #include "port/can_port.h"
 #include "port/eeprom_storage.h"
 #include "port/gpio.h"
@@ -38,10 +41,11 @@ constexpr modbus::Parity kParity = modbus::Parity::kNone;
 constexpr uint8_t kDefaultNodeId = 1;
 
 mcp2515::Driver driver(avr::mcp2515_spi());
-avr::CanPort can_port(driver);
+using CanPort = avr::CanPortFor<gateway::Gateway::kWidestRange>;
+CanPort can_port(driver);
 const canopen::ParamStorage storage = avr::eeprom_storage();
-gateway::Gateway gw(gateway::GatewayPorts{CanSink{&avr::CanPort::send_to, &can_port}, avr::uart_sink(),
-                                          &storage, kBaud, &avr::CanPort::kControl});
+gateway::Gateway gw(gateway::GatewayPorts{CanSink{&CanPort::send_to, &can_port}, avr::uart_sink(), &storage,
+                                          kBaud, &CanPort::kControl});
 
 // Button bits 0..2 (gateway::Button) and LED bits 0..3 (gateway::Led).
 const uint8_t kButtonPins[3] = {pins::kButtonStart, pins::kButtonStop, pins::kButtonStop2};
@@ -87,7 +91,7 @@ void loop() {
   avr::UartChar c;
   // A garbled character's byte lands in a frame that is then discarded.
   while (avr::uart_read(c)) gw.modbus_slave().on_char(c.byte, c.stamp_us, c.error);
-  can_port.poll(gw.node(), now_us);
+  can_port.poll(gw.can_input(), avr::can_int_low(), now_us);
   show_leds(gw.process(now_us, avr::read_pressed(kButtonPins, 3)));
   show_can_state();
 }

@@ -13,6 +13,7 @@
 #include "ionode/io_node.h"
 #include "mcp2515.h"
 #include "pins.h"
+#include "port/can_int.h"
 #include "port/can_port.h"
 #include "port/eeprom_storage.h"
 #include "port/gpio.h"
@@ -29,8 +30,9 @@ constexpr uint8_t kDefaultNodeId = 0x20;
 
 mcp2515::Driver driver(avr::mcp2515_spi());
 const canopen::ParamStorage storage = avr::eeprom_storage();
-avr::CanPort can_port(driver);
-ionode::IoNode io(CanSink{&avr::CanPort::send_to, &can_port});
+using CanPort = avr::CanPortFor<ionode::IoNode::kWidestRange>;
+CanPort can_port(driver);
+ionode::IoNode io(CanSink{&CanPort::send_to, &can_port});
 
 const uint8_t kJoystickPins[5] = {pins::kJoyUp, pins::kJoyDown, pins::kJoyLeft, pins::kJoyRight,
                                   pins::kJoyClick};
@@ -73,13 +75,13 @@ void setup() {
   io.node().set_storage(&storage);
   // Starts the chip at the saved bit rate before the boot-up message
   // (IoNode::on_reset: CanControl::set_bitrate), and sets its filters.
-  io.node().set_can_control(&avr::CanPort::kControl);
+  io.node().set_can_control(&CanPort::kControl);
   io.start(kDefaultNodeId, micros());
 }
 
 void loop() {
   const uint32_t now_us = micros();
-  can_port.poll(io.node(), now_us);
+  can_port.poll(io.can_input(), avr::can_int_low(), now_us);
   sample_inputs(now_us);
   io.process(now_us);
   show_outputs();

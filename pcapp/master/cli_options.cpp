@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "exit_codes.h"
+#include "modbus/tcp_framer.h"
 #include "value_text.h"
 
 namespace mb2co {
@@ -96,9 +97,10 @@ cli::Program make_program() {
                       "(05040000h sent at once, not after -t); default 0: off"),
       cli::flag("--json", "one JSON object per line instead of text"),
       cli::file("--eds", "FILE", "the node's EDS: data types for read/write, the entries of dump"),
-      cli::file("--via-modbus", "PORT[:SLAVE]",
+      cli::file("--via-modbus", "PORT[:SLAVE]|tcp:HOST:PORT",
                 "no CAN interface: SDO and NMT through an mb2co gateway on the\n"
-                "serial device PORT, Modbus address SLAVE (default 1)"),
+                "serial device PORT, Modbus address SLAVE (default 1), or on\n"
+                "Modbus/TCP (mb2co-node --tcp; unit id 255)"),
       cli::uint_range(
           "--baud", "N", 1200, 4000000,
           "with --via-modbus: the line's baud rate (default " + std::to_string(defaults.baud) + ")"),
@@ -121,6 +123,12 @@ cli::Program make_program() {
 /// "PORT" or "PORT:SLAVE" (1..247); a colon followed by something that is
 /// not a number stays part of the path.
 Status parse_gateway(const std::string& text, Options* out) {
+  if (text.rfind("tcp:", 0) == 0) {
+    out->gateway_port = text;
+    out->gateway_on_tcp = true;
+    out->gateway_slave = modbus::kMbapUnitDirect;  // a server addressed by its IP address
+    return parse_tcp_address("--via-modbus tcp:", text.substr(4), false, &out->gateway_tcp);
+  }
   const size_t colon = text.rfind(':');
   std::string port = text;
   if (colon != std::string::npos && colon + 1 < text.size() &&
@@ -154,6 +162,10 @@ Status apply_options(const cli::Args& a, Options* o) {
   if (a.has("--via-modbus")) {
     Status s = parse_gateway(a.get("--via-modbus"), o);
     if (!s) return s;
+    for (const char* serial : {"--baud", "--parity"}) {
+      if (o->gateway_on_tcp && a.has(serial))
+        return Status::failure(std::string(serial) + " is the serial line's: not with --via-modbus tcp:");
+    }
   } else {
     for (const char* serial : {"--baud", "--parity"}) {
       if (a.has(serial))

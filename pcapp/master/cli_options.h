@@ -12,6 +12,7 @@
 
 #include "host/cli.h"
 #include "host/status.h"
+#include "host/tcp_address.h"
 #include "number_words.h"
 
 namespace mb2co {
@@ -38,6 +39,11 @@ struct Options {
   /// and its Modbus address; --baud, --parity: the line (8 data bits).
   std::string gateway_port;
   uint8_t gateway_slave = 1;
+  /// --via-modbus tcp:HOST:PORT: Modbus/TCP to mb2co-node --tcp instead of
+  /// a serial port (gateway_port keeps the text; gateway_slave is the unit
+  /// id, 0xFF).
+  bool gateway_on_tcp = false;
+  TcpAddress gateway_tcp;
   uint32_t baud = 115200;
   char parity = 'N';  ///< 'N', 'E' or 'O' (libmodbus's letters)
   std::string command;

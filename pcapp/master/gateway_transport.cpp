@@ -21,15 +21,21 @@ uint32_t gateway_response_timeout_ms(const Options& o) {
 
 Status GatewayTransport::open(const Options& o) {
   timeout_ms_ = gateway_response_timeout_ms(o);
-  return link_.open(o.gateway_port, o.baud, o.gateway_slave, o.parity);
+  slave_ = o.gateway_slave;
+  if (o.gateway_on_tcp) {
+    channel_ = &tcp_;
+    return tcp_.open(o.gateway_tcp, o.gateway_slave);
+  }
+  channel_ = &serial_;
+  return serial_.open(o.gateway_port, o.baud, o.gateway_slave, o.parity);
 }
 
 std::unique_ptr<TransferNetwork> GatewayTransport::transfers(const Options&) {
-  return std::unique_ptr<TransferNetwork>(new GatewayNetwork(link_, link_.slave(), timeout_ms_));
+  return std::unique_ptr<TransferNetwork>(new GatewayNetwork(*channel_, slave_, timeout_ms_));
 }
 
 Status GatewayTransport::nmt(canopen::NmtCommand command, uint8_t node) {
-  return gateway_nmt(link_, link_.slave(), timeout_ms_, static_cast<uint8_t>(command), node);
+  return gateway_nmt(*channel_, slave_, timeout_ms_, static_cast<uint8_t>(command), node);
 }
 
 }  // namespace master

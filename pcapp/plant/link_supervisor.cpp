@@ -22,8 +22,8 @@ void LinkSupervisor::start() {
 void LinkSupervisor::attempt() {
   if (stopped_) return;
   LinkSettings settings = config_.link;
-  const std::vector<PortInfo> ports = list_ports();
-  if (settings.path.empty()) {
+  const std::vector<PortInfo> ports = settings.on_tcp ? std::vector<PortInfo>() : list_ports();
+  if (settings.path.empty() && !settings.on_tcp) {
     QString path;
     const Status picked = pick_arduino(ports, &path);
     if (!picked) return failed(QString::fromStdString(picked.message()));
@@ -48,7 +48,7 @@ void LinkSupervisor::verify() {
   if (!identified.ok()) {
     link_.close();
     const LinkSettings& s = link_.settings();
-    std::string why = s.path + ": " + identified.status.message();
+    std::string why = s.where() + ": " + identified.status.message();
     const bool definite = identified.outcome == LinkStatus::exception;
     if (!definite && identified.heard) {
       heard_ = true;
@@ -62,7 +62,7 @@ void LinkSupervisor::verify() {
   up_ = true;
   first_ = false;
   backoff_.reset();
-  emit connected(QString::fromStdString(link_.settings().path + " slave " +
+  emit connected(QString::fromStdString(link_.settings().where() + " slave " +
                                         std::to_string(link_.settings().slave) + ": " + identity));
 }
 

@@ -1,5 +1,6 @@
-// The serial link's life cycle: open the port (given, or the one Arduino on
-// USB), wait for the Uno's boot loader (opening the port resets it), verify
+// The link's life cycle: open the port (given, or the one Arduino on USB;
+// or the Modbus/TCP connection), wait for the Uno's boot loader (opening
+// the port resets it; none on TCP), verify
 // the slave (FC 2B/0E, else 08/00), then report it up. A lost link is closed
 // and reopened with back-off until the gateway answers again.
 //

@@ -8,6 +8,7 @@
 
 #include <cstring>
 
+#include "host/mbap_client.h"
 #include "modbus/master_codec.h"
 #include "modbus/network_pdu.h"
 
@@ -58,8 +59,11 @@ modbus::ParseStatus find_answer(const uint8_t* request, uint16_t length, bool ne
 Status ModbusLink::open(const LinkSettings& settings) {
   close();
   settings_ = settings;
-  ctx_ = modbus_new_rtu(settings.path.c_str(), settings.baud, settings.parity, 8, 1);
-  if (ctx_ == nullptr) return Status::failure("cannot use " + settings.path + ": " + modbus_strerror(errno));
+  ctx_ = settings.on_tcp
+             ? modbus_new_tcp_pi(settings.tcp.host.c_str(), std::to_string(settings.tcp.port).c_str())
+             : modbus_new_rtu(settings.path.c_str(), settings.baud, settings.parity, 8, 1);
+  if (ctx_ == nullptr)
+    return Status::failure("cannot use " + settings.where() + ": " + modbus_strerror(errno));
   const uint32_t us = static_cast<uint32_t>(settings.timeout_ms) * 1000u;
   if (modbus_set_slave(ctx_, settings.slave) != 0 ||
       modbus_set_response_timeout(ctx_, us / 1000000u, us % 1000000u) != 0 ||
@@ -70,7 +74,7 @@ Status ModbusLink::open(const LinkSettings& settings) {
     return refused;
   }
   if (modbus_connect(ctx_) != 0) {
-    Status refused = Status::failure("cannot open " + settings.path + ": " + modbus_strerror(errno));
+    Status refused = Status::failure("cannot open " + settings.where() + ": " + modbus_strerror(errno));
     close();
     return refused;
   }
@@ -160,8 +164,43 @@ LinkResult ModbusLink::write(const TransactionPlan& plan, const RegisterImage& o
   return LinkResult::done();
 }
 
+LinkResult ModbusLink::raw_tcp(const uint8_t* request, uint16_t length, uint8_t* response, uint16_t& got) {
+  const bool net = modbus::is_net_pdu(request + 1, static_cast<uint16_t>(length - 1));
+  std::string why;
+  bool heard = false;
+  for (int i = 0; i <= settings_.retries; ++i) {
+    if (i > 0) ++retries_used_;
+    const int64_t deadline = mbap_now_ms() + settings_.timeout_ms;
+    const MbapOutcome o =
+        mbap_exchange(modbus_get_socket(ctx_), request, length, ++transaction_, deadline, response, &got);
+    if (o == MbapOutcome::kAnswer) {
+      modbus::Response parsed;
+      modbus::NetResponse net_parsed{};
+      const modbus::ParseStatus st =
+          net ? modbus::parse_net_response(request, length, response, got, net_parsed)
+              : modbus::parse_response(request, length, response, got, parsed);
+      if (st == modbus::ParseStatus::kOk) return LinkResult::done();
+      if (st == modbus::ParseStatus::kException) {
+        const modbus::Exception e = net ? net_parsed.exception : parsed.exception;
+        return LinkResult::failure(LinkStatus::exception, "exception " + std::to_string(static_cast<int>(e)));
+      }
+      why = "bad answer (" + std::to_string(got) + " bytes)";
+      heard = true;
+      continue;
+    }
+    // A broken stream or connection does not come back by retrying.
+    if (o == MbapOutcome::kClosed || o == MbapOutcome::kSendFailed || o == MbapOutcome::kBadFrame)
+      return LinkResult::failure(LinkStatus::failed,
+                                 o == MbapOutcome::kBadFrame ? "bad MBAP header" : "connection closed", true);
+    heard = heard || o == MbapOutcome::kPartial;
+    why = o == MbapOutcome::kPartial ? "part of an answer" : "no answer";
+  }
+  return LinkResult::failure(LinkStatus::failed, why, heard);
+}
+
 LinkResult ModbusLink::raw(const uint8_t* request, uint16_t length, uint8_t* response, uint16_t capacity,
                            uint16_t& got) {
+  if (settings_.on_tcp) return raw_tcp(request, length, response, got);
   const int fd = modbus_get_socket(ctx_);
   const bool net = modbus::is_net_pdu(request + 1, static_cast<uint16_t>(length - 1));
   std::string why;

@@ -1,5 +1,6 @@
-// The Modbus/RTU master: owns a libmodbus RTU context on one serial device
-// and runs the cycle's transactions (transaction_plan.h) with a response
+// The Modbus master: owns a libmodbus context on one serial device (RTU) or
+// one Modbus/TCP connection (--tcp, to mb2co-node --tcp) and runs the
+// cycle's transactions (transaction_plan.h) with a response
 // timeout and retries. Calls block for at most (retries + 1) x timeout
 // (identify(): one timeout more, listening for a late answer after silence).
 // Before every attempt it drops what waits on the port: a late answer to an
@@ -23,6 +24,7 @@
 #include <vector>
 
 #include "host/status.h"
+#include "host/tcp_address.h"
 #include "station_io.h"
 #include "status_view.h"
 #include "transaction_plan.h"
@@ -34,11 +36,18 @@ namespace pcapp {
 
 struct LinkSettings {
   std::string path;
+  /// Modbus/TCP instead of `path` (then baud and parity are unused and
+  /// `slave` is the unit id).
+  bool on_tcp = false;
+  TcpAddress tcp;
   int baud = 115200;
   char parity = 'N';    ///< N, E or O
   int slave = 1;        ///< Modbus address 1..247
   int timeout_ms = 25;  ///< response timeout (and inter-byte timeout)
   int retries = 2;      ///< extra attempts after a timeout / CRC error
+
+  /// "/dev/ttyACM0" or "tcp:127.0.0.1:1502", for messages.
+  std::string where() const { return on_tcp ? "tcp:" + tcp.text() : path; }
 };
 
 enum class LinkStatus : uint8_t {
@@ -113,6 +122,9 @@ class ModbusLink {
   /// skipped. On success it is response[0, got).
   LinkResult raw(const uint8_t* request, uint16_t length, uint8_t* response, uint16_t capacity,
                  uint16_t& got);
+  /// raw() on Modbus/TCP (host/mbap_client.h): the answer with this
+  /// request's transaction id, as an RTU ADU for the same codec.
+  LinkResult raw_tcp(const uint8_t* request, uint16_t length, uint8_t* response, uint16_t& got);
   /// Reads and drops whatever waits on the device (no waiting): before every
   /// request, so that a late answer to an abandoned attempt is not taken for
   /// the next one's. The number of bytes dropped.
@@ -124,6 +136,7 @@ class ModbusLink {
   LinkSettings settings_;
   uint64_t retries_used_ = 0;
   uint64_t stale_bytes_dropped_ = 0;
+  uint16_t transaction_ = 0;  ///< raw_tcp's last transaction id
 };
 
 }  // namespace pcapp

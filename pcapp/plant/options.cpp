@@ -12,7 +12,7 @@ namespace pcapp {
 namespace {
 const char kDescription[] =
     "The PC side of one bottling station (seed 000 §9-11): plant simulator and controller,\n"
-    "talking Modbus/RTU to the station's Arduino gateway.\n"
+    "talking Modbus/RTU to the station's Arduino gateway (or Modbus/TCP to mb2co-node --tcp).\n"
     "  station (default)  run the station: START/STOP/STOP2 on the Arduino, RUN state to it\n"
     "  latency            latency lab: a button mirrored to the lab LED, delay per press";
 
@@ -42,6 +42,10 @@ Status parse_options(const QStringList& args, AppOptions& o) {
   p.addPositionalArgument("mode", "station (default) or latency", "[station|latency]");
   const QCommandLineOption port("port", "Serial device of the gateway (default: the one Arduino on USB).",
                                 "PATH");
+  const QCommandLineOption tcp("tcp",
+                               "Modbus/TCP to mb2co-node --tcp instead of a serial port (a bare PORT: "
+                               "127.0.0.1); --slave is then the unit id (default 255).",
+                               "HOST:PORT");
   const QCommandLineOption list("list-ports", "List serial ports (Arduinos marked) and exit.");
   const QCommandLineOption baud("baud", "Baud rate (default 115200).", "N", "115200");
   const QCommandLineOption parity("parity", "Parity N, E or O, or none, even, odd (default N).", "P", "N");
@@ -76,9 +80,9 @@ Status parse_options(const QStringList& args, AppOptions& o) {
   // Bash completion asks for the words (docs/cli.md); not in --help.
   QCommandLineOption list_options("list-options", "Words for bash completion.");
   list_options.setFlags(QCommandLineOption::HiddenFromHelp);
-  const QList<QCommandLineOption> all = {port,    list,    baud,   parity,   slave,     cycle, config,
-                                         timeout, retries, boot,   no_reset, reconnect, log,   plain,
-                                         cycles,  remote,  button, presses,  csv};
+  const QList<QCommandLineOption> all = {port,   tcp,     list,    baud,   parity,   slave,     cycle,
+                                         config, timeout, retries, boot,   no_reset, reconnect, log,
+                                         plain,  cycles,  remote,  button, presses,  csv};
   p.addOptions(all);
   p.addOption(list_options);
 
@@ -179,6 +183,17 @@ Status parse_options(const QStringList& args, AppOptions& o) {
   }
   if (o.latency && p.isSet(config)) {
     return Status::failure("--config belongs to the station mode");
+  }
+  if (p.isSet(tcp)) {
+    for (const QCommandLineOption* serial : {&port, &list, &baud, &parity}) {
+      if (p.isSet(*serial))
+        return Status::failure(
+            QString("--" + serial->names().front() + " is the serial line's: not with --tcp").toStdString());
+    }
+    Status where = parse_tcp_address("--tcp", p.value(tcp).toStdString(), false, &o.tcp);
+    if (!where) return where;
+    o.on_tcp = true;
+    if (!p.isSet(slave)) o.slave = 255;  // a server addressed by its IP address
   }
   return Status::ok();
 }

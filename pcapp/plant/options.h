@@ -7,6 +7,7 @@
 #include <QStringList>
 
 #include "host/status.h"
+#include "host/tcp_address.h"
 
 namespace mb2co {
 namespace pcapp {
@@ -15,9 +16,12 @@ struct AppOptions {
   bool latency = false;  ///< mode: the latency lab instead of the station
   bool list_ports = false;
   QString port;  ///< empty: auto-detect an Arduino
+  /// --tcp HOST:PORT: Modbus/TCP to mb2co-node --tcp instead of a port.
+  bool on_tcp = false;
+  TcpAddress tcp;
   int baud = 115200;
   char parity = 'N';
-  int slave = 1;
+  int slave = 1;      ///< --tcp: the unit id, 255 unless given
   int cycle_ms = -1;  ///< -1: the config's step_ms if it sets one, else 20
   QString config;     ///< plant config file (station mode)
   int timeout_ms = 25;

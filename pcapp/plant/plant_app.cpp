@@ -105,6 +105,8 @@ int PlantApp::prepare() {
   }
   SupervisorConfig sc;
   sc.link.path = options_.port.toStdString();
+  sc.link.on_tcp = options_.on_tcp;
+  sc.link.tcp = options_.tcp;
   sc.link.baud = options_.baud;
   sc.link.parity = options_.parity;
   sc.link.slave = options_.slave;
@@ -116,11 +118,13 @@ int PlantApp::prepare() {
   connect(supervisor_, &LinkSupervisor::connected, this, [this](const QString& d) {
     link_was_up_ = true;
     const timing::SerialFormat f = serial_format(options_);
+    const QString line = options_.on_tcp
+                             ? QString("Modbus/TCP")
+                             : "frames " + QString::number(plan_frame_time_ns(plan_, f) / 1000) +
+                                   " us + t3.5 = " + QString::number(plan_wire_time_ns(plan_, f) / 1000) +
+                                   " us at " + QString::number(options_.baud) + " baud";
     log_event("link up " + d + " | cycle " + QString::number(cycle_ms_) +
-              " ms: " + QString::fromStdString(describe(plan_)) + ", frames " +
-              QString::number(plan_frame_time_ns(plan_, f) / 1000) +
-              " us + t3.5 = " + QString::number(plan_wire_time_ns(plan_, f) / 1000) + " us at " +
-              QString::number(options_.baud) + " baud");
+              " ms: " + QString::fromStdString(describe(plan_)) + ", " + line);
   });
   connect(supervisor_, &LinkSupervisor::disconnected, this,
           [this](const QString& why) { log_event("link lost: " + why + " | plant safe, reconnecting"); });
@@ -259,7 +263,9 @@ std::string PlantApp::cycle_summary() const {
          " p99=" + std::to_string(modbus_us_.percentile_us(99)) +
          " max=" + std::to_string(modbus_us_.max_us());
   }
-  s += " wire_us=" + std::to_string(plan_wire_time_ns(plan_, serial_format(options_)) / 1000);
+  // The serial line's frame times; Modbus/TCP has no such bound.
+  if (!options_.on_tcp)
+    s += " wire_us=" + std::to_string(plan_wire_time_ns(plan_, serial_format(options_)) / 1000);
   return s;
 }
 

@@ -43,7 +43,7 @@ bool SlaveCore::set_address(uint8_t address) {
 
 void SlaveCore::on_char(uint8_t byte, uint32_t byte_us, bool error) {
   if (framer_.frame_due_before(byte_us)) handle_frame();
-  if (profile::kNetwork && answer_pending_) {  // the master sent something else: it gave the answer up
+  if (profile::kNetwork && line_answer_pending()) {  // the master sent something else: it gave the answer up
     answer_pending_ = false;
     ++counters_.no_responses;
   }
@@ -81,11 +81,17 @@ void SlaveCore::handle_frame() {
   const bool broadcast = target == kBroadcastAddress;
   if (!broadcast && target != address_) return;  // another slave's frame
   ++counters_.server_messages;
+#if MB2CO_CONFIG_MODBUS_TCP
+  channel_ = nullptr;  // the request in hand is the line's
+#endif
   handle_request(static_cast<uint16_t>(framer_.length() - 1u - kCrcBytes), broadcast);
+#if MB2CO_CONFIG_MODBUS_TCP
+  channel_ = answer_pending_ ? answer_channel_ : nullptr;
+#endif
 }
 
 void SlaveCore::handle_request(uint16_t pdu_length, bool broadcast) {
-  if (listen_only_) {
+  if (line_listen_only()) {
     // Serial line spec: in listen-only mode only 08/01 is acted upon, and it
     // is not answered. It clears the counters, so nothing is counted for it.
     if (!broadcast && is_restart_request(pdu_length)) {
@@ -111,7 +117,7 @@ void SlaveCore::handle_request(uint16_t pdu_length, bool broadcast) {
       pdu()[1] = static_cast<uint8_t>(reply.exception);
       send(2);
     }
-  } else if (profile::kNetwork && answer_pending_) {
+  } else if (profile::kNetwork && deferred_in_hand()) {
     // 2B/0D deferred: counted when it is sent or dropped.
   } else if (broadcast || reply.pdu_length == 0u) {
     ++counters_.no_responses;  // broadcast, or 08/04 (never answered)
@@ -133,10 +139,16 @@ bool SlaveCore::send_deferred(uint16_t pdu_length) {
   answer_pending_ = false;
   if ((pdu()[0] & fc::kExceptionFlag) != 0u) ++counters_.exceptions;
   send(pdu_length);
+#if MB2CO_CONFIG_MODBUS_TCP
+  channel_ = answer_channel_ = nullptr;
+#endif
   return true;
 }
 
 void SlaveCore::send(uint16_t pdu_length) {
+#if MB2CO_CONFIG_MODBUS_TCP
+  if (channel_ != nullptr) return send_to_channel(pdu_length);
+#endif
   uint8_t* adu = framer_.buffer();
   adu[0] = address_;
   const uint16_t length = append_crc(adu, static_cast<uint16_t>(pdu_length + 1u));

@@ -10,6 +10,9 @@
 // so that no byte that arrived before `now_us` is still unread.
 // Responses go out through the ByteSink from inside process() (or on_byte(),
 // when process() was late and a new frame starts after t3.5).
+// On the host a second framer may hand in requests: serve() takes a PDU
+// from Modbus/TCP (modbus/tcp_framer.h) and answers it through its
+// PduChannel, the same function codes behind both (profile::kModbusTcp).
 //
 // Rules. Broadcast (address 0): only 05 06 0F 10 are executed (and, where
 // FC 2Bh/0Dh is built in, its NMT command), nothing is ever answered; other
@@ -38,6 +41,9 @@
 #include "modbus/register_bank.h"
 #include "modbus/rtu_framer.h"
 #include "modbus/rtu_timing.h"
+#if MB2CO_CONFIG_MODBUS_TCP
+#include "modbus/tcp_channel.h"
+#endif
 
 namespace mb2co {
 namespace modbus {
@@ -87,6 +93,10 @@ struct SlaveCoreState {
   // FC 2Bh/0Dh (profile::kNetwork; never set in a profile without it).
   const NetRequestHandler* net_handler_;  ///< FC 2Bh/0Dh service; null: exception 01
   bool answer_pending_;                   ///< a 2B/0D answer is deferred (see answer_pending())
+#if MB2CO_CONFIG_MODBUS_TCP               // the service's own state: no RAM where the profile leaves it out
+  PduChannel* channel_;                   ///< where the request in hand came from (null: the RTU framer)
+  PduChannel* answer_channel_;            ///< where the deferred answer goes (null: the RTU line)
+#endif
 };
 
 /// The slave on a caller-owned frame buffer (see Memory above).
@@ -142,6 +152,15 @@ class SlaveCore : private SlaveCoreState {
 
   void handle_frame();
   void handle_request(uint16_t pdu_length, bool broadcast);
+  /// Listen-only mode (08/04) holds for the request in hand: it is the
+  /// serial line's, a request from another framer is served anyway.
+  bool line_listen_only() const {
+#if MB2CO_CONFIG_MODBUS_TCP
+    return listen_only_ && channel_ == nullptr;
+#else
+    return listen_only_;
+#endif
+  }
   void send(uint16_t pdu_length);
   void clear_counters();
 
@@ -157,9 +176,17 @@ class SlaveCore : private SlaveCoreState {
   /// 08/01 request valid and we are in listen-only mode: restart, no answer.
   bool is_restart_request(uint16_t pdu_length) const;
 
-  uint8_t* pdu() { return framer_.buffer() + 1; }
+  /// The PDU of the request in hand (or of the deferred answer).
+  uint8_t* pdu() {
+#if MB2CO_CONFIG_MODBUS_TCP
+    if (channel_ != nullptr) return channel_->pdu;
+#endif
+    return framer_.buffer() + 1;
+  }
   /// True when a response PDU of `pdu_length` bytes fits the frame buffer.
-  bool fits(uint16_t pdu_length) const { return 1u + pdu_length + kCrcBytes <= framer_.capacity(); }
+  bool fits(uint16_t pdu_length) const {
+    return 1u + pdu_length + kCrcBytes <= framer_.capacity();
+  }
 
   RegisterBank& bank_;
   DeviceIdentity* identity_;
@@ -172,22 +199,72 @@ class SlaveCore : private SlaveCoreState {
  public:
   /// The FC 2Bh/0Dh service; null (the default): exception 01. Borrowed:
   /// it must outlive the slave or be cleared.
-  void set_net_handler(const NetRequestHandler* handler) { net_handler_ = handler; }
+  void set_net_handler(const NetRequestHandler* handler) {
+    net_handler_ = handler;
+  }
   /// True while a deferred answer may still be sent: the handler deferred
   /// it and no character has been received since (the master gave it up
   /// once it sends anything else: a later answer could be taken for the
   /// answer to its next request).
-  bool answer_pending() const { return answer_pending_; }
+  bool answer_pending() const {
+    return answer_pending_;
+  }
   /// The frame buffer's PDU area: where a deferred response is built. Only
   /// while answer_pending() (else a request may be arriving there).
-  uint8_t* response_pdu() { return pdu(); }
-  uint16_t response_capacity() const { return static_cast<uint16_t>(framer_.capacity() - 1u - kCrcBytes); }
+  uint8_t* response_pdu() {
+    return pdu();
+  }
+  uint16_t response_capacity() const {
+    return static_cast<uint16_t>(framer_.capacity() - 1u - kCrcBytes);
+  }
   /// Sends the deferred response of `pdu_length` bytes built in
   /// response_pdu(). False, nothing sent, when no answer is pending.
   bool send_deferred(uint16_t pdu_length);
 
  private:
   Reply network_request(uint16_t pdu_length);
+  /// True when the deferred answer is the serial line's: a character from
+  /// the line drops it, not one a Modbus/TCP client is waiting for.
+  bool line_answer_pending() const {
+#if MB2CO_CONFIG_MODBUS_TCP
+    return answer_pending_ && answer_channel_ == nullptr;
+#else
+    return answer_pending_;
+#endif
+  }
+  /// True when the request in hand deferred its answer (at most one answer
+  /// is deferred at a time: the service answers 06 to another while its
+  /// transfer runs).
+  bool deferred_in_hand() const {
+#if MB2CO_CONFIG_MODBUS_TCP
+    return answer_pending_ && answer_channel_ == channel_;
+#else
+    return answer_pending_;
+#endif
+  }
+
+#if MB2CO_CONFIG_MODBUS_TCP
+  // Modbus/TCP (profile::kModbusTcp): requests from another framer.
+ public:
+  /// Serves the request PDU of `pdu_length` bytes (1..kMaxPduBytes) in
+  /// `channel.pdu`, whatever the unit id it came with (a Modbus/TCP server
+  /// is addressed by its IP address), and answers through channel.send: at
+  /// once, or when done for an FC 2Bh/0Dh the service defers (the channel
+  /// must then stay until the answer or forget()). A request on a channel
+  /// whose answer is still deferred drops that answer (its client moved
+  /// on, as a master on the line does). FC 08 is the serial line's
+  /// (application protocol §6.8): exception 01; listen-only mode is the
+  /// line's and does not apply. Counted in CPT1 and CPT4 like a frame from
+  /// the line: the line application's watchdog (2000h/9) sees it.
+  void serve(PduChannel& channel, uint16_t pdu_length);
+  /// The channel goes away (its connection closed): an answer deferred for
+  /// it is dropped (counted in CPT5) and the channel is no longer used.
+  void forget(const PduChannel& channel);
+
+ private:
+  /// A response PDU to the channel in hand (no address, no CRC).
+  void send_to_channel(uint16_t pdu_length);
+#endif
 };
 
 /// Storage that must exist before SlaveCore is built from it (a base class).

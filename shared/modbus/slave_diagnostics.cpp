@@ -24,6 +24,11 @@ bool SlaveCore::is_restart_request(uint16_t pdu_length) const {
 }
 
 SlaveCore::Reply SlaveCore::diagnostics(uint16_t pdu_length) {
+#if MB2CO_CONFIG_MODBUS_TCP
+  // Serial line only (application protocol §6.8): its counters and modes
+  // are the line's, not a Modbus/TCP client's.
+  if (channel_ != nullptr) return Reply{0, Exception::kIllegalFunction};
+#endif
   uint8_t* p = pdu();
   if (pdu_length < 3u) return Reply{0, Exception::kIllegalDataValue};
   const uint16_t sub = get_be16(p + 1);
@@ -87,6 +92,9 @@ SlaveCore::Reply SlaveCore::network_request(uint16_t pdu_length) {
   const uint16_t length = net_handler_->handle(net_handler_->ctx, pdu(), pdu_length, response_capacity());
   if (length == 0u) {
     answer_pending_ = true;
+#if MB2CO_CONFIG_MODBUS_TCP
+    answer_channel_ = channel_;
+#endif
     return Reply{0, Exception::kNone};
   }
   if (length == 2u && (pdu()[0] & fc::kExceptionFlag) != 0u) {

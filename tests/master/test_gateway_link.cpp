@@ -13,6 +13,7 @@
 #include <thread>
 #include <vector>
 
+#include "gateway_answers.h"
 #include "gateway_link.h"
 #include "modbus/crc16.h"
 #include "modbus/network_pdu.h"
@@ -79,15 +80,7 @@ std::vector<uint8_t> adu(std::vector<uint8_t> pdu) {
 /// The gateway's normal answer to `request` with `data` (an upload window).
 std::vector<uint8_t> upload_answer(const uint8_t* request, uint16_t length,
                                    const std::vector<uint8_t>& data) {
-  modbus::NetMessage m{};
-  EXPECT_TRUE(modbus::parse_net_request(request + 1, static_cast<uint16_t>(length - 3), m));
-  m.count = static_cast<uint16_t>(data.size());
-  m.object_size = static_cast<uint32_t>(data.size());
-  m.data = data.data();
-  m.data_length = static_cast<uint16_t>(data.size());
-  uint8_t pdu[256];
-  const uint16_t n = modbus::build_net_response(pdu, sizeof pdu, m);
-  return adu(std::vector<uint8_t>(pdu, pdu + n));
+  return adu(upload_answer_pdu(request, length, data));
 }
 
 class GatewayLinkTest : public ::testing::Test {

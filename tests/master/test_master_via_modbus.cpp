@@ -11,13 +11,11 @@
 
 #include <algorithm>
 #include <fstream>
-#include <iterator>
 
 #include "eds_reader.h"
 #include "eds_value.h"
 #include "eds_writer.h"
-#include "master_cli.h"
-#include "node_harness.h"
+#include "via_modbus_ring.h"
 
 namespace mb2co {
 namespace test {
@@ -25,69 +23,17 @@ namespace {
 
 const char* const kEds = MB2CO_GATEWAY_EDS;
 
-/// The ring, started once for all tests of this binary (each node takes a
-/// while to come up in user-mode Linux).
-class ViaModbus : public ::testing::Test {
+/// The ring (via_modbus_ring.h), the gateway reached over its pty.
+class ViaModbus : public ViaModbusRing {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new TempDir;
-    for (int i = 0; i < 3; ++i) {
-      const std::string n = std::to_string(1 + i);
-      nodes_[i] = new NodeProcess;
-      if (!nodes_[i]->start(
-              {"--can", "vcan0", "--node-id", n, "--stations", "3", "--pty", dir_->path("st" + n)}))
-        failure_ += "node " + n + ": " + nodes_[i]->error() + "; ";
-    }
+    start_ring();
+    via_ = [] { return nodes_[0]->device() + ":1"; };  // PORT:1, PORT the gateway's pty
   }
-  static void TearDownTestSuite() {
-    for (NodeProcess*& n : nodes_) {
-      delete n;
-      n = nullptr;
-    }
-    delete dir_;
-    dir_ = nullptr;
-  }
-  void SetUp() override { ASSERT_TRUE(failure_.empty()) << failure_; }
-
-  /// --via-modbus PORT:1, PORT the gateway's pty.
-  static std::vector<std::string> via(std::vector<std::string> args) {
-    args.insert(args.begin(), {"--via-modbus", nodes_[0]->device() + ":1"});
-    return args;
-  }
-  /// Runs `args` over SocketCAN and through the gateway; both runs must
-  /// agree byte for byte (stdout, stderr) and in the exit code. Returns the
-  /// SocketCAN run.
-  static MasterRun both(const std::vector<std::string>& args) {
-    const MasterRun can = run_master(args);
-    const MasterRun gw = run_master(via(args));
-    std::string what;
-    for (const std::string& a : args) what += a + " ";
-    EXPECT_EQ(gw.exit_code, can.exit_code) << what << "\ngateway: " << gw.err << "\nSocketCAN: " << can.err;
-    EXPECT_EQ(gw.text(), can.text()) << what;
-    EXPECT_EQ(gw.err, can.err) << what;
-    return can;
-  }
-
-  static TempDir* dir_;
-  static NodeProcess* nodes_[3];
-  static std::string failure_;
 };
-TempDir* ViaModbus::dir_ = nullptr;
-NodeProcess* ViaModbus::nodes_[3] = {};
-std::string ViaModbus::failure_;
-
-std::string file_text(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-}
 
 TEST_F(ViaModbus, ScanFindsAllThreeStations) {
-  const MasterRun run = both({"scan", "1", "6"});
-  EXPECT_EQ(run.exit_code, 0) << run.err;
-  for (int id = 1; id <= 3; ++id)
-    EXPECT_NE(run.text().find("node " + std::to_string(id) + ": device type"), std::string::npos)
-        << run.text();
-  EXPECT_NE(run.text().find("scan: 3 of 6 node ids answered"), std::string::npos) << run.text();
+  scan_finds_all_three();
 }
 
 TEST_F(ViaModbus, DumpOfARemoteNodeEqualsTheDumpOverSocketCan) {
@@ -109,43 +55,11 @@ TEST_F(ViaModbus, DumpOfARemoteNodeEqualsTheDumpOverSocketCan) {
 }
 
 TEST_F(ViaModbus, ReadAndWriteAgreeWithSocketCan) {
-  EXPECT_EQ(both({"read", "2", "1018", "1", "u32"}).exit_code, 0);
-  EXPECT_EQ(both({"read", "1", "1018", "2", "u32"}).exit_code, 0);   // the gateway's own OD
-  EXPECT_EQ(both({"read", "2,3", "1008", "0", "vs"}).exit_code, 0);  // segmented, two nodes
-  EXPECT_EQ(both({"--json", "read", "3", "1017", "0", "u16"}).exit_code, 0);
-
-  // Written through the gateway, read back over SocketCAN, and the reverse.
-  const MasterRun w = run_master(via({"write", "3", "1017", "0", "u16", "750"}));
-  EXPECT_EQ(w.exit_code, 0) << w.err;
-  EXPECT_EQ(w.text(), "node 3 1017h/0: 2 bytes written\n");
-  EXPECT_EQ(run_master({"read", "3", "1017", "0", "u16"}).text(), "0x2EE\n");  // 750
-  ASSERT_EQ(run_master({"write", "3", "1017", "0", "u16", "1000"}).exit_code, 0);
-  EXPECT_EQ(run_master(via({"read", "3", "1017", "0", "u16"})).text(), "0x3E8\n");  // 1000
-  EXPECT_EQ(both({"write", "2", "1017", "0", "u16", "1000"}).exit_code, 0);
-
-  // Refusals and silence: the same line, the same exit code.
-  EXPECT_EQ(both({"write", "2", "1000", "0", "u32", "5"}).exit_code, 1);         // read only
-  EXPECT_EQ(both({"read", "2", "2FFF", "0", "u8"}).exit_code, 1);                // no such object
-  EXPECT_EQ(both({"-t", "500", "read", "9", "1000", "0", "u32"}).exit_code, 4);  // nobody there
+  read_and_write_agree();
 }
 
 TEST_F(ViaModbus, LongObjectsGoInWindowsAndParts) {
-  // 1F50h/1 (a DOMAIN) takes a 600-byte file: three parts through the
-  // gateway, the same bytes come back over SocketCAN and through it.
-  std::string bytes;
-  for (int i = 0; i < 600; ++i) bytes += static_cast<char>((i * 7 + 3) & 0xFF);
-  const std::string in = dir_->path("in.bin"), via_can = dir_->path("can.bin"), via_gw = dir_->path("gw.bin");
-  {
-    std::ofstream f(in, std::ios::binary);
-    f << bytes;
-  }
-  const MasterRun down = run_master(via({"download", "2", "1F50", "1", in}));
-  ASSERT_EQ(down.exit_code, 0) << down.err;
-  ASSERT_EQ(run_master({"upload", "2", "1F50", "1", via_can}).exit_code, 0);
-  EXPECT_EQ(file_text(via_can), bytes);
-  const MasterRun up = run_master(via({"upload", "2", "1F50", "1", via_gw}));
-  ASSERT_EQ(up.exit_code, 0) << up.err;
-  EXPECT_EQ(file_text(via_gw), bytes);
+  long_objects_go_in_parts();
 }
 
 TEST_F(ViaModbus, NmtThroughTheGatewayReachesTheLine) {

@@ -2,19 +2,12 @@
 // mb2co-node --can none through every table of the gateway's map.
 #include <gtest/gtest.h>
 
-#include <regex>
-
+#include "mbpoll_run.h"
 #include "node_harness.h"
 
 namespace mb2co {
 namespace test {
 namespace {
-
-struct MbpollRun {
-  int status = -1;
-  std::vector<std::string> values;  ///< "[ref]: value" lines, in order
-  std::string output;               ///< stdout and stderr, for messages
-};
 
 class Mbpoll : public ::testing::Test {
  protected:
@@ -31,19 +24,7 @@ class Mbpoll : public ::testing::Test {
     argv.insert(argv.end(), options.begin(), options.end());
     argv.push_back(node_.device());
     argv.insert(argv.end(), values.begin(), values.end());
-    MbpollRun run;
-    LineChild child;
-    if (!child.start(argv)) return run;
-    static const std::regex kValue(R"(^\[(\d+)\]:\s+(\S+))");
-    std::string line;
-    while (child.wait_line([](const std::string&) { return true; }, 30s, &line)) {
-      run.output += line + "\n";
-      std::smatch m;
-      if (std::regex_search(line, m, kValue)) run.values.push_back(m[2]);
-    }
-    run.status = child.wait_exit(30s);
-    run.output += child.stderr_text();
-    return run;
+    return run_mbpoll(argv);
   }
   std::vector<std::string> read(const std::string& table, int ref, int count) {
     const MbpollRun r = mbpoll({"-t", table, "-B", "-r", std::to_string(ref), "-c", std::to_string(count)});

@@ -56,6 +56,7 @@ bool NodeProcess::start_command(const std::vector<std::string>& argv, std::chron
   node_id_ = atoi(field_of(ready, "node").c_str());
   device_ = field_of(ready, "link");
   if (device_.empty()) device_ = field_of(ready, "serial");
+  tcp_ = field_of(ready, "tcp");
   return true;
 }
 

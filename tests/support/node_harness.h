@@ -51,6 +51,8 @@ class NodeProcess {
   /// The ready line's node id and device (the link when it made one).
   int node_id() const { return node_id_; }
   const std::string& device() const { return device_; }
+  /// The ready line's Modbus/TCP address ("127.0.0.1:40123"; "" without --tcp).
+  const std::string& tcp_address() const { return tcp_; }
   const std::string& error() const { return error_; }
 
   /// Sends a control command and returns the first line starting with
@@ -74,6 +76,7 @@ class NodeProcess {
  private:
   int node_id_ = 0;
   std::string device_;
+  std::string tcp_;
   std::string error_;
 };
 

@@ -20,6 +20,7 @@
 #include "eeprom_file.h"
 #include "gateway/gateway.h"
 #include "host/can_log_file.h"
+#include "modbus_tcp_server.h"
 #include "node_options.h"
 #include "program_data.h"
 #include "serial_port.h"
@@ -112,8 +113,10 @@ int main(int argc, char** argv) {
   const port::Parity parity = opt.parity == 'E'   ? port::Parity::kEven
                               : opt.parity == 'O' ? port::Parity::kOdd
                                                   : port::Parity::kNone;
-  const Status opened =
-      !opt.serial.empty() ? serial.open_tty(opt.serial, opt.baud, parity) : serial.create_pty(opt.pty_link);
+  const bool with_serial = opt.serial != node::kNoSerial;  // else Modbus/TCP only
+  const Status opened = !with_serial          ? Status::ok()
+                        : !opt.serial.empty() ? serial.open_tty(opt.serial, opt.baud, parity)
+                                              : serial.create_pty(opt.pty_link);
   if (!opened) return fail(opened.message());
   linux_port::SocketCanPort can;
   node::TracedCan traced_can(can, trace);
@@ -142,6 +145,12 @@ int main(int argc, char** argv) {
   static const canopen::SdoDomain program_data_table = program_data.table();
   gw.node().set_sdo_domain(&program_data_table);
   gw.node().set_sdo_block_transfer(true);
+  // Modbus/TCP in front of the same slave (modbus_tcp_server.h).
+  node::ModbusTcpServer tcp(gw.modbus_slave());
+  if (opt.tcp_given) {
+    const Status listening = tcp.listen(opt.tcp, opt.tcp_clients);
+    if (!listening) return fail(listening.message());
+  }
 
   gw.start(port::monotonic_us(), opt.node_id);
   if (gw.node().storage_damage_count() != 0) {
@@ -171,19 +180,21 @@ int main(int argc, char** argv) {
   // waits for t3.5 of silence on the line (serial line spec, initial state),
   // and a request sent before that would be dropped.
   std::string ready = "ready node=" + std::to_string(gw.node_id()) + " can=" + opt.can +
-                      " serial=" + serial.path() +
-                      (serial.link_path().empty() ? "" : " link=" + serial.link_path()) + "\n";
+                      " serial=" + (with_serial ? serial.path() : opt.serial) +
+                      (serial.link_path().empty() ? "" : " link=" + serial.link_path()) +
+                      (tcp.listening() ? " tcp=" + tcp.address().text() : "") + "\n";
 
   std::string input;
   bool stdin_open = true;
   uint32_t wait_us = 0;  // until the earliest deadline the last pass saw
   while (!control.quit()) {
-    pollfd fds[4] = {{serial.fd(), POLLIN, 0},
-                     {g_signal_pipe[0], POLLIN, 0},
-                     {stdin_open ? 0 : -1, POLLIN, 0},
-                     {with_can ? can.fd() : -1, POLLIN, 0}};
+    pollfd fds[4 + node::ModbusTcpServer::kMaxPollFds] = {{serial.fd(), POLLIN, 0},
+                                                          {g_signal_pipe[0], POLLIN, 0},
+                                                          {stdin_open ? 0 : -1, POLLIN, 0},
+                                                          {with_can ? can.fd() : -1, POLLIN, 0}};
+    const size_t tcp_fds = tcp.poll_fds(fds + 4);
     const timespec wait = as_timespec(wait_us);
-    if (ppoll(fds, 4, &wait, nullptr) < 0 && errno != EINTR)
+    if (ppoll(fds, 4 + tcp_fds, &wait, nullptr) < 0 && errno != EINTR)
       return fail(std::string("poll: ") + std::strerror(errno));
     if (fds[1].revents & POLLIN) break;  // SIGINT / SIGTERM: clean exit
     // Taken before the serial port is found empty, as modbus/slave.h asks:
@@ -215,6 +226,7 @@ int main(int argc, char** argv) {
     // (each may cost a send), whatever the bus carries.
     control.process(now);
     say(control.events(gw.process(now, control.buttons()), now));
+    tcp.handle(fds + 4, tcp_fds);  // after process(): FC 2Bh/0Dh runs with its `now`
     // Then at most kMaxFramesPerPass frames. What they make due (an answer
     // to a Modbus request, a state line) runs in the next pass, at once.
     bool frames_taken = false;

@@ -9,12 +9,17 @@ cli::Program make_program() {
   p.name = "mb2co-node";
   p.description =
       "The gateway firmware on Linux: CANopen node on SocketCAN, Modbus/RTU slave on a\n"
-      "serial line, RUN/STOP2 line application; buttons and LEDs on stdin/stdout.\n";
+      "serial line and/or Modbus/TCP server, RUN/STOP2 line application; buttons and LEDs\n"
+      "on stdin/stdout.\n";
   cli::Command c;
   c.options = {
       cli::text("--can", "IFACE", "SocketCAN interface (default vcan0), or 'none'"),
       cli::file("--pty", "PATH", "create a pseudo-terminal and a symlink to it at PATH"),
-      cli::file("--serial", "DEV", "use an existing tty instead of a pty"),
+      cli::file("--serial", "DEV", "use an existing tty instead of a pty; 'none': no serial line"),
+      cli::text("--tcp", "HOST:PORT",
+                "also serve Modbus/TCP there (a bare PORT: 127.0.0.1; 0.0.0.0:PORT for\n"
+                "every interface; port 0: a free one, named in the ready line)"),
+      cli::uint_range("--tcp-clients", "N", 1, 32, "Modbus/TCP connections at once 1..32 (default 8)"),
       cli::uint_range("--baud", "N", 1200, 1000000,
                       "serial baud rate 1200..1000000, a standard rate (default 115200)"),
       cli::parity("--parity", "serial parity (default N)"),
@@ -72,6 +77,13 @@ Status apply_options(const cli::Args& a, NodeOptions* o) {
   if (a.has("--eeprom-write-us") && o->eeprom.empty())
     return Status::failure("--eeprom-write-us needs --eeprom");
   o->trace_can = a.get("--trace-can", o->trace_can);
+  if (a.has("--tcp")) {
+    Status where = parse_tcp_address("--tcp", a.get("--tcp"), true, &o->tcp);
+    if (!where) return where;
+    o->tcp_given = true;
+  }
+  o->tcp_clients = static_cast<uint32_t>(a.uint("--tcp-clients", o->tcp_clients));
+  if (a.has("--tcp-clients") && !o->tcp_given) return Status::failure("--tcp-clients needs --tcp");
   return Status::ok();
 }
 

@@ -9,6 +9,7 @@
 
 #include "host/cli.h"
 #include "host/status.h"
+#include "host/tcp_address.h"
 
 namespace mb2co {
 namespace node {
@@ -26,7 +27,15 @@ struct NodeOptions {
   std::string eeprom;         ///< file backing 1010h "save" (like the Uno's EEPROM)
   uint32_t eeprom_write_us = 0;  ///< time to program one EEPROM byte (0: at once; the Uno: 3300)
   std::string trace_can;         ///< --trace-can FILE: every frame sent and received ("" none)
+  /// --tcp HOST:PORT: Modbus/TCP beside (or, with --serial none, instead
+  /// of) the serial line; tcp_given false: no Modbus/TCP.
+  TcpAddress tcp;
+  bool tcp_given = false;
+  uint32_t tcp_clients = 8;  ///< --tcp-clients N: connections at once
 };
+
+/// --serial's value for "no serial line at all" (Modbus/TCP only).
+constexpr const char* kNoSerial = "none";
 
 /// The option table of mb2co-node (help, parser and completion come from it).
 const cli::Program& program();

@@ -1,4 +1,4 @@
-// SlaveCore's second way in (modbus/tcp_switch.h): a request PDU from another
+// SlaveCore's second way in (profile::kModbusTcp, profiles/profile.h): a request PDU from another
 // framer (Modbus/TCP), executed by the same function codes as a frame from
 // the line and answered through its channel, at once or when done.
 #include "modbus/slave.h"

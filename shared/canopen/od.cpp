@@ -39,17 +39,51 @@ uint8_t ObjectDictionary::numeric_size(const OdRow* e) const {
   return flash_read(&kOdTypeInfo[row_type(e)]) & 0x0F;
 }
 
-uint32_t ObjectDictionary::def_at(const OdRow* e) const {
-  const uint8_t slot = flash_read(&e->def_slot);
+// Row numbers count every row of the sorted list: record_first rows below
+// the records, then record_count rows of records (kind by kind, PDO by
+// PDO), then the rest. def_.rows holds all but the records' rows. The
+// short path (every row but the records') reads no flash: the bounds are
+// in the definition.
+ObjectDictionary::Place ObjectDictionary::place(uint16_t row) const {
+  const uint16_t first = def_.record_first;
+  const uint16_t count = def_.record_count;
+  Place p = {nullptr, 0, 0};
+  const uint16_t k = static_cast<uint16_t>(row - first);  // wraps below the records
+  if (k >= count) {
+    p.row = &def_.rows[row < first ? row : row - count];
+    return p;
+  }
+  // OdRecordTable: OdRecords, count / kOdRecordsPerKind template rows, a
+  // byte per record row naming its template row and n.
+  const OdRecordRow* templates = reinterpret_cast<const OdRecordRow*>(def_.records + 1);
+  const uint8_t named =
+      flash_read(reinterpret_cast<const uint8_t*>(templates + count / kOdRecordsPerKind) + k);
+  const OdRecordRow* t = templates + (named & kOdRecordTemplateMask);
+  p.row = &t->row;
+  p.n = static_cast<uint8_t>(named >> kOdRecordNumberShift);
+  p.stride = flash_read(&t->stride);
+  return p;
+}
+
+uint16_t ObjectDictionary::index_of(uint16_t row) const {
+  const Place p = place(row);
+  return static_cast<uint16_t>(flash_read(&p.row->index) + p.n);
+}
+
+uint32_t ObjectDictionary::def_at(Place p) const {
+  const uint8_t slot = flash_read(slot_at(p));
   if (slot & kOdLiteralDefaults) return static_cast<uint8_t>(slot & ~kOdLiteralDefaults);
   return flash_read(&def_.defaults[slot]);
 }
 
 OdEntry ObjectDictionary::entry(uint16_t row) const {
-  const OdRow* e = &def_.rows[row];
+  const Place p = place(row);
   OdEntry out;
-  flash_copy(static_cast<OdRow*>(&out), e, sizeof(OdRow));
-  out.def = def_at(e);
+  flash_copy(static_cast<OdRow*>(&out), p.row, sizeof(OdRow));
+  out.index = static_cast<uint16_t>(out.index + p.n);
+  // (below values_size, so within the 15 bits)
+  out.loc = static_cast<uint16_t>(out.loc + p.n * p.stride) & kOdLocMask;
+  out.def = def_at(p);
   return out;
 }
 
@@ -61,16 +95,40 @@ OdEntry ObjectDictionary::entry(uint16_t row) const {
 static_assert((sizeof(OdRow) & (sizeof(OdRow) - 1)) == 0, "row size a power of two");
 static const uint16_t kRowMask = static_cast<uint16_t>(~(sizeof(OdRow) - 1));
 
+// The records' rows are not in def_.rows: a record's index leads to its
+// rows (a kind's records are consecutive, each rows[kind] long), whose few
+// sub-indices (at most 9) are compared in turn.
+uint16_t ObjectDictionary::find_record(uint16_t index, uint8_t sub) const {
+  const uint16_t number = od_record_number(index);
+  if (number >= kOdRecordsPerKind) return kNoRow;
+  const OdRecords* records = def_.records;
+  const uint8_t kind = od_record_kind(index);
+  const uint8_t rows = flash_read(&records->rows[kind]);
+  uint16_t row = static_cast<uint16_t>(def_.record_first + flash_read(&records->base[kind]) + number * rows);
+  for (uint8_t j = 0; j < rows; ++j, ++row) {
+    if (sub_of(row) == sub) return row;
+  }
+  return kNoRow;
+}
+
+// A row number from a place in def_.rows (which has no record rows).
+static uint16_t plain_to_row(const OdDefinition& def, uint16_t plain) {
+  return plain < def.record_first ? plain : static_cast<uint16_t>(plain + def.record_count);
+}
+
 uint16_t ObjectDictionary::find(uint16_t index, uint8_t sub) const {
+  if (static_cast<uint16_t>(index - kOdRecordFirst) < kOdRecordEnd - kOdRecordFirst) {
+    return find_record(index, sub);
+  }
   const uint8_t* rows = reinterpret_cast<const uint8_t*>(def_.rows);
   uint16_t lo = 0;
-  uint16_t hi = static_cast<uint16_t>(def_.row_count * sizeof(OdRow));
+  uint16_t hi = static_cast<uint16_t>((def_.row_count - def_.record_count) * sizeof(OdRow));
   while (lo < hi) {
     const uint16_t mid = static_cast<uint16_t>(((lo + hi) / 2) & kRowMask);
     const OdRow* r = reinterpret_cast<const OdRow*>(rows + mid);
     const uint16_t i = flash_read(&r->index);
     const uint8_t s = i == index ? flash_read(&r->sub) : 0;
-    if (i == index && s == sub) return static_cast<uint16_t>(mid / sizeof(OdRow));
+    if (i == index && s == sub) return plain_to_row(def_, static_cast<uint16_t>(mid / sizeof(OdRow)));
     if (i < index || (i == index && s < sub)) {
       lo = static_cast<uint16_t>(mid + sizeof(OdRow));
     } else {
@@ -84,60 +142,46 @@ void ObjectDictionary::find_rows(const uint16_t* indices, uint8_t count, uint16_
   for (uint8_t i = 0; i < count; ++i) rows[i] = find(flash_read(&indices[i]), 0);
 }
 
+// Every index begins with sub 0 (od_rows_sorted).
 uint16_t ObjectDictionary::first_row(uint16_t index) const {
-  const uint8_t* rows = reinterpret_cast<const uint8_t*>(def_.rows);
-  const uint16_t end = static_cast<uint16_t>(def_.row_count * sizeof(OdRow));
-  uint16_t lo = 0;
-  uint16_t hi = end;
-  while (lo < hi) {  // lower bound of (index, 0)
-    const uint16_t mid = static_cast<uint16_t>(((lo + hi) / 2) & kRowMask);
-    if (flash_read(&reinterpret_cast<const OdRow*>(rows + mid)->index) < index) {
-      lo = static_cast<uint16_t>(mid + sizeof(OdRow));
-    } else {
-      hi = mid;
-    }
-  }
-  if (lo < end && flash_read(&reinterpret_cast<const OdRow*>(rows + lo)->index) == index) {
-    return static_cast<uint16_t>(lo / sizeof(OdRow));
-  }
-  return kNoRow;
+  return find(index, 0);
 }
 
 bool ObjectDictionary::has_index(uint16_t index) const {
-  return first_row(index) != kNoRow;
+  return find(index, 0) != kNoRow;
 }
 
 uint8_t ObjectDictionary::type_bits(uint8_t type) const {
   const uint16_t r = type == 0 || type >= kOdTypeCount ? kNoRow : find(type, 0);
-  return r == kNoRow ? 0 : static_cast<uint8_t>(def_at(&def_.rows[r]));
+  return r == kNoRow ? 0 : static_cast<uint8_t>(def_at(place(r)));
 }
 
 uint16_t ObjectDictionary::capacity_of(uint16_t row) const {
-  const OdRow* e = &def_.rows[row];
-  if (flash_read(&e->attr) & kAttrString) return static_cast<uint16_t>(def_at(e) >> 16);
-  return numeric_size(e);
+  const Place p = place(row);
+  if (flash_read(&p.row->attr) & kAttrString) return static_cast<uint16_t>(def_at(p) >> 16);
+  return numeric_size(p.row);
 }
 
 uint16_t ObjectDictionary::size_of(uint16_t row) const {
-  const OdRow* e = &def_.rows[row];
-  if (!(flash_read(&e->attr) & kAttrString)) return numeric_size(e);
-  return string_length(row);
+  const Place p = place(row);
+  if (!(flash_read(&p.row->attr) & kAttrString)) return numeric_size(p.row);
+  return string_length(p);
 }
 
 // A VISIBLE_STRING ends at its first NUL; OCTET_STRING, UNICODE_STRING
 // and DOMAIN are always their whole capacity (fixed length: a row holds no
 // length of its own).
-uint16_t ObjectDictionary::string_length(uint16_t row) const {
-  const OdRow* e = &def_.rows[row];
+uint16_t ObjectDictionary::string_length(Place pl) const {
+  const OdRow* e = pl.row;
   const uint8_t a = flash_read(&e->attr);
-  const uint32_t def = def_at(e);
+  const uint32_t def = def_at(pl);
   const uint16_t cap = static_cast<uint16_t>(def >> 16);
   uint16_t n = 0;
   // (byte-run types are below 10h: the type's low nibble is all of it)
   if ((flash_read(reinterpret_cast<const uint8_t*>(e) + kOdEntryTypeHookOffset) & 0x0F) != kVisibleString)
     return cap;
   if (a & kAttrRam) {
-    const uint8_t* p = value_at(e);
+    const uint8_t* p = value_at(pl);
     while (n < cap && p[n] != 0) ++n;
   } else {
     const char* p = def_.strings + (def & 0xFFFFu);
@@ -146,22 +190,22 @@ uint16_t ObjectDictionary::string_length(uint16_t row) const {
   return n;
 }
 
-uint32_t ObjectDictionary::constant_at(const OdRow* e) const {
-  const uint32_t def = def_at(e);
-  return (flash_read(&e->attr) & kAttrNodeId) ? def + node_id_ : def;
+uint32_t ObjectDictionary::constant_at(Place p) const {
+  const uint32_t def = def_at(p);
+  return (flash_read(&p.row->attr) & kAttrNodeId) ? def + node_id_ : def;
 }
 
 // get() and set() are on every path (services, PDOs, Modbus): they read the
 // three fields they need straight from the row and move the value with one
 // memcpy (values are little-endian, like both targets).
 uint32_t ObjectDictionary::get(uint16_t row) const {
-  const OdRow* e = &def_.rows[row];
-  const uint8_t a = flash_read(&e->attr);
-  if (!(a & kAttrRam)) return constant_at(e);
+  const Place pl = place(row);
+  const uint8_t a = flash_read(&pl.row->attr);
+  if (!(a & kAttrRam)) return constant_at(pl);
   // Strings (their current length decides) out of line: the numeric path
   // then needs no register saves on the AVR.
-  const uint16_t n = (a & kAttrString) ? string_length(row) : numeric_size(e);
-  const uint8_t* p = value_at(e);
+  const uint16_t n = (a & kAttrString) ? string_length(pl) : numeric_size(pl.row);
+  const uint8_t* p = value_at(pl);
   if (n == 1) return p[0];
   if (n == 2) {
     uint16_t v;
@@ -174,10 +218,10 @@ uint32_t ObjectDictionary::get(uint16_t row) const {
 }
 
 bool ObjectDictionary::set(uint16_t row, uint32_t value) {
-  const OdRow* e = &def_.rows[row];
-  if ((flash_read(&e->attr) & (kAttrRam | kAttrString)) != kAttrRam) return false;
-  uint8_t* p = value_at(e);
-  const uint8_t n = numeric_size(e);
+  const Place pl = place(row);
+  if ((flash_read(&pl.row->attr) & (kAttrRam | kAttrString)) != kAttrRam) return false;
+  uint8_t* p = value_at(pl);
+  const uint8_t n = numeric_size(pl.row);
   bool changed = false;
   for (uint8_t i = 0; i < n; ++i, value >>= 8) {  // little-endian, as on the bus
     const uint8_t b = static_cast<uint8_t>(value);
@@ -189,25 +233,24 @@ bool ObjectDictionary::set(uint16_t row, uint32_t value) {
 }
 
 uint8_t* ObjectDictionary::ram(uint16_t row) {
-  const OdRow* e = &def_.rows[row];
   touch();
-  return (flash_read(&e->attr) & kAttrRam) ? value_at(e) : nullptr;
+  return const_cast<uint8_t*>(static_cast<const ObjectDictionary*>(this)->ram(row));
 }
 
 const uint8_t* ObjectDictionary::ram(uint16_t row) const {
-  const OdRow* e = &def_.rows[row];
-  return (flash_read(&e->attr) & kAttrRam) ? value_at(e) : nullptr;
+  const Place p = place(row);
+  return (flash_read(&p.row->attr) & kAttrRam) ? value_at(p) : nullptr;
 }
 
 uint16_t ObjectDictionary::copy_out(uint16_t row, uint8_t* buf, uint16_t cap) const {
-  const OdRow* e = &def_.rows[row];
-  const uint8_t a = flash_read(&e->attr);
+  const Place pl = place(row);
+  const uint8_t a = flash_read(&pl.row->attr);
   uint16_t n = size_of(row);
   if (n > cap) n = cap;
   if (a & kAttrRam) {
-    memcpy(buf, value_at(e), n);
+    memcpy(buf, value_at(pl), n);
   } else if (a & kAttrString) {
-    const char* p = def_.strings + (def_at(e) & 0xFFFFu);
+    const char* p = def_.strings + (def_at(pl) & 0xFFFFu);
     for (uint16_t i = 0; i < n; ++i) buf[i] = flash_byte(p + i);
   } else {
     const uint32_t v = get(row);
@@ -217,24 +260,28 @@ uint16_t ObjectDictionary::copy_out(uint16_t row, uint8_t* buf, uint16_t cap) co
 }
 
 // Every row is visited (a reset restores most of the OD): single fields,
-// the row pointer stepped along, the default read only for the rows restored.
+// the default read only for the rows restored.
 void ObjectDictionary::restore_defaults(uint16_t from_index, uint16_t to_index) {
   touch();
-  const OdRow* e = def_.rows;
-  for (uint16_t r = 0; r < def_.row_count; ++r, ++e) {
-    const uint16_t index = flash_read(&e->index);
+  for (uint16_t r = 0; r < def_.row_count; ++r) {
+    const Place p = place(r);
+    const OdRow* e = p.row;
+    const uint16_t index = static_cast<uint16_t>(flash_read(&e->index) + p.n);
     const uint8_t a = flash_read(&e->attr);
     if (index < from_index || index > to_index || !(a & kAttrRam)) continue;
     if (a & kAttrString) {
-      const uint32_t def = def_at(e);
+      const uint32_t def = def_at(p);
       const uint16_t cap = static_cast<uint16_t>(def >> 16);
       const char* src = def_.strings + (def & 0xFFFFu);
-      uint8_t* dst = value_at(e);
+      uint8_t* dst = value_at(p);
       uint16_t i = 0;
       for (; i < cap && flash_byte(src + i) != 0; ++i) dst[i] = flash_byte(src + i);
       for (; i < cap; ++i) dst[i] = 0;
     } else {
-      set(r, constant_at(e));  // the numeric store of set(); the default, node id added
+      // The default, node id added, stored as set() would (touched above).
+      uint32_t v = constant_at(p);
+      uint8_t* dst = value_at(p);
+      for (uint8_t i = numeric_size(e); i != 0; --i, v >>= 8) *dst++ = static_cast<uint8_t>(v);
     }
   }
 }
@@ -287,11 +334,13 @@ SdoAbort ObjectDictionary::check_limits(const OdEntry& e, const uint8_t* data, u
     // An unsigned value above the signed maximum is above every maximum.
     if (kind == kKindUnsigned && v < 0) return kAbortValueTooHigh;
     if (kind == kKindReal && negative) v = -v;
-    OdLimitValue bound;
-    flash_copy(&bound, &lim->min, sizeof bound);
-    if (v < bound) return kAbortValueTooLow;
-    flash_copy(&bound, &lim->max, sizeof bound);
-    if (v > bound) return kAbortValueTooHigh;
+    // The bounds as their bits: one flash read each (OdLimitBits).
+    if (v < static_cast<OdLimitValue>(flash_read(reinterpret_cast<const OdLimitBits*>(&lim->min)))) {
+      return kAbortValueTooLow;
+    }
+    if (v > static_cast<OdLimitValue>(flash_read(reinterpret_cast<const OdLimitBits*>(&lim->max)))) {
+      return kAbortValueTooHigh;
+    }
   }
   return kSdoOk;
 }

@@ -80,30 +80,34 @@ class ObjectDictionary {
   /// rows[i] = find(indices[i], 0) for `count` indices from a MB2CO_FLASH
   /// table: the services' start-up lookups as one loop.
   void find_rows(const uint16_t* indices, uint8_t count, uint16_t* rows) const;
-  /// First row of `index` (kNoRow if absent); rows of one index are contiguous.
+  /// First row of `index`, its sub 0 (kNoRow if absent); rows of one index
+  /// are contiguous.
   uint16_t first_row(uint16_t index) const;
   uint16_t row_count() const { return def_.row_count; }
   /// A row's metadata, decoded (from flash on AVR). Hot paths read single
   /// fields instead (attr(), index_of(), ...).
   OdEntry entry(uint16_t row) const;
   /// Single fields of a row (OdAttr bits, index, sub-index).
-  MB2CO_INLINE uint8_t attr(uint16_t row) const { return flash_read(&def_.rows[row].attr); }
-  MB2CO_INLINE uint16_t index_of(uint16_t row) const { return flash_read(&def_.rows[row].index); }
-  MB2CO_INLINE uint8_t sub_of(uint16_t row) const { return flash_read(&def_.rows[row].sub); }
+  MB2CO_INLINE uint8_t attr(uint16_t row) const { return flash_read(&place(row).row->attr); }
+  uint16_t index_of(uint16_t row) const;
+  MB2CO_INLINE uint8_t sub_of(uint16_t row) const { return flash_read(&place(row).row->sub); }
   /// OdHook of a row (kHookNone: no service validates writes to it).
   MB2CO_INLINE uint8_t hook_of(uint16_t row) const {
     return static_cast<uint8_t>(
-        flash_read(reinterpret_cast<const uint8_t*>(&def_.rows[row]) + kOdEntryTypeHookOffset) >> 4);
+        flash_read(reinterpret_cast<const uint8_t*>(place(row).row) + kOdEntryTypeHookOffset) >> 4);
   }
   /// A row's default as a value: a node-id-relative one (kAttrNodeId) with
   /// the node id in force added, as restore_defaults() stores it.
-  uint32_t default_value(uint16_t row) const { return constant_at(&def_.rows[row]); }
+  uint32_t default_value(uint16_t row) const { return constant_at(place(row)); }
+  /// The slot that names a row's default (OdRow::def_slot: a literal with
+  /// kOdLiteralDefaults set, else a place in OdDefinition::defaults).
+  uint8_t default_slot(uint16_t row) const { return flash_read(slot_at(place(row))); }
   /// Bit length of a data type, read from its data-type entry (0001h–001Fh)
   /// of this very OD (0 when the OD has no such entry): what a dummy
   /// mapping entry must name.
   uint8_t type_bits(uint8_t type) const;
   /// DataType of a row (5 bits: od_types.h).
-  uint8_t type_of(uint16_t row) const { return row_type(&def_.rows[row]); }
+  uint8_t type_of(uint16_t row) const { return row_type(place(row).row); }
   /// Current size in bytes: numeric types from their data-type entry, strings
   /// their current text length.
   uint16_t size_of(uint16_t row) const;
@@ -184,16 +188,36 @@ class ObjectDictionary {
     entry.value_ = value;
     touch();
   }
+  /// Where a row's metadata is. Every read of a row goes through place(),
+  /// the one place that knows the PDO records are kept as one template
+  /// record per kind (od_define.h, OdRecords): a row of PDO n + 1's record
+  /// reads as its kind's template row with n added to the index, n strides
+  /// to `loc`, and its default in its own slot (slot_at); any other row as
+  /// itself (n = 0). 4 bytes: returned in registers on the AVR (a 6- or
+  /// 7-byte struct goes through the stack there, 8 bytes through pairs).
+  struct Place {
+    const OdRow* row;  ///< flash: the row, or its record's template row
+    uint8_t n;         ///< of a record row its PDO number - 1, else 0
+    uint8_t stride;    ///< of a record row its kind's (OdRecordRow::stride)
+  };
+  __attribute__((noinline)) Place place(uint16_t row) const;
+  /// Flash address of a row's default slot: its own, or for PDO 2-4's
+  /// record rows one of its template's (OdRecordRow).
+  MB2CO_INLINE static const uint8_t* slot_at(Place p) {
+    return p.n == 0 ? &p.row->def_slot : &reinterpret_cast<const OdRecordRow*>(p.row)->more_slots[p.n - 1];
+  }
+  /// find() of an index in 1400h–1BFFh, the records' (not in def_.rows).
+  uint16_t find_record(uint16_t index, uint8_t sub) const;
   /// The row's 32-bit default from the pool (OdRow::def_slot). Out of line:
   /// six callers, the two reads each would cost more inline on the AVR.
-  __attribute__((noinline)) uint32_t def_at(const OdRow* e) const;
+  __attribute__((noinline)) uint32_t def_at(Place p) const;
   /// A row's default as a value: node-id-relative ones with the node id
   /// added (a constant row's value, a restored RAM row's). Out of line:
   /// get()'s numeric path then holds nothing across a call (no register
   /// saves on the AVR).
-  __attribute__((noinline)) uint32_t constant_at(const OdRow* e) const;
+  __attribute__((noinline)) uint32_t constant_at(Place p) const;
   /// Current text length of a string row (RAM or flash), at most its capacity.
-  uint16_t string_length(uint16_t row) const;
+  uint16_t string_length(Place p) const;
   /// The word of `loc` and `type_high` (od_types.h), read from flash.
   MB2CO_INLINE static uint16_t loc_word(const OdRow* e) {
     return flash_read(
@@ -203,7 +227,10 @@ class ObjectDictionary {
   static uint8_t row_type(const OdRow* e);
   /// Bytes of a numeric row's value (kOdTypeInfo; 0 for a byte-run type).
   uint8_t numeric_size(const OdRow* e) const;
-  MB2CO_INLINE uint8_t* value_at(const OdRow* e) const { return values_ + (loc_word(e) & kOdLocMask); }
+  /// A RAM row's value (od_records_uniform: PDO n + 1's n strides on).
+  MB2CO_INLINE uint8_t* value_at(Place p) const {
+    return values_ + (loc_word(p.row) & kOdLocMask) + p.n * p.stride;
+  }
   SdoAbort check_limits(const OdEntry& e, const uint8_t* data, uint16_t len) const;
   /// Copies a value into its row; `tracked` false: no revision change (a
   /// check step's value, put back before anything reads it).

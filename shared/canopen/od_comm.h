@@ -16,6 +16,7 @@ namespace canopen {
 const uint8_t kErrorHistoryLength = 4;  ///< 1003h sub1..4
 const uint8_t kHbConsumers = 4;         ///< 1016h sub1..4
 const uint8_t kPdoCount = 4;            ///< RPDOs and TPDOs each
+static_assert(kPdoCount == kOdRecordsPerKind, "every PDO has its records (od_define.h)");
 const uint8_t kPdoMaxMapped = 8;        ///< 16xxh/1Axxh sub1..8 at most (an OD may have fewer)
 const uint32_t kSaveSignature = 0x65766173u;  ///< "save" (1010h)
 const uint32_t kLoadSignature = 0x64616F6Cu;  ///< "load" (1011h)
@@ -124,6 +125,11 @@ const uint32_t kLoadSignature = 0x64616F6Cu;  ///< "load" (1011h)
 // entry: absent, so any access answers 06090011h. RPDOs stop at sub 5.
 // ID is the record's identifier prefix x<index> (x1400): its rows are named
 // x1400_1_cobId, x1400_2_transmissionType, ... (od_define.h).
+// An OD has kPdoCount records of each kind (communication and mapping, RPDO
+// and TPDO) or none, made with one macro per kind and the same FLAGS (and
+// COUNT of mapping entries): the OD keeps one template record per kind
+// (od_define.h, OdRecordShape; MB2CO_OD_DEFINE refuses records that differ
+// but for their index, values and defaults).
 #define MB2CO_OD_RPDO_COMM(N, INDEX, ID, COBID, FLAGS, TTYPE, EVENT, NAME)                          \
   N(INDEX, 0, ID##_0_highestSubIndex, U8, CONST, 0, kHookNone, 5, NAME ": highest sub-index")       \
   N(INDEX, 1, ID##_1_cobId, U32, RW, FLAGS, kHookRpdoComm, COBID, NAME ": COB-ID")                  \

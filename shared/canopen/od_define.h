@@ -24,7 +24,8 @@
 // Limits are a second list: L(index, sub, min, max) (OdLimitValue; of a
 // REAL32 entry od_real32_limit(min), od_real32_limit(max)). On the AVR a
 // limited entry is at most 32 bits wide (a static_assert checks).
-// Rows must be written in ascending (index, sub) order: a static_assert checks.
+// Rows must be written in ascending (index, sub) order, each index from
+// sub-index 0: a static_assert checks.
 //
 // The identifier names, for every OD `Name` (MB2CO_OD_DECLARE):
 //  - the entry's member of the RAM value block `Name##Values` (the device's
@@ -46,10 +47,77 @@
 namespace mb2co {
 namespace canopen {
 
+/// The PDO communication and mapping records, 1400h–1BFFh, as CANopenNode's
+/// and Lely's ODs keep them: arrays of one record type. Each kind (RPDO
+/// communication 1400h, RPDO mapping 1600h, TPDO communication 1800h, TPDO
+/// mapping 1A00h) has kOdRecordsPerKind records (PDO n at base + n) alike
+/// but for their index, the place of their values and their defaults; an
+/// OD keeps one template record per kind (PDO 1's rows), each row with the
+/// default slots (OdRow::def_slot) of the same row of PDO 2-4 (OdRecordRow).
+/// Row numbers stay those of the whole sorted list (ObjectDictionary::place()
+/// finds a record row's template): the rows of PDO n + 1's record read as
+/// the template's with the index + n, the value n strides further in the
+/// value block, and their own default.
+const uint16_t kOdRecordFirst = 0x1400;  ///< index of the first record (RPDO 1 communication)
+const uint16_t kOdRecordEnd = 0x1C00;    ///< indices of records end below this
+const uint8_t kOdRecordKinds = 4;        ///< kinds, 200h indices apart
+const uint8_t kOdRecordsPerKind = 4;     ///< records (PDOs) of each kind, at base + 0..3
+
+/// Where an OD's records are (compile time: MB2CO_OD_DEFINE builds the
+/// tables from it).
+struct OdRecordShape {
+  uint16_t first;                  ///< row number of the first record row (or where it would be)
+  uint16_t count;                  ///< rows of all records: kOdRecordsPerKind * sum of rows[]
+  uint8_t base[kOdRecordKinds];    ///< each kind's first row, counted from `first`
+  uint8_t rows[kOdRecordKinds];    ///< rows of one record of each kind (0: the OD has none)
+  uint8_t stride[kOdRecordKinds];  ///< value-block bytes from one record of a kind to the next
+};
+/// A template row: PDO 1's row, the default slots of the same row of PDO
+/// 2, 3 and 4 (PDO 1's is the row's own def_slot) and its kind's stride:
+/// all a row of a record needs beyond its template row, in one place.
+struct OdRecordRow {
+  OdRow row;  ///< first: an OdRecordRow's address is its row's
+  uint8_t more_slots[kOdRecordsPerKind - 1];
+  uint8_t stride;  ///< value-block bytes from one record of its kind to the next
+};
+/// A record row, the k-th from OdDefinition::record_first, as stored
+/// (OdRecordTable::row_templates): its template row (bits 0-5) and n for
+/// PDO n + 1 (bits 6-7). One byte a row: place() finds a record row's
+/// template with one read, no division.
+const uint8_t kOdRecordTemplateMask = 0x3F;
+const uint8_t kOdRecordNumberShift = 6;
+static_assert(kOdRecordsPerKind <= 4, "n in 2 bits");
+/// What find() needs of the records, in flash on AVR: where each kind's
+/// rows begin (counted from OdDefinition::record_first) and how many rows a
+/// record of each kind has. In OdRecordTable, the templates and the row
+/// bytes follow it.
+struct OdRecords {
+  uint8_t base[kOdRecordKinds];
+  uint8_t rows[kOdRecordKinds];
+};
+/// The records as stored, in flash on AVR: OdRecords, the template rows
+/// (kTemplates = record_count / kOdRecordsPerKind: each kind's PDO 1
+/// record, kinds in order), then one byte per record row (kRows =
+/// record_count, kOdRecordTemplateMask). One table behind one pointer
+/// (OdDefinition::records; the definition itself is in the Uno's RAM).
+template <uint16_t kTemplates, uint16_t kRows>
+struct OdRecordTable {
+  OdRecords records;
+  OdRecordRow templates[kTemplates > 0 ? kTemplates : 1];
+  uint8_t row_templates[kRows > 0 ? kRows : 1];
+};
+typedef OdRecordTable<1, 1> OdRecordTableOfOne;
+static_assert(offsetof(OdRecordTableOfOne, templates) == sizeof(OdRecords) && offsetof(OdRecordRow, row) == 0 &&
+                  offsetof(OdRecordTableOfOne, row_templates) == sizeof(OdRecords) + sizeof(OdRecordRow),
+              "the template rows follow OdRecords, the row bytes the template rows");
+
 /// Everything constant about one OD: tables (flash on AVR) and sizes.
 struct OdDefinition {
-  const OdRow* rows;          ///< sorted by (index, sub); flash on AVR
-  uint16_t row_count;
+  const OdRow* rows;          ///< the rows but those of PDO records, sorted by (index, sub); flash on AVR
+  uint16_t row_count;         ///< every row, those of PDO records too: the row numbers' range
+  uint16_t record_first;      ///< row number of the first row of a PDO record (OdRecordShape),
+  uint16_t record_count;      ///< and their number: read on every row access (RAM on the Uno)
+  const OdRecords* records;   ///< the PDO records (OdRecordTable); flash on AVR
   const uint32_t* defaults;   ///< the distinct defaults >= kOdLiteralDefaults the rows name by slot; flash on AVR
   const char* strings;        ///< default texts, NUL-separated; flash on AVR
   const OdLimit* limits;      ///< flash on AVR
@@ -128,6 +196,16 @@ struct OdValueOf<T, true> {
   typedef PdoMapped<T> type;
 };
 
+/// Alignment of the value-block member of (index, sub): a PDO record's
+/// first values (sub-indices 0 and 1) where an UNSIGNED32 may start (4 on
+/// the host, 1 on the AVR), so that every record of a kind has one layout
+/// (od_records_uniform: a mapping record's 8-bit count would otherwise sit
+/// at whatever offset the record before it left); 1 for any other entry
+/// (its type's own alignment applies).
+constexpr size_t od_value_align(uint16_t index, uint8_t sub) {
+  return index >= kOdRecordFirst && index < kOdRecordEnd && sub <= 1 ? alignof(uint32_t) : 1;
+}
+
 /// Value of a hex digit, or 16 for none.
 constexpr uint8_t od_hex_digit(char c) {
   return c >= '0' && c <= '9'   ? static_cast<uint8_t>(c - '0')
@@ -153,10 +231,17 @@ constexpr bool od_id_matches(const char* id, uint16_t index, uint8_t sub) {
   return k > 6 && s == sub && id[k] == '_' && id[k + 1] != '\0';
 }
 
+/// True when the rows are sorted by (index, sub) without duplicates and
+/// every index begins with sub-index 0 (CiA 301: a VAR is sub 0, an ARRAY
+/// or RECORD has its highest sub-index there), so that an index's first
+/// row is its sub 0 (ObjectDictionary::first_row).
 constexpr bool od_rows_sorted(const OdRow* rows, uint16_t count) {
-  for (uint16_t i = 1; i < count; ++i) {
-    if (rows[i - 1].index > rows[i].index) return false;
-    if (rows[i - 1].index == rows[i].index && rows[i - 1].sub >= rows[i].sub) return false;
+  for (uint16_t i = 0; i < count; ++i) {
+    if (i == 0 || rows[i - 1].index != rows[i].index) {
+      if (rows[i].sub != 0 || (i > 0 && rows[i - 1].index > rows[i].index)) return false;
+    } else if (rows[i - 1].sub >= rows[i].sub) {
+      return false;
+    }
   }
   return true;
 }
@@ -173,6 +258,109 @@ constexpr bool od_limits_fit(const OdRow* rows, uint16_t count, const OdLimit* l
     }
   }
   return true;
+}
+
+/// Kind (0 to kOdRecordKinds - 1) and PDO number (0-based: the offset from
+/// its kind's base) of a record index, kOdRecordFirst..kOdRecordEnd - 1.
+constexpr uint8_t od_record_kind(uint16_t index) {
+  return static_cast<uint8_t>((index - kOdRecordFirst) >> 9);
+}
+constexpr uint16_t od_record_number(uint16_t index) {
+  return static_cast<uint16_t>(index & 0x1FFu);
+}
+
+/// Where the records of the sorted `rows` are: the first row at or above
+/// kOdRecordFirst, the rows below kOdRecordEnd from there, the rows of each
+/// kind's first record and the distance of the value of its second record's
+/// first RAM row from the same row's of the first (compile time only;
+/// od_records_uniform checks the rest).
+constexpr OdRecordShape od_record_shape(const OdRow* rows, uint16_t count) {
+  OdRecordShape shape{0, 0, {0, 0, 0, 0}, {0, 0, 0, 0}, {0, 0, 0, 0}};
+  for (uint16_t r = 0; r < count; ++r) {
+    const uint16_t index = rows[r].index;
+    if (index < kOdRecordFirst) {
+      shape.first = static_cast<uint16_t>(r + 1);
+    } else if (index < kOdRecordEnd) {
+      const uint8_t kind = od_record_kind(index);
+      for (uint8_t k = static_cast<uint8_t>(kind + 1); k < kOdRecordKinds; ++k) ++shape.base[k];
+      ++shape.count;
+      if (od_record_number(index) == 0) ++shape.rows[kind];
+      if (od_record_number(index) == 1 && shape.stride[kind] == 0 && (rows[r].attr & kAttrRam)) {
+        shape.stride[kind] = static_cast<uint8_t>(rows[r].loc - rows[r - shape.rows[kind]].loc);
+      }
+    }
+  }
+  return shape;
+}
+
+/// True when the rows of 1400h–1BFFh are, for each kind that has any,
+/// kOdRecordsPerKind records at base + 0..3, each alike the kind's first
+/// (sub-indices, types, hooks, attributes) but for the index (+ n), the
+/// place of a RAM row's value (+ n strides) and the default: what
+/// ObjectDictionary::place() takes them for (compile time only).
+constexpr bool od_records_uniform(const OdRow* rows, uint16_t count, const OdRecordShape& shape) {
+  uint16_t r = shape.first;
+  for (uint8_t kind = 0; kind < kOdRecordKinds; ++kind) {
+    const uint16_t first = r;
+    for (uint8_t n = 0; n < kOdRecordsPerKind; ++n) {
+      for (uint8_t j = 0; j < shape.rows[kind]; ++j, ++r) {
+        if (r >= count) return false;
+        const OdRow& t = rows[first + j];
+        const OdRow& e = rows[r];
+        if (e.index != kOdRecordFirst + 0x200u * kind + n || e.sub != t.sub || e.type_low != t.type_low ||
+            e.type_high != t.type_high || e.hook != t.hook || e.attr != t.attr) {
+          return false;
+        }
+        if ((e.attr & kAttrRam) && e.loc != t.loc + n * shape.stride[kind]) return false;
+      }
+    }
+  }
+  // (OdRecords counts rows in bytes; a record row's byte names its template in 6 bits)
+  return r == shape.first + shape.count && shape.count <= 255 &&
+         shape.count / kOdRecordsPerKind <= kOdRecordTemplateMask + 1u;
+}
+
+template <uint16_t kCount>
+struct OdRowTable {
+  OdRow rows[kCount > 0 ? kCount : 1];
+};
+
+/// The rows but those of the records (OdDefinition::rows; compile time).
+template <uint16_t kCount>
+constexpr OdRowTable<kCount> od_plain_rows(const OdRow* rows, uint16_t count, const OdRecordShape& shape) {
+  OdRowTable<kCount> out{};
+  uint16_t k = 0;
+  for (uint16_t r = 0; r < count; ++r) {
+    if (r < shape.first || r >= shape.first + shape.count) out.rows[k++] = rows[r];
+  }
+  return out;
+}
+
+/// The records' table (OdRecordTable) of the sorted `rows` (compile time).
+template <uint16_t kTemplates, uint16_t kRows>
+constexpr OdRecordTable<kTemplates, kRows> od_record_table(const OdRow* rows, const OdRecordShape& shape) {
+  OdRecordTable<kTemplates, kRows> out{};
+  uint16_t t = 0;  // the kind's first template row
+  uint16_t k = 0;  // record rows so far
+  for (uint8_t kind = 0; kind < kOdRecordKinds; ++kind) {
+    const uint8_t n = shape.rows[kind];
+    out.records.base[kind] = shape.base[kind];
+    out.records.rows[kind] = n;
+    for (uint8_t pdo = 0; pdo < kOdRecordsPerKind; ++pdo) {
+      for (uint8_t j = 0; j < n; ++j, ++k) {
+        OdRecordRow& tr = out.templates[t + j];
+        if (pdo == 0) {
+          tr.row = rows[shape.first + k];
+          tr.stride = shape.stride[kind];
+        } else {
+          tr.more_slots[pdo - 1] = rows[shape.first + k].def_slot;
+        }
+        out.row_templates[k] = static_cast<uint8_t>((t + j) | (pdo << kOdRecordNumberShift));
+      }
+    }
+    t = static_cast<uint16_t>(t + n);
+  }
+  return out;
 }
 
 /// The distinct defaults of the rows (OdRow::def_slot): a default below
@@ -302,15 +490,17 @@ constexpr uint8_t od_default_slot(const OdDefaultPool<kCount>& pool, uint32_t va
 #endif
 
 // RAM value block members, named by the identifier column: nothing for
-// CONST rows; PdoMapped<T> for the PDO-mappable ones.
-#define MB2CO_OD_VAL_CONST(t, flags, id)
-#define MB2CO_OD_VAL_RO(t, flags, id)                           \
-  ::mb2co::canopen::OdValueOf<MB2CO_OD_CTYPE_##t,               \
-                              (((flags) & ::mb2co::canopen::kAttrPdo) != 0)>::type id;
+// CONST rows; PdoMapped<T> for the PDO-mappable ones; a PDO record's first
+// values aligned as od_value_align says.
+#define MB2CO_OD_VAL_CONST(t, flags, id, align)
+#define MB2CO_OD_VAL_RO(t, flags, id, align)                                             \
+  alignas(MB2CO_OD_CTYPE_##t) alignas(align)                                              \
+      ::mb2co::canopen::OdValueOf<MB2CO_OD_CTYPE_##t,                                     \
+                                  (((flags) & ::mb2co::canopen::kAttrPdo) != 0)>::type id;
 #define MB2CO_OD_VAL_WO MB2CO_OD_VAL_RO
 #define MB2CO_OD_VAL_RW MB2CO_OD_VAL_RO
 #define MB2CO_OD_N_VALUE(index, sub, id, type, access, flags, hook, def, name) \
-  MB2CO_OD_VAL_##access(type, flags, id)
+  MB2CO_OD_VAL_##access(type, flags, id, ::mb2co::canopen::od_value_align(index, sub))
 #define MB2CO_OD_SVAL_CONST(id, cap)
 #define MB2CO_OD_SVAL_RO(id, cap) char id[MB2CO_OD_CAP_BYTES(cap)];
 #define MB2CO_OD_SVAL_WO MB2CO_OD_SVAL_RO
@@ -428,23 +618,42 @@ constexpr uint8_t od_default_slot(const OdDefaultPool<kCount>& pool, uint32_t va
   static constexpr ::mb2co::canopen::OdDefaultPool<Name##DefaultCount> Name##ValuesDefaultPool  \
       MB2CO_FLASH = ::mb2co::canopen::od_default_pool<Name##DefaultCount>(                      \
           Name##RowDefaults, static_cast<uint16_t>(sizeof(Name##RowDefaults) / sizeof(uint32_t))); \
-  static constexpr ::mb2co::canopen::OdRow Name##Rows[] MB2CO_FLASH = {                         \
+  /* every row, only for the tables below (no storage) */                                     \
+  static constexpr ::mb2co::canopen::OdRow Name##AllRows[] = {                                  \
       LIST(MB2CO_OD_ROW_N, MB2CO_OD_ROW_S)};                                                    \
   static constexpr uint16_t Name##RowCount =                                                    \
-      static_cast<uint16_t>(sizeof(Name##Rows) / sizeof(Name##Rows[0]));                        \
-  static_assert(::mb2co::canopen::od_rows_sorted(Name##Rows, Name##RowCount),                   \
-                #Name ": OD rows must be in ascending (index, sub) order without duplicates"); \
+      static_cast<uint16_t>(sizeof(Name##AllRows) / sizeof(Name##AllRows[0]));                  \
+  static_assert(::mb2co::canopen::od_rows_sorted(Name##AllRows, Name##RowCount),                \
+                #Name ": OD rows in ascending (index, sub) order, no duplicates, each index from sub 0"); \
+  static constexpr ::mb2co::canopen::OdRecordShape Name##RecordShape =                          \
+      ::mb2co::canopen::od_record_shape(Name##AllRows, Name##RowCount);                         \
+  static_assert(::mb2co::canopen::od_records_uniform(Name##AllRows, Name##RowCount,             \
+                                                     Name##RecordShape),                        \
+                #Name ": the PDO records (1400h-1BFFh) are 4 of each kind, alike but for index, " \
+                "value place (one stride on) and default");                                     \
+  static constexpr ::mb2co::canopen::OdRowTable<Name##RowCount - Name##RecordShape.count>       \
+      Name##Rows MB2CO_FLASH = ::mb2co::canopen::od_plain_rows<Name##RowCount -                 \
+                                                               Name##RecordShape.count>(        \
+          Name##AllRows, Name##RowCount, Name##RecordShape);                                    \
+  static constexpr ::mb2co::canopen::OdRecordTable<                                             \
+      Name##RecordShape.count / ::mb2co::canopen::kOdRecordsPerKind, Name##RecordShape.count>  \
+      Name##Records MB2CO_FLASH = ::mb2co::canopen::od_record_table<                            \
+          Name##RecordShape.count / ::mb2co::canopen::kOdRecordsPerKind,                        \
+          Name##RecordShape.count>(Name##AllRows, Name##RecordShape);                           \
   static_assert(sizeof(Name##Values) <= ::mb2co::canopen::kOdLocMask,                           \
                 #Name ": a row's offset in the value block has 15 bits");                      \
   static constexpr ::mb2co::canopen::OdLimit Name##Limits[] MB2CO_FLASH = {                     \
       LIMITS(MB2CO_OD_L_ROW){0, 0, 0, 0}};                                                      \
-  static_assert(::mb2co::canopen::od_limits_fit(Name##Rows, Name##RowCount, Name##Limits,        \
+  static_assert(::mb2co::canopen::od_limits_fit(Name##AllRows, Name##RowCount, Name##Limits,     \
                     static_cast<uint16_t>(sizeof(Name##Limits) / sizeof(Name##Limits[0]) - 1)), \
                 #Name ": a limited entry is at most as wide as OdLimitValue");                   \
   MB2CO_OD_NAMES_TABLE(Name, LIST)                                                              \
   const ::mb2co::canopen::OdDefinition Name##Definition = {                                     \
-      Name##Rows,                                                                               \
+      Name##Rows.rows,                                                                          \
       Name##RowCount,                                                                           \
+      Name##RecordShape.first,                                                                  \
+      Name##RecordShape.count,                                                                  \
+      &Name##Records.records,                                                                   \
       Name##ValuesDefaultPool.values,                                                           \
       reinterpret_cast<const char*>(&Name##StringPool),                                         \
       Name##Limits,                                                                             \

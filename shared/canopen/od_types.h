@@ -153,7 +153,9 @@ static_assert(offsetof(OdRow, sub) + 1 == kOdEntryTypeHookOffset &&
 static_assert(kUnsigned64 < kOdTypeCount && kHookApp < 16, "types fit 5 bits, hooks a nibble");
 
 /// One sub-entry's metadata as the OD hands it out (ObjectDictionary::entry):
-/// the row and its default as the 32-bit value.
+/// the row and its default as the 32-bit value. `def` is the entry's own;
+/// `def_slot` is the stored row's, of a PDO record's row its template's
+/// (ObjectDictionary::default_slot() is the entry's).
 struct OdEntry : OdRow {
   uint32_t def;  ///< default (const: the value itself, "stored in place");
                  ///< strings: capacity << 16 | offset of the default text in the string pool

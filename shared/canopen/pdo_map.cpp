@@ -143,16 +143,12 @@ void pdo_apply(ObjectDictionary& od, uint16_t row0, const uint8_t* data) {
   transfer(od, row0, nullptr, &od, data);
 }
 
-uint8_t pdo_map_stride(const ObjectDictionary& od, uint16_t first_index) {
-  return static_cast<uint8_t>(od.first_row(static_cast<uint16_t>(first_index + 1)) -
-                              od.first_row(first_index));
-}
-
+// Records of one kind are consecutive rows, each beginning with its sub 0.
 void pdo_find_records(const ObjectDictionary& od, uint16_t comm_index, PdoRecords* out) {
   const uint16_t map_index = static_cast<uint16_t>(comm_index + 0x200u);
   out->comm0 = od.find(comm_index, 0);
   out->map0 = od.find(map_index, 0);
-  out->map_stride = pdo_map_stride(od, map_index);
+  out->map_stride = static_cast<uint8_t>(od.find(static_cast<uint16_t>(map_index + 1), 0) - out->map0);
 }
 
 bool can_id_restricted(uint32_t can_id) {

@@ -34,9 +34,6 @@ SdoAbort pdo_check_mapping(const ObjectDictionary& od, uint16_t row0, uint8_t co
 /// procedure: the PDO disabled, then sub 0 = 0, entries, sub 0 = count).
 SdoAbort pdo_check_map_write(const ObjectDictionary& od, uint32_t cob, uint16_t row0, uint8_t stride,
                              uint8_t sub, const uint8_t* data, bool receive);
-/// Rows of one mapping record (1 + entries) in this OD, from the distance
-/// between the first two records starting at `first_index`.
-uint8_t pdo_map_stride(const ObjectDictionary& od, uint16_t first_index);
 /// Where one kind of PDO lives in this OD: the rows of its first
 /// communication record (`comm_index` sub 0) and first mapping record
 /// (comm_index + 200h, sub 0), and the mapping records' stride. One copy for

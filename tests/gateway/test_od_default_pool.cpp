@@ -55,7 +55,7 @@ TEST_F(OdDefaultPool, SmallDefaultsInTheRowEqualLargeOnesShareOneSlot) {
   std::map<uint8_t, uint32_t> value_of_slot;
   size_t literal = 0;
   for (uint16_t r = 0; r < od.row_count(); ++r) {
-    const uint8_t slot = GatewayDefinition.rows[r].def_slot;
+    const uint8_t slot = od.default_slot(r);  // a PDO record's row: its own, beside its template
     const uint32_t value = od.entry(r).def;
     if (value < kOdLiteralDefaults) {
       // In the row itself, marked by the top bit.

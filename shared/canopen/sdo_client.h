@@ -39,6 +39,7 @@
 #include "canopen/sdo_block.h"
 #endif
 #include "canopen/sdo_domain.h"
+#include "canopen/sdo_segment.h"
 
 namespace mb2co {
 namespace canopen {

@@ -15,6 +15,7 @@
 #include "canopen/can_frame.h"
 #include "canopen/clock.h"
 #include "canopen/od.h"
+#include "canopen/sdo_segment.h"
 #ifdef MB2CO_SDO_BLOCK
 #include "canopen/sdo_block.h"
 #include "canopen/sdo_domain.h"
@@ -93,7 +94,10 @@ class SdoServer {
     kBlockUploadEnd,     ///< sent the end frame, waits for A1h
 #endif
   };
-  void respond(const CanSink& sink, uint8_t cmd, const uint8_t* payload4);
+  /// Sends `cmd`, the multiplexer index_/sub_ and `value` (send_sdo_mux).
+  void respond(const CanSink& sink, uint8_t cmd, uint32_t value);
+  /// Sends `cmd` with bytes 1..7 reserved (0): a segment's answer.
+  void respond_short(const CanSink& sink, uint8_t cmd);
   /// Aborts the transfer of index_/sub_ with `code` and goes idle.
   void abort(const CanSink& sink, SdoAbort code);
   // The request handlers answer themselves and return 0, or return the abort

@@ -131,19 +131,15 @@ uint16_t NetworkService::network_view(uint8_t* pdu, uint16_t capacity) {
 // The gateway's own node: the local OD, as its SDO server would answer.
 uint16_t NetworkService::local_upload(uint8_t* pdu, uint16_t capacity) {
   const uint16_t offset = modbus::net::kSizedHeaderBytes;
-  const uint16_t room = static_cast<uint16_t>(capacity - offset);
   uint16_t size = 0;
-  const SdoAbort code = od_.read(req_.index, req_.sub, pdu + offset, room, &size);
+  const SdoAbort code =
+      od_.read(req_.index, req_.sub, pdu + offset, static_cast<uint16_t>(capacity - offset), &size);
   if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
-  const uint16_t want = req_.count == 0u || req_.count > room ? room : req_.count;
-  const uint16_t n = req_.start >= size ? 0u : static_cast<uint16_t>(min32(size - req_.start, want));
-  memmove(pdu + offset, pdu + offset + req_.start, n);
-  req_.count = n;
-  req_.object_size = size;
-  req_.more_follows = static_cast<uint32_t>(req_.start) + n < size;
-  req_.data = pdu + offset;
-  req_.data_length = n;
-  return modbus::build_net_response(pdu, capacity, req_);
+  // The window's bytes to where the response carries them (the tail
+  // from the starting address: at least the window, within the buffer).
+  if (req_.start < size) memmove(pdu + offset, pdu + offset + req_.start, size - req_.start);
+  set_window(capacity);
+  return upload_response(pdu, capacity, size);
 }
 
 uint16_t NetworkService::local_download(uint8_t* pdu, uint16_t capacity) {
@@ -151,8 +147,7 @@ uint16_t NetworkService::local_download(uint8_t* pdu, uint16_t capacity) {
   if (req_.more_follows) return modbus::build_net_abort(pdu, kAbortTooLong);
   const SdoAbort code = od_.write(req_.index, req_.sub, req_.data, req_.count);
   if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
-  req_.data_length = 0;
-  return modbus::build_net_response(pdu, capacity, req_);
+  return modbus::build_net_response(pdu, capacity, req_);  // a download response carries no data
 }
 
 // ---- remote transfers -------------------------------------------------------
@@ -164,9 +159,7 @@ uint16_t NetworkService::start_remote(uint8_t* pdu, uint16_t capacity) {
   const SdoData data = {&NetworkService::data_write, &NetworkService::data_read, this};
   in_request_ = true;
   if (req_.service == NetService::kSdoUpload) {
-    const uint16_t room = static_cast<uint16_t>(capacity - modbus::net::kSizedHeaderBytes);
-    const uint16_t want = req_.count == 0u || req_.count > room ? room : req_.count;
-    window_end_ = static_cast<uint32_t>(req_.start) + want;
+    set_window(capacity);
     phase_ = kUpload;
     client_.start_upload(req_.index, req_.sub, kSdoAuto, data, 0xFFFFFFFFu, now_us_, sink_);
   } else {
@@ -232,17 +225,26 @@ void NetworkService::answer() {
     slave_.send_deferred(modbus::build_net_abort(pdu, client_.result()));
     return;
   }
-  req_.data_length = 0;
-  if (req_.service == NetService::kSdoUpload) {
-    const uint32_t size = client_.size();
-    const uint32_t end = min32(window_end_, size);
-    req_.count = static_cast<uint16_t>(end > req_.start ? end - req_.start : 0u);
-    req_.object_size = size;
-    req_.more_follows = static_cast<uint32_t>(req_.start) + req_.count < size;
-    req_.data = pdu + modbus::net::kSizedHeaderBytes;
-    req_.data_length = req_.count;
-  }
-  slave_.send_deferred(modbus::build_net_response(pdu, capacity, req_));
+  // A download's response carries no data: the request's header and size.
+  slave_.send_deferred(req_.service == NetService::kSdoUpload
+                           ? upload_response(pdu, capacity, client_.size())
+                           : modbus::build_net_response(pdu, capacity, req_));
+}
+
+void NetworkService::set_window(uint16_t capacity) {
+  const uint16_t room = static_cast<uint16_t>(capacity - modbus::net::kSizedHeaderBytes);
+  const uint16_t want = req_.count == 0u || req_.count > room ? room : req_.count;
+  window_end_ = static_cast<uint32_t>(req_.start) + want;
+}
+
+uint16_t NetworkService::upload_response(uint8_t* pdu, uint16_t capacity, uint32_t size) {
+  const uint32_t end = min32(window_end_, size);
+  req_.count = static_cast<uint16_t>(end > req_.start ? end - req_.start : 0u);
+  req_.object_size = size;
+  req_.more_follows = static_cast<uint32_t>(req_.start) + req_.count < size;
+  req_.data = pdu + modbus::net::kSizedHeaderBytes;
+  req_.data_length = req_.count;
+  return modbus::build_net_response(pdu, capacity, req_);
 }
 
 // ---- driving ------------------------------------------------------------------

@@ -92,6 +92,14 @@ class NetworkService : private NetworkServiceState {
   uint16_t local_upload(uint8_t* pdu, uint16_t capacity);
   uint16_t local_download(uint8_t* pdu, uint16_t capacity);
   uint16_t start_remote(uint8_t* pdu, uint16_t capacity);
+  /// An upload's window: bytes [req_.start, window_end_) of the object, as
+  /// many as the request asks for (0: as many as a response of `capacity`
+  /// bytes carries).
+  void set_window(uint16_t capacity);
+  /// The upload response for an object of `size` bytes, the window's bytes
+  /// in place after the header and size (at most the window; fewer at the
+  /// object's end, none beyond it).
+  uint16_t upload_response(uint8_t* pdu, uint16_t capacity, uint32_t size);
   /// True when `m` is the next part of the open download.
   bool continues_download(const modbus::NetMessage& m) const;
   void take_part();

@@ -62,12 +62,13 @@ constexpr uint16_t kAgeSaturated = 0xFFFF;
 constexpr uint8_t kStateUnknown = 0xFF;
 }  // namespace net
 
-/// The services; the wire form is protocol control bits 5-7.
+/// The services; each value is its wire form, protocol control bits 7-5
+/// (service bits 7-6, access bit 5).
 enum class NetService : uint8_t {
-  kSdoUpload,    ///< SDO, read: bits 7-5 = 000
-  kSdoDownload,  ///< SDO, write: 001
-  kNmt,          ///< NMT command, write: 011
-  kNetworkView,  ///< network view, read: 100
+  kSdoUpload = 0,    ///< SDO, read: bits 7-5 = 000
+  kSdoDownload = 1,  ///< SDO, write: 001
+  kNmt = 3,          ///< NMT command, write: 011
+  kNetworkView = 4,  ///< network view, read: 100
 };
 
 /// One request or normal response, decoded. `data` points into the PDU it

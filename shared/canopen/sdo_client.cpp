@@ -209,7 +209,7 @@ SdoAbort SdoClient::on_response(const CanFrame& f, const CanSink& sink) {
       if (!mux_matches(f)) return kAbortIncompatible;
       if (expedited_) {
         pos_ = size_;
-        finish(kSdoOk, false);
+        succeed();
         return kSdoOk;
       }
       state_ = kStDownloadSegment;
@@ -220,7 +220,7 @@ SdoAbort SdoClient::on_response(const CanFrame& f, const CanSink& sink) {
       if (!toggle_matches(cmd, toggle_)) return kAbortToggle;
       pos_ += seg_n_;
       if (pos_ == size_) {
-        finish(kSdoOk, false);
+        succeed();
         return kSdoOk;
       }
       toggle_ ^= kSegmentToggle;
@@ -286,7 +286,7 @@ SdoAbort SdoClient::on_upload_initiate(const CanFrame& f, const CanSink& sink) {
     const SdoAbort code = data_.write(data_.ctx, 0, &f.data[4], n);
     if (code != kSdoOk) return code;
     pos_ = n;
-    finish(kSdoOk, false);
+    succeed();
     return kSdoOk;
   }
   size_known_ = indicated;
@@ -314,7 +314,7 @@ SdoAbort SdoClient::on_upload_segment(const CanFrame& f, const CanSink& sink) {
     if (size_known_ && pos_ != size_) return kAbortTooShort;  // less than announced
     size_ = pos_;
     size_known_ = true;
-    finish(kSdoOk, false);
+    succeed();
     return kSdoOk;
   }
   toggle_ ^= kSegmentToggle;
@@ -365,7 +365,7 @@ SdoAbort SdoClient::on_block_download(const CanFrame& f, const CanSink& sink) {
     return kSdoOk;
   }
   if (state_ == kStBlockDownloadEnd && ss == 1) {
-    finish(kSdoOk, false);
+    succeed();
     return kSdoOk;
   }
   return kAbortCommand;
@@ -425,7 +425,7 @@ SdoAbort SdoClient::on_block_upload(const CanFrame& f, const CanSink& sink) {
   size_known_ = true;
   const uint8_t d[8] = {0xA1, 0, 0, 0, 0, 0, 0, 0};
   send(sink, d);
-  finish(kSdoOk, false);
+  succeed();
   return kSdoOk;
 }
 #endif  // MB2CO_SDO_BLOCK

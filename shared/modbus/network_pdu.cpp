@@ -43,26 +43,16 @@ struct Shape {
   bool data;   ///< data bytes after the header (and size)
 };
 
+// A request carries data when it writes (access bit 5: download, NMT), the
+// object size when it is a download.
 Shape request_shape(NetService s) {
-  switch (s) {
-    case NetService::kSdoDownload:
-      return Shape{true, true};
-    case NetService::kNmt:
-      return Shape{false, true};
-    default:
-      return Shape{false, false};
-  }
+  return Shape{s == NetService::kSdoDownload, (static_cast<uint8_t>(s) & 0x01u) != 0u};
 }
 
+// Every SDO response carries the object size; every response but a
+// download's carries data.
 Shape response_shape(NetService s) {
-  switch (s) {
-    case NetService::kSdoUpload:
-      return Shape{true, true};
-    case NetService::kSdoDownload:
-      return Shape{true, false};
-    default:
-      return Shape{false, true};
-  }
+  return Shape{s == NetService::kSdoUpload || s == NetService::kSdoDownload, s != NetService::kSdoDownload};
 }
 
 // Header fields shared by requests and responses.

@@ -234,7 +234,9 @@ class SdoClient : private SdoClientState {
   /// finish(kSdoOk, false): result_ and server_abort_ hold those values
   /// from begin() on (finish() is the only other writer, and it ends the
   /// transfer), so the state is all that changes.
-  void succeed() { state_ = kStDone; }
+  void succeed() {
+    state_ = kStDone;
+  }
   /// Handlers of a response in each state: kSdoOk or the code to abort with.
   SdoAbort on_response(const CanFrame& f, const CanSink& sink);
   SdoAbort on_upload_initiate(const CanFrame& f, const CanSink& sink);

@@ -61,24 +61,24 @@ uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, ui
 }
 
 uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, SdoAbort ended) {
-  switch (req_.service) {
-    case NetService::kNmt:
-      return nmt(pdu, capacity);
-    case NetService::kNetworkView:
-      return network_view(pdu, capacity);
-    case NetService::kSdoDownload:
-      // A later part with no download open: it continues nothing.
-      if (req_.start != 0u) {
-        if (ended != kSdoOk) return modbus::build_net_abort(pdu, ended);
-        return exception_pdu(pdu, Exception::kIllegalDataValue);
-      }
-      if (req_.node_id == node_.node_id()) return local_download(pdu, capacity);
-      return start_remote(pdu, capacity);
-    case NetService::kSdoUpload:
-    default:
-      if (req_.node_id == node_.node_id()) return local_upload(pdu, capacity);
-      return start_remote(pdu, capacity);
+  if (req_.service == NetService::kNmt) return nmt(pdu, capacity);
+  if (req_.service == NetService::kNetworkView) return network_view(pdu, capacity);
+  const bool download = req_.service == NetService::kSdoDownload;
+  SdoAbort code = kSdoOk;
+  if (download && req_.start != 0u) {
+    // A later part with no download open: it continues nothing.
+    if (ended == kSdoOk) return exception_pdu(pdu, Exception::kIllegalDataValue);
+    code = ended;
+  } else if (req_.node_id != node_.node_id()) {
+    return start_remote(pdu, capacity);
+  } else if (download) {
+    code = local_download();
+  } else {
+    code = local_upload(pdu, capacity);
   }
+  if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
+  return download ? modbus::build_net_response(pdu, capacity, req_)  // a download response carries no data
+                  : upload_response(pdu, capacity, req_.object_size);
 }
 
 // ---- immediate services ----------------------------------------------------
@@ -129,25 +129,23 @@ uint16_t NetworkService::network_view(uint8_t* pdu, uint16_t capacity) {
 }
 
 // The gateway's own node: the local OD, as its SDO server would answer.
-uint16_t NetworkService::local_upload(uint8_t* pdu, uint16_t capacity) {
+// The upload's bytes go where the response carries them (the tail from the
+// starting address: at least the window, within the buffer).
+SdoAbort NetworkService::local_upload(uint8_t* pdu, uint16_t capacity) {
   const uint16_t offset = modbus::net::kSizedHeaderBytes;
   uint16_t size = 0;
   const SdoAbort code =
       od_.read(req_.index, req_.sub, pdu + offset, static_cast<uint16_t>(capacity - offset), &size);
-  if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
-  // The window's bytes to where the response carries them (the tail
-  // from the starting address: at least the window, within the buffer).
   if (req_.start < size) memmove(pdu + offset, pdu + offset + req_.start, size - req_.start);
   set_window(capacity);
-  return upload_response(pdu, capacity, size);
+  req_.object_size = size;
+  return code;
 }
 
-uint16_t NetworkService::local_download(uint8_t* pdu, uint16_t capacity) {
+SdoAbort NetworkService::local_download() {
   // No value of the gateway's OD is longer than one frame: one part only.
-  if (req_.more_follows) return modbus::build_net_abort(pdu, kAbortTooLong);
-  const SdoAbort code = od_.write(req_.index, req_.sub, req_.data, req_.count);
-  if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
-  return modbus::build_net_response(pdu, capacity, req_);  // a download response carries no data
+  if (req_.more_follows) return kAbortTooLong;
+  return od_.write(req_.index, req_.sub, req_.data, req_.count);
 }
 
 // ---- remote transfers -------------------------------------------------------

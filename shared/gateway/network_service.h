@@ -89,8 +89,9 @@ class NetworkService : private NetworkServiceState {
   uint16_t on_request(uint8_t* pdu, uint16_t capacity, canopen::SdoAbort ended);
   uint16_t nmt(uint8_t* pdu, uint16_t capacity);
   uint16_t network_view(uint8_t* pdu, uint16_t capacity);
-  uint16_t local_upload(uint8_t* pdu, uint16_t capacity);
-  uint16_t local_download(uint8_t* pdu, uint16_t capacity);
+  /// The gateway's own node (kSdoOk, or the code to answer with).
+  canopen::SdoAbort local_upload(uint8_t* pdu, uint16_t capacity);
+  canopen::SdoAbort local_download();
   uint16_t start_remote(uint8_t* pdu, uint16_t capacity);
   /// An upload's window: bytes [req_.start, window_end_) of the object, as
   /// many as the request asks for (0: as many as a response of `capacity`

@@ -62,10 +62,11 @@ uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, ui
 
 uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, SdoAbort ended) {
   if (req_.service == NetService::kNmt) return nmt(pdu, capacity);
-  if (req_.service == NetService::kNetworkView) return network_view(pdu, capacity);
   const bool download = req_.service == NetService::kSdoDownload;
   SdoAbort code = kSdoOk;
-  if (download && req_.start != 0u) {
+  if (req_.service == NetService::kNetworkView) {
+    list_view(pdu, capacity);
+  } else if (download && req_.start != 0u) {
     // A later part with no download open: it continues nothing.
     if (ended == kSdoOk) return exception_pdu(pdu, Exception::kIllegalDataValue);
     code = ended;
@@ -77,8 +78,7 @@ uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, SdoAbort en
     code = local_upload(pdu, capacity);
   }
   if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
-  return download ? modbus::build_net_response(pdu, capacity, req_)  // a download response carries no data
-                  : upload_response(pdu, capacity, req_.object_size);
+  return modbus::build_net_response(pdu, capacity, req_);  // a download response carries no data
 }
 
 // ---- immediate services ----------------------------------------------------
@@ -97,7 +97,7 @@ uint16_t NetworkService::nmt(uint8_t* pdu, uint16_t capacity) {
   return length;
 }
 
-uint16_t NetworkService::network_view(uint8_t* pdu, uint16_t capacity) {
+void NetworkService::list_view(uint8_t* pdu, uint16_t capacity) {
   const uint16_t offset = modbus::net::kHeaderBytes;
   const uint16_t room = static_cast<uint16_t>((capacity - offset) / modbus::net::kViewEntryBytes);
   uint16_t count = 0;
@@ -125,7 +125,6 @@ uint16_t NetworkService::network_view(uint8_t* pdu, uint16_t capacity) {
   req_.count = static_cast<uint16_t>(count * modbus::net::kViewEntryBytes);
   req_.data = pdu + offset;
   req_.data_length = req_.count;
-  return modbus::build_net_response(pdu, capacity, req_);
 }
 
 // The gateway's own node: the local OD, as its SDO server would answer.
@@ -138,7 +137,7 @@ SdoAbort NetworkService::local_upload(uint8_t* pdu, uint16_t capacity) {
       od_.read(req_.index, req_.sub, pdu + offset, static_cast<uint16_t>(capacity - offset), &size);
   if (req_.start < size) memmove(pdu + offset, pdu + offset + req_.start, size - req_.start);
   set_window(capacity);
-  req_.object_size = size;
+  take_window(pdu, size);
   return code;
 }
 
@@ -224,9 +223,8 @@ void NetworkService::answer() {
     return;
   }
   // A download's response carries no data: the request's header and size.
-  slave_.send_deferred(req_.service == NetService::kSdoUpload
-                           ? upload_response(pdu, capacity, client_.size())
-                           : modbus::build_net_response(pdu, capacity, req_));
+  if (req_.service == NetService::kSdoUpload) take_window(pdu, client_.size());
+  slave_.send_deferred(modbus::build_net_response(pdu, capacity, req_));
 }
 
 void NetworkService::set_window(uint16_t capacity) {
@@ -235,14 +233,13 @@ void NetworkService::set_window(uint16_t capacity) {
   window_end_ = static_cast<uint32_t>(req_.start) + want;
 }
 
-uint16_t NetworkService::upload_response(uint8_t* pdu, uint16_t capacity, uint32_t size) {
+void NetworkService::take_window(uint8_t* pdu, uint32_t size) {
   const uint32_t end = min32(window_end_, size);
   req_.count = static_cast<uint16_t>(end > req_.start ? end - req_.start : 0u);
   req_.object_size = size;
   req_.more_follows = static_cast<uint32_t>(req_.start) + req_.count < size;
   req_.data = pdu + modbus::net::kSizedHeaderBytes;
   req_.data_length = req_.count;
-  return modbus::build_net_response(pdu, capacity, req_);
 }
 
 // ---- driving ------------------------------------------------------------------

@@ -71,7 +71,7 @@ uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, SdoAbort en
     if (ended == kSdoOk) return exception_pdu(pdu, Exception::kIllegalDataValue);
     code = ended;
   } else if (req_.node_id != node_.node_id()) {
-    return start_remote(pdu, capacity);
+    return start_remote(capacity);
   } else if (download) {
     code = local_download();
   } else {
@@ -149,8 +149,7 @@ SdoAbort NetworkService::local_download() {
 
 // ---- remote transfers -------------------------------------------------------
 
-uint16_t NetworkService::start_remote(uint8_t* pdu, uint16_t capacity) {
-  (void)pdu;
+uint16_t NetworkService::start_remote(uint16_t capacity) {
   client_.init(req_.node_id);
   client_.set_timeout_us(kNetSdoTimeoutUs);
   const SdoData data = {&NetworkService::data_write, &NetworkService::data_read, this};

@@ -93,7 +93,7 @@ class NetworkService : private NetworkServiceState {
   /// The gateway's own node (kSdoOk, or the code to answer with).
   canopen::SdoAbort local_upload(uint8_t* pdu, uint16_t capacity);
   canopen::SdoAbort local_download();
-  uint16_t start_remote(uint8_t* pdu, uint16_t capacity);
+  uint16_t start_remote(uint16_t capacity);
   /// An upload's window: bytes [req_.start, window_end_) of the object, as
   /// many as the request asks for (0: as many as a response of `capacity`
   /// bytes carries).

@@ -260,7 +260,7 @@ SdoAbort SdoServer::block_upload(const CanFrame& f, const CanSink& sink) {
         size = len;
       }
       // The protocol switch: small enough for a plain upload, as the client allows.
-      if (pst != 0 && size <= pst) return in_domain_ ? domain_upload(f, sink) : initiate_upload(f, sink);
+      if (pst != 0 && size <= pst) return in_domain_ ? domain_upload(f, sink) : initiate_upload(sink);
       size_ = size;
       crc_ = (cmd & 0x04) != 0;
       sender_.start(stream(), size);

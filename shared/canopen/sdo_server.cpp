@@ -56,6 +56,8 @@ void SdoServer::on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink
     return;
   }
 #endif
+  // Every request but a segment and the client's abort names the object.
+  if (ccs != kCcsDownloadSegment && ccs != kCcsUploadSegment && ccs != kCcsAbort) take_multiplexer(f);
   switch (ccs) {
     case kCcsInitiateDownload:
       code = initiate_download(f, sink);
@@ -64,7 +66,7 @@ void SdoServer::on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink
       code = download_segment(f, sink);
       break;
     case kCcsInitiateUpload:
-      code = initiate_upload(f, sink);
+      code = initiate_upload(sink);
       break;
     case kCcsUploadSegment:
       code = upload_segment(f, sink);
@@ -73,7 +75,6 @@ void SdoServer::on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink
       state_ = kIdle;  // the client gave up: no answer
       break;
     default:  // 5, 6 (block transfer) and 7
-      take_multiplexer(f);
       code = kAbortCommand;
       break;
   }
@@ -91,7 +92,6 @@ void SdoServer::process(uint32_t now_us, const CanSink& sink) {
 // state is idle, so nothing else reads them before the answer).
 SdoAbort SdoServer::initiate_download(const CanFrame& f, const CanSink& sink) {
   state_ = kIdle;  // a new initiate replaces any transfer in progress
-  take_multiplexer(f);
   uint16_t row = 0;
   SdoAbort code = od_->check_write(index_, sub_, &row);
   if (code != kSdoOk) return code;
@@ -138,9 +138,8 @@ SdoAbort SdoServer::download_segment(const CanFrame& f, const CanSink& sink) {
   return kSdoOk;
 }
 
-SdoAbort SdoServer::initiate_upload(const CanFrame& f, const CanSink& sink) {
+SdoAbort SdoServer::initiate_upload(const CanSink& sink) {
   state_ = kIdle;
-  take_multiplexer(f);
   uint16_t len = 0;
   // A snapshot: the client reads consistent data even if the value changes.
   const SdoAbort code = od_->read(index_, sub_, buffer_, kBufferSize, &len);

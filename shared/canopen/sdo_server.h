@@ -104,7 +104,7 @@ class SdoServer {
   // code for on_frame() to send (one abort call site).
   SdoAbort initiate_download(const CanFrame& f, const CanSink& sink);
   SdoAbort download_segment(const CanFrame& f, const CanSink& sink);
-  SdoAbort initiate_upload(const CanFrame& f, const CanSink& sink);
+  SdoAbort initiate_upload(const CanSink& sink);
   SdoAbort upload_segment(const CanFrame& f, const CanSink& sink);
   /// Takes index and sub-index of a request (bytes 1..3) as index_/sub_.
   void take_multiplexer(const CanFrame& f);

@@ -56,8 +56,12 @@ void SdoServer::on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink
     return;
   }
 #endif
-  // Every request but a segment and the client's abort names the object.
-  if (ccs != kCcsDownloadSegment && ccs != kCcsUploadSegment && ccs != kCcsAbort) take_multiplexer(f);
+  // Every request but a segment and the client's abort names an object and
+  // replaces any transfer in progress.
+  if (ccs != kCcsDownloadSegment && ccs != kCcsUploadSegment && ccs != kCcsAbort) {
+    state_ = kIdle;
+    take_multiplexer(f);
+  }
   switch (ccs) {
     case kCcsInitiateDownload:
       code = initiate_download(f, sink);
@@ -88,10 +92,9 @@ void SdoServer::process(uint32_t now_us, const CanSink& sink) {
   if (state_ != kIdle && time_reached(now_us, deadline_us_)) abort(sink, kAbortTimeout);
 }
 
-// The initiate requests name the object: index_/sub_ take it at once (the
-// state is idle, so nothing else reads them before the answer).
+// The initiate requests: on_frame() took their object as index_/sub_ and
+// went idle (nothing else reads them before the answer).
 SdoAbort SdoServer::initiate_download(const CanFrame& f, const CanSink& sink) {
-  state_ = kIdle;  // a new initiate replaces any transfer in progress
   uint16_t row = 0;
   SdoAbort code = od_->check_write(index_, sub_, &row);
   if (code != kSdoOk) return code;
@@ -139,7 +142,6 @@ SdoAbort SdoServer::download_segment(const CanFrame& f, const CanSink& sink) {
 }
 
 SdoAbort SdoServer::initiate_upload(const CanSink& sink) {
-  state_ = kIdle;
   uint16_t len = 0;
   // A snapshot: the client reads consistent data even if the value changes.
   const SdoAbort code = od_->read(index_, sub_, buffer_, kBufferSize, &len);

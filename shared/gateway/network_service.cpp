@@ -19,12 +19,6 @@ using modbus::NetService;
 
 namespace {
 
-uint16_t exception_pdu(uint8_t* pdu, Exception code) {
-  pdu[0] = static_cast<uint8_t>(modbus::fc::kEncapsulatedInterface | modbus::fc::kExceptionFlag);
-  pdu[1] = static_cast<uint8_t>(code);
-  return 2;
-}
-
 uint32_t min32(uint32_t a, uint32_t b) {
   return a < b ? a : b;
 }
@@ -43,10 +37,12 @@ NetworkService::NetworkService(Node& node, ObjectDictionary& od, modbus::SlaveCo
 
 uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, uint16_t capacity) {
   NetworkService& s = *static_cast<NetworkService*>(ctx);
-  if (s.enabled_ != nullptr && *s.enabled_ == 0u) return exception_pdu(pdu, Exception::kIllegalFunction);
+  if (s.enabled_ != nullptr && *s.enabled_ == 0u)
+    return modbus::build_net_exception(pdu, Exception::kIllegalFunction);
   NetMessage m{};
-  if (!modbus::parse_net_request(pdu, pdu_length, m)) return exception_pdu(pdu, Exception::kIllegalDataValue);
-  if (s.transfer_running()) return exception_pdu(pdu, Exception::kServerDeviceBusy);
+  if (!modbus::parse_net_request(pdu, pdu_length, m))
+    return modbus::build_net_exception(pdu, Exception::kIllegalDataValue);
+  if (s.transfer_running()) return modbus::build_net_exception(pdu, Exception::kServerDeviceBusy);
   const bool next_part = s.phase_ == kDownloadHeld && s.continues_download(m);
   if (s.phase_ == kDownloadHeld && !next_part) s.end_open_download(kAbortGeneral);  // the master moved on
   s.req_ = m;
@@ -68,7 +64,7 @@ uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, SdoAbort en
     list_view(pdu, capacity);
   } else if (download && req_.start != 0u) {
     // A later part with no download open: it continues nothing.
-    if (ended == kSdoOk) return exception_pdu(pdu, Exception::kIllegalDataValue);
+    if (ended == kSdoOk) return modbus::build_net_exception(pdu, Exception::kIllegalDataValue);
     code = ended;
   } else if (req_.node_id != node_.node_id()) {
     return start_remote(capacity);

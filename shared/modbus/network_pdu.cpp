@@ -135,9 +135,14 @@ uint16_t net_response_data_offset(NetService service) {
   return response_shape(service).sized ? net::kSizedHeaderBytes : net::kHeaderBytes;
 }
 
-uint16_t build_net_abort(uint8_t* pdu, uint32_t abort_code) {
+uint16_t build_net_exception(uint8_t* pdu, Exception code) {
   pdu[0] = static_cast<uint8_t>(fc::kEncapsulatedInterface | fc::kExceptionFlag);
-  pdu[1] = static_cast<uint8_t>(Exception::kServerDeviceFailure);
+  pdu[1] = static_cast<uint8_t>(code);
+  return 2;
+}
+
+uint16_t build_net_abort(uint8_t* pdu, uint32_t abort_code) {
+  build_net_exception(pdu, Exception::kServerDeviceFailure);
   pdu[2] = kMeiCanopenReference;
   put_be32(pdu + 3, abort_code);
   return net::kAbortExceptionBytes;

@@ -122,6 +122,8 @@ bool parse_net_request(const uint8_t* pdu, uint16_t pdu_length, NetMessage& out)
 uint16_t build_net_response(uint8_t* pdu, uint16_t capacity, const NetMessage& m);
 /// Where the data of a response of `service` starts in the PDU.
 uint16_t net_response_data_offset(NetService service);
+/// Writes the exception response `code` (2 bytes).
+uint16_t build_net_exception(uint8_t* pdu, Exception code);
 /// Writes the exception-04 response carrying `abort_code` (7 bytes).
 uint16_t build_net_abort(uint8_t* pdu, uint32_t abort_code);
 

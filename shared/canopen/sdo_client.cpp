@@ -303,8 +303,11 @@ SdoAbort SdoClient::on_upload_segment(const CanFrame& f, const CanSink& sink) {
   if ((cmd & 0xE0) != 0x00) return kAbortCommand;
   if (!toggle_matches(cmd, toggle_)) return kAbortToggle;
   const uint8_t n = segment_size(cmd);
-  if (size_known_ && n > size_ - pos_) return kAbortTooLong;  // more than announced
-  if (n > capacity_ - pos_) return kAbortOutOfMemory;
+  // More than announced is the server's error (06070012h), more than we
+  // hold ours (05040005h); an announced size above the capacity was
+  // refused at the initiate, so the tighter limit decides.
+  const uint32_t limit = size_known_ ? size_ : capacity_;
+  if (n > limit - pos_) return size_known_ ? kAbortTooLong : kAbortOutOfMemory;
   if (n != 0) {
     const SdoAbort code = data_.write(data_.ctx, pos_, &f.data[1], n);
     if (code != kSdoOk) return code;

@@ -102,13 +102,12 @@ SdoAbort SdoServer::domain_download(const CanFrame& f, const CanSink& sink) {
   in_domain_ = true;
   const bool indicated = (f.data[0] & 0x01) != 0;
   if (f.data[0] & 0x02) {  // expedited: begin, write and commit at once
-    const uint8_t len =
-        indicated ? static_cast<uint8_t>(4 - ((f.data[0] >> 2) & 0x03)) : static_cast<uint8_t>(4);
+    const uint8_t len = expedited_size(f.data[0]);
     SdoAbort code = domain_->begin(domain_->ctx, index_, sub_, len, true);
     if (code == kSdoOk) code = domain_write(this, 0, &f.data[4], len);
     if (code == kSdoOk) code = domain_->commit(domain_->ctx, index_, sub_, len);
     if (code != kSdoOk) return code;
-    respond(sink, 0x60, nullptr);
+    respond(sink, 0x60, 0);
     return kSdoOk;
   }
   size_indicated_ = indicated;
@@ -118,13 +117,13 @@ SdoAbort SdoServer::domain_download(const CanFrame& f, const CanSink& sink) {
   pos_ = 0;
   toggle_ = 0;
   state_ = kDomainDownloading;
-  respond(sink, 0x60, nullptr);
+  respond(sink, 0x60, 0);
   return kSdoOk;
 }
 
 SdoAbort SdoServer::domain_download_segment(const CanFrame& f, const CanSink& sink) {
-  if ((f.data[0] & 0x10) != toggle_) return kAbortToggle;
-  const uint8_t count = static_cast<uint8_t>(7 - ((f.data[0] >> 1) & 0x07));
+  if (!toggle_matches(f.data[0], toggle_)) return kAbortToggle;
+  const uint8_t count = segment_size(f.data[0]);
   if (size_indicated_ && count > announced_ - pos_) return kAbortTooLong;
   if (count != 0) {
     const SdoAbort code = domain_write(this, pos_, &f.data[1], count);
@@ -132,14 +131,14 @@ SdoAbort SdoServer::domain_download_segment(const CanFrame& f, const CanSink& si
   }
   pos_ += count;
   const uint8_t ack = static_cast<uint8_t>(0x20 | toggle_);
-  toggle_ ^= 0x10;
-  if (f.data[0] & 0x01) {
+  toggle_ ^= kSegmentToggle;
+  if (segment_last(f.data[0])) {
     if (size_indicated_ && pos_ != announced_) return kAbortTooShort;
     const SdoAbort code = domain_->commit(domain_->ctx, index_, sub_, pos_);
     if (code != kSdoOk) return code;
     state_ = kIdle;
   }
-  send_short(sink, node_id_, ack, 0, 0);
+  respond_short(sink, ack);
   return kSdoOk;
 }
 
@@ -152,31 +151,29 @@ SdoAbort SdoServer::domain_upload(const CanFrame& f, const CanSink& sink) {
     uint8_t payload[4] = {0, 0, 0, 0};
     const SdoAbort code = domain_read(this, 0, payload, static_cast<uint16_t>(size_));
     if (code != kSdoOk) return code;
-    respond(sink, static_cast<uint8_t>(0x43 | ((4 - size_) << 2)), payload);
+    respond(sink, expedited_command(0x40, size_), le32(payload));
     return kSdoOk;
   }
-  uint8_t size[4];
-  put_le32(size, size_);
   pos_ = 0;
   toggle_ = 0;
   state_ = kDomainUploading;
-  respond(sink, 0x41, size);
+  respond(sink, 0x41, size_);
   return kSdoOk;
 }
 
 SdoAbort SdoServer::domain_upload_segment(const CanFrame& f, const CanSink& sink) {
-  if ((f.data[0] & 0x10) != toggle_) return kAbortToggle;
+  if (!toggle_matches(f.data[0], toggle_)) return kAbortToggle;
   const uint32_t left = size_ - pos_;
-  const uint8_t count = left < 7 ? static_cast<uint8_t>(left) : static_cast<uint8_t>(7);
-  const bool last = left <= 7;
-  uint8_t d[8] = {static_cast<uint8_t>(toggle_ | ((7 - count) << 1) | (last ? 1 : 0)), 0, 0, 0, 0, 0, 0, 0};
+  const uint8_t count = left < kSegmentBytes ? static_cast<uint8_t>(left) : kSegmentBytes;
+  const bool last = left <= kSegmentBytes;
+  uint8_t d[8] = {segment_command(toggle_, count, last), 0, 0, 0, 0, 0, 0, 0};
   if (count != 0) {
     const SdoAbort code = domain_read(this, pos_, &d[1], count);
     if (code != kSdoOk) return code;
   }
   send_frame(sink, static_cast<uint16_t>(0x580u + node_id_), 8, d);
   pos_ += count;
-  toggle_ ^= 0x10;
+  toggle_ ^= kSegmentToggle;
   if (last) state_ = kIdle;
   return kSdoOk;
 }
@@ -211,8 +208,7 @@ SdoAbort SdoServer::block_download(const CanFrame& f, const CanSink& sink) {
     crc_ = (cmd & 0x04) != 0;
     receiver_.start(stream(), limit, kAbortTooLong, block_size_);
     state_ = kBlockDownloadSub;
-    const uint8_t payload[4] = {block_size_, 0, 0, 0};
-    respond(sink, 0xA4, payload);  // 101 00 sc=1 00: we check CRCs when the client does
+    respond(sink, 0xA4, block_size_);  // 101 00 sc=1 00: we check CRCs when the client does
     return kSdoOk;
   }
   // End: 110 n 0 1, CRC.
@@ -264,15 +260,13 @@ SdoAbort SdoServer::block_upload(const CanFrame& f, const CanSink& sink) {
         size = len;
       }
       // The protocol switch: small enough for a plain upload, as the client allows.
-      if (pst != 0 && size <= pst) return in_domain_ ? domain_upload(f, sink) : initiate_upload(f, sink);
+      if (pst != 0 && size <= pst) return in_domain_ ? domain_upload(f, sink) : initiate_upload(sink);
       size_ = size;
       crc_ = (cmd & 0x04) != 0;
       sender_.start(stream(), size);
       sender_.begin_sub_block(blksize);
       state_ = kBlockUploadStart;
-      uint8_t payload[4];
-      put_le32(payload, size);
-      respond(sink, 0xC6, payload);  // 110 00 sc=1 s=1 0
+      respond(sink, 0xC6, size);  // 110 00 sc=1 s=1 0
       return kSdoOk;
     }
     case 3:  // start

@@ -58,9 +58,9 @@ void SdoClient::send(const CanSink& sink, const uint8_t data[8]) {
 }
 
 void SdoClient::send_mux(const CanSink& sink, uint8_t cmd, uint32_t value) {
-  uint8_t d[8] = {cmd, static_cast<uint8_t>(index_), static_cast<uint8_t>(index_ >> 8), sub_, 0, 0, 0, 0};
-  put_le32(&d[4], value);
-  send(sink, d);
+  uint8_t bytes[7];
+  sdo_mux_bytes(bytes, index_, sub_, value);
+  send_sdo(sink, cmd, bytes, 7, request_id_);
 }
 
 bool SdoClient::start_upload(uint16_t index, uint8_t sub, SdoMode mode, uint8_t* buf, uint32_t capacity,
@@ -126,26 +126,20 @@ bool SdoClient::start_download(uint16_t index, uint8_t sub, SdoMode mode, const 
     return true;
   }
 #endif
+  uint32_t value = size;  // segmented (21h): the size, indicated
+  uint8_t cmd = 0x21;
   if (expedited_) {
-    uint8_t d[8] = {static_cast<uint8_t>(0x23 | ((4 - size) << 2)),
-                    static_cast<uint8_t>(index_),
-                    static_cast<uint8_t>(index_ >> 8),
-                    sub_,
-                    0,
-                    0,
-                    0,
-                    0};
-    const SdoAbort code = data_.read(data_.ctx, 0, &d[4], static_cast<uint16_t>(size));
+    uint8_t bytes[4] = {0, 0, 0, 0};
+    const SdoAbort code = data_.read(data_.ctx, 0, bytes, static_cast<uint16_t>(size));
     if (code != kSdoOk) {
       finish(code, false);  // nothing was sent: the server knows of no transfer
       return true;
     }
-    send(sink, d);
-    state_ = kStDownloadInitiate;
-  } else {
-    send_mux(sink, 0x21, size);  // segmented, size indicated
-    state_ = kStDownloadInitiate;
+    value = le32(bytes);
+    cmd = expedited_command(0x20, size);
   }
+  send_mux(sink, cmd, value);
+  state_ = kStDownloadInitiate;
   return true;
 }
 
@@ -215,7 +209,7 @@ SdoAbort SdoClient::on_response(const CanFrame& f, const CanSink& sink) {
       if (!mux_matches(f)) return kAbortIncompatible;
       if (expedited_) {
         pos_ = size_;
-        finish(kSdoOk, false);
+        succeed();
         return kSdoOk;
       }
       state_ = kStDownloadSegment;
@@ -223,13 +217,13 @@ SdoAbort SdoClient::on_response(const CanFrame& f, const CanSink& sink) {
       return kSdoOk;
     case kStDownloadSegment:
       if ((cmd & 0xE0) != 0x20) return kAbortCommand;
-      if ((cmd & 0x10) != toggle_) return kAbortToggle;
+      if (!toggle_matches(cmd, toggle_)) return kAbortToggle;
       pos_ += seg_n_;
       if (pos_ == size_) {
-        finish(kSdoOk, false);
+        succeed();
         return kSdoOk;
       }
-      toggle_ ^= 0x10;
+      toggle_ ^= kSegmentToggle;
       send_download_segment(sink);
       return kSdoOk;
     case kStUploadInitiate:
@@ -260,23 +254,21 @@ void SdoClient::set_available(uint32_t end, const CanSink& sink) {
 // A segment is sent once; if it is lost the server's silence times out.
 void SdoClient::send_download_segment(const CanSink& sink) {
   const uint32_t left = size_ - pos_;
-  seg_n_ = left < 7 ? static_cast<uint8_t>(left) : static_cast<uint8_t>(7);
+  seg_n_ = left < kSegmentBytes ? static_cast<uint8_t>(left) : kSegmentBytes;
   if (pos_ + seg_n_ > available_) {
     state_ = kStDownloadWaiting;  // set_available() sends it
     return;
   }
-  const bool last = left <= 7;
-  uint8_t d[8] = {static_cast<uint8_t>(toggle_ | ((7 - seg_n_) << 1) | (last ? 1 : 0)), 0, 0, 0, 0, 0, 0, 0};
+  uint8_t bytes[kSegmentBytes];
   if (seg_n_ != 0) {
-    const SdoAbort code = data_.read(data_.ctx, pos_, &d[1], seg_n_);
+    const SdoAbort code = data_.read(data_.ctx, pos_, bytes, seg_n_);
     if (code != kSdoOk) return abort(code, sink);
   }
-  send(sink, d);
+  send_sdo(sink, segment_command(toggle_, seg_n_, left <= kSegmentBytes), bytes, seg_n_, request_id_);
 }
 
 void SdoClient::send_upload_request(const CanSink& sink) {
-  const uint8_t d[8] = {static_cast<uint8_t>(0x60 | toggle_), 0, 0, 0, 0, 0, 0, 0};
-  send(sink, d);
+  send_sdo(sink, static_cast<uint8_t>(0x60 | toggle_), nullptr, 0, request_id_);
 }
 
 // The plain upload's initiate answer; also the block upload's when the
@@ -287,14 +279,14 @@ SdoAbort SdoClient::on_upload_initiate(const CanFrame& f, const CanSink& sink) {
   if (!mux_matches(f)) return kAbortIncompatible;
   const bool indicated = (cmd & 0x01) != 0;
   if (cmd & 0x02) {  // expedited: n unused bytes when indicated, else 4 bytes
-    const uint8_t n = indicated ? static_cast<uint8_t>(4 - ((cmd >> 2) & 0x03)) : static_cast<uint8_t>(4);
+    const uint8_t n = expedited_size(cmd);
     size_ = n;
     size_known_ = true;
     if (n > capacity_) return kAbortOutOfMemory;
     const SdoAbort code = data_.write(data_.ctx, 0, &f.data[4], n);
     if (code != kSdoOk) return code;
     pos_ = n;
-    finish(kSdoOk, false);
+    succeed();
     return kSdoOk;
   }
   size_known_ = indicated;
@@ -309,23 +301,26 @@ SdoAbort SdoClient::on_upload_initiate(const CanFrame& f, const CanSink& sink) {
 SdoAbort SdoClient::on_upload_segment(const CanFrame& f, const CanSink& sink) {
   const uint8_t cmd = f.data[0];
   if ((cmd & 0xE0) != 0x00) return kAbortCommand;
-  if ((cmd & 0x10) != toggle_) return kAbortToggle;
-  const uint8_t n = static_cast<uint8_t>(7 - ((cmd >> 1) & 0x07));
-  if (size_known_ && n > size_ - pos_) return kAbortTooLong;  // more than announced
-  if (n > capacity_ - pos_) return kAbortOutOfMemory;
+  if (!toggle_matches(cmd, toggle_)) return kAbortToggle;
+  const uint8_t n = segment_size(cmd);
+  // More than announced is the server's error (06070012h), more than we
+  // hold ours (05040005h); an announced size above the capacity was
+  // refused at the initiate, so the tighter limit decides.
+  const uint32_t limit = size_known_ ? size_ : capacity_;
+  if (n > limit - pos_) return size_known_ ? kAbortTooLong : kAbortOutOfMemory;
   if (n != 0) {
     const SdoAbort code = data_.write(data_.ctx, pos_, &f.data[1], n);
     if (code != kSdoOk) return code;
   }
   pos_ += n;
-  if (cmd & 0x01) {
+  if (segment_last(cmd)) {
     if (size_known_ && pos_ != size_) return kAbortTooShort;  // less than announced
     size_ = pos_;
     size_known_ = true;
-    finish(kSdoOk, false);
+    succeed();
     return kSdoOk;
   }
-  toggle_ ^= 0x10;
+  toggle_ ^= kSegmentToggle;
   send_upload_request(sink);
   return kSdoOk;
 }
@@ -373,7 +368,7 @@ SdoAbort SdoClient::on_block_download(const CanFrame& f, const CanSink& sink) {
     return kSdoOk;
   }
   if (state_ == kStBlockDownloadEnd && ss == 1) {
-    finish(kSdoOk, false);
+    succeed();
     return kSdoOk;
   }
   return kAbortCommand;
@@ -433,7 +428,7 @@ SdoAbort SdoClient::on_block_upload(const CanFrame& f, const CanSink& sink) {
   size_known_ = true;
   const uint8_t d[8] = {0xA1, 0, 0, 0, 0, 0, 0, 0};
   send(sink, d);
-  finish(kSdoOk, false);
+  succeed();
   return kSdoOk;
 }
 #endif  // MB2CO_SDO_BLOCK

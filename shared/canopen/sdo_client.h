@@ -39,6 +39,7 @@
 #include "canopen/sdo_block.h"
 #endif
 #include "canopen/sdo_domain.h"
+#include "canopen/sdo_segment.h"
 
 namespace mb2co {
 namespace canopen {
@@ -230,6 +231,12 @@ class SdoClient : private SdoClientState {
   void send_download_segment(const CanSink& sink);
   void send_upload_request(const CanSink& sink);
   void finish(SdoAbort code, bool by_server);
+  /// finish(kSdoOk, false): result_ and server_abort_ hold those values
+  /// from begin() on (finish() is the only other writer, and it ends the
+  /// transfer), so the state is all that changes.
+  void succeed() {
+    state_ = kStDone;
+  }
   /// Handlers of a response in each state: kSdoOk or the code to abort with.
   SdoAbort on_response(const CanFrame& f, const CanSink& sink);
   SdoAbort on_upload_initiate(const CanFrame& f, const CanSink& sink);

@@ -23,30 +23,20 @@ void SdoServer::init(ObjectDictionary* od, uint8_t node_id) {
   state_ = kIdle;
 }
 
-// Every answer: 580h+id, 8 bytes, command byte then `n` bytes of `bytes`,
-// the rest 0 (reserved bytes are sent as 0, CiA 301 §7.2.4.3).
-static void reply(const CanSink& sink, uint8_t node_id, uint8_t cmd, const uint8_t* bytes, uint8_t n) {
-  uint8_t data[8] = {cmd, 0, 0, 0, 0, 0, 0, 0};
-  if (n != 0) memcpy(&data[1], bytes, n);
-  send_frame(sink, static_cast<uint16_t>(0x580u + node_id), 8, data);
-}
-
-void SdoServer::respond(const CanSink& sink, uint8_t cmd, const uint8_t* payload4) {
-  uint8_t mux_data[7] = {static_cast<uint8_t>(index_), static_cast<uint8_t>(index_ >> 8), sub_, 0, 0, 0, 0};
-  if (payload4 != nullptr) memcpy(&mux_data[3], payload4, 4);
-  reply(sink, node_id_, cmd, mux_data, 7);
+void SdoServer::respond(const CanSink& sink, uint8_t cmd, uint32_t value) {
+  uint8_t bytes[7];
+  sdo_mux_bytes(bytes, index_, sub_, value);
+  send_sdo(sink, cmd, bytes, 7, static_cast<uint16_t>(0x580u + node_id_));
 }
 
 // A download segment response carries no multiplexer: bytes 1..7 are
 // reserved and sent as 0 (CiA 301 §7.2.4.3.5).
-static void segment_ack(const CanSink& sink, uint8_t node_id, uint8_t cmd) {
-  reply(sink, node_id, cmd, nullptr, 0);
+void SdoServer::respond_short(const CanSink& sink, uint8_t cmd) {
+  send_sdo(sink, cmd, nullptr, 0, static_cast<uint16_t>(0x580u + node_id_));
 }
 
 void SdoServer::abort(const CanSink& sink, SdoAbort code) {
-  uint8_t payload[4];
-  put_le32(payload, code);
-  respond(sink, 0x80, payload);
+  respond(sink, 0x80, code);
   state_ = kIdle;
 }
 
@@ -66,6 +56,12 @@ void SdoServer::on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink
     return;
   }
 #endif
+  // Every request but a segment and the client's abort names an object and
+  // replaces any transfer in progress.
+  if (ccs != kCcsDownloadSegment && ccs != kCcsUploadSegment && ccs != kCcsAbort) {
+    state_ = kIdle;
+    take_multiplexer(f);
+  }
   switch (ccs) {
     case kCcsInitiateDownload:
       code = initiate_download(f, sink);
@@ -74,7 +70,7 @@ void SdoServer::on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink
       code = download_segment(f, sink);
       break;
     case kCcsInitiateUpload:
-      code = initiate_upload(f, sink);
+      code = initiate_upload(sink);
       break;
     case kCcsUploadSegment:
       code = upload_segment(f, sink);
@@ -83,7 +79,6 @@ void SdoServer::on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink
       state_ = kIdle;  // the client gave up: no answer
       break;
     default:  // 5, 6 (block transfer) and 7
-      take_multiplexer(f);
       code = kAbortCommand;
       break;
   }
@@ -97,11 +92,9 @@ void SdoServer::process(uint32_t now_us, const CanSink& sink) {
   if (state_ != kIdle && time_reached(now_us, deadline_us_)) abort(sink, kAbortTimeout);
 }
 
-// The initiate requests name the object: index_/sub_ take it at once (the
-// state is idle, so nothing else reads them before the answer).
+// The initiate requests: on_frame() took their object as index_/sub_ and
+// went idle (nothing else reads them before the answer).
 SdoAbort SdoServer::initiate_download(const CanFrame& f, const CanSink& sink) {
-  state_ = kIdle;  // a new initiate replaces any transfer in progress
-  take_multiplexer(f);
   uint16_t row = 0;
   SdoAbort code = od_->check_write(index_, sub_, &row);
   if (code != kSdoOk) return code;
@@ -110,51 +103,45 @@ SdoAbort SdoServer::initiate_download(const CanFrame& f, const CanSink& sink) {
   const uint16_t capacity = od_->capacity_of(row);
   const bool is_string = od_->attr(row) & kAttrString;
   if (expedited) {
-    uint16_t len = 4;
-    if (indicated) {
-      len = static_cast<uint16_t>(4 - ((f.data[0] >> 2) & 0x03));
-    } else if (!is_string && capacity < 4) {
+    uint16_t len = expedited_size(f.data[0]);
+    if (!indicated && !is_string && capacity < 4)
       len = capacity;  // size not indicated: the object's own size
-    }
     code = od_->write(index_, sub_, &f.data[4], len);
     if (code != kSdoOk) return code;
-    respond(sink, 0x60, nullptr);
-    return kSdoOk;
+  } else {
+    announced_ = indicated ? le32(&f.data[4]) : 0;
+    size_indicated_ = indicated;
+    if (indicated && (announced_ > capacity || announced_ > kBufferSize)) return kAbortTooLong;
+    if (indicated && announced_ < capacity && !is_string) return kAbortTooShort;
+    state_ = kDownloading;
+    toggle_ = 0;
+    length_ = 0;
   }
-  announced_ = indicated ? le32(&f.data[4]) : 0;
-  size_indicated_ = indicated;
-  if (indicated && (announced_ > capacity || announced_ > kBufferSize)) return kAbortTooLong;
-  if (indicated && announced_ < capacity && !is_string) return kAbortTooShort;
-  state_ = kDownloading;
-  toggle_ = 0;
-  length_ = 0;
-  respond(sink, 0x60, nullptr);
+  respond(sink, 0x60, 0);
   return kSdoOk;
 }
 
 SdoAbort SdoServer::download_segment(const CanFrame& f, const CanSink& sink) {
   if (state_ != kDownloading) return kAbortCommand;
-  if ((f.data[0] & 0x10) != toggle_) return kAbortToggle;
-  const uint8_t count = static_cast<uint8_t>(7 - ((f.data[0] >> 1) & 0x07));
+  if (!toggle_matches(f.data[0], toggle_)) return kAbortToggle;
+  const uint8_t count = segment_size(f.data[0]);
   if (length_ + count > kBufferSize) return kAbortTooLong;
   memcpy(&buffer_[length_], &f.data[1], count);
   length_ = static_cast<uint8_t>(length_ + count);
   const uint8_t ack = static_cast<uint8_t>(0x20 | toggle_);
-  toggle_ ^= 0x10;
-  if (f.data[0] & 0x01) {
+  toggle_ ^= kSegmentToggle;
+  if (segment_last(f.data[0])) {
     // Last segment: the data reaches the OD in one piece or not at all.
     if (size_indicated_ && announced_ != length_) return kAbortTypeMismatch;
     const SdoAbort code = od_->write(index_, sub_, buffer_, length_);
     if (code != kSdoOk) return code;
     state_ = kIdle;
   }
-  segment_ack(sink, node_id_, ack);
+  respond_short(sink, ack);
   return kSdoOk;
 }
 
-SdoAbort SdoServer::initiate_upload(const CanFrame& f, const CanSink& sink) {
-  state_ = kIdle;
-  take_multiplexer(f);
+SdoAbort SdoServer::initiate_upload(const CanSink& sink) {
   uint16_t len = 0;
   // A snapshot: the client reads consistent data even if the value changes.
   const SdoAbort code = od_->read(index_, sub_, buffer_, kBufferSize, &len);
@@ -162,32 +149,30 @@ SdoAbort SdoServer::initiate_upload(const CanFrame& f, const CanSink& sink) {
   if (len >= 1 && len <= 4) {
     // Expedited. Four bytes go without size indication (0x42), as in the
     // frame trace of seed 004 §2.11; shorter values state their size.
-    const uint8_t cmd = len == 4 ? 0x42 : static_cast<uint8_t>(0x43 | ((4 - len) << 2));
+    const uint8_t cmd = len == 4 ? 0x42 : expedited_command(0x40, len);
     uint8_t payload[4] = {0, 0, 0, 0};
     memcpy(payload, buffer_, len);
-    respond(sink, cmd, payload);
+    respond(sink, cmd, le32(payload));
     return kSdoOk;
   }
-  uint8_t size[4];
-  put_le32(size, len);
   length_ = static_cast<uint8_t>(len);
   offset_ = 0;
   toggle_ = 0;
   state_ = kUploading;
-  respond(sink, 0x41, size);
+  respond(sink, 0x41, len);
   return kSdoOk;
 }
 
 SdoAbort SdoServer::upload_segment(const CanFrame& f, const CanSink& sink) {
   if (state_ != kUploading) return kAbortCommand;
-  if ((f.data[0] & 0x10) != toggle_) return kAbortToggle;
+  if (!toggle_matches(f.data[0], toggle_)) return kAbortToggle;
   uint8_t count = static_cast<uint8_t>(length_ - offset_);
-  if (count > 7) count = 7;
+  if (count > kSegmentBytes) count = kSegmentBytes;
   const bool last = offset_ + count == length_;
-  reply(sink, node_id_, static_cast<uint8_t>(toggle_ | ((7 - count) << 1) | (last ? 1 : 0)),
-        &buffer_[offset_], count);
+  send_sdo(sink, segment_command(toggle_, count, last), &buffer_[offset_], count,
+           static_cast<uint16_t>(0x580u + node_id_));
   offset_ = static_cast<uint8_t>(offset_ + count);
-  toggle_ ^= 0x10;
+  toggle_ ^= kSegmentToggle;
   if (last) state_ = kIdle;
   return kSdoOk;
 }

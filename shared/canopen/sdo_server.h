@@ -15,6 +15,7 @@
 #include "canopen/can_frame.h"
 #include "canopen/clock.h"
 #include "canopen/od.h"
+#include "canopen/sdo_segment.h"
 #ifdef MB2CO_SDO_BLOCK
 #include "canopen/sdo_block.h"
 #include "canopen/sdo_domain.h"
@@ -93,14 +94,17 @@ class SdoServer {
     kBlockUploadEnd,     ///< sent the end frame, waits for A1h
 #endif
   };
-  void respond(const CanSink& sink, uint8_t cmd, const uint8_t* payload4);
+  /// Sends `cmd`, the multiplexer index_/sub_ and `value` (send_sdo_mux).
+  void respond(const CanSink& sink, uint8_t cmd, uint32_t value);
+  /// Sends `cmd` with bytes 1..7 reserved (0): a segment's answer.
+  void respond_short(const CanSink& sink, uint8_t cmd);
   /// Aborts the transfer of index_/sub_ with `code` and goes idle.
   void abort(const CanSink& sink, SdoAbort code);
   // The request handlers answer themselves and return 0, or return the abort
   // code for on_frame() to send (one abort call site).
   SdoAbort initiate_download(const CanFrame& f, const CanSink& sink);
   SdoAbort download_segment(const CanFrame& f, const CanSink& sink);
-  SdoAbort initiate_upload(const CanFrame& f, const CanSink& sink);
+  SdoAbort initiate_upload(const CanSink& sink);
   SdoAbort upload_segment(const CanFrame& f, const CanSink& sink);
   /// Takes index and sub-index of a request (bytes 1..3) as index_/sub_.
   void take_multiplexer(const CanFrame& f);

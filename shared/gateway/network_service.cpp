@@ -19,12 +19,6 @@ using modbus::NetService;
 
 namespace {
 
-uint16_t exception_pdu(uint8_t* pdu, Exception code) {
-  pdu[0] = static_cast<uint8_t>(modbus::fc::kEncapsulatedInterface | modbus::fc::kExceptionFlag);
-  pdu[1] = static_cast<uint8_t>(code);
-  return 2;
-}
-
 uint32_t min32(uint32_t a, uint32_t b) {
   return a < b ? a : b;
 }
@@ -43,10 +37,12 @@ NetworkService::NetworkService(Node& node, ObjectDictionary& od, modbus::SlaveCo
 
 uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, uint16_t capacity) {
   NetworkService& s = *static_cast<NetworkService*>(ctx);
-  if (s.enabled_ != nullptr && *s.enabled_ == 0u) return exception_pdu(pdu, Exception::kIllegalFunction);
+  if (s.enabled_ != nullptr && *s.enabled_ == 0u)
+    return modbus::build_net_exception(pdu, Exception::kIllegalFunction);
   NetMessage m{};
-  if (!modbus::parse_net_request(pdu, pdu_length, m)) return exception_pdu(pdu, Exception::kIllegalDataValue);
-  if (s.transfer_running()) return exception_pdu(pdu, Exception::kServerDeviceBusy);
+  if (!modbus::parse_net_request(pdu, pdu_length, m))
+    return modbus::build_net_exception(pdu, Exception::kIllegalDataValue);
+  if (s.transfer_running()) return modbus::build_net_exception(pdu, Exception::kServerDeviceBusy);
   const bool next_part = s.phase_ == kDownloadHeld && s.continues_download(m);
   if (s.phase_ == kDownloadHeld && !next_part) s.end_open_download(kAbortGeneral);  // the master moved on
   s.req_ = m;
@@ -61,24 +57,24 @@ uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, ui
 }
 
 uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, SdoAbort ended) {
-  switch (req_.service) {
-    case NetService::kNmt:
-      return nmt(pdu, capacity);
-    case NetService::kNetworkView:
-      return network_view(pdu, capacity);
-    case NetService::kSdoDownload:
-      // A later part with no download open: it continues nothing.
-      if (req_.start != 0u) {
-        if (ended != kSdoOk) return modbus::build_net_abort(pdu, ended);
-        return exception_pdu(pdu, Exception::kIllegalDataValue);
-      }
-      if (req_.node_id == node_.node_id()) return local_download(pdu, capacity);
-      return start_remote(pdu, capacity);
-    case NetService::kSdoUpload:
-    default:
-      if (req_.node_id == node_.node_id()) return local_upload(pdu, capacity);
-      return start_remote(pdu, capacity);
+  if (req_.service == NetService::kNmt) return nmt(pdu, capacity);
+  const bool download = req_.service == NetService::kSdoDownload;
+  SdoAbort code = kSdoOk;
+  if (req_.service == NetService::kNetworkView) {
+    list_view(pdu, capacity);
+  } else if (download && req_.start != 0u) {
+    // A later part with no download open: it continues nothing.
+    if (ended == kSdoOk) return modbus::build_net_exception(pdu, Exception::kIllegalDataValue);
+    code = ended;
+  } else if (req_.node_id != node_.node_id()) {
+    return start_remote(capacity);
+  } else if (download) {
+    code = local_download();
+  } else {
+    code = local_upload(pdu, capacity);
   }
+  if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
+  return modbus::build_net_response(pdu, capacity, req_);  // a download response carries no data
 }
 
 // ---- immediate services ----------------------------------------------------
@@ -97,7 +93,7 @@ uint16_t NetworkService::nmt(uint8_t* pdu, uint16_t capacity) {
   return length;
 }
 
-uint16_t NetworkService::network_view(uint8_t* pdu, uint16_t capacity) {
+void NetworkService::list_view(uint8_t* pdu, uint16_t capacity) {
   const uint16_t offset = modbus::net::kHeaderBytes;
   const uint16_t room = static_cast<uint16_t>((capacity - offset) / modbus::net::kViewEntryBytes);
   uint16_t count = 0;
@@ -125,48 +121,37 @@ uint16_t NetworkService::network_view(uint8_t* pdu, uint16_t capacity) {
   req_.count = static_cast<uint16_t>(count * modbus::net::kViewEntryBytes);
   req_.data = pdu + offset;
   req_.data_length = req_.count;
-  return modbus::build_net_response(pdu, capacity, req_);
 }
 
 // The gateway's own node: the local OD, as its SDO server would answer.
-uint16_t NetworkService::local_upload(uint8_t* pdu, uint16_t capacity) {
+// The upload's bytes go where the response carries them (the tail from the
+// starting address: at least the window, within the buffer).
+SdoAbort NetworkService::local_upload(uint8_t* pdu, uint16_t capacity) {
   const uint16_t offset = modbus::net::kSizedHeaderBytes;
-  const uint16_t room = static_cast<uint16_t>(capacity - offset);
   uint16_t size = 0;
-  const SdoAbort code = od_.read(req_.index, req_.sub, pdu + offset, room, &size);
-  if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
-  const uint16_t want = req_.count == 0u || req_.count > room ? room : req_.count;
-  const uint16_t n = req_.start >= size ? 0u : static_cast<uint16_t>(min32(size - req_.start, want));
-  memmove(pdu + offset, pdu + offset + req_.start, n);
-  req_.count = n;
-  req_.object_size = size;
-  req_.more_follows = static_cast<uint32_t>(req_.start) + n < size;
-  req_.data = pdu + offset;
-  req_.data_length = n;
-  return modbus::build_net_response(pdu, capacity, req_);
+  const SdoAbort code =
+      od_.read(req_.index, req_.sub, pdu + offset, static_cast<uint16_t>(capacity - offset), &size);
+  if (req_.start < size) memmove(pdu + offset, pdu + offset + req_.start, size - req_.start);
+  set_window(capacity);
+  take_window(pdu, size);
+  return code;
 }
 
-uint16_t NetworkService::local_download(uint8_t* pdu, uint16_t capacity) {
+SdoAbort NetworkService::local_download() {
   // No value of the gateway's OD is longer than one frame: one part only.
-  if (req_.more_follows) return modbus::build_net_abort(pdu, kAbortTooLong);
-  const SdoAbort code = od_.write(req_.index, req_.sub, req_.data, req_.count);
-  if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
-  req_.data_length = 0;
-  return modbus::build_net_response(pdu, capacity, req_);
+  if (req_.more_follows) return kAbortTooLong;
+  return od_.write(req_.index, req_.sub, req_.data, req_.count);
 }
 
 // ---- remote transfers -------------------------------------------------------
 
-uint16_t NetworkService::start_remote(uint8_t* pdu, uint16_t capacity) {
-  (void)pdu;
+uint16_t NetworkService::start_remote(uint16_t capacity) {
   client_.init(req_.node_id);
   client_.set_timeout_us(kNetSdoTimeoutUs);
   const SdoData data = {&NetworkService::data_write, &NetworkService::data_read, this};
   in_request_ = true;
   if (req_.service == NetService::kSdoUpload) {
-    const uint16_t room = static_cast<uint16_t>(capacity - modbus::net::kSizedHeaderBytes);
-    const uint16_t want = req_.count == 0u || req_.count > room ? room : req_.count;
-    window_end_ = static_cast<uint32_t>(req_.start) + want;
+    set_window(capacity);
     phase_ = kUpload;
     client_.start_upload(req_.index, req_.sub, kSdoAuto, data, 0xFFFFFFFFu, now_us_, sink_);
   } else {
@@ -232,17 +217,24 @@ void NetworkService::answer() {
     slave_.send_deferred(modbus::build_net_abort(pdu, client_.result()));
     return;
   }
-  req_.data_length = 0;
-  if (req_.service == NetService::kSdoUpload) {
-    const uint32_t size = client_.size();
-    const uint32_t end = min32(window_end_, size);
-    req_.count = static_cast<uint16_t>(end > req_.start ? end - req_.start : 0u);
-    req_.object_size = size;
-    req_.more_follows = static_cast<uint32_t>(req_.start) + req_.count < size;
-    req_.data = pdu + modbus::net::kSizedHeaderBytes;
-    req_.data_length = req_.count;
-  }
+  // A download's response carries no data: the request's header and size.
+  if (req_.service == NetService::kSdoUpload) take_window(pdu, client_.size());
   slave_.send_deferred(modbus::build_net_response(pdu, capacity, req_));
+}
+
+void NetworkService::set_window(uint16_t capacity) {
+  const uint16_t room = static_cast<uint16_t>(capacity - modbus::net::kSizedHeaderBytes);
+  const uint16_t want = req_.count == 0u || req_.count > room ? room : req_.count;
+  window_end_ = static_cast<uint32_t>(req_.start) + want;
+}
+
+void NetworkService::take_window(uint8_t* pdu, uint32_t size) {
+  const uint32_t end = min32(window_end_, size);
+  req_.count = static_cast<uint16_t>(end > req_.start ? end - req_.start : 0u);
+  req_.object_size = size;
+  req_.more_follows = static_cast<uint32_t>(req_.start) + req_.count < size;
+  req_.data = pdu + modbus::net::kSizedHeaderBytes;
+  req_.data_length = req_.count;
 }
 
 // ---- driving ------------------------------------------------------------------

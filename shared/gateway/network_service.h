@@ -88,10 +88,20 @@ class NetworkService : private NetworkServiceState {
   /// `ended`: how the download open before this request ended (kSdoOk: none).
   uint16_t on_request(uint8_t* pdu, uint16_t capacity, canopen::SdoAbort ended);
   uint16_t nmt(uint8_t* pdu, uint16_t capacity);
-  uint16_t network_view(uint8_t* pdu, uint16_t capacity);
-  uint16_t local_upload(uint8_t* pdu, uint16_t capacity);
-  uint16_t local_download(uint8_t* pdu, uint16_t capacity);
-  uint16_t start_remote(uint8_t* pdu, uint16_t capacity);
+  /// The network view's entries into the response (`pdu`), req_ its fields.
+  void list_view(uint8_t* pdu, uint16_t capacity);
+  /// The gateway's own node (kSdoOk, or the code to answer with).
+  canopen::SdoAbort local_upload(uint8_t* pdu, uint16_t capacity);
+  canopen::SdoAbort local_download();
+  uint16_t start_remote(uint16_t capacity);
+  /// An upload's window: bytes [req_.start, window_end_) of the object, as
+  /// many as the request asks for (0: as many as a response of `capacity`
+  /// bytes carries).
+  void set_window(uint16_t capacity);
+  /// req_ becomes the upload response for an object of `size` bytes whose
+  /// window's bytes are in place after the header and size of `pdu` (at
+  /// most the window; fewer at the object's end, none beyond it).
+  void take_window(uint8_t* pdu, uint32_t size);
   /// True when `m` is the next part of the open download.
   bool continues_download(const modbus::NetMessage& m) const;
   void take_part();

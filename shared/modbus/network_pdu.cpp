@@ -11,38 +11,17 @@ namespace mb2co {
 namespace modbus {
 namespace {
 
-// Protocol control bits 5-7 of each service (write access is bit 5).
+// Protocol control bits 7-5 of each service: its NetService value.
 uint8_t service_bits(NetService s) {
-  switch (s) {
-    case NetService::kSdoUpload:
-      return 0x00;
-    case NetService::kSdoDownload:
-      return net::kWriteAccess;
-    case NetService::kNmt:
-      return static_cast<uint8_t>((1u << net::kServiceShift) | net::kWriteAccess);
-    case NetService::kNetworkView:
-    default:
-      return static_cast<uint8_t>(2u << net::kServiceShift);
-  }
+  return static_cast<uint8_t>(static_cast<uint8_t>(s) << 5);
 }
 
+// The service of protocol control byte `control`: bits 7-5 are 000, 001,
+// 011 or 100 (NetService's values), else none.
 bool service_of(uint8_t control, NetService& out) {
-  switch (control & 0xE0u) {
-    case 0x00:
-      out = NetService::kSdoUpload;
-      return true;
-    case net::kWriteAccess:
-      out = NetService::kSdoDownload;
-      return true;
-    case (1u << net::kServiceShift) | net::kWriteAccess:
-      out = NetService::kNmt;
-      return true;
-    case 2u << net::kServiceShift:
-      out = NetService::kNetworkView;
-      return true;
-    default:
-      return false;
-  }
+  const uint8_t bits = static_cast<uint8_t>(control >> 5);
+  out = static_cast<NetService>(bits);
+  return bits <= 4u && bits != 2u;
 }
 
 uint32_t get_be32(const uint8_t* p) {
@@ -64,26 +43,16 @@ struct Shape {
   bool data;   ///< data bytes after the header (and size)
 };
 
+// A request carries data when it writes (access bit 5: download, NMT), the
+// object size when it is a download.
 Shape request_shape(NetService s) {
-  switch (s) {
-    case NetService::kSdoDownload:
-      return Shape{true, true};
-    case NetService::kNmt:
-      return Shape{false, true};
-    default:
-      return Shape{false, false};
-  }
+  return Shape{s == NetService::kSdoDownload, (static_cast<uint8_t>(s) & 0x01u) != 0u};
 }
 
+// Every SDO response carries the object size; every response but a
+// download's carries data.
 Shape response_shape(NetService s) {
-  switch (s) {
-    case NetService::kSdoUpload:
-      return Shape{true, true};
-    case NetService::kSdoDownload:
-      return Shape{true, false};
-    default:
-      return Shape{false, true};
-  }
+  return Shape{s == NetService::kSdoUpload || s == NetService::kSdoDownload, s != NetService::kSdoDownload};
 }
 
 // Header fields shared by requests and responses.
@@ -116,13 +85,8 @@ uint16_t encode(uint8_t* p, uint16_t capacity, const NetMessage& m, Shape shape)
   return static_cast<uint16_t>(offset + data_length);
 }
 
-bool parse_sdo_upload(uint16_t length, const NetMessage& m) {
-  return length == net::kHeaderBytes && !m.more_follows && m.node_id >= 1u && m.node_id <= 127u &&
-         static_cast<uint32_t>(m.start) + m.count <= 0xFFFFu;
-}
-
 bool parse_sdo_download(const uint8_t* p, uint16_t length, NetMessage& m) {
-  if (length < net::kSizedHeaderBytes || m.node_id < 1u || m.node_id > 127u) return false;
+  if (length < net::kSizedHeaderBytes) return false;
   m.object_size = get_be32(p + 12);
   m.data = p + net::kSizedHeaderBytes;
   m.data_length = static_cast<uint16_t>(length - net::kSizedHeaderBytes);
@@ -134,19 +98,6 @@ bool parse_sdo_download(const uint8_t* p, uint16_t length, NetMessage& m) {
                         : end == m.object_size;
 }
 
-bool parse_nmt(const uint8_t* p, uint16_t length, NetMessage& m) {
-  if (length != net::kHeaderBytes + 1u || m.more_follows || m.node_id > 127u) return false;
-  if (m.index != 0u || m.sub != 0u || m.start != 0u || m.count != 1u) return false;
-  m.data = p + net::kHeaderBytes;
-  m.data_length = 1;
-  return valid_nmt_command(m.data[0]);
-}
-
-bool parse_view(uint16_t length, const NetMessage& m) {
-  return length == net::kHeaderBytes && !m.more_follows && m.node_id <= 127u && m.index == 0u &&
-         m.sub == 0u && m.start == 0u && m.count == 0u;
-}
-
 }  // namespace
 
 bool parse_net_request(const uint8_t* pdu, uint16_t pdu_length, NetMessage& out) {
@@ -155,17 +106,25 @@ bool parse_net_request(const uint8_t* pdu, uint16_t pdu_length, NetMessage& out)
   if ((pdu[2] & net::kReservedControlBits) != 0u || pdu[3] != 0u) return false;
   if (!service_of(pdu[2], out.service)) return false;
   decode_header(pdu, out);
+  // Every service: a node id up to 127; more follows only on a download.
+  if (out.node_id > 127u || (out.more_follows && out.service != NetService::kSdoDownload)) return false;
   switch (out.service) {
     case NetService::kSdoUpload:
-      return parse_sdo_upload(pdu_length, out);
+      return pdu_length == net::kHeaderBytes && out.node_id != 0u &&
+             static_cast<uint32_t>(out.start) + out.count <= 0xFFFFu;
     case NetService::kSdoDownload:
-      return parse_sdo_download(pdu, pdu_length, out);
-    case NetService::kNmt:
-      return parse_nmt(pdu, pdu_length, out);
-    case NetService::kNetworkView:
+      return out.node_id != 0u && parse_sdo_download(pdu, pdu_length, out);
     default:
-      return parse_view(pdu_length, out);
+      break;
   }
+  // NMT and the network view use no index, subindex or starting address.
+  if ((out.index | out.sub | out.start) != 0u) return false;
+  if (out.service == NetService::kNetworkView) return pdu_length == net::kHeaderBytes && out.count == 0u;
+  // NMT: one byte, a command CiA 301 defines.
+  if (pdu_length != net::kHeaderBytes + 1u || out.count != 1u) return false;
+  out.data = pdu + net::kHeaderBytes;
+  out.data_length = 1;
+  return valid_nmt_command(out.data[0]);
 }
 
 uint16_t build_net_response(uint8_t* pdu, uint16_t capacity, const NetMessage& m) {
@@ -176,9 +135,14 @@ uint16_t net_response_data_offset(NetService service) {
   return response_shape(service).sized ? net::kSizedHeaderBytes : net::kHeaderBytes;
 }
 
-uint16_t build_net_abort(uint8_t* pdu, uint32_t abort_code) {
+uint16_t build_net_exception(uint8_t* pdu, Exception code) {
   pdu[0] = static_cast<uint8_t>(fc::kEncapsulatedInterface | fc::kExceptionFlag);
-  pdu[1] = static_cast<uint8_t>(Exception::kServerDeviceFailure);
+  pdu[1] = static_cast<uint8_t>(code);
+  return 2;
+}
+
+uint16_t build_net_abort(uint8_t* pdu, uint32_t abort_code) {
+  build_net_exception(pdu, Exception::kServerDeviceFailure);
   pdu[2] = kMeiCanopenReference;
   put_be32(pdu + 3, abort_code);
   return net::kAbortExceptionBytes;

@@ -62,12 +62,13 @@ constexpr uint16_t kAgeSaturated = 0xFFFF;
 constexpr uint8_t kStateUnknown = 0xFF;
 }  // namespace net
 
-/// The services; the wire form is protocol control bits 5-7.
+/// The services; each value is its wire form, protocol control bits 7-5
+/// (service bits 7-6, access bit 5).
 enum class NetService : uint8_t {
-  kSdoUpload,    ///< SDO, read: bits 7-5 = 000
-  kSdoDownload,  ///< SDO, write: 001
-  kNmt,          ///< NMT command, write: 011
-  kNetworkView,  ///< network view, read: 100
+  kSdoUpload = 0,    ///< SDO, read: bits 7-5 = 000
+  kSdoDownload = 1,  ///< SDO, write: 001
+  kNmt = 3,          ///< NMT command, write: 011
+  kNetworkView = 4,  ///< network view, read: 100
 };
 
 /// One request or normal response, decoded. `data` points into the PDU it
@@ -121,6 +122,8 @@ bool parse_net_request(const uint8_t* pdu, uint16_t pdu_length, NetMessage& out)
 uint16_t build_net_response(uint8_t* pdu, uint16_t capacity, const NetMessage& m);
 /// Where the data of a response of `service` starts in the PDU.
 uint16_t net_response_data_offset(NetService service);
+/// Writes the exception response `code` (2 bytes).
+uint16_t build_net_exception(uint8_t* pdu, Exception code);
 /// Writes the exception-04 response carrying `abort_code` (7 bytes).
 uint16_t build_net_abort(uint8_t* pdu, uint32_t abort_code);
 

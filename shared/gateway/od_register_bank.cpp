@@ -273,12 +273,18 @@ Exception OdRegisterBank::write_step(Table table, uint16_t start, uint16_t count
 
 canopen::SdoAbort OdRegisterBank::check_map_write(uint16_t index, uint8_t sub, const uint8_t* data) const {
   const ObjectDictionary& od = od_;
-  const Table table = index == 0x2400   ? Table::kHoldingRegisters
-                      : index == 0x2401 ? Table::kInputRegisters
-                      : index == 0x2402 ? Table::kCoils
-                                        : Table::kDiscreteInputs;
-  const uint16_t row0 = od.find(index, 0);
-  const uint16_t capacity = static_cast<uint16_t>(od.first_row(static_cast<uint16_t>(index + 1)) - row0 - 1);
+  // The map's table and its entries (the rows of its index after sub 0).
+  const bool holding = index == 0x2400;
+  const bool input = index == 0x2401;
+  const bool coils = index == 0x2402;
+  const Table table = holding ? Table::kHoldingRegisters
+                      : input ? Table::kInputRegisters
+                      : coils ? Table::kCoils
+                              : Table::kDiscreteInputs;
+  const uint8_t capacity = holding ? kHoldingMapSize
+                           : input ? kInputMapSize
+                           : coils ? kCoilMapSize
+                                   : kDiscreteMapSize;
   if (sub == 0) {
     if (data[0] > capacity) return canopen::kAbortValueTooHigh;
     return canopen::kSdoOk;

@@ -23,9 +23,11 @@ shift
 # Executions per target in "ci" mode: about 10 s each on one busy core.
 declare -A ci_runs=([node_frames]=60000 [gateway_modbus]=20000 [register_bank]=40000
                     [timing_csv]=300000 [plant_config]=300000 [eds]=10000
-                    [sdo_transfer]=100000 [gateway_net]=300000 [param_image]=20000)
+                    [sdo_transfer]=100000 [gateway_net]=300000 [param_image]=20000
+                    [gateway_ascii]=100000)
 targets=("$@")
-((${#targets[@]})) || targets=(node_frames gateway_modbus register_bank timing_csv plant_config eds sdo_transfer gateway_net param_image)
+((${#targets[@]})) || targets=(node_frames gateway_modbus register_bank timing_csv plant_config eds sdo_transfer gateway_net param_image
+                               gateway_ascii)
 build=${MB2CO_FUZZ_BUILD_DIR:-build-fuzz}
 mkdir -p "$build"
 if ! { cmake -S tests/fuzz -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ &&

@@ -88,7 +88,7 @@ cli::Program make_program() {
                              "; tcp:PORT\nis 127.0.0.1: no authentication in CiA 309-3, bind where only "
                              "trusted\nprograms reach it)"),
                cli::uint_range("--max-clients", "N", 1, 1024, "connections at once (default 8)"),
-               cli::uint_range("--idle-timeout", "MS", 0, 86400000,
+               cli::uint_range("--idle-timeout", "MS", 0, 2000000,
                                "close a client silent for MS with nothing pending (default " +
                                    std::to_string(kServeIdleDefaultMs) + "; 0: never)")
                    .with_short('T'),

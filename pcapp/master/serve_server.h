@@ -31,7 +31,9 @@ namespace master {
 
 struct ServerLimits {
   size_t max_clients = 8;
-  uint32_t idle_ms = 0;  ///< 0: no idle timeout
+  /// 0: no idle timeout. At most 2,000,000 (33 min): the loop's wrapping
+  /// µs clock compares times less than 2^31 µs apart.
+  uint32_t idle_ms = 0;
   SessionLimits session;
 };
 

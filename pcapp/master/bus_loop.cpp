@@ -20,7 +20,19 @@ bool BusLoop::add(BusService* service) {
   return true;
 }
 
+bool BusLoop::add_watcher(PollWatcher* watcher) {
+  if (watcher_count_ == kMaxServices || !add(watcher)) return false;
+  watchers_[watcher_count_++] = watcher;
+  return true;
+}
+
 void BusLoop::remove(BusService* service) {
+  for (int i = 0; i < watcher_count_; ++i) {
+    if (watchers_[i] != service) continue;
+    for (int k = i + 1; k < watcher_count_; ++k) watchers_[k - 1] = watchers_[k];
+    watchers_[--watcher_count_] = nullptr;
+    break;
+  }
   for (int i = 0; i < count_; ++i) {
     if (services_[i] != service) continue;
     for (int k = i + 1; k < count_; ++k) services_[k - 1] = services_[k];
@@ -45,13 +57,21 @@ void BusLoop::pass(uint32_t end) {
   next.result(&at_us);
   // Round up: waking a little late is harmless, waking early costs a pass.
   const uint32_t wait_us = time_until(next.now_us(), at_us);
-  pollfd fd = {port_.fd(), POLLIN, 0};
+  // The CAN socket first (-1 without one: poll() skips it), then each
+  // watcher's descriptors, counted to hand them back.
+  fds_.assign(1, pollfd{port_.fd(), POLLIN, 0});
+  size_t counts[kMaxServices];
+  for (int i = 0; i < watcher_count_; ++i) {
+    const size_t before = fds_.size();
+    watchers_[i]->poll_fds(&fds_);
+    counts[i] = fds_.size() - before;
+  }
   const int wait_ms = static_cast<int>((wait_us + 999u) / 1000u);
-  poll(&fd, 1, wait_ms);  // EINTR when a signal came during the wait
+  poll(fds_.data(), fds_.size(), wait_ms);  // EINTR when a signal came during the wait
   // A signal that came between two waits only set the flag: read it here,
   // or a SIGINT outside poll() would be lost.
   if (stop_signalled()) interrupted_ = true;
-  if (fd.revents & POLLIN) {
+  if (fds_[0].revents & POLLIN) {
     linux_port::TimedCanFrame frames[linux_port::SocketCanPort::kBatch];
     size_t got = 0;
     while ((got = port_.receive(frames, linux_port::SocketCanPort::kBatch)) > 0) {
@@ -62,6 +82,11 @@ void BusLoop::pass(uint32_t end) {
     }
   }
   const uint32_t now = clock_.at(now_us());
+  size_t at = 1;
+  for (int i = 0; i < watcher_count_; ++i) {
+    watchers_[i]->on_poll(fds_.data() + at, counts[i], now);
+    at += counts[i];
+  }
   for (int i = 0; i < count_; ++i) services_[i]->process(now, out);
 }
 

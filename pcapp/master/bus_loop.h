@@ -3,7 +3,10 @@
 // sleeps exactly until the earliest deadline any service reports (no
 // periodic wake-up: an idle master costs nothing).
 #pragma once
+#include <poll.h>
 #include <stdint.h>
+
+#include <vector>
 
 #include "canopen/can_frame.h"
 #include "canopen/clock.h"
@@ -28,6 +31,20 @@ class BusService {
   ~BusService() = default;  // never deleted through this interface
 };
 
+/// A service with descriptors of its own for the loop's poll() (serve's
+/// sockets beside the bus): asked for them before each wait, told what
+/// poll() found right after it, before the frames are handed out.
+class PollWatcher : public BusService {
+ public:
+  /// Appends its descriptors (fd, events).
+  virtual void poll_fds(std::vector<pollfd>* fds) = 0;
+  /// The `n` entries it appended, with revents, in the same order.
+  virtual void on_poll(const pollfd* fds, size_t n, uint32_t now_us) = 0;
+
+ protected:
+  ~PollWatcher() = default;
+};
+
 class BusLoop {
  public:
   static const int kMaxServices = 8;
@@ -36,7 +53,10 @@ class BusLoop {
   Status open(const char* ifname);
   /// Adds a service; false when kMaxServices are there already.
   bool add(BusService* service);
-  /// Takes a service out again (it may go out of scope then).
+  /// Adds a watcher: a service whose descriptors the loop polls too.
+  /// False when kMaxServices are there already.
+  bool add_watcher(PollWatcher* watcher);
+  /// Takes a service (or watcher) out again (it may go out of scope then).
   void remove(BusService* service);
 
   /// Runs passes until `done()` is true (checked after every pass) or
@@ -70,6 +90,9 @@ class BusLoop {
   linux_port::SocketCanPort port_;
   BusService* services_[kMaxServices] = {};
   int count_ = 0;
+  PollWatcher* watchers_[kMaxServices] = {};
+  int watcher_count_ = 0;
+  std::vector<pollfd> fds_;  ///< the CAN socket, then each watcher's (kept: no allocation per pass)
   ServiceClock clock_;
   bool interrupted_ = false;
 };

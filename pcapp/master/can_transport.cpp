@@ -23,6 +23,7 @@ class CanTransfers : public TransferNetwork {
   }
   void drop_queued(uint8_t node, canopen::SdoAbort code) override { net_.drop_queued(node, code); }
   void abort_all(canopen::SdoAbort code) override { net_.abort_all(code, bus_.sink()); }
+  bool cancel(Transfer* t, canopen::SdoAbort code) override { return net_.cancel(t, code, bus_.sink()); }
 
   bool run(ProgressHook* progress) override {
     Redraw redraw(progress);

@@ -83,6 +83,19 @@ cli::Program make_program() {
               {cli::flag("--save", "store the parameters (1010h/1 = \"save\")"),
                cli::flag("--no-start", "leave the nodes in their NMT state"),
                cli::flag("--one-at-a-time", "one node after the other, not all at once")}),
+      command("serve", "CiA 309-3 (ASCII, as canopend) to many clients on a local or TCP socket", "", 0,
+              {cli::text("--listen", "ADDR",
+                         "unix:PATH or tcp:[HOST:]PORT (default " + std::string(kServeListenDefault) +
+                             "; tcp:PORT\nis 127.0.0.1: no authentication in CiA 309-3, bind where only "
+                             "trusted\nprograms reach it)"),
+               cli::uint_range("--max-clients", "N", 1, 1024, "connections at once (default 8)"),
+               cli::uint_range("--idle-timeout", "MS", 0, 2000000,
+                               "close a client silent for MS with nothing pending (default " +
+                                   std::to_string(kServeIdleDefaultMs) + "; 0: never)")
+                   .with_short('T'),
+               cli::uint_range("--heartbeat", "MS", 2, 65535,
+                               "heartbeat consumer time: a node silent for MS is told as\n"
+                               "\"unknown\" (default 1000)")}),
   };
   p.global_options = {
       cli::text("--interface", "IFACE", "SocketCAN interface (default " + defaults.iface + ")")
@@ -112,11 +125,11 @@ cli::Program make_program() {
              type_words() +
              "\n"
              "--watchdog is the SDO commands' heartbeat watchdog (it was --heartbeat); watch --heartbeat\n"
-             "is watch's own consumer time.\n"
+             "and serve --heartbeat are their own consumer times.\n"
              "exit status: 0 done, 1 SDO abort (the node's, or ours: a broken protocol, a size bound),\n"
              "wrong identity, 2 usage error (or a bad file or value), 3 CAN interface (--via-modbus: the\n"
-             "port or the gateway), 4 no answer (SDO timeout, also no progress; a node lost, nobody\n"
-             "answered), 130 interrupted\n";
+             "port or the gateway; serve: its socket too), 4 no answer (SDO timeout, also no progress;\n"
+             "a node lost, nobody answered), 130 interrupted\n";
   return p;
 }
 
@@ -187,6 +200,8 @@ std::string needs_can_frames(const std::string& what) {
 std::string via_modbus_refusal(const Options& o) {
   if (o.gateway_port.empty()) return std::string();
   if (o.command == "watch" || o.command == "sync") return needs_can_frames(o.command);
+  if (o.command == "serve" && o.args.has("--heartbeat"))
+    return needs_can_frames("serve --heartbeat (node states come from heartbeats)");
   if (o.watchdog_ms) return needs_can_frames("--watchdog (the watchdog listens to heartbeats)");
   if ((o.command == "upload" || o.command == "download") && o.args.has("--block"))
     return needs_can_frames(o.command + " --block (block transfer)");

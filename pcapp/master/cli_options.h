@@ -24,6 +24,10 @@ namespace master {
 /// most kValueMaxBytes (transfer_network.h).
 static const uint32_t kUploadMaxBytesDefault = 16u * 1024u * 1024u;
 
+/// serve: where it listens and when it drops a silent client, unless told.
+static const char kServeListenDefault[] = "unix:/tmp/CO_command_socket";
+static const uint32_t kServeIdleDefaultMs = 600000;
+
 /// One invocation: the global options as values, the command's own options
 /// and operands as the parser left them (already checked against the table).
 struct Options {

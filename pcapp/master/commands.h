@@ -21,6 +21,7 @@ int sync_command(const Options& o, Transport& transport, std::ostream& out, std:
 int watch_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
 int dump_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
 int configure_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
+int serve_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
 
 using CommandFunction = int (*)(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
 /// The function of the command named `name` (one of program()'s); null for

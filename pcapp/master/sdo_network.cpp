@@ -55,6 +55,7 @@ void SdoNetwork::start_next(uint8_t id, uint32_t now_us, const CanSink& sink) {
     if (t->not_before_us != 0 && !time_reached(now_us, t->not_before_us)) return;  // a poll's pause
     t->started = true;
     t->started_us = now_us;
+    n.client.set_timeout_us(t->timeout_us ? t->timeout_us : timeout_us_);
     bool started;
     if (t->upload) {
       t->data.clear();
@@ -121,6 +122,23 @@ void SdoNetwork::abort_all(canopen::SdoAbort code, const CanSink& sink) {
     if (n.client.busy()) n.client.abort(code, sink);
     end_queue(id, 0, code, false, false);
   }
+}
+
+bool SdoNetwork::cancel(Transfer* t, canopen::SdoAbort code, const CanSink& sink) {
+  Node& n = nodes_[t->node & 0x7F];
+  for (size_t i = 0; i < n.queue.size(); ++i) {
+    if (n.queue[i] != t) continue;
+    const bool running = i == 0 && t->started && n.client.busy();
+    if (running) n.client.abort(code, sink);
+    n.queue.erase(n.queue.begin() + static_cast<long>(i));
+    t->finished = true;
+    t->result = code;
+    t->ended_us = now_us_;
+    --pending_;
+    if (i == 0) start_next(t->node, now_us_, sink);
+    return true;
+  }
+  return false;
 }
 
 void SdoNetwork::on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink) {

@@ -38,6 +38,8 @@ class SdoNetwork : public BusService {
   void drop_queued(uint8_t node, canopen::SdoAbort code);
   /// Aborts every running transfer with `code` (SIGINT) and fails the queues.
   void abort_all(canopen::SdoAbort code, const CanSink& sink);
+  /// Ends `t` alone (TransferNetwork::cancel): its on_done is not called.
+  bool cancel(Transfer* t, canopen::SdoAbort code, const CanSink& sink);
 
   void on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink) override;
   void process(uint32_t now_us, const CanSink& sink) override;

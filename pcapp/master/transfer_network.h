@@ -45,6 +45,9 @@ struct Transfer {
   /// `ended_us + 100000` from the on_done of the previous transfer. The
   /// node's later transfers wait behind it.
   uint32_t not_before_us = 0;
+  /// SDO client timeout of this transfer in µs; 0: the network's (-t).
+  /// A gateway applies its own.
+  uint32_t timeout_us = 0;
 
   bool finished = false;
   canopen::SdoAbort result = canopen::kSdoOk;
@@ -97,6 +100,15 @@ class TransferNetwork {
   /// Ends every transfer with `code` without calling on_done; a running one
   /// is aborted where it runs (may be called from an on_done).
   virtual void abort_all(canopen::SdoAbort code) = 0;
+  /// Ends `t` alone with `code` without calling its on_done: taken off its
+  /// node's queue, or aborted where it runs (`code` sent) and the node's
+  /// next transfer started. False when the network cannot (a gateway: the
+  /// transfer then runs to its end) or `t` is not queued here.
+  virtual bool cancel(Transfer* t, canopen::SdoAbort code) {
+    (void)t;
+    (void)code;
+    return false;
+  }
   /// Runs until nothing is pending; false when SIGINT/SIGTERM ended it
   /// first (the caller aborts what is left). `progress` may be null.
   virtual bool run(ProgressHook* progress) = 0;

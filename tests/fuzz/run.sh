@@ -4,7 +4,7 @@
 #   tests/fuzz/run.sh 600 register_bank     one target, 10 min, a random seed
 #   tests/fuzz/run.sh runs=10000000 eds     one target, 10 M executions, a random seed
 #   MB2CO_FUZZ_MERGE=1 tests/fuzz/run.sh 600 ...   and merge what it found into the corpus
-#   MB2CO_FUZZ_FLAGS=-max_len=512 tests/fuzz/run.sh ...   more libFuzzer options (long runs)
+#   MB2CO_FUZZ_FLAGS=-max_len=512 tests/fuzz/run.sh ...   more libFuzzer options (long runs; they come last)
 #   tests/fuzz/run.sh ci                    every target, seed 1, a fixed number of
 #                                           executions (scripts/test.sh)
 # "ci" runs the same inputs on every machine: a landing is never refused by
@@ -23,9 +23,11 @@ shift
 # Executions per target in "ci" mode: about 10 s each on one busy core.
 declare -A ci_runs=([node_frames]=60000 [gateway_modbus]=20000 [register_bank]=40000
                     [timing_csv]=300000 [plant_config]=300000 [eds]=10000
-                    [sdo_transfer]=100000 [gateway_net]=300000 [param_image]=20000)
+                    [sdo_transfer]=100000 [gateway_net]=300000 [param_image]=20000
+                    [gateway_ascii]=25000)
 targets=("$@")
-((${#targets[@]})) || targets=(node_frames gateway_modbus register_bank timing_csv plant_config eds sdo_transfer gateway_net param_image)
+((${#targets[@]})) || targets=(node_frames gateway_modbus register_bank timing_csv plant_config eds sdo_transfer gateway_net param_image
+                               gateway_ascii)
 build=${MB2CO_FUZZ_BUILD_DIR:-build-fuzz}
 mkdir -p "$build"
 if ! { cmake -S tests/fuzz -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ &&
@@ -52,8 +54,10 @@ for t in "${targets[@]}"; do
     span="${seconds} s"
   fi
   # shellcheck disable=SC2086 # MB2CO_FUZZ_FLAGS: options, split on spaces
-  if "$build/mb2co_fuzz_$t" "${limit[@]}" ${MB2CO_FUZZ_FLAGS:-} -timeout=10 -rss_limit_mb=2048 \
-      -artifact_prefix="$build/artifacts/$t-" -print_final_stats=1 "$work" >"$log" 2>&1; then
+  # MB2CO_FUZZ_FLAGS last: a long run by hand may raise -timeout (wall clock:
+  # a busy host's pause is not a hang).
+  if "$build/mb2co_fuzz_$t" "${limit[@]}" -timeout=10 -rss_limit_mb=2048 \
+      -artifact_prefix="$build/artifacts/$t-" -print_final_stats=1 ${MB2CO_FUZZ_FLAGS:-} "$work" >"$log" 2>&1; then
     execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
     echo "fuzz $t: ${execs:-?} executions ($span), no failure"
     if [ "${MB2CO_FUZZ_MERGE:-0}" = 1 ]; then

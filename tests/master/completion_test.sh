@@ -11,7 +11,7 @@ source "$src/scripts/completion/mb2co.bash"
 # shellcheck disable=SC1091  # the same checkout
 source "$src/scripts/completion/expect_completion.bash"
 
-expect "scan read write upload download nmt sync watch dump configure" mb2co-master ""
+expect "scan read write upload download nmt sync watch dump configure serve" mb2co-master ""
 expect "sync" mb2co-master sy
 expect "--period --parity" mb2co-master sync --p
 expect "--heartbeat --help" mb2co-master -i vcan0 watch --he
@@ -19,4 +19,5 @@ expect "--help" mb2co-master read --he
 expect "--watchdog" mb2co-master --wat
 expect "--block --baud" mb2co-master -t 300 upload --b
 expect "N E O none even odd" mb2co-master --via-modbus /dev/ttyACM0 --parity ""
+expect "--listen" mb2co-master serve --li
 exit $failed

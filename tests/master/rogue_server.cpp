@@ -16,6 +16,17 @@
 namespace mb2co {
 namespace test {
 
+Bytes8 mux(const CanFrame& r, uint8_t cmd, uint32_t value) {
+  return {cmd,
+          r.data[1],
+          r.data[2],
+          r.data[3],
+          static_cast<uint8_t>(value),
+          static_cast<uint8_t>(value >> 8),
+          static_cast<uint8_t>(value >> 16),
+          static_cast<uint8_t>(value >> 24)};
+}
+
 bool RogueServer::start(Handler handler) {
   handler_ = std::move(handler);
   progress_at_ = Clock::now();

@@ -25,6 +25,10 @@ namespace test {
 using Clock = std::chrono::steady_clock;
 using Bytes8 = std::array<uint8_t, 8>;
 
+/// An answer to request `r`: `cmd`, the request's multiplexer (index,
+/// sub), then `value` little-endian.
+Bytes8 mux(const CanFrame& r, uint8_t cmd, uint32_t value = 0);
+
 class RogueServer {
  public:
   static const uint8_t kNode = 5;

@@ -39,18 +39,6 @@ const milliseconds kSlack{1500};
 /// held in memory (1 MiB in the streaming case) does not fit.
 const long kRssSlackKib = 512;
 
-/// The request's multiplexer (index, sub) after `cmd`, then `value` LE.
-Bytes8 mux(const CanFrame& r, uint8_t cmd, uint32_t value = 0) {
-  return {cmd,
-          r.data[1],
-          r.data[2],
-          r.data[3],
-          static_cast<uint8_t>(value),
-          static_cast<uint8_t>(value >> 8),
-          static_cast<uint8_t>(value >> 16),
-          static_cast<uint8_t>(value >> 24)};
-}
-
 /// A segmented upload segment answering request `r`: 7 bytes, c = 0.
 Bytes8 full_segment(const CanFrame& r) {
   return {static_cast<uint8_t>(r.data[0] & 0x10), 1, 2, 3, 4, 5, 6, 7};

@@ -10,7 +10,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
-#include "number_words.h"
+#include "host/tcp_address.h"
 
 namespace mb2co {
 namespace master {
@@ -120,22 +120,13 @@ Status parse_listen(const std::string& text, ListenAddress* out) {
     return Status::ok();
   }
   if (text.compare(0, 4, "tcp:") != 0) return Status::failure(usage);
-  a.tcp = true;
-  const std::string rest = text.substr(4);
-  const size_t colon = rest.rfind(':');
-  std::string port = rest;
-  a.host = "127.0.0.1";
-  if (colon != std::string::npos) {
-    a.host = rest.substr(0, colon);
-    port = rest.substr(colon + 1);
-    if (a.host.size() >= 2 && a.host.front() == '[' && a.host.back() == ']')
-      a.host = a.host.substr(1, a.host.size() - 2);
-    if (a.host.empty()) return Status::failure(usage);
-  }
-  uint64_t value = 0;
-  Status s = parse_number(port, 65535, "--listen tcp: PORT", &value);
+  // The form every mb2co program's TCP option takes (host/tcp_address.h).
+  TcpAddress tcp;
+  Status s = parse_tcp_address("--listen tcp:", text.substr(4), true, &tcp);
   if (!s) return s;
-  a.port = static_cast<uint16_t>(value);
+  a.tcp = true;
+  a.host = tcp.host;
+  a.port = tcp.port;
   *out = a;
   return Status::ok();
 }

@@ -12,6 +12,7 @@
 #include "ascii_request.h"
 #include "ascii_response.h"
 #include "ascii_values.h"
+#include "serve_listen.h"
 #include "serve_session.h"
 
 namespace mb2co {
@@ -286,6 +287,29 @@ TEST(ServeLines, OverlongLinesKeepTheirStartAndDropTheRest) {
     g.append(&b, 1);
   }
   EXPECT_EQ(g.take_partial(&text), ascii::LineFramer::Item::kOverlong);
+}
+
+TEST(ServeListen, AddressesAndWhetherOtherMachinesReachThem) {
+  ListenAddress a;
+  ASSERT_TRUE(parse_listen("unix:/tmp/CO_command_socket", &a));
+  EXPECT_FALSE(a.tcp);
+  EXPECT_EQ(a.path, "/tmp/CO_command_socket");
+  EXPECT_TRUE(loopback_only(a));
+  ASSERT_TRUE(parse_listen("tcp:0", &a));  // localhost unless told; the kernel's port
+  EXPECT_EQ(a.host, "127.0.0.1");
+  EXPECT_EQ(a.port, 0);
+  EXPECT_TRUE(loopback_only(a));
+  ASSERT_TRUE(parse_listen("tcp:[::1]:60000", &a));
+  EXPECT_EQ(a.host, "::1");
+  EXPECT_EQ(a.port, 60000);
+  EXPECT_TRUE(loopback_only(a));
+  ASSERT_TRUE(parse_listen("tcp:0.0.0.0:60000", &a));
+  EXPECT_FALSE(loopback_only(a));
+  const std::string too_long = "unix:/" + std::string(108, 'p');  // sun_path holds 107 bytes and a NUL
+  for (const std::string& bad :
+       {std::string("unix:"), std::string("udp:60000"), std::string("tcp:"), std::string("tcp:70000"),
+        std::string("tcp:host:"), std::string("/tmp/S"), too_long})
+    EXPECT_FALSE(parse_listen(bad, &a)) << bad;
 }
 
 /// A backend that answers only when the test says so.

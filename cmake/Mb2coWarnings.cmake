@@ -1,7 +1,9 @@
 # Warnings are errors on our own code (not on Debian's headers).
+# -Wundef: a profile switch (MB2CO_CONFIG_*) tested without its header is an
+# error, not a silent 0.
 function(mb2co_warnings target)
   target_compile_options(${target} PRIVATE
-    -Wall -Wextra -Wconversion -Wsign-conversion -Wshadow -Werror)
+    -Wall -Wextra -Wconversion -Wsign-conversion -Wshadow -Wundef -Werror)
 endfunction()
 
 # shared/ must stay C++14 with GNU extensions (Debian avr-g++ 5.4 is the

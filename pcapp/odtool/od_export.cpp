@@ -146,7 +146,7 @@ std::string od_markdown(const ObjectDictionary& od, const std::string& title) {
        "reals are ordered (-0.0 equals 0.0, a NaN is in no range). Data-type entries (0001h\n"
        "on) read the type's bit length as UNSIGNED32. Entries 0008h-001Bh and those named\n"
        "\"(host builds)\" exist in the Linux build (mb2co-node) only, not on the Uno\n"
-       "(its flash: MB2CO_OD_WIDE_TYPES), whose entries are all of the first seven types\n"
+       "(its flash: MB2CO_CONFIG_WIDE_TYPES), whose entries are all of the first seven types\n"
        "and VISIBLE_STRING.\n\n";
   s += "| index | sub | name | type | access | PDO | saved | default |\n";
   s += "|---|---|---|---|---|---|---|---|\n";

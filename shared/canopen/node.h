@@ -195,17 +195,10 @@ class Node : private NodeState {
   HeartbeatConsumer& heartbeat_consumer() { return hb_consumer_; }
   Tpdos& tpdos() { return tpdos_; }
   Rpdos& rpdos() { return rpdos_; }
-#ifdef MB2CO_SDO_BLOCK
-  /// Objects the SDO server serves outside the OD (sdo_domain.h; host
-  /// builds only). `domain` must outlive the node; null: none.
-  void set_sdo_domain(const SdoDomain* domain) {
-    sdo_.set_domain(domain);
-  }
-  /// SDO block transfer on or off (off by default, as on the AVR).
-  void set_sdo_block_transfer(bool on) {
-    sdo_.set_block_transfer(on);
-  }
-#endif
+  /// The node's SDO server: where the profile has block transfer
+  /// (MB2CO_CONFIG_SDO_BLOCK), its domain objects and block transfer switch
+  /// (SdoServer::set_domain, set_block_transfer).
+  SdoServer& sdo_server() { return sdo_; }
 
  private:
   static HookResult od_hook(void* ctx, uint8_t hook, uint16_t index, uint8_t sub, const uint8_t* data,

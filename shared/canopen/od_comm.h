@@ -26,11 +26,11 @@ const uint32_t kLoadSignature = 0x64616F6Cu;  ///< "load" (1011h)
 // Data-type entries: their value is the bit length; the OD sizes entries with
 // them (seed 000 §2.2). 0002h–0007h double as dummy-mapping objects.
 // Data-type entries of the other CiA 301 basic types (bit lengths; strings
-// and DOMAIN by their unit), host builds only (MB2CO_OD_WIDE_TYPES: the
+// and DOMAIN by their unit), host builds only (MB2CO_CONFIG_WIDE_TYPES: the
 // Uno's flash); not mappable (dummies are 0002h-0007h).
 #define MB2CO_OD_DATA_TYPE_ROW(N, index, id, type, name) \
   N(index, 0, id, U32, CONST, 0, kHookNone, ::mb2co::canopen::od_type_bit_length(type), name)
-#define MB2CO_OD_DATA_TYPES_WIDE(N, S) MB2CO_OD_WIDE(                                                   \
+#define MB2CO_OD_DATA_TYPES_WIDE(N, S) MB2CO_WITH_WIDE_TYPES(                                                   \
   MB2CO_OD_DATA_TYPE_ROW(N, 0x0008, x0008_0_real32, kReal32, "REAL32")                                \
   MB2CO_OD_DATA_TYPE_ROW(N, 0x0009, x0009_0_visibleString, kVisibleString, "VISIBLE_STRING")          \
   MB2CO_OD_DATA_TYPE_ROW(N, 0x000A, x000A_0_octetString, kOctetString, "OCTET_STRING")                \

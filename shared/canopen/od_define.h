@@ -41,6 +41,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "profiles/profile.h"
 #include "canopen/flash.h"
 #include "canopen/od_types.h"
 
@@ -482,12 +483,7 @@ constexpr uint8_t od_default_slot(const OdDefaultPool<kCount>& pool, uint32_t va
    : ((cap) >> 12) == 2 ? ::mb2co::canopen::kUnicodeString                                    \
    : ((cap) >> 12) == 3 ? ::mb2co::canopen::kDomain                                           \
                         : ::mb2co::canopen::kVisibleString)
-// Rows that only host builds have (MB2CO_OD_WIDE_TYPES, od_types.h).
-#if MB2CO_OD_WIDE_TYPES
-#define MB2CO_OD_WIDE(...) __VA_ARGS__
-#else
-#define MB2CO_OD_WIDE(...)
-#endif
+// Rows that only host builds have: MB2CO_WITH_WIDE_TYPES (profiles/profile.h).
 
 // RAM value block members, named by the identifier column: nothing for
 // CONST rows; PdoMapped<T> for the PDO-mappable ones; a PDO record's first

@@ -16,7 +16,7 @@ namespace canopen {
 
 /// CiA 301 basic data types (the index of their data-type entry, 0001h–001Bh:
 /// every one is below 20h, a row holds it in 5 bits). Entries 0001h–0007h of
-/// every OD (and 0008h–001Bh with MB2CO_OD_WIDE_TYPES) hold their bit length
+/// every OD (and 0008h–001Bh with MB2CO_CONFIG_WIDE_TYPES) hold their bit length
 /// as UNSIGNED32 (seed 000 §2.2, §3.3); the OD sizes values by kOdTypeBytes.
 enum DataType : uint8_t {
   kBoolean = 0x01,
@@ -161,19 +161,24 @@ struct OdEntry : OdRow {
                  ///< strings: capacity << 16 | offset of the default text in the string pool
 };
 
-/// A limit as stored: 64 bits with MB2CO_OD_WIDE_TYPES, else 32 (the AVR:
+/// A limit as stored: 64 bits with MB2CO_CONFIG_WIDE_TYPES, else 32 (the AVR:
 /// no 64-bit arithmetic in its image; od_define.h refuses a limit on a
 /// wider entry there). Integers: the value (an unsigned value above the
 /// signed maximum is above every limit). REAL32/REAL64: the real's ordered
 /// key (od_real_limit), so the check is integer-only on both targets.
 /// REAL64 limits need the 64 bits: the AVR's OD has no limited REAL64.
-#if MB2CO_OD_WIDE_TYPES
-typedef int64_t OdLimitValue;
-typedef uint64_t OdLimitBits;
-#else
-typedef int32_t OdLimitValue;
-typedef uint32_t OdLimitBits;
-#endif
+template <bool kWide>
+struct OdLimitWidth {
+  typedef int64_t Value;
+  typedef uint64_t Bits;
+};
+template <>
+struct OdLimitWidth<false> {
+  typedef int32_t Value;
+  typedef uint32_t Bits;
+};
+typedef OdLimitWidth<profile::kWideTypes>::Value OdLimitValue;
+typedef OdLimitWidth<profile::kWideTypes>::Bits OdLimitBits;
 
 /// Limits for the few entries that have them beyond their data type.
 struct OdLimit {

@@ -3,7 +3,7 @@
 // again from the peer's ackseq), the receiving half (segments taken in
 // sequence only, the ack, the end phase with the unused bytes of the last
 // segment), and the CRC both ends agree on. SdoClient uses both halves; the
-// SdoServer uses them in host builds (MB2CO_SDO_BLOCK).
+// SdoServer uses them in host builds (MB2CO_CONFIG_SDO_BLOCK).
 //
 // Frame layout (byte 0; bytes 1..3 are index and sub-index where named):
 //   download  initiate  C: 110 00 cc s 0, size      S: 101 00 sc 00, blksize

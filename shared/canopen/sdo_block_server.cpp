@@ -1,10 +1,10 @@
-// The SdoServer's host-only part (MB2CO_SDO_BLOCK, sdo_server.h): block
+// The SdoServer's host-only part (MB2CO_CONFIG_SDO_BLOCK, sdo_server.h): block
 // upload and download (CiA 301 §7.2.4.3.9-16) of OD values and of domain
 // objects, and expedited/segmented transfers of domain objects. Without the
 // macro this file is empty, so the AVR images stay as they are.
 #include "canopen/sdo_server.h"
 
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
 
 #include <string.h>
 
@@ -303,4 +303,4 @@ void SdoServer::process_block(const CanSink& sink) {
 }  // namespace canopen
 }  // namespace mb2co
 
-#endif  // MB2CO_SDO_BLOCK
+#endif  // MB2CO_CONFIG_SDO_BLOCK

@@ -44,7 +44,7 @@ void SdoClient::begin(uint16_t index, uint8_t sub, uint32_t now_us) {
   sub_ = sub;
   pos_ = 0;
   toggle_ = 0;
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
   crc_ = false;
   repeats_ = 0;
 #endif
@@ -81,7 +81,7 @@ bool SdoClient::start_upload(uint16_t index, uint8_t sub, SdoMode mode, const Sd
   capacity_ = capacity;
   size_ = 0;
   size_known_ = false;
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
   if (mode == kSdoBlock) {
     if (block_size_ == 0 || block_size_ > kBlockSizeMax) block_size_ = kBlockSizeMax;
     // ccs 5, cc = 1 (we check CRCs), cs = 0; blksize; pst.
@@ -118,7 +118,7 @@ bool SdoClient::start_download(uint16_t index, uint8_t sub, SdoMode mode, const 
   available_ = size;
   size_known_ = true;
   expedited_ = mode == kSdoAuto && size >= 1 && size <= 4;
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
   if (mode == kSdoBlock) {
     // ccs 6, cc = 1, s = 1, cs = 0; size.
     send_mux(sink, 0xC6, size);
@@ -159,7 +159,7 @@ void SdoClient::abort(SdoAbort code, const CanSink& sink) {
 
 void SdoClient::process(uint32_t now_us, const CanSink& sink) {
   if (!busy()) return;
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
   if (state_ == kStBlockDownloadSub && sender_.pending()) {
     const SdoAbort code = sender_.pump(request_id_, sink);
     if (code != kSdoOk) return abort(code, sink);
@@ -174,7 +174,7 @@ void SdoClient::process(uint32_t now_us, const CanSink& sink) {
 
 void SdoClient::next_deadline(NextDeadline& d) const {
   if (!busy()) return;
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
   if (state_ == kStBlockDownloadSub && sender_.pending()) return d.now();
 #endif
   d.at(deadline_us_);
@@ -230,7 +230,7 @@ SdoAbort SdoClient::on_response(const CanFrame& f, const CanSink& sink) {
       return on_upload_initiate(f, sink);
     case kStUploadSegment:
       return on_upload_segment(f, sink);
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
     case kStBlockDownloadInitiate:
     case kStBlockDownloadSub:
     case kStBlockDownloadEnd:
@@ -326,7 +326,7 @@ SdoAbort SdoClient::on_upload_segment(const CanFrame& f, const CanSink& sink) {
 }
 
 // ---- block transfer -----------------------------------------------------------
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
 
 SdoAbort SdoClient::count_repeat(bool repeat) {
   if (!repeat) {
@@ -431,7 +431,7 @@ SdoAbort SdoClient::on_block_upload(const CanFrame& f, const CanSink& sink) {
   succeed();
   return kSdoOk;
 }
-#endif  // MB2CO_SDO_BLOCK
+#endif  // MB2CO_CONFIG_SDO_BLOCK
 
 }  // namespace canopen
 }  // namespace mb2co

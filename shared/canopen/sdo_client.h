@@ -2,7 +2,7 @@
 // server node. Expedited, segmented (toggle checked) and block transfer (sub-
 // blocks of 1..127 segments, resent from the server's ackseq, CRC-16 when
 // both ends support it, the protocol switch of block upload; only where
-// MB2CO_SDO_BLOCK is defined, as in every host build: the Uno's gateway
+// MB2CO_CONFIG_SDO_BLOCK is defined, as in every host build: the Uno's gateway
 // relays expedited and segmented transfers and has no flash for more), a timeout that
 // aborts with 05040000h, and the abort code of every failure, sent by us or
 // received from the server, as the result.
@@ -35,7 +35,8 @@
 #include "canopen/can_frame.h"
 #include "canopen/clock.h"
 #include "canopen/sdo_abort.h"
-#ifdef MB2CO_SDO_BLOCK
+#include "profiles/profile.h"
+#if MB2CO_CONFIG_SDO_BLOCK
 #include "canopen/sdo_block.h"
 #endif
 #include "canopen/sdo_domain.h"
@@ -51,7 +52,7 @@ enum SdoMode : uint8_t {
   kSdoAuto,
   /// Download: segmented even for 0..4 bytes. Upload: as kSdoAuto.
   kSdoSegmented,
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
   /// Block transfer. An upload falls back to expedited or segmented when the
   /// server answers so (size <= the protocol switch threshold).
   kSdoBlock,
@@ -71,7 +72,7 @@ struct SdoClientState {
     kStDownloadWaiting,   ///< the next segment's bytes are not available yet
     kStUploadInitiate,    ///< waits for 4xh
     kStUploadSegment,     ///< waits for a segment
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
     kStBlockDownloadInitiate,
     kStBlockDownloadSub,  ///< sends a sub-block, waits for its ack
     kStBlockDownloadEnd,  ///< waits for A1h
@@ -89,7 +90,7 @@ struct SdoClientState {
   uint32_t available_;  ///< download: bytes [0, available_) of the data may be read
   uint32_t deadline_us_;
   SdoAbort result_;
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
   BlockSender sender_;
   BlockReceiver receiver_;
 #endif
@@ -97,7 +98,7 @@ struct SdoClientState {
   uint16_t response_id_;
   uint16_t index_;
   uint8_t sub_;
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
   uint8_t block_size_;  ///< 0: kBlockSizeMax
   uint8_t pst_;
   uint8_t repeats_;  ///< sub-blocks in a row that had to be sent again (in part or whole)
@@ -134,7 +135,7 @@ class SdoClient : private SdoClientState {
   /// The server's answer must come within `us` of our last frame, and the
   /// transfer must make progress within `us` of its last progress.
   void set_timeout_us(uint32_t us) { timeout_us_ = us; }
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
   /// Sub-blocks in a row that may be repeated (the receiver took less than
   /// was sent); one more ends the transfer with 05040003h. A lost frame
   /// costs one repeat; a peer that never takes a sub-block whole would
@@ -216,7 +217,7 @@ class SdoClient : private SdoClientState {
   bool size_known() const {
     return size_known_;
   }
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
   /// True when the current/last transfer was a block transfer with CRC.
   bool crc_used() const {
     return crc_;
@@ -241,7 +242,7 @@ class SdoClient : private SdoClientState {
   SdoAbort on_response(const CanFrame& f, const CanSink& sink);
   SdoAbort on_upload_initiate(const CanFrame& f, const CanSink& sink);
   SdoAbort on_upload_segment(const CanFrame& f, const CanSink& sink);
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
   SdoAbort on_block_download(const CanFrame& f, const CanSink& sink);
   SdoAbort on_block_upload(const CanFrame& f, const CanSink& sink);
   /// Counts a sub-block that must be repeated (`repeat`) or resets the

@@ -27,7 +27,7 @@ struct SdoData {
 };
 
 /// Objects the SDO server serves from the application instead of the OD
-/// table (host builds only: MB2CO_SDO_BLOCK, sdo_server.h). The server asks
+/// table (host builds only: MB2CO_CONFIG_SDO_BLOCK, sdo_server.h). The server asks
 /// owns() before it looks into the OD. A download goes to a staging area of
 /// the application: begin(), write() in order, commit() once the transfer
 /// completed; a download that ends any other way (abort, timeout, a new

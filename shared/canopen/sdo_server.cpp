@@ -50,7 +50,7 @@ void SdoServer::on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink
   const uint8_t ccs = static_cast<uint8_t>(f.data[0] >> 5);
   deadline_us_ = now_us + timeout_us_;
   SdoAbort code = kSdoOk;
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
   if (on_host_frame(f, sink, &code)) {
     if (code != kSdoOk) abort(sink, code);
     return;
@@ -86,7 +86,7 @@ void SdoServer::on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sink
 }
 
 void SdoServer::process(uint32_t now_us, const CanSink& sink) {
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
   if (state_ == kBlockUploadSub && sender_.pending()) return process_block(sink);
 #endif
   if (state_ != kIdle && time_reached(now_us, deadline_us_)) abort(sink, kAbortTimeout);

@@ -2,7 +2,7 @@
 // 600h+id / 580h+id, toggle checking, a server timeout, and an abort with the
 // CiA 301 code for every refused request.
 //
-// MB2CO_SDO_BLOCK (defined for host builds by shared/canopen/CMakeLists.txt,
+// MB2CO_CONFIG_SDO_BLOCK (defined for host builds by shared/canopen/CMakeLists.txt,
 // never for the AVR images, which must not grow) adds block upload and
 // download (sdo_block_server.cpp: CRC, sub-blocks resent from the client's
 // ackseq, the end phase, the protocol switch; on with set_block_transfer)
@@ -16,7 +16,8 @@
 #include "canopen/clock.h"
 #include "canopen/od.h"
 #include "canopen/sdo_segment.h"
-#ifdef MB2CO_SDO_BLOCK
+#include "profiles/profile.h"
+#if MB2CO_CONFIG_SDO_BLOCK
 #include "canopen/sdo_block.h"
 #include "canopen/sdo_domain.h"
 #endif
@@ -49,7 +50,7 @@ class SdoServer {
   /// Drops a transfer in progress without a word (NMT stop or reset).
   void cancel() { state_ = kIdle; }
   bool busy() const { return state_ != kIdle; }
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
   /// Objects served outside the OD, asked before it (null: none). Must
   /// outlive the server; init() keeps it.
   void set_domain(const SdoDomain* domain) {
@@ -84,7 +85,7 @@ class SdoServer {
     kIdle,
     kDownloading,
     kUploading,
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
     kDomainDownloading,  ///< segmented download into domain_
     kDomainUploading,    ///< segmented upload from domain_
     kBlockDownloadSub,   ///< takes the segments of sub-blocks
@@ -108,7 +109,7 @@ class SdoServer {
   SdoAbort upload_segment(const CanFrame& f, const CanSink& sink);
   /// Takes index and sub-index of a request (bytes 1..3) as index_/sub_.
   void take_multiplexer(const CanFrame& f);
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
   // sdo_block_server.cpp. True when the frame was one of the host-only
   // kinds (block, domain) and *code says how it ended.
   bool on_host_frame(const CanFrame& f, const CanSink& sink, SdoAbort* code);
@@ -143,7 +144,7 @@ class SdoServer {
   uint8_t offset_;  ///< upload: bytes already sent
   bool size_indicated_;
   uint8_t buffer_[kBufferSize];
-#ifdef MB2CO_SDO_BLOCK
+#if MB2CO_CONFIG_SDO_BLOCK
   const SdoDomain* domain_;
   BlockSender sender_;
   BlockReceiver receiver_;

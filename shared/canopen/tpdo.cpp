@@ -5,6 +5,7 @@
 #include "canopen/clock.h"
 #include "canopen/frame_out.h"
 #include "canopen/pdo_map.h"
+#include "profiles/profile.h"
 
 namespace mb2co {
 namespace canopen {

@@ -13,20 +13,14 @@ namespace mb2co {
 namespace gateway {
 
 /// Capacities of the Modbus maps (sub-entries of 2400h–2403h). Host builds
-/// map the process values of 2500h too (MB2CO_OD_WIDE_TYPES).
-const uint8_t kHoldingMapSize = MB2CO_OD_WIDE_TYPES ? 14 : 12;
+/// map the process values of 2500h too (profile::kWideTypes).
+const uint8_t kHoldingMapSize = profile::kWideTypes ? 14 : 12;
 const uint8_t kInputMapSize = 21;
 const uint8_t kCoilMapSize = 2;
 const uint8_t kDiscreteMapSize = 8;
 
 #define MB2CO_MAP MB2CO_PDO_MAP_ENTRY
 #define MB2CO_GW_MAP_ENTRY(N, INDEX, SUB, ID, HOOK, DEF, NAME) N(INDEX, SUB, ID, U32, RW, 0, HOOK, DEF, NAME)
-// `wide` in host builds, `narrow` on the AVR (MB2CO_OD_WIDE_TYPES).
-#if MB2CO_OD_WIDE_TYPES
-#define MB2CO_GW_WIDE_OR(wide, narrow) wide
-#else
-#define MB2CO_GW_WIDE_OR(wide, narrow) narrow
-#endif
 
 // Default Modbus map (docs/register-map.md is generated from it).
 #define MB2CO_GATEWAY_OD(N, S)                                                                                                        \
@@ -49,9 +43,9 @@ const uint8_t kDiscreteMapSize = 8;
   MB2CO_OD_PDO_MAP4(N, 0x1A00, x1A00, kHookTpdoMap, 2, MB2CO_MAP(0x2100, 2, 8), MB2CO_MAP(0x2100, 3, 16), 0,                          \
                     0, "TPDO1 mapping")                                                                                               \
   MB2CO_OD_PDO_MAP4(N, 0x1A01, x1A01, kHookTpdoMap, 1, MB2CO_MAP(0x6000, 1, 8), 0, 0, 0, "TPDO2 mapping")                             \
-  MB2CO_OD_PDO_MAP4(N, 0x1A02, x1A02, kHookTpdoMap, MB2CO_GW_WIDE_OR(1, 0), MB2CO_GW_WIDE_OR(MB2CO_MAP(0x2500, 1, 32), 0), 0, 0, 0,     \
+  MB2CO_OD_PDO_MAP4(N, 0x1A02, x1A02, kHookTpdoMap, MB2CO_WIDE_TYPES_OR(1, 0), MB2CO_WIDE_TYPES_OR(MB2CO_MAP(0x2500, 1, 32), 0), 0, 0, 0,     \
                     "TPDO3 mapping")                                                                                                  \
-  MB2CO_OD_PDO_MAP4(N, 0x1A03, x1A03, kHookTpdoMap, MB2CO_GW_WIDE_OR(1, 0), MB2CO_GW_WIDE_OR(MB2CO_MAP(0x2500, 2, 64), 0), 0, 0, 0,     \
+  MB2CO_OD_PDO_MAP4(N, 0x1A03, x1A03, kHookTpdoMap, MB2CO_WIDE_TYPES_OR(1, 0), MB2CO_WIDE_TYPES_OR(MB2CO_MAP(0x2500, 2, 64), 0), 0, 0, 0,     \
                     "TPDO4 mapping")                                                                                                  \
   N(0x2000, 0, x2000_0_highestSubIndex, U8, CONST, 0, kHookNone, 10, "Station configuration: highest sub-index")                       \
   N(0x2000, 1, x2000_1_nodeId, U8, RW, 0, kHookApp, 1, "Station configuration: node id (from next reset)")                            \
@@ -109,7 +103,7 @@ const uint8_t kDiscreteMapSize = 8;
   MB2CO_GW_MAP_ENTRY(N, 0x2400, 10, x2400_10_holdingMap10, kHookApp, MB2CO_MAP(0x1006, 0, 32), "HR map 10")                           \
   MB2CO_GW_MAP_ENTRY(N, 0x2400, 11, x2400_11_holdingMap11, kHookApp, MB2CO_MAP(0x1010, 1, 32), "HR map 11")                           \
   MB2CO_GW_MAP_ENTRY(N, 0x2400, 12, x2400_12_holdingMap12, kHookApp, MB2CO_MAP(0x2001, 0, 8), "HR map 12")                            \
-  MB2CO_OD_WIDE(                                                                                                                      \
+  MB2CO_WITH_WIDE_TYPES(                                                                                                                      \
   MB2CO_GW_MAP_ENTRY(N, 0x2400, 13, x2400_13_holdingMap13, kHookApp, MB2CO_MAP(0x2500, 1, 32), "HR map 13")                           \
   MB2CO_GW_MAP_ENTRY(N, 0x2400, 14, x2400_14_holdingMap14, kHookApp, MB2CO_MAP(0x2500, 2, 64), "HR map 14"))                          \
   N(0x2401, 0, x2401_0_inputMapCount, U8, RW, 0, kHookApp, 21, "Modbus input registers: mapped entries")                              \
@@ -146,7 +140,7 @@ const uint8_t kDiscreteMapSize = 8;
   MB2CO_GW_MAP_ENTRY(N, 0x2403, 6, x2403_6_discreteMap6, kHookApp, MB2CO_MAP(0x2120, 1, 1), "DI map 6")                               \
   MB2CO_GW_MAP_ENTRY(N, 0x2403, 7, x2403_7_discreteMap7, kHookApp, MB2CO_MAP(0x2200, 0, 1), "DI map 7")                               \
   MB2CO_GW_MAP_ENTRY(N, 0x2403, 8, x2403_8_discreteMap8, kHookApp, 0, "DI map 8")                                                     \
-  MB2CO_OD_WIDE(                                                                                                                      \
+  MB2CO_WITH_WIDE_TYPES(                                                                                                                      \
   N(0x2500, 0, x2500_0_highestSubIndex, U8, CONST, 0, kHookNone, 2, "Process values (host builds): highest sub-index")               \
   N(0x2500, 1, x2500_1_measuredValue, REAL32, RW, kAttrPdo | kAttrCommand, kHookNone, 0.0f, "Process values (host builds): measured value, REAL32") \
   N(0x2500, 2, x2500_2_eventCounter, U64, RW, kAttrPdo | kAttrCommand, kHookNone, 0, "Process values (host builds): event counter, UNSIGNED64")) \
@@ -165,7 +159,7 @@ const uint8_t kDiscreteMapSize = 8;
   L(0x2000, 8, 0, 1)            \
   L(0x2001, 0, 0, 2)            \
   L(0x2100, 1, 0, 1)            \
-  MB2CO_OD_WIDE(L(0x2500, 1, od_real32_limit(-1.0e6f), od_real32_limit(1.0e6f)))
+  MB2CO_WITH_WIDE_TYPES(L(0x2500, 1, od_real32_limit(-1.0e6f), od_real32_limit(1.0e6f)))
 
 namespace od {
 using namespace ::mb2co::canopen;

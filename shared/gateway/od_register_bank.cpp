@@ -67,7 +67,7 @@ bool OdRegisterBank::reach(Walk* w, uint16_t address) {
     it.bits = canopen::map_bits(entry);
     // One register per 16 bits (a string's 2 characters), at least one; on
     // the AVR at most two (check_map_write: no entry wider than 32 bits).
-    const uint8_t wide = MB2CO_OD_WIDE_TYPES ? static_cast<uint8_t>((it.bits + 15u) / 16u) : 2;
+    const uint8_t wide = profile::kWideTypes ? static_cast<uint8_t>((it.bits + 15u) / 16u) : 2;
     it.width = (entry != 0 && !w->bit_table && it.bits > 16) ? wide : 1;
   } while (address >= it.first + it.width);
   // Only the item reached is looked up (not those before the request's start).
@@ -194,7 +194,7 @@ namespace {
 // Every byte of an entry's capacity (a string's too, whatever its length).
 struct Undo {
   static const uint8_t kMax = 24;
-  static const uint8_t kBytes = MB2CO_OD_WIDE_TYPES ? OdRegisterBank::kRunBytes : 4;
+  static const uint8_t kBytes = profile::kWideTypes ? OdRegisterBank::kRunBytes : 4;
   uint16_t rows[kMax];
   uint8_t old[kMax][kBytes];
   uint8_t n = 0;
@@ -311,7 +311,7 @@ canopen::SdoAbort OdRegisterBank::check_map_write(uint16_t index, uint8_t sub, c
     if (bits != 1 || size != 1) return canopen::kAbortInvalidValue;
   } else if (!((bits >= 1 && bits <= 16 && bits <= size * 8u) ||
                // 24 and 32 bits (2 registers); wider in host builds
-               (bits > 16 && bits == size * 8u && (MB2CO_OD_WIDE_TYPES || size <= 4)))) {
+               (bits > 16 && bits == size * 8u && (profile::kWideTypes || size <= 4)))) {
     return canopen::kAbortInvalidValue;
   }
   return canopen::kSdoOk;

@@ -3,7 +3,7 @@
 // discrete inputs) of 32-bit entries in the PDO mapping format (index, sub,
 // length in bits). Entries are laid out back to back from address 0: an entry
 // takes one register per 16 bits, high word first (up to 16 bits one, 24 and
-// 32 bits two; in host builds, MB2CO_OD_WIDE_TYPES, 40 and 48 bits three, 56
+// 32 bits two; in host builds, MB2CO_CONFIG_WIDE_TYPES, 40 and 48 bits three, 56
 // and 64 bits four, and a VISIBLE_STRING or OCTET_STRING of n bytes a run of
 // (n + 1) / 2 registers, two characters each, the first in the high byte);
 // a coil or discrete input is one bit (bit 0 of an 8-bit entry); an entry 0

@@ -41,6 +41,7 @@
 #include "modbus/register_bank.h"
 #include "modbus/rtu_framer.h"
 #include "modbus/rtu_timing.h"
+#include "profiles/profile.h"
 #if MB2CO_CONFIG_MODBUS_TCP
 #include "modbus/tcp_channel.h"
 #endif

@@ -53,10 +53,13 @@
 #define MB2CO_WITH_NETWORK(...)
 #endif
 
-// The switches' names before the profiles (transitional: code still reading
-// them is being moved to the names above).
-#define MB2CO_GATEWAY_NET MB2CO_CONFIG_NETWORK
-#define MB2CO_OD_WIDE_TYPES MB2CO_CONFIG_WIDE_TYPES
+#if MB2CO_CONFIG_WIDE_TYPES
+#define MB2CO_WITH_WIDE_TYPES(...) __VA_ARGS__
+#define MB2CO_WIDE_TYPES_OR(wide, narrow) wide
+#else
+#define MB2CO_WITH_WIDE_TYPES(...)
+#define MB2CO_WIDE_TYPES_OR(wide, narrow) narrow
+#endif
 
 namespace mb2co {
 namespace profile {

@@ -1,4 +1,4 @@
-// The SdoServer's block transfer (MB2CO_SDO_BLOCK) against a client
+// The SdoServer's block transfer (MB2CO_CONFIG_SDO_BLOCK) against a client
 // scripted byte by byte from the CiA 301 layout (§7.2.4.3.9-16), so that a
 // misreading shared by our SdoClient and SdoServer cannot hide: initiate,
 // sub-blocks, the ack and resend from ackseq, the end phase with n and the
@@ -286,7 +286,7 @@ TEST_F(SdoBlockServer, BlockTransferIsOffUnlessTurnedOn) {
 }
 
 TEST_F(SdoBlockServer, TheNodeServesItsDomainThroughTheHook) {
-  io.node().set_sdo_domain(&table);
+  io.node().sdo_server().set_domain(&table);
   domain.content = {0xDE, 0xAD};
   node_log.take();
   io.receive(F(0x603, {0x40, 0x50, 0x1F, 0x01, 0, 0, 0, 0}), 10);
@@ -297,7 +297,7 @@ TEST_F(SdoBlockServer, TheNodeServesItsDomainThroughTheHook) {
   // Block transfer once the application turns it on.
   io.receive(F(0x603, {0xA4, 0x50, 0x1F, 0x01, 0x7F, 0, 0, 0}), 30);
   EXPECT_EQ(node_log.take(), Frames{abort(0x1F50, 1, 0x05040001)});
-  io.node().set_sdo_block_transfer(true);
+  io.node().sdo_server().set_block_transfer(true);
   io.receive(F(0x603, {0xA4, 0x50, 0x1F, 0x01, 0x7F, 0, 0, 0}), 40);
   EXPECT_EQ(node_log.take(), Frames{"<583> C6 50 1F 01 02 00 00 00"});
 }

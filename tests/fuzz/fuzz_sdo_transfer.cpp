@@ -1,5 +1,5 @@
 // libFuzzer target: both ends of an SDO transfer with block transfer and a
-// domain object compiled in (MB2CO_SDO_BLOCK, the host build of mb2co-node
+// domain object compiled in (MB2CO_CONFIG_SDO_BLOCK, the host build of mb2co-node
 // and mb2co-master), each facing a peer that says anything.
 //
 // Input: byte 0 picks the side and the request (client: upload/download,

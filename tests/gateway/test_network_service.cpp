@@ -338,10 +338,10 @@ class MultiPart : public NetworkService {
   MultiPart() : value(40) {
     domain.content.assign(3, 0xEE);
     table = domain.table();
-    line.gw(1).node().set_sdo_domain(&table);
+    line.gw(1).node().sdo_server().set_domain(&table);
     for (size_t i = 0; i < value.size(); ++i) value[i] = static_cast<uint8_t>(0x30 + i);
   }
-  ~MultiPart() override { line.gw(1).node().set_sdo_domain(nullptr); }
+  ~MultiPart() override { line.gw(1).node().sdo_server().set_domain(nullptr); }
   ParseStatus part(uint16_t at, uint16_t n) {
     const bool more = at + n < value.size();
     return ask(modbus::build_net_download(req, sizeof req, kAddress, 2, 0x1F50, 1,

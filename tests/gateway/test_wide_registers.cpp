@@ -1,5 +1,5 @@
 // The wider types through the gateway's Modbus maps, as on mb2co-node (the
-// host build: MB2CO_OD_WIDE_TYPES): a REAL32 written as two holding
+// host build: MB2CO_CONFIG_WIDE_TYPES): a REAL32 written as two holding
 // registers and an UNSIGNED64 as four go out in TPDO3/TPDO4 and read back by
 // SDO with the same bits; a write of several registers is all or nothing;
 // a string is a register run.
@@ -22,7 +22,7 @@ using test::le_bytes;
 using test::Line;
 namespace entry = gateway::od::GatewayEntry;
 
-static_assert(MB2CO_OD_WIDE_TYPES, "host builds carry the wide types");
+static_assert(MB2CO_CONFIG_WIDE_TYPES, "host builds carry the wide types");
 
 // Where the default holding map puts the process values of 2500h.
 constexpr uint16_t kHrReal = gateway::default_map_address(0x2400, entry::x2500_1_measuredValue);

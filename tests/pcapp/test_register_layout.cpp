@@ -77,7 +77,7 @@ TEST(RegisterLayout, KnownAddressesOfTheDefaultMap) {
   EXPECT_EQ(l[Field::nmt_state].address, 22);
   EXPECT_EQ(l.mapped[1].size(), 24u);  // the last: 2003h, damaged saved sets found
   // 14 registers, and on the host the REAL32 (2) and UNSIGNED64 (4) of 2500h.
-  const size_t holding = MB2CO_OD_WIDE_TYPES ? 20u : 14u;
+  const size_t holding = MB2CO_CONFIG_WIDE_TYPES ? 20u : 14u;
   EXPECT_EQ(l.mapped[0].size(), holding);
   ASSERT_EQ(l.writable.size(), holding);
   EXPECT_TRUE(l.writable[0]);

@@ -143,8 +143,8 @@ int main(int argc, char** argv) {
   // 1F50h/1: a large DOMAIN for segmented and block SDO transfers (program_data.h).
   static node::ProgramData program_data;
   static const canopen::SdoDomain program_data_table = program_data.table();
-  gw.node().set_sdo_domain(&program_data_table);
-  gw.node().set_sdo_block_transfer(true);
+  gw.node().sdo_server().set_domain(&program_data_table);
+  gw.node().sdo_server().set_block_transfer(true);
   // Modbus/TCP in front of the same slave (modbus_tcp_server.h).
   node::ModbusTcpServer tcp(gw.modbus_slave());
   if (opt.tcp_given) {

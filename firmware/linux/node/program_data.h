@@ -25,7 +25,7 @@ class ProgramData {
   static const uint32_t kInitialBytes = 131072;
 
   ProgramData();
-  /// The table for canopen::Node::set_sdo_domain; `this` must outlive its use.
+  /// The table for canopen::SdoServer::set_domain; `this` must outlive its use.
   canopen::SdoDomain table();
   const std::vector<uint8_t>& content() const { return content_; }
 

@@ -84,7 +84,8 @@ int main(int argc, char** argv) {
   }
 
   lab::ProgressBar bar(!o.quiet && isatty(STDOUT_FILENO) ? stdout : nullptr);
-  sim::EventLog log(true);
+  // Without --events nothing is logged: no line is formatted that would not be written.
+  sim::EventLog log(o.events);
   sim::CanTrace trace;
   if (!o.trace_path.empty()) log.set_can_trace(&trace);
   std::string report = lab::report_header(o);
@@ -188,7 +189,7 @@ int main(int argc, char** argv) {
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 
-  report += sim::strf("\nfiles in %s/: report.txt events.csv", o.out_dir.c_str());
+  report += sim::strf("\nfiles in %s/: report.txt%s", o.out_dir.c_str(), o.events ? " events.csv" : "");
   for (const auto& f : files) report += " " + f.first;
   report += sim::strf("\nresult: %s\n", pass ? "PASS" : "FAIL");
   std::fputs(report.c_str(), stdout);
@@ -206,7 +207,7 @@ int main(int argc, char** argv) {
     }
   }
   files.push_back({"report.txt", report});
-  files.push_back({"events.csv", std::string(sim::EventLog::header()) + log.text()});
+  if (o.events) files.push_back({"events.csv", std::string(sim::EventLog::header()) + log.text()});
   for (const auto& f : files) {
     const Status written = write_file(out / f.first, f.second);
     if (!written) {

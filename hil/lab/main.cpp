@@ -164,11 +164,16 @@ int main(int argc, char** argv) {
     bar.clear();
     report += roundtrip ? lab::sync_roundtrip_section(results) : lab::sync_latency_section(results);
     files.push_back({std::string(lab::scenario_name(o.scenario)) + ".csv", lab::sync_csv(results)});
+    for (const sim::SyncResult& r : results) {
+      files.push_back({sim::strf("%s-%uk.svg", lab::scenario_name(o.scenario), r.lab.bitrate_kbit),
+                       lab::sync_svg(r, roundtrip)});
+    }
   }
   if (o.scenario == lab::Scenario::kSyncProcessing) {
     const std::string elf = o.elf.empty() ? std::string(MB2CO_LAB_DEFAULT_ELF) : o.elf;
     const lab::SyncProcessingResult r = lab::sync_processing_run(elf, o.syncs, o.line.seed);
     report += lab::sync_processing_section(r);
+    files.push_back({"sync-processing.svg", lab::sync_processing_svg(r)});
     pass = pass && r.ok;
   }
   if (o.scenario == lab::Scenario::kAlternative) {
@@ -186,6 +191,8 @@ int main(int argc, char** argv) {
     }
     bar.clear();
     report += lab::alternative_section(results);
+    for (const sim::AlternativeResult& r : results)
+      files.push_back({sim::strf("alternative-%uk.svg", r.bitrate_kbit), lab::alternative_svg(r)});
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 

@@ -42,6 +42,9 @@ cli::Program make_program() {
                     "every CAN frame of the runs as a candump -L log (canplayer, Wireshark),\n"
                     "or pcap (LINKTYPE_CAN_SOCKETCAN) when FILE ends in .pcap"),
           cli::flag("--quiet", "no progress bar, no speed figure"),
+          cli::flag("--events",
+                    "also write events.csv to --out: every event of the runs (CAN\n"
+                    "frames, Modbus transactions, LEDs, states; ~30 MB for the default run)"),
           cli::uint_range(
               "--syncs", "N", 1, 1000000,
               "SYNC round trips per bit rate (sync-roundtrip), SYNCs (sync-processing); default 1000"),
@@ -114,6 +117,7 @@ Status apply_options(const cli::Args& a, Options* o) {
   o->out_dir = a.get("--out", o->out_dir);
   o->trace_path = a.get("--trace", o->trace_path);
   o->quiet = a.has("--quiet");
+  o->events = a.has("--events");
   o->syncs = static_cast<uint32_t>(a.uint("--syncs", o->syncs));
   o->sync_period_us = static_cast<uint32_t>(a.uint("--sync-period-us", o->sync_period_us));
   o->transmission_type = static_cast<uint32_t>(a.uint("--transmission-type", o->transmission_type));

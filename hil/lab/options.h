@@ -34,6 +34,7 @@ struct Options {
   uint32_t duration_s = 30;      ///< run scenario
   std::string firmware = "uno";  ///< uno | fast
   bool quiet = false;
+  bool events = false;  ///< --events: write events.csv (every event of the runs, ~30 MB by default)
   // The SYNC labs (seed 000 §5) and sync-processing.
   uint32_t syncs = 1000;              ///< round trips per bit rate (sync-roundtrip), SYNCs (sync-processing)
   uint32_t sync_period_us = 10000;    ///< 1006h of the SYNC producer

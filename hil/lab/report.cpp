@@ -166,7 +166,10 @@ std::string stop2_section(const sim::Stop2Result& r) {
 }
 
 std::string latency_section(const std::vector<sim::LatencyResult>& results) {
-  std::string s = "\n== latency: button -> LED (seed 000 §11), presses at random phases, ms\n";
+  const bool worst = !results.empty() && results.front().c.worst;
+  std::string s = strf("\n== latency: button -> LED (seed 000 §11), %s, ms\n",
+                       worst ? "presses at the phasings of a deterministic worst-case search (--worst)"
+                             : "presses at random phases");
   s += "  bitrate  path             n     min    mean     p99     max  | bound best   worst | inside  "
        "max/worst\n";
   bool all = true;

@@ -174,7 +174,9 @@ LatencyResult latency_scenario(LineConfig c, const LatencyCase& lc, uint32_t pre
   r.samples_ns = std::move(presses_run.samples_ns);
   r.lost = presses_run.lost;
 
-  r.bound = lab_bound(line, lc.remote);  // every Arduino is up by now
+  LabOperator op;
+  op.interference = lc.worst && lc.remote;   // what search_worst_presses presses besides the lab button
+  r.bound = lab_bound(line, lc.remote, op);  // every Arduino is up by now
   r.duration_ns = line.now();
   r.events = line.queue().handled();
   for (int i = 0; i < line.size(); ++i) r.rx_overflows += line.node(i).can().counters().rx_overflows;

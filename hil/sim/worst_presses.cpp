@@ -1,6 +1,8 @@
 #include "sim/worst_presses.h"
 
 #include <algorithm>
+#include <functional>
+#include <vector>
 
 #include "gateway/line_app.h"
 
@@ -22,7 +24,8 @@ constexpr uint32_t kFineRepeats = 12;
 
 class Operator {
  public:
-  Operator(Line& line, int button_station, int led_station, uint32_t led_pdo_id, bool interference)
+  Operator(Line& line, int button_station, int led_station, uint32_t button_pdo_id, uint32_t led_pdo_id,
+           bool interference)
       : line_(line),
         button_(button_station),
         led_station_(led_station),
@@ -33,10 +36,22 @@ class Operator {
           led_pdo_sof_ == 0)
         led_pdo_sof_ = a.sof_ns;
     };
+    // A press whose button or LED PDO a full receive buffer dropped is
+    // outside the bound's assumption (no frame lost): counted lost, not
+    // measured, even when a later PDO still carries it.
+    for (int s = 0; s < line_.size(); ++s) {
+      std::function<void(const CanFrame&)>& hook = line_.node(s).can().on_overflow;
+      saved_.push_back(hook);
+      hook = [this, button_pdo_id, led_pdo_id, chained = hook](const CanFrame& f) {
+        if (chained) chained(f);
+        if (f.id == button_pdo_id || f.id == led_pdo_id) lab_pdo_lost_ = true;
+      };
+    }
   }
   ~Operator() {
     line_.on_leds = nullptr;
     line_.on_can = nullptr;
+    for (int s = 0; s < line_.size(); ++s) line_.node(s).can().on_overflow = saved_[static_cast<size_t>(s)];
   }
 
   /// Presses at `at` (≥ now), releases once the LED is on, waits for it to
@@ -49,6 +64,7 @@ class Operator {
   bool press(SimNs at, SimNs down_at, SimNs* latency, SimNs* led_pdo_after) {
     line_.run_until(at);
     led_pdo_sof_ = 0;
+    lab_pdo_lost_ = false;
     line_.set_button(button_, gateway::kStart, true);
     if (interference_) {
       for (int s = 0; s < line_.size(); ++s) line_.set_button(s, gateway::kStop2, true);
@@ -59,6 +75,7 @@ class Operator {
       }
     }
     const SimNs on = wait_for(true, at + kS);
+    const bool dropped = lab_pdo_lost_;  // before the LED came on
     // Held long enough to count (the debounce), released together.
     line_.run_until(std::max(line_.now(), at + down_at + 25 * kMs));
     for (int s = 0; s < line_.size(); ++s) {
@@ -67,7 +84,7 @@ class Operator {
       if (interference_) line_.set_button(s, gateway::kStop, false);
     }
     wait_for(false, line_.now() + kS);
-    if (on == 0) return false;
+    if (on == 0 || dropped) return false;
     *latency = on - at;
     *led_pdo_after = led_pdo_sof_ > at ? led_pdo_sof_ - at : 0;
     return true;
@@ -96,6 +113,8 @@ class Operator {
   bool want_ = false;
   SimNs changed_at_ = 0;
   SimNs led_pdo_sof_ = 0;
+  bool lab_pdo_lost_ = false;
+  std::vector<std::function<void(const CanFrame&)>> saved_;
 };
 
 }  // namespace
@@ -104,7 +123,8 @@ PressRun search_worst_presses(Line& line, int button_station, int led_station, b
                               const Progress& progress) {
   PressRun r;
   const LineConfig& c = line.config();
-  Operator op(line, button_station, led_station, 0x380u + static_cast<uint32_t>(c.lab_pc + 1), interference);
+  Operator op(line, button_station, led_station, 0x280u + static_cast<uint32_t>(c.lab_remote + 1),
+              0x380u + static_cast<uint32_t>(c.lab_pc + 1), interference);
   const SimNs cycle = c.pc.cycle_ns;
   const SimNs debounce = SimNs{c.debounce_ms} * kMs;
   const SimNs origin = 2 * kS;

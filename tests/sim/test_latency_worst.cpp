@@ -47,12 +47,63 @@ TEST(LatencyWorst, EveryMeasurementInsideTheBound) {
   }
 }
 
-// Where the bound is tight (one firmware loop of 1.3 ms per step, no CAN
-// hop), the search reaches 95 % of it: docs/timing.md §9.
-TEST(LatencyWorst, ModbusOnlyFastFirmwareReaches95PercentOfTheBound) {
-  const LatencyResult r =
-      latency_scenario(lab_line(true), LatencyCase{125, false, true}, 0, nullptr, nullptr);
-  EXPECT_GE(max_over_bound(r), 0.95);
+// Every case of `mb2co-lab --scenario latency --worst` (both firmwares, every
+// bit rate) against the share of its bound the search reaches, the figures
+// of docs/timing.md §9 "Worst case searched" rounded down: 95 % where the
+// model reaches it; where it does not, the figure reached, for the reasons
+// that section gives per case (uno Modbus only: two frames of the neighbour
+// the bound must count, 93.6 %; Modbus + CANopen: the CAN hops and the
+// frames of the STOP2 interference).
+TEST(LatencyWorst, EveryCaseReachesItsShareOfTheBound) {
+  struct Case {
+    bool fast;
+    uint32_t kbit;
+    bool remote;
+    double reached;
+  };
+  const Case cases[] = {
+      {false, 125, false, 0.935},  {false, 125, true, 0.778},  {false, 250, false, 0.935},
+      {false, 250, true, 0.798},   {false, 500, false, 0.935}, {false, 500, true, 0.808},
+      {false, 1000, false, 0.935}, {false, 1000, true, 0.818}, {true, 125, false, 0.95},
+      {true, 125, true, 0.836},    {true, 250, false, 0.95},   {true, 250, true, 0.881},
+      {true, 500, false, 0.95},    {true, 500, true, 0.893},   {true, 1000, false, 0.95},
+      {true, 1000, true, 0.914},
+  };
+  for (const Case& k : cases) {
+    SCOPED_TRACE(testing::Message() << (k.fast ? "fast " : "uno ") << k.kbit << "k "
+                                    << (k.remote ? "modbus+canopen" : "modbus"));
+    const LatencyResult r =
+        latency_scenario(lab_line(k.fast), LatencyCase{k.kbit, k.remote, true}, 0, nullptr, nullptr);
+    ASSERT_TRUE(r.ok);
+    EXPECT_GE(max_over_bound(r), k.reached);
+  }
+}
+
+// The bound per kind of pass: each step is the longest pass of its kind,
+// the frames the PC's Arduino can take in during the window are counted
+// once (Modbus only: the neighbour's heartbeat and its TPDO1 event timer),
+// and the sum lies below the library's one-loop-per-step form.
+TEST(LatencyWorst, BoundChargesEachStepItsOwnKindOfPass) {
+  // The bounds of the lines as the scenario leaves them (one press: every
+  // station is up).
+  auto bound_of = [](const LatencyCase& lc) {
+    return latency_scenario(lab_line(false), lc, 1, nullptr, nullptr).bound;
+  };
+  const LabBound modbus = bound_of(LatencyCase{125, false});
+  ASSERT_TRUE(modbus.ok) << modbus.error;
+  EXPECT_EQ(modbus.frames_pc, 2u);
+  EXPECT_LT(modbus.plain_pass_ns, modbus.read_pass_ns);
+  EXPECT_LT(modbus.read_pass_ns, modbus.write_pass_ns);
+  uint64_t sum = 0;
+  for (size_t i = 0; i < modbus.bound.count; ++i) sum += modbus.bound.terms[i].worst_ns;
+  EXPECT_EQ(sum, modbus.bound.worst_ns);
+  EXPECT_LT(modbus.bound.worst_ns, timing::modbus_only_latency(modbus.params).worst_ns);
+  // The search's STOP2 and STOP presses on every station add frames.
+  const LabBound quiet = bound_of(LatencyCase{125, true});
+  const LabBound loud = bound_of(LatencyCase{125, true, true});
+  ASSERT_TRUE(quiet.ok && loud.ok);
+  EXPECT_GT(loud.frames_pc + loud.frames_led, quiet.frames_pc + quiet.frames_led);
+  EXPECT_LT(loud.bound.worst_ns, timing::modbus_canopen_latency(loud.params).worst_ns);
 }
 
 // The search beats 1,000 random presses on the CANopen path at 125 kbit/s,

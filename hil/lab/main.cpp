@@ -117,7 +117,7 @@ int main(int argc, char** argv) {
     std::vector<sim::LatencyResult> results;
     const size_t cases = o.bitrates.size() * 2;
     for (size_t i = 0; i < cases; ++i) {
-      const sim::LatencyCase lc{o.bitrates[i / 2], i % 2 == 1};
+      const sim::LatencyCase lc{o.bitrates[i / 2], i % 2 == 1, o.worst};
       const std::string stage =
           sim::strf("latency %uk %s", lc.bitrate_kbit, lc.remote ? "canopen" : "modbus");
       results.push_back(sim::latency_scenario(o.line, lc, o.presses, &log, [&](double f) {

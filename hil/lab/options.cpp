@@ -27,6 +27,9 @@ cli::Program make_program() {
           cli::bitrate_list("--bitrates", rates,
                             "CAN bit rates for latency, e.g. 125k,1M (default all: 125k,250k,500k,1M)"),
           cli::uint_range("--presses", "N", 1, 1000000, "button presses per latency case (default 1000)"),
+          cli::flag("--worst",
+                    "latency: press at the phasings the bound assumes (a deterministic\n"
+                    "search) instead of --presses presses at random phases"),
           cli::uint_range("--duration", "S", 4, 86400,
                           "simulated seconds of the run scenario (default 30; a run too\n"
                           "short for every station to fill a bottle is refused)"),
@@ -109,6 +112,7 @@ Status apply_options(const cli::Args& a, Options* o) {
     for (const uint32_t bps : a.bitrates_bps("--bitrates", {})) o->bitrates.push_back(bps / 1000u);
   }
   o->presses = static_cast<uint32_t>(a.uint("--presses", o->presses));
+  o->worst = a.has("--worst");
   o->duration_s = static_cast<uint32_t>(a.uint("--duration", o->duration_s));
   const uint64_t pc_cycle_ms = a.uint("--pc-cycle-ms", 20);
   const uint64_t pc_jitter_us = a.uint("--pc-jitter-us", 1000);
@@ -130,6 +134,9 @@ Status apply_options(const cli::Args& a, Options* o) {
   }
   o->line.node = o->firmware == "fast" ? sim::fast_timing() : sim::uno_timing();
   o->line.node.can_rx_buffers = static_cast<size_t>(rx_buffers);
+  if (o->worst && o->scenario != Scenario::kLatency) {
+    return Status::failure("--worst needs --scenario latency");
+  }
   if ((o->scenario == Scenario::kFaults) && o->line.stations < 4) {
     return Status::failure("--scenario faults needs --stations 4 or more");
   }

@@ -29,6 +29,7 @@ struct Options {
   sim::LineConfig line;                                    ///< stations, seed, timing
   std::vector<uint32_t> bitrates = {125, 250, 500, 1000};  ///< kbit/s, latency cases in this order
   uint32_t presses = 1000;
+  bool worst = false;  ///< latency: search the worst phasings instead of random presses
   std::string out_dir = "out";
   std::string trace_path;        ///< --trace: the bus as a candump -L log ("" none)
   uint32_t duration_s = 30;      ///< run scenario

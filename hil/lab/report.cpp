@@ -167,7 +167,10 @@ std::string stop2_section(const sim::Stop2Result& r) {
 }
 
 std::string latency_section(const std::vector<sim::LatencyResult>& results) {
-  std::string s = "\n== latency: button -> LED (seed 000 §11), presses at random phases, ms\n";
+  const bool worst = !results.empty() && results.front().c.worst;
+  std::string s = strf("\n== latency: button -> LED (seed 000 §11), %s, ms\n",
+                       worst ? "presses at the phasings of a deterministic worst-case search (--worst)"
+                             : "presses at random phases");
   s += "  bitrate  path             n     min    mean     p99     max  | bound best   worst | inside  "
        "max/worst\n";
   bool all = true;
@@ -191,19 +194,26 @@ std::string latency_section(const std::vector<sim::LatencyResult>& results) {
               ms(r.bound.bound.best_ns).c_str(), ms(r.bound.bound.worst_ns).c_str(),
               r.outside == 0 ? "all" : strf("%u out", r.outside).c_str(), ratio * 100.0);
   }
-  s += "  bound: shared/timing (modbus_only_latency / modbus_canopen_latency) for the simulated "
-       "configuration:\n"
-       "  CAN hops by the revised response-time analysis of the commissioned message set (Davis stuffing),\n"
-       "  firmware loop = longest pass in progress + longest handling pass, PC cycle = period + jitter.\n";
+  s += "  bound: hil/sim/lab_bound.cpp for the simulated configuration (docs/timing.md §9): every firmware\n"
+       "  step the longest pass of its kind, the CAN frames each Arduino can take in during the window "
+       "counted\n"
+       "  once, CAN hops by the revised response-time analysis of the commissioned message set (Davis\n"
+       "  stuffing), PC cycle = period + jitter.\n";
   for (const sim::LatencyResult& r : results) {
-    if (!r.bound.ok || !r.c.remote) continue;
-    const timing::LatencyParams& p = r.bound.params;
-    s += strf(
-        "  %4uk: fw_loop %u us, poll period %u us, CAN up %s..%s ms, down %s..%s ms; %llu overflows, "
-        "%llu t1.5 discards\n",
-        r.c.bitrate_kbit, p.fw_loop_us, p.pc_cycle_us, ms(p.can_up_best_ns).c_str(),
-        ms(p.can_up_worst_ns).c_str(), ms(p.can_down_best_ns).c_str(), ms(p.can_down_worst_ns).c_str(),
-        static_cast<unsigned long long>(r.rx_overflows), static_cast<unsigned long long>(r.t15_discards));
+    if (!r.bound.ok) continue;
+    const sim::LabBound& b = r.bound;
+    s += strf("  %4uk/%s: passes %llu/%llu/%llu us (plain/read/write), frames %u + %u", r.c.bitrate_kbit,
+              path_name(r.c.remote), static_cast<unsigned long long>(b.plain_pass_ns / sim::kNsPerUs),
+              static_cast<unsigned long long>(b.read_pass_ns / sim::kNsPerUs),
+              static_cast<unsigned long long>(b.write_pass_ns / sim::kNsPerUs), b.frames_pc, b.frames_led);
+    if (r.c.remote) {
+      const timing::LatencyParams& p = b.params;
+      s += strf(", CAN up %s..%s ms, down %s..%s ms", ms(p.can_up_best_ns).c_str(),
+                ms(p.can_up_worst_ns).c_str(), ms(p.can_down_best_ns).c_str(),
+                ms(p.can_down_worst_ns).c_str());
+    }
+    s += strf("; %llu overflows, %llu t1.5 discards\n", static_cast<unsigned long long>(r.rx_overflows),
+              static_cast<unsigned long long>(r.t15_discards));
   }
   s += strf("verdict latency: every one of %zu measurements inside its analytical bounds: %s\n", total,
             yes(all));

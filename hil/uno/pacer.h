@@ -26,19 +26,14 @@ class Pacer {
   /// master's mean exchange time was the same with 1 and 2 ms).
   static constexpr uint64_t kLeadUs = 2000;
   /// Behind by up to this much, the simulation catches up (passes back to
-  /// back, no sleep): what came in meanwhile reaches it at its own time, so
-  /// nothing is squeezed. 100 ms, not 20: on a loaded 2-core host the
-  /// scheduler holds a process up for 20-120 ms at a time, and every move of
-  /// the mapping spreads what came in while held up into the simulation's
-  /// future, where the frames that come next queue behind it and reach the
-  /// chip back to back (EMCY 8110h, CAN overrun, then 8130h for the heartbeat
-  /// it dropped: seen in docs/labs.md's session at load 13). A peer sees a
-  /// board that catches up as one whose frames came late, which its
-  /// heartbeat consumer (3 periods, 300 ms) tolerates up to 200 ms.
-  static constexpr uint64_t kBehindUs = 100000;
+  /// back, no sleep); further behind, it goes on from where it stands. Not
+  /// more: a board the host starves would then lag that far for good, and
+  /// every frame it sends reach its peers that late (100 ms was tried: SYNC
+  /// round trips of 68-302 ms in docs/labs.md's session at load 13).
+  static constexpr uint64_t kBehindUs = 20000;
   /// What came in during a hold-up reaches the simulation within this much
   /// of its time after the move (sim_of()).
-  static constexpr uint64_t kReplayUs = 20000;
+  static constexpr uint64_t kReplayUs = 10000;
   /// Speed is judged over windows of this much wall time.
   static constexpr uint64_t kWindowUs = 1000000;
 

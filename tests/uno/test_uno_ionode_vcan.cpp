@@ -291,10 +291,11 @@ TEST(IoNodeUno, AsJoystickLightsBsLedAndAsSyncDrivesBsTpdo) {
 // 20 ms and B answers each with its TPDO1. 250 SYNCs later neither board has
 // reported a CAN overrun (EMCY 8110h) nor the other lost (8130h), and B has
 // answered every SYNC, as long as the host ran both boards: a board the
-// host does not run for more than 100 ms (Pacer::kBehindUs) goes on from
-// where it stood, its peer really misses its heartbeats, and the exit line
-// counts that hold-up. So an alarm is a failure unless a board reports a
-// hold-up; the figures are printed either way.
+// host does not run for more than 20 ms (Pacer::kBehindUs) goes on from
+// where it stood (its peer may miss its heartbeats, frames may come closer
+// together than they were sent) and the exit line counts that hold-up. So
+// an alarm is a failure unless a board reports a hold-up; the figures are
+// printed either way.
 TEST(IoNodeUno, AQuietSessionOfTwoBoardsHasNoOverrunAndNoHeartbeatLoss) {
   Master m;
   ASSERT_TRUE(m.ok());
@@ -334,12 +335,10 @@ TEST(IoNodeUno, AQuietSessionOfTwoBoardsHasNoOverrunAndNoHeartbeatLoss) {
       },
       60s);
   EXPECT_TRUE(quiet_for_250_syncs) << syncs << " SYNCs";
-  EXPECT_GE(beats[0], 20) << "A's heartbeats";
-  EXPECT_GE(beats[1], 20) << "B's heartbeats";
   ASSERT_EQ(m.write(1, 0x1005, 0, 0x80u, 4), 0u);
   EXPECT_EQ(a.stop(), 0);
   EXPECT_EQ(b.stop(), 0);
-  // "... (1.00x real time; 0 hold-ups over 100 ms: ...)" of each board.
+  // "... (1.00x real time; 0 hold-ups over 20 ms: ...)" of each board.
   int hold_ups = 0;
   for (UnoProcess* board : {&a, &b}) {
     const std::string text = board->child.stderr_text();
@@ -348,9 +347,12 @@ TEST(IoNodeUno, AQuietSessionOfTwoBoardsHasNoOverrunAndNoHeartbeatLoss) {
     ASSERT_NE(at, std::string::npos) << "no exit line: " << text;
     hold_ups += std::stoi(text.substr(text.rfind(' ', at - 1) + 1));
   }
-  std::printf("%d SYNCs, %d answers, %zu alarms, %d hold-ups\n", syncs, answers, alarms.size(), hold_ups);
+  std::printf("%d SYNCs, %d answers, heartbeats %d and %d, %zu alarms, %d hold-ups\n", syncs, answers,
+              beats[0], beats[1], alarms.size(), hold_ups);
   if (hold_ups > 0) return;  // the host, not the boards: see above
   EXPECT_GE(answers, syncs - 1) << "B answers every SYNC (the last may be on its way)";
+  EXPECT_GE(beats[0], 45) << "A's heartbeats in 5 s";
+  EXPECT_GE(beats[1], 45) << "B's heartbeats in 5 s";
   for (const std::string& alarm : alarms) ADD_FAILURE() << alarm << " without a hold-up";
 }
 

@@ -84,7 +84,8 @@ int main(int argc, char** argv) {
   }
 
   lab::ProgressBar bar(!o.quiet && isatty(STDOUT_FILENO) ? stdout : nullptr);
-  sim::EventLog log(true);
+  // Without --events nothing is logged: no line is formatted that would not be written.
+  sim::EventLog log(o.events);
   sim::CanTrace trace;
   if (!o.trace_path.empty()) log.set_can_trace(&trace);
   std::string report = lab::report_header(o);
@@ -116,7 +117,7 @@ int main(int argc, char** argv) {
     std::vector<sim::LatencyResult> results;
     const size_t cases = o.bitrates.size() * 2;
     for (size_t i = 0; i < cases; ++i) {
-      const sim::LatencyCase lc{o.bitrates[i / 2], i % 2 == 1};
+      const sim::LatencyCase lc{o.bitrates[i / 2], i % 2 == 1, o.worst};
       const std::string stage =
           sim::strf("latency %uk %s", lc.bitrate_kbit, lc.remote ? "canopen" : "modbus");
       results.push_back(sim::latency_scenario(o.line, lc, o.presses, &log, [&](double f) {
@@ -163,11 +164,16 @@ int main(int argc, char** argv) {
     bar.clear();
     report += roundtrip ? lab::sync_roundtrip_section(results) : lab::sync_latency_section(results);
     files.push_back({std::string(lab::scenario_name(o.scenario)) + ".csv", lab::sync_csv(results)});
+    for (const sim::SyncResult& r : results) {
+      files.push_back({sim::strf("%s-%uk.svg", lab::scenario_name(o.scenario), r.lab.bitrate_kbit),
+                       lab::sync_svg(r, roundtrip)});
+    }
   }
   if (o.scenario == lab::Scenario::kSyncProcessing) {
     const std::string elf = o.elf.empty() ? std::string(MB2CO_LAB_DEFAULT_ELF) : o.elf;
     const lab::SyncProcessingResult r = lab::sync_processing_run(elf, o.syncs, o.line.seed);
     report += lab::sync_processing_section(r);
+    files.push_back({"sync-processing.svg", lab::sync_processing_svg(r)});
     pass = pass && r.ok;
   }
   if (o.scenario == lab::Scenario::kAlternative) {
@@ -185,10 +191,12 @@ int main(int argc, char** argv) {
     }
     bar.clear();
     report += lab::alternative_section(results);
+    for (const sim::AlternativeResult& r : results)
+      files.push_back({sim::strf("alternative-%uk.svg", r.bitrate_kbit), lab::alternative_svg(r)});
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 
-  report += sim::strf("\nfiles in %s/: report.txt events.csv", o.out_dir.c_str());
+  report += sim::strf("\nfiles in %s/: report.txt%s", o.out_dir.c_str(), o.events ? " events.csv" : "");
   for (const auto& f : files) report += " " + f.first;
   report += sim::strf("\nresult: %s\n", pass ? "PASS" : "FAIL");
   std::fputs(report.c_str(), stdout);
@@ -206,7 +214,7 @@ int main(int argc, char** argv) {
     }
   }
   files.push_back({"report.txt", report});
-  files.push_back({"events.csv", std::string(sim::EventLog::header()) + log.text()});
+  if (o.events) files.push_back({"events.csv", std::string(sim::EventLog::header()) + log.text()});
   for (const auto& f : files) {
     const Status written = write_file(out / f.first, f.second);
     if (!written) {

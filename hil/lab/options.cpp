@@ -27,6 +27,9 @@ cli::Program make_program() {
           cli::bitrate_list("--bitrates", rates,
                             "CAN bit rates for latency, e.g. 125k,1M (default all: 125k,250k,500k,1M)"),
           cli::uint_range("--presses", "N", 1, 1000000, "button presses per latency case (default 1000)"),
+          cli::flag("--worst",
+                    "latency: press at the phasings the bound assumes (a deterministic\n"
+                    "search) instead of --presses presses at random phases"),
           cli::uint_range("--duration", "S", 4, 86400,
                           "simulated seconds of the run scenario (default 30; a run too\n"
                           "short for every station to fill a bottle is refused)"),
@@ -42,6 +45,9 @@ cli::Program make_program() {
                     "every CAN frame of the runs as a candump -L log (canplayer, Wireshark),\n"
                     "or pcap (LINKTYPE_CAN_SOCKETCAN) when FILE ends in .pcap"),
           cli::flag("--quiet", "no progress bar, no speed figure"),
+          cli::flag("--events",
+                    "also write events.csv to --out: every event of the runs (CAN\n"
+                    "frames, Modbus transactions, LEDs, states; ~30 MB for the default run)"),
           cli::uint_range(
               "--syncs", "N", 1, 1000000,
               "SYNC round trips per bit rate (sync-roundtrip), SYNCs (sync-processing); default 1000"),
@@ -106,6 +112,7 @@ Status apply_options(const cli::Args& a, Options* o) {
     for (const uint32_t bps : a.bitrates_bps("--bitrates", {})) o->bitrates.push_back(bps / 1000u);
   }
   o->presses = static_cast<uint32_t>(a.uint("--presses", o->presses));
+  o->worst = a.has("--worst");
   o->duration_s = static_cast<uint32_t>(a.uint("--duration", o->duration_s));
   const uint64_t pc_cycle_ms = a.uint("--pc-cycle-ms", 20);
   const uint64_t pc_jitter_us = a.uint("--pc-jitter-us", 1000);
@@ -114,6 +121,7 @@ Status apply_options(const cli::Args& a, Options* o) {
   o->out_dir = a.get("--out", o->out_dir);
   o->trace_path = a.get("--trace", o->trace_path);
   o->quiet = a.has("--quiet");
+  o->events = a.has("--events");
   o->syncs = static_cast<uint32_t>(a.uint("--syncs", o->syncs));
   o->sync_period_us = static_cast<uint32_t>(a.uint("--sync-period-us", o->sync_period_us));
   o->transmission_type = static_cast<uint32_t>(a.uint("--transmission-type", o->transmission_type));
@@ -126,6 +134,9 @@ Status apply_options(const cli::Args& a, Options* o) {
   }
   o->line.node = o->firmware == "fast" ? sim::fast_timing() : sim::uno_timing();
   o->line.node.can_rx_buffers = static_cast<size_t>(rx_buffers);
+  if (o->worst && o->scenario != Scenario::kLatency) {
+    return Status::failure("--worst needs --scenario latency");
+  }
   if ((o->scenario == Scenario::kFaults) && o->line.stations < 4) {
     return Status::failure("--scenario faults needs --stations 4 or more");
   }

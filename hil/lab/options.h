@@ -29,11 +29,13 @@ struct Options {
   sim::LineConfig line;                                    ///< stations, seed, timing
   std::vector<uint32_t> bitrates = {125, 250, 500, 1000};  ///< kbit/s, latency cases in this order
   uint32_t presses = 1000;
+  bool worst = false;  ///< latency: search the worst phasings instead of random presses
   std::string out_dir = "out";
   std::string trace_path;        ///< --trace: the bus as a candump -L log ("" none)
   uint32_t duration_s = 30;      ///< run scenario
   std::string firmware = "uno";  ///< uno | fast
   bool quiet = false;
+  bool events = false;  ///< --events: write events.csv (every event of the runs, ~30 MB by default)
   // The SYNC labs (seed 000 §5) and sync-processing.
   uint32_t syncs = 1000;              ///< round trips per bit rate (sync-roundtrip), SYNCs (sync-processing)
   uint32_t sync_period_us = 10000;    ///< 1006h of the SYNC producer

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "histogram_svg.h"
 #include "plot_axis.h"
 #include "sim/event_log.h"
 
@@ -166,7 +167,10 @@ std::string stop2_section(const sim::Stop2Result& r) {
 }
 
 std::string latency_section(const std::vector<sim::LatencyResult>& results) {
-  std::string s = "\n== latency: button -> LED (seed 000 §11), presses at random phases, ms\n";
+  const bool worst = !results.empty() && results.front().c.worst;
+  std::string s = strf("\n== latency: button -> LED (seed 000 §11), %s, ms\n",
+                       worst ? "presses at the phasings of a deterministic worst-case search (--worst)"
+                             : "presses at random phases");
   s += "  bitrate  path             n     min    mean     p99     max  | bound best   worst | inside  "
        "max/worst\n";
   bool all = true;
@@ -190,19 +194,26 @@ std::string latency_section(const std::vector<sim::LatencyResult>& results) {
               ms(r.bound.bound.best_ns).c_str(), ms(r.bound.bound.worst_ns).c_str(),
               r.outside == 0 ? "all" : strf("%u out", r.outside).c_str(), ratio * 100.0);
   }
-  s += "  bound: shared/timing (modbus_only_latency / modbus_canopen_latency) for the simulated "
-       "configuration:\n"
-       "  CAN hops by the revised response-time analysis of the commissioned message set (Davis stuffing),\n"
-       "  firmware loop = longest pass in progress + longest handling pass, PC cycle = period + jitter.\n";
+  s += "  bound: hil/sim/lab_bound.cpp for the simulated configuration (docs/timing.md §9): every firmware\n"
+       "  step the longest pass of its kind, the CAN frames each Arduino can take in during the window "
+       "counted\n"
+       "  once, CAN hops by the revised response-time analysis of the commissioned message set (Davis\n"
+       "  stuffing), PC cycle = period + jitter.\n";
   for (const sim::LatencyResult& r : results) {
-    if (!r.bound.ok || !r.c.remote) continue;
-    const timing::LatencyParams& p = r.bound.params;
-    s += strf(
-        "  %4uk: fw_loop %u us, poll period %u us, CAN up %s..%s ms, down %s..%s ms; %llu overflows, "
-        "%llu t1.5 discards\n",
-        r.c.bitrate_kbit, p.fw_loop_us, p.pc_cycle_us, ms(p.can_up_best_ns).c_str(),
-        ms(p.can_up_worst_ns).c_str(), ms(p.can_down_best_ns).c_str(), ms(p.can_down_worst_ns).c_str(),
-        static_cast<unsigned long long>(r.rx_overflows), static_cast<unsigned long long>(r.t15_discards));
+    if (!r.bound.ok) continue;
+    const sim::LabBound& b = r.bound;
+    s += strf("  %4uk/%s: passes %llu/%llu/%llu us (plain/read/write), frames %u + %u", r.c.bitrate_kbit,
+              path_name(r.c.remote), static_cast<unsigned long long>(b.plain_pass_ns / sim::kNsPerUs),
+              static_cast<unsigned long long>(b.read_pass_ns / sim::kNsPerUs),
+              static_cast<unsigned long long>(b.write_pass_ns / sim::kNsPerUs), b.frames_pc, b.frames_led);
+    if (r.c.remote) {
+      const timing::LatencyParams& p = b.params;
+      s += strf(", CAN up %s..%s ms, down %s..%s ms", ms(p.can_up_best_ns).c_str(),
+                ms(p.can_up_worst_ns).c_str(), ms(p.can_down_best_ns).c_str(),
+                ms(p.can_down_worst_ns).c_str());
+    }
+    s += strf("; %llu overflows, %llu t1.5 discards\n", static_cast<unsigned long long>(r.rx_overflows),
+              static_cast<unsigned long long>(r.t15_discards));
   }
   s += strf("verdict latency: every one of %zu measurements inside its analytical bounds: %s\n", total,
             yes(all));
@@ -266,84 +277,25 @@ std::string bound_terms_csv(const std::vector<sim::LatencyResult>& results) {
   return s;
 }
 
+HistogramPanel latency_panel(const sim::LatencyResult& r, const char* name) {
+  HistogramPanel p;
+  p.name = name;
+  p.samples = &r.samples_ns;
+  p.min = r.min_ns;
+  p.max = r.max_ns;
+  p.bounded = r.bound.ok;
+  p.best = r.bound.bound.best_ns;
+  p.worst = r.bound.bound.worst_ns;
+  p.fill = r.c.remote ? "#e08020" : "#3070c0";
+  return p;
+}
+
 std::string latency_svg(const std::vector<sim::LatencyResult>& results, uint32_t bitrate_kbit) {
-  std::vector<const sim::LatencyResult*> cases;
-  uint64_t x_max = 1;
+  std::vector<HistogramPanel> panels;
   for (const sim::LatencyResult& r : results) {
-    if (r.c.bitrate_kbit != bitrate_kbit) continue;
-    cases.push_back(&r);
-    x_max = std::max<uint64_t>(x_max, r.max_ns);
-    if (r.bound.ok) x_max = std::max<uint64_t>(x_max, r.bound.bound.worst_ns);
+    if (r.c.bitrate_kbit == bitrate_kbit) panels.push_back(latency_panel(r, path_name(r.c.remote)));
   }
-  // Round ticks (1, 2 or 5 x 10^k ms) and 100 bins over the whole axis.
-  const PlotAxis x_axis = round_axis(static_cast<double>(x_max) / 1e6 * 1.02, 10);
-  const double x_ms = x_axis.max();
-  const int W = 900, panel_h = 220, left = 70, right = 20, top = 40;
-  const int H = top + static_cast<int>(cases.size()) * (panel_h + 40) + 20;
-  const double pw = W - left - right;
-  const int kBins = 100;  // a round axis over 100 bins: round bin widths too
-  std::string s = strf(
-      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" font-family=\"sans-serif\" "
-      "font-size=\"12\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n",
-      W, H);
-  s += strf(
-      "<text x=\"%d\" y=\"22\" font-size=\"15\">Button to LED latency at %u kbit/s: measured histogram "
-      "(presses per %s ms bin), analytical bounds (red)</text>\n",
-      left, bitrate_kbit, strf("%g", x_ms / kBins).c_str());
-  const double bin_ms = x_ms / kBins;
-  for (size_t k = 0; k < cases.size(); ++k) {
-    const sim::LatencyResult& r = *cases[k];
-    const int y0 = top + static_cast<int>(k) * (panel_h + 40) + 10;
-    std::vector<uint32_t> bins(kBins, 0);
-    for (uint64_t v : r.samples_ns) {
-      const size_t b = static_cast<size_t>(static_cast<double>(v) / 1e6 / bin_ms);
-      ++bins[std::min<size_t>(b, kBins - 1)];
-    }
-    const uint32_t peak = std::max<uint32_t>(1, *std::max_element(bins.begin(), bins.end()));
-    const PlotAxis y_axis = round_axis(peak, 5);
-    s += strf("<text x=\"%d\" y=\"%d\">%s: n=%zu, min %s, max %s ms</text>\n", left, y0 + 12,
-              path_name(r.c.remote), r.samples_ns.size(), ms(r.min_ns).c_str(), ms(r.max_ns).c_str());
-    const int base = y0 + panel_h;
-    const double ph = panel_h - 30;  // bar height of y_axis.max()
-    for (int t = 0; t <= y_axis.ticks; ++t) {
-      const double y = base - ph * t / y_axis.ticks;
-      s += strf("<line x1=\"%d\" y1=\"%.1f\" x2=\"%d\" y2=\"%.1f\" stroke=\"#e0e0e0\"/>\n", left, y,
-                W - right, y);
-      s += strf("<text x=\"%d\" y=\"%.1f\" text-anchor=\"end\">%s</text>\n", left - 6, y + 4,
-                y_axis.label(t).c_str());
-    }
-    s += strf("<text x=\"14\" y=\"%d\" text-anchor=\"middle\" transform=\"rotate(-90 14 %d)\">count</text>\n",
-              base - panel_h / 2, base - panel_h / 2);
-    s += strf("<line x1=\"%d\" y1=\"%d\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", left, base, W - right,
-              base);
-    s += strf("<line x1=\"%d\" y1=\"%.1f\" x2=\"%d\" y2=\"%d\" stroke=\"black\"/>\n", left, base - ph, left,
-              base);
-    for (size_t b = 0; b < bins.size(); ++b) {
-      if (bins[b] == 0) continue;
-      const double h = ph * static_cast<double>(bins[b]) / y_axis.max();
-      s += strf("<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"%s\"/>\n",
-                left + pw * static_cast<double>(b) / kBins, base - h, pw / kBins, h,
-                r.c.remote ? "#e08020" : "#3070c0");
-    }
-    if (r.bound.ok) {
-      for (int side = 0; side < 2; ++side) {
-        const uint64_t v = side ? r.bound.bound.worst_ns : r.bound.bound.best_ns;
-        const double x = left + pw * (static_cast<double>(v) / 1e6) / x_ms;
-        s += strf("<line x1=\"%.1f\" y1=\"%d\" x2=\"%.1f\" y2=\"%d\" stroke=\"red\" stroke-width=\"2\"/>\n",
-                  x, y0 + 18, x, base);
-        s += strf("<text x=\"%.1f\" y=\"%d\" fill=\"red\" text-anchor=\"%s\">%s %s</text>\n",
-                  x + (side ? -4 : 4), y0 + 30, side ? "end" : "start", side ? "worst" : "best",
-                  ms(v).c_str());
-      }
-    }
-    for (int t = 0; t <= x_axis.ticks; ++t) {
-      const double x = left + pw * t / x_axis.ticks;
-      s += strf("<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%s</text>\n", x, base + 15,
-                x_axis.label(t).c_str());
-    }
-    s += strf("<text x=\"%d\" y=\"%d\" text-anchor=\"end\">ms</text>\n", W - right, base + 30);
-  }
-  return s + "</svg>\n";
+  return histogram_svg(strf("Button to LED latency at %u kbit/s:", bitrate_kbit), "presses", kMs, panels);
 }
 
 std::string timeline_svg(const sim::LineSummary& line, int stations, const std::string& title) {

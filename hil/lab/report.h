@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "histogram_svg.h"
 #include "options.h"
 #include "sim/scenarios.h"
 
@@ -21,6 +22,9 @@ std::string latency_csv(const std::vector<sim::LatencyResult>& results);
 /// One row per bound term and case (the breakdown of shared/timing).
 std::string bound_terms_csv(const std::vector<sim::LatencyResult>& results);
 
+/// A latency case as a histogram panel named `name` (blue: Modbus only,
+/// orange: over CANopen); `r` must outlive the panel.
+HistogramPanel latency_panel(const sim::LatencyResult& r, const char* name);
 /// Latency histograms of every case at `bitrate_kbit`, bounds drawn.
 std::string latency_svg(const std::vector<sim::LatencyResult>& results, uint32_t bitrate_kbit);
 /// RUN/stopped lanes per station with STOP2 and START presses.

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "canopen/sdo_client.h"
+#include "histogram_svg.h"
 #include "platform/device_port.h"
 #include "sim/event_log.h"
 #include "sim/lab_bound.h"
@@ -186,6 +187,21 @@ std::string sync_processing_section(const SyncProcessingResult& r) {
         r.wanted, r.cycles.size(), static_cast<unsigned long long>(r.max_cycles));
   }
   return s;
+}
+
+std::string sync_processing_svg(const SyncProcessingResult& r) {
+  HistogramPanel p;
+  p.name = std::filesystem::path(r.elf).filename().string() + ", cycles at 16 MHz";
+  p.samples = &r.cycles;
+  p.min = r.min_cycles;
+  p.max = r.max_cycles;
+  p.bounded = r.bound_us != 0;
+  p.has_best = false;  // the model bounds it from above only
+  p.worst = r.bound_us * kCyclesPerUs;
+  p.worst_label = "bound";
+  const HistogramUnit us_of_cycles = {"us", static_cast<double>(kCyclesPerUs)};
+  return histogram_svg("SYNC received to the response PDO in an MCP2515 transmit buffer, real image:",
+                       "SYNCs", us_of_cycles, {p});
 }
 
 }  // namespace lab

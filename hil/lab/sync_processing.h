@@ -39,6 +39,8 @@ SyncProcessingResult sync_processing_run(const std::string& elf_path, uint32_t s
 
 /// The report section (cycles and µs at 16 MHz, min/mean/max, the bound, verdict).
 std::string sync_processing_section(const SyncProcessingResult& r);
+/// Histogram of the counts in µs (16 cycles each), the bound drawn.
+std::string sync_processing_svg(const SyncProcessingResult& r);
 
 }  // namespace lab
 }  // namespace mb2co

@@ -1,5 +1,7 @@
 #include "sync_report.h"
 
+#include "report.h"
+
 namespace mb2co {
 namespace lab {
 
@@ -173,6 +175,33 @@ std::string alternative_section(const std::vector<sim::AlternativeResult>& resul
         failures.c_str());
   }
   return s;
+}
+
+std::string sync_svg(const sim::SyncResult& r, bool roundtrip) {
+  HistogramPanel p;
+  p.name = strf("transmission type %u", r.lab.transmission_type);
+  p.samples = &r.samples_ns;
+  p.min = r.stats.min_ns;
+  p.max = r.stats.max_ns;
+  p.bounded = r.bound_ok;
+  p.best = r.bound.best_ns;
+  p.worst = r.bound.worst_ns;
+  const uint32_t kbit = r.lab.bitrate_kbit;
+  return roundtrip
+             ? histogram_svg(strf("SYNC's first bit to the synchronous PDO received at %u kbit/s:", kbit),
+                             "round trips", kUs, {p})
+             : histogram_svg(strf("Button to LED latency under SYNC at %u kbit/s:", kbit), "presses", kMs,
+                             {p});
+}
+
+std::string alternative_svg(const sim::AlternativeResult& r) {
+  std::vector<HistogramPanel> panels = {latency_panel(r.modbus, "pc modbus"),
+                                        latency_panel(r.canopen, "pc modbus+canopen"),
+                                        latency_panel(r.arduino, "arduino canopen")};
+  panels[2].fill = "#40a040";
+  return histogram_svg(
+      strf("Button to LED latency, control process on the PC or an Arduino, at %u kbit/s:", r.bitrate_kbit),
+      "presses", kMs, panels);
 }
 
 }  // namespace lab

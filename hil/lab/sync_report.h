@@ -20,5 +20,11 @@ std::string sync_csv(const std::vector<sim::SyncResult>& results);
 /// §11: the two PC-controlled paths and the Arduino-controlled one per bit rate.
 std::string alternative_section(const std::vector<sim::AlternativeResult>& results);
 
+/// Histogram of one bit rate's §5.2 round trips (us) or §5.3 presses (ms),
+/// the bound drawn (histogram_svg.h).
+std::string sync_svg(const sim::SyncResult& r, bool roundtrip);
+/// §11 at one bit rate: the three paths as three panels, each bound drawn.
+std::string alternative_svg(const sim::AlternativeResult& r);
+
 }  // namespace lab
 }  // namespace mb2co

@@ -87,6 +87,8 @@ class CanController {
   /// Acceptance masks and filters (standard ids only; extended frames are
   /// then rejected); null: every frame is received.
   void set_acceptance(const mcp2515::FilterPlan* plan);
+  /// Whether the acceptance filters let a standard frame with `id` in.
+  bool accepts(uint16_t id) const { return !filtered_ || mcp2515::plan_accepts(plan_, id); }
   /// Fault: while set, every frame this controller sends is destroyed.
   void set_tx_broken(bool broken) { tx_broken_ = broken; }
 

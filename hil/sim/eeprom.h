@@ -32,6 +32,9 @@ class Eeprom {
   /// Every byte programmed, the clock back at 0 (the bench's time before
   /// the line's: NodeStation::commission).
   void settle() { now_ = ready_at_ = 0; }
+  /// When the byte being programmed is done (ParamStorage::ready from then
+  /// on): the only input that changes while a save waits for the EEPROM.
+  SimNs ready_at() const { return ready_at_; }
   /// Bytes programmed so far (all power cycles).
   uint64_t bytes_written() const { return written_; }
 

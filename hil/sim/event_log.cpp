@@ -1,5 +1,6 @@
 #include "sim/event_log.h"
 
+#include <charconv>
 #include <cstdarg>
 #include <cstdio>
 
@@ -8,9 +9,10 @@ namespace sim {
 
 void EventLog::add(SimNs t, int station, const char* event, const std::string& detail) {
   if (!enabled_) return;
-  char head[64];
-  std::snprintf(head, sizeof head, "%llu,", static_cast<unsigned long long>(t));
-  text_ += head;
+  char head[24];
+  char* end = std::to_chars(head, head + sizeof head, t).ptr;
+  *end++ = ',';
+  text_.append(head, end);
   text_ += run_;
   text_ += ',';
   if (station >= 0) text_ += std::to_string(station + 1);
@@ -20,6 +22,15 @@ void EventLog::add(SimNs t, int station, const char* event, const std::string& d
   text_ += detail;
   text_ += '\n';
   ++lines_;
+}
+
+void append_hex_bytes(std::string* out, const uint8_t* d, size_t n) {
+  static const char kDigits[] = "0123456789ABCDEF";
+  for (size_t i = 0; i < n; ++i) {
+    if (i != 0) *out += ' ';
+    *out += kDigits[d[i] >> 4];
+    *out += kDigits[d[i] & 15];
+  }
 }
 
 std::string strf(const char* format, ...) {

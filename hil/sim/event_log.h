@@ -3,6 +3,7 @@
 // the same bytes. Columns: t_ns,run,station,event,detail (station = node id,
 // empty for the bus; detail holds key=value pairs separated by spaces).
 #pragma once
+#include <stddef.h>
 #include <stdint.h>
 
 #include <string>
@@ -16,7 +17,8 @@ namespace sim {
 class EventLog {
  public:
   static const char* header() { return "t_ns,run,station,event,detail\n"; }
-  /// A disabled log formats nothing (for benchmarks).
+  /// A disabled log formats nothing: its writers check enabled() before
+  /// they build a line (mb2co-lab without --events, benchmarks).
   explicit EventLog(bool enabled = true) : enabled_(enabled) {}
   bool enabled() const { return enabled_; }
   /// Name of the run in progress (column 2), e.g. "stop2" or "latency-125k-canopen".
@@ -41,6 +43,10 @@ class EventLog {
   CanTrace* can_trace_ = nullptr;
   uint64_t lines_ = 0;
 };
+
+/// Appends bytes as upper-case hex pairs separated by spaces ("0A FF"): the
+/// data columns of the log, without a printf per byte.
+void append_hex_bytes(std::string* out, const uint8_t* d, size_t n);
 
 /// printf into a std::string.
 std::string strf(const char* format, ...) __attribute__((format(printf, 1, 2)));

@@ -1,5 +1,7 @@
 #include "sim/lab_bound.h"
 
+#include <algorithm>
+
 #include "canopen/pdo_map.h"
 #include "modbus/master_codec.h"
 #include "sim/pc_programs.h"
@@ -18,17 +20,27 @@ uint32_t od_get(canopen::ObjectDictionary& od, uint16_t index, uint8_t sub) {
   return od.get(od.find(index, sub));
 }
 
-/// The lab PC's two requests (for their processing cost on the Arduino).
-SimNs lab_request_cost(const NodeTiming& t, bool remote) {
+/// Processing cost on the Arduino of the lab PC's read (FC 02 of the START
+/// input, or FC 04 of the remote buttons' register on the CANopen path).
+SimNs lab_read_cost(const NodeTiming& t, bool remote) {
   uint8_t req[16];
   const uint16_t n = remote ? modbus::build_read_request(req, sizeof req, 1, modbus::fc::kReadInputRegisters,
                                                          regs::kIrRemoteButtons, 1)
                             : modbus::build_read_request(req, sizeof req, 1, modbus::fc::kReadDiscreteInputs,
                                                          regs::kDiStart, 1);
-  const SimNs read = request_cost(t, req, n);
-  const uint16_t w = modbus::build_write_single_coil(req, sizeof req, 1, regs::kCoilLabLed, true);
-  const SimNs write = request_cost(t, req, w);
-  return read > write ? read : write;
+  return request_cost(t, req, n);
+}
+
+/// The same for its write of the lab LED (FC 05).
+SimNs lab_write_cost(const NodeTiming& t) {
+  uint8_t req[16];
+  const uint16_t n = modbus::build_write_single_coil(req, sizeof req, 1, regs::kCoilLabLed, true);
+  return request_cost(t, req, n);
+}
+
+/// The dearer of the lab PC's two requests.
+SimNs lab_request_cost(const NodeTiming& t, bool remote) {
+  return std::max(lab_read_cost(t, remote), lab_write_cost(t));
 }
 
 }  // namespace
@@ -221,10 +233,223 @@ LabBound bound_with(Line& line, bool remote, size_t bytes, SimNs request) {
   return out;
 }
 
+/// Longest response time (ns) of any message of `set` at `bitrate_bps`;
+/// false when one is unbounded.
+bool longest_response_ns(const std::vector<timing::MessageSpec>& set, uint32_t bitrate_bps, SimNs* out) {
+  *out = 0;
+  if (set.empty()) return true;
+  std::vector<timing::RtaMessage> rta(set.size());
+  std::vector<timing::RtaResult> res(set.size());
+  size_t bad = 0;
+  if (timing::analyse_set(set.data(), set.size(), bitrate_bps, timing::WorstCase::kDavis, rta.data(),
+                          res.data(), &bad) != timing::RtaStatus::kOk) {
+    return false;
+  }
+  for (const timing::RtaResult& r : res) {
+    if (r.revised != timing::Bound::kBounded) return false;
+    *out = std::max<SimNs>(*out, timing::ticks_to_ns_ceil(r.r, bitrate_bps));
+  }
+  return true;
+}
+
+/// micros() resolution: a comparison of two µs stamps (debounce, t3.5,
+/// inhibit time) may pass up to 1 µs after the real time.
+constexpr SimNs kClockNs = kNsPerUs;
+
+/// The bound per kind of pass (docs/timing.md §9). Passes are counted
+/// without the CAN frames they take in: those are a term of their own, the
+/// frames each Arduino can take in during the latency window, at most
+/// can_rx_buffers per pass on the path.
+class TightBound {
+ public:
+  TightBound(const LineConfig& c, bool remote, LabBound& out) : c_(c), t_(c.node), out_(out) {
+    plain_ = t_.pass_ns + t_.jitter_ns;
+    chars_ = 8 * t_.byte_ns;  // one request: the PC sends the next ≥ t3.5 + a pass after
+    read_ = lab_read_cost(t_, remote);
+    write_ = lab_write_cost(t_);
+    frames_per_pass_ = t_.frame_ns * t_.can_rx_buffers;
+    t35_ = timing::t35_ns(out.params.serial);
+    // The pass before the one that answers a request started after the
+    // request's last character when no pass without a request is longer
+    // than t3.5: the answering pass then takes no character.
+    const SimNs handling_chars = wait(plain_ + chars_ + frames_per_pass_) <= t35_ ? 0 : chars_;
+    out_.plain_pass_ns = plain_;
+    out_.read_pass_ns = plain_ + handling_chars + read_;
+    out_.write_pass_ns = plain_ + handling_chars + write_;
+    // Strictly periodic passes (every pass shorter than the loop period)
+    // start a whole number of periods after the one that first saw the
+    // press: the debounce then ends at a pass start.
+    const SimNs any = plain_ + chars_ + std::max(read_, write_) + frames_per_pass_;
+    debounce_ns_ = SimNs{c_.debounce_ms} * kNsPerMs;
+    periodic_ = t_.loop_ns != 0 && any <= t_.loop_ns && debounce_ns_ % t_.loop_ns == 0;
+    longest_wait_ = wait(any);
+  }
+
+  /// Builds the terms with `frames_pc` / `frames_led` frames; false when
+  /// they do not fit a LatencyBound.
+  bool build(bool remote, const HopTimes& up, const HopTimes& down, uint32_t up_inhibit_us,
+             uint32_t down_inhibit_us, uint32_t frames_pc, uint32_t frames_led) {
+    b_ = timing::LatencyBound{};
+    const timing::LatencyParams& p = out_.params;
+    const timing::PollCycle cycle = timing::poll_cycle(p);
+    const SimNs split = c_.pc.split_ppm != 0 ? c_.pc.split_gap_max_ns : 0;
+    const SimNs seen = wait(plain_ + chars_);  // the PC's Arduino, no request in progress (§9)
+    const SimNs read_pass = out_.read_pass_ns;
+    const SimNs write_pass = out_.write_pass_ns;
+    const SimNs resp_best = timing::serial_frame_ns_floor(p.serial, p.read.response_bytes);
+    const SimNs wreq_best = timing::serial_frame_ns_floor(p.serial, p.write.request_bytes);
+    const SimNs compute = SimNs{p.pc_compute_us} * kNsPerUs;
+    const SimNs master_end = SimNs{p.master_end_us} * kNsPerUs;
+    // The PC's cycle, request end to request end: its period and start
+    // jitter, or its read-write exchange when that is longer.
+    const SimNs busy = cycle.read.request_ns + split + t35_ + kClockNs + seen + read_pass +
+                       cycle.read.response_ns + master_end + compute + cycle.write.request_ns + split + t35_ +
+                       kClockNs + seen + write_pass + cycle.write.response_ns + master_end +
+                       4 * frames_per_pass_;
+    const SimNs poll = std::max<SimNs>(c_.pc.cycle_ns + c_.pc.jitter_ns + split, busy);
+
+    if (!remote) {
+      const SimNs debounce_seen = periodic_ ? kClockNs : seen + kClockNs;
+      add("press_seen", 0, press_seen(poll, seen, debounce_seen, split));
+      add("debounce", debounce_ns_, debounce_ns_);
+      add("debounce_seen", 0, debounce_seen);
+    } else {
+      const SimNs seen_led = wait(plain_);  // the LED's Arduino: no Modbus traffic
+      add("press_seen", 0, seen_led);
+      add("debounce", debounce_ns_, debounce_ns_);
+      add("debounce_seen", 0, periodic_ ? kClockNs : seen_led + kClockNs);
+      add("tpdo_pass", 0, plain_);
+      // A held-back PDO goes out in the first pass after its inhibit time.
+      if (up_inhibit_us != 0)
+        add("inhibit_up", 0, SimNs{up_inhibit_us} * kNsPerUs + kClockNs + seen_led + plain_);
+      add("can_up", up.best_ns, up.worst_ns);
+      add("rpdo_seen", 0, seen);
+    }
+    add("poll_wait", 0, poll + seen + kClockNs);
+    add("read_pass", 0, read_pass);
+    add("read_response", resp_best, cycle.read.response_ns);
+    if (master_end != 0) add("master_end", master_end, master_end);
+    if (compute != 0) add("pc_compute", compute, compute);
+    add("write_request", wreq_best, cycle.write.request_ns + split);
+    add("slave_end", t35_, t35_);
+    add("write_seen", 0, seen + kClockNs);
+    add("write_pass", 0, write_pass);
+    uint32_t passes_pc = remote ? 5 : 6;  // the terms above that are passes of the PC's Arduino
+    uint32_t passes_led = 5;
+    if (remote) {
+      if (down_inhibit_us != 0) {
+        add("inhibit_down", 0, SimNs{down_inhibit_us} * kNsPerUs + kClockNs + longest_wait_ + longest_wait_);
+        passes_pc += 2;
+      }
+      if (up_inhibit_us != 0) passes_led += 2;
+      add("can_down", down.best_ns, down.worst_ns);
+      add("led_pass", 0, wait(plain_) + plain_);  // the pass in progress, the one that sets the LED
+    }
+    const uint64_t pc = std::min<uint64_t>(frames_pc, uint64_t{passes_pc} * t_.can_rx_buffers);
+    const uint64_t led =
+        remote ? std::min<uint64_t>(frames_led, uint64_t{passes_led} * t_.can_rx_buffers) : 0;
+    out_.frames_pc = static_cast<uint32_t>(pc);
+    out_.frames_led = static_cast<uint32_t>(led);
+    add("frames", 0, (pc + led) * t_.frame_ns);
+    return !full_;
+  }
+
+  const timing::LatencyBound& bound() const { return b_; }
+  /// Longest pass start to pass start on the PC's Arduino, frames included.
+  SimNs longest_wait() const { return longest_wait_; }
+
+ private:
+  SimNs wait(SimNs pass) const { return std::max(t_.loop_ns, pass); }
+
+  void add(const char* name, uint64_t best, uint64_t worst) {
+    if (b_.count == timing::kMaxLatencyTerms) full_ = true;
+    timing::add_latency_term(b_, name, best, worst);
+  }
+
+  /// The pass in progress when the button is pressed (Modbus only, where
+  /// the PC's Arduino has the button). A read pass or one without a
+  /// request: its own length. A write pass of cycle k: the next read ends
+  /// at most two poll periods after cycle k's read ended, which was ρ
+  /// before that write pass began, whenever cycle k+2's read cannot end
+  /// before the press is debounced (docs/timing.md §9).
+  SimNs press_seen(SimNs poll, SimNs seen, SimNs debounce_seen, SimNs split) const {
+    const timing::LatencyParams& p = out_.params;
+    const SimNs read_or_plain = wait(plain_ + chars_ + read_);
+    const SimNs rho = t_.pass_ns + read_ + timing::serial_frame_ns_floor(p.serial, p.read.response_bytes) +
+                      SimNs{p.master_end_us + p.pc_compute_us} * kNsPerUs +
+                      timing::serial_frame_ns_floor(p.serial, p.write.request_bytes) + t35_;
+    const timing::PollCycle cycle = timing::poll_cycle(p);
+    const SimNs sigma = seen + kClockNs + out_.read_pass_ns + cycle.read.response_ns +
+                        SimNs{p.master_end_us + p.pc_compute_us} * kNsPerUs + cycle.write.request_ns + split +
+                        t35_ + kClockNs + seen + 3 * frames_per_pass_;
+    const SimNs min_cycle = c_.pc.cycle_ns - c_.pc.jitter_ns - split;
+    const bool two_cycles = 2 * min_cycle >= sigma + out_.write_pass_ns + frames_per_pass_ + debounce_ns_ +
+                                                 debounce_seen + kClockNs;
+    if (!two_cycles) return wait(plain_ + chars_ + std::max(read_, write_));
+    // Press to the read that samples it: 2·poll + seen − ρ against the
+    // terms press_seen + debounce + debounce_seen + poll_wait.
+    const SimNs write_case = 2 * poll + seen + kClockNs;
+    const SimNs others = rho + debounce_ns_ + debounce_seen + poll + seen + kClockNs;
+    return std::max(read_or_plain, write_case > others ? write_case - others : 0);
+  }
+
+  const LineConfig& c_;
+  const NodeTiming& t_;
+  LabBound& out_;
+  timing::LatencyBound b_ = {};
+  bool full_ = false;
+  SimNs plain_ = 0, chars_ = 0, read_ = 0, write_ = 0, frames_per_pass_ = 0, t35_ = 0;
+  SimNs debounce_ns_ = 0, longest_wait_ = 0;
+  bool periodic_ = false;
+};
+
 }  // namespace
 
-LabBound lab_bound(Line& line, bool remote) {
-  return bound_with(line, remote, 8, lab_request_cost(line.config().node, remote));
+LabBound lab_bound(Line& line, bool remote, const LabOperator& op) {
+  const LineConfig& c = line.config();
+  LabBound out = bound_with(line, remote, 8, lab_request_cost(c.node, remote));
+  if (!out.ok) return out;
+  out.ok = false;
+  const uint32_t bitrate = c.bitrate_kbit * 1000u;
+  const uint32_t up_id = 0x280u + static_cast<uint32_t>(c.lab_remote + 1);
+  const uint32_t down_id = 0x380u + static_cast<uint32_t>(c.lab_pc + 1);
+  if (out.messages.empty() && !line_can_messages(line, out.params.fw_loop_us, &out.messages, &out.error))
+    return out;
+  HopTimes up, down;
+  SimNs longest_r = 0;
+  if (remote &&
+      (!hop_times(out.messages, up_id, bitrate, &up) || !hop_times(out.messages, down_id, bitrate, &down))) {
+    out.error = strf("no bounded CAN response time for the lab PDOs at %u kbit/s", c.bitrate_kbit);
+    return out;
+  }
+  if (!longest_response_ns(out.messages, bitrate, &longest_r)) {
+    out.error = strf("a message of the line has no bounded response time at %u kbit/s", c.bitrate_kbit);
+    return out;
+  }
+  const uint32_t up_inhibit_us = remote ? tpdo_inhibit_us(line, up_id) : 0;
+  const uint32_t down_inhibit_us = remote ? tpdo_inhibit_us(line, down_id) : 0;
+  TightBound tight(c, remote, out);
+  // First with a full receive buffer in every pass of the path (sound on
+  // its own), then with the frames that window can hold: the press's
+  // window reaches back over the pass in progress and the one before it,
+  // whose frames that pass took in.
+  const uint32_t cap = ~uint32_t{0};
+  if (!tight.build(remote, up, down, up_inhibit_us, down_inhibit_us, cap, cap)) {
+    out.error = "too many terms";
+    return out;
+  }
+  out.window_ns = tight.bound().worst_ns + 2 * tight.longest_wait();
+  const SimNs jitter = out.step_ns + longest_r;  // a send's lateness and its time on the bus
+  const int button = remote ? c.lab_remote : c.lab_pc;
+  uint32_t frames_pc = 0, frames_led = 0;
+  if (!frames_in_window(line, c.lab_pc, button, out.window_ns, jitter, op, &frames_pc, &out.error) ||
+      (remote &&
+       !frames_in_window(line, c.lab_remote, button, out.window_ns, jitter, op, &frames_led, &out.error)))
+    return out;
+  tight.build(remote, up, down, up_inhibit_us, down_inhibit_us, frames_pc, frames_led);
+  out.bound = tight.bound();
+  out.ok = true;
+  return out;
 }
 
 LabBound arduino_control_bound(Line& line) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/lab_window.h"
 #include "sim/line.h"
 #include "timing/latency.h"
 #include "timing/message_set.h"
@@ -22,7 +23,14 @@ struct LabBound {
   timing::LatencyBound bound = {};
   std::vector<timing::MessageSpec> messages;  ///< the line's CAN set, priority order
   SimNs pass_max_ns = 0;                      ///< longest pass of a lab station
-  SimNs step_ns = 0;                          ///< event → end of the pass that handles it (fw_loop)
+  SimNs step_ns = 0;  ///< event → end of the pass that handles it (fw_loop: message jitter, alternative)
+  // The bound per kind of pass (lab_bound; docs/timing.md §9), frames apart:
+  SimNs plain_pass_ns = 0;  ///< longest pass with no frame, character or request
+  SimNs read_pass_ns = 0;   ///< longest pass that answers the PC's read
+  SimNs write_pass_ns = 0;  ///< longest pass that answers the PC's write
+  SimNs window_ns = 0;      ///< the window the frames are counted in
+  uint32_t frames_pc = 0;   ///< frames the PC's Arduino takes into the path's passes
+  uint32_t frames_led = 0;  ///< the same for the button's and LED's Arduino (Modbus + CANopen)
 };
 
 /// Longest time from an outside event to the end of the pass that handles
@@ -32,8 +40,12 @@ SimNs firmware_step_ns(const NodeTiming& t, SimNs pass_max_ns);
 
 /// Bound for the lab of `line` (config().lab_pc / lab_remote set):
 /// `remote` = Modbus + CANopen path (button and LED on lab_remote), else
-/// Modbus only (button and LED on lab_pc).
-LabBound lab_bound(Line& line, bool remote);
+/// Modbus only (button and LED on lab_pc); `op`: what the operator presses
+/// besides the lab button. Each firmware step is the longest pass of its
+/// kind (docs/timing.md §9, "The bound per kind of pass"), the frames each
+/// Arduino can take in during the latency window are counted once. Only the
+/// lab PC talks Modbus (the other stations' passes have no characters).
+LabBound lab_bound(Line& line, bool remote, const LabOperator& op = LabOperator());
 
 /// Bound of seed 000 §11's simpler alternative on `line`: button and LED on
 /// lab_remote, the control process on lab_pc's Arduino (no PC, no serial

@@ -25,7 +25,7 @@ const char* status_name(uint8_t s) {
 
 std::string hex_bytes(const uint8_t* d, size_t n) {
   std::string s;
-  for (size_t i = 0; i < n; ++i) s += strf(i ? " %02X" : "%02X", d[i]);
+  append_hex_bytes(&s, d, n);
   return s;
 }
 

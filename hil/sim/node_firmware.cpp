@@ -3,6 +3,7 @@
 // commissioning, and the OD state the line watches. The pass scheduler is
 // node_station.cpp.
 #include <algorithm>
+#include <stdexcept>
 #include <vector>
 
 #include "canopen/pdo_map.h"
@@ -29,7 +30,21 @@ void NodeStation::make_gateway() {
                             od.find(e::x2100_3_stop2Count),  od.find(e::x2110_3_prevStatus),
                             od.find(e::x2120_3_nextStatus),  od.find(e::x2110_1_prevRunState),
                             od.find(e::x2120_1_nextRunState)};
-  std::copy(rows, rows + 7, rows_);
+  // Read after every pass: resolved to their value bytes once, here (the
+  // gateway, and so its value block, lives until power off).
+  const canopen::ObjectDictionary& values = od;
+  for (size_t k = 0; k < kWatched; ++k) {
+    watched_[k] = values.ram(rows[k]);
+    watched_size_[k] = static_cast<uint8_t>(values.size_of(rows[k]));
+    if (watched_[k] == nullptr || watched_size_[k] == 0 || watched_size_[k] > 2) {
+      throw std::logic_error("watched OD entry is not a RAM value of 1 or 2 bytes");
+    }
+  }
+}
+
+uint32_t NodeStation::watched(size_t k) const {
+  const uint8_t* p = watched_[k];
+  return watched_size_[k] == 1 ? p[0] : static_cast<uint32_t>(p[0] | p[1] << 8);
 }
 
 void NodeStation::commission(const std::function<void(canopen::ObjectDictionary&)>& configure) {
@@ -41,10 +56,19 @@ void NodeStation::commission(const std::function<void(canopen::ObjectDictionary&
   canopen::put_le32(save, canopen::kSaveSignature);
   gw_->od().write(0x1010, 1, save, 4);
   // The save runs over passes, an EEPROM byte each 3.3 ms (eeprom.h): the
-  // bench's own clock, before the line's time starts.
-  for (uint32_t us = 0; gw_->node().saving(); us += 100) {
+  // bench's own clock, before the line's time starts, a call each 100 us.
+  // Calls before the core's next deadline and before the EEPROM gets ready
+  // (its one input here) change nothing (Gateway::next_deadline): they are
+  // left out, the others made at the same 100 us steps as before.
+  const uint32_t kStepUs = 100;
+  for (uint32_t us = 0; gw_->node().saving();) {
     eeprom_.set_now(us * kNsPerUs);
     gw_->process(us, 0);
+    uint32_t at_us = 0;
+    const uint32_t ready_us = static_cast<uint32_t>((eeprom_.ready_at() + kNsPerUs - 1) / kNsPerUs);
+    uint32_t wake_us = gw_->next_deadline(us, &at_us) ? std::min(at_us, ready_us) : ready_us;
+    wake_us = std::max(wake_us, us + kStepUs);
+    us = (wake_us + kStepUs - 1) / kStepUs * kStepUs;
   }
   eeprom_.settle();
   gw_.reset();
@@ -72,16 +96,15 @@ void NodeStation::set_filters(void* ctx, const CanIdRange* ranges, uint8_t count
   n.can_.set_acceptance(n_ids != 0 && mcp2515::plan_filters(ids, n_ids, plan) ? &plan : nullptr);
 }
 
-NodeState NodeStation::read_state() {
-  const canopen::ObjectDictionary& od = gw_->od();
+NodeState NodeStation::read_state() const {
   NodeState s;
-  s.nmt = static_cast<uint8_t>(od.get(rows_[0]));
-  s.run = static_cast<uint8_t>(od.get(rows_[1]));
-  s.stop2_count = static_cast<uint16_t>(od.get(rows_[2]));
-  s.prev_status = static_cast<uint8_t>(od.get(rows_[3]));
-  s.next_status = static_cast<uint8_t>(od.get(rows_[4]));
-  s.prev_run = static_cast<uint8_t>(od.get(rows_[5]));
-  s.next_run = static_cast<uint8_t>(od.get(rows_[6]));
+  s.nmt = static_cast<uint8_t>(watched(0));
+  s.run = static_cast<uint8_t>(watched(1));
+  s.stop2_count = static_cast<uint16_t>(watched(2));
+  s.prev_status = static_cast<uint8_t>(watched(3));
+  s.next_status = static_cast<uint8_t>(watched(4));
+  s.prev_run = static_cast<uint8_t>(watched(5));
+  s.next_run = static_cast<uint8_t>(watched(6));
   return s;
 }
 

@@ -1,5 +1,7 @@
 #include "sim/node_station.h"
 
+#include <algorithm>
+
 namespace mb2co {
 namespace sim {
 
@@ -30,6 +32,7 @@ void NodeStation::power_on() {
   state_ = read_state();
   last_buttons_ = buttons_;
   wake_ns_ = 0;  // the first pass calls the firmware
+  rest_known_ = false;
   booting_ = true;
   uart_.clear_request();
   q_.at(finish_pass(0, timing_.pass_ns), this, kPass, generation_);
@@ -75,7 +78,7 @@ void NodeStation::pass() {
     proc += take_serial(t, now_us);
     // The characters only fed the framer (nothing sent, nothing due yet).
     if (idle && serial_pending_.empty() && tx_pending_.empty()) {
-      ask_deadline(t, now_us);
+      ask_deadline_after_chars(t, now_us);
       if (t < wake_ns_) {
         q_.again_at(finish_pass(leds_out_, proc));
         return;
@@ -115,6 +118,20 @@ SimNs NodeStation::take_serial(SimNs t, uint32_t now_us) {
 void NodeStation::ask_deadline(SimNs t, uint32_t now_us) {
   uint32_t at_us = 0;
   wake_ns_ = gw_->next_deadline(now_us, &at_us) ? at_micros(t, now_us, at_us) : ~SimNs{0};
+  // With no frame in progress the answer is the rest of the core's alone.
+  const modbus::SlaveCore& m = gw_->modbus_slave();
+  uint32_t frame_us = 0;
+  rest_known_ = !m.next_deadline(now_us, &frame_us);
+  rest_wake_ns_ = wake_ns_;
+  rest_messages_ = m.counters().server_messages;
+}
+
+void NodeStation::ask_deadline_after_chars(SimNs t, uint32_t now_us) {
+  const modbus::SlaveCore& m = gw_->modbus_slave();
+  if (!rest_known_ || m.counters().server_messages != rest_messages_) return ask_deadline(t, now_us);
+  uint32_t frame_us = 0;
+  wake_ns_ = m.next_deadline(now_us, &frame_us) ? std::min(rest_wake_ns_, at_micros(t, now_us, frame_us))
+                                                : rest_wake_ns_;
 }
 
 SimNs NodeStation::at_micros(SimNs t, uint32_t now_us, uint32_t at_us) const {

@@ -123,7 +123,16 @@ class NodeStation final : public Handler {
   /// wake_ns_ = when the firmware clock reaches Gateway::next_deadline, asked
   /// at `t` (never: no deadline pending).
   void ask_deadline(SimNs t, uint32_t now_us);
-  NodeState read_state();
+  /// ask_deadline() after characters that only fed the framer (nothing
+  /// sent, nothing due): they move the slave's frame end and nothing else
+  /// of the core (Gateway::next_deadline), unless they completed a request
+  /// (the slave counted it: the line application's refresh is due). So
+  /// wake_ns_ = the earlier of the rest's deadline, as last asked with no
+  /// frame in progress, and the frame's end; else the whole question.
+  void ask_deadline_after_chars(SimNs t, uint32_t now_us);
+  NodeState read_state() const;
+  /// Watched entry k (the order of NodeState) read from its value bytes.
+  uint32_t watched(size_t k) const;
   /// When micros() reaches `at_us`, seen from the pass at `t` (micros() = now_us).
   SimNs at_micros(SimNs t, uint32_t now_us, uint32_t at_us) const;
 
@@ -149,10 +158,17 @@ class NodeStation final : public Handler {
   bool booting_ = false;  ///< the next pass is the first after power-on
   uint64_t passes_ = 0;
   uint64_t firmware_calls_ = 0;
-  uint16_t rows_[7] = {};
+  static constexpr size_t kWatched = 7;
+  /// The watched entries' value bytes in the gateway's OD (little-endian,
+  /// 1 or 2 bytes each), resolved once per power-on: no OD lookup per pass.
+  const uint8_t* watched_[kWatched] = {};
+  uint8_t watched_size_[kWatched] = {};
   // Idle-pass elision (skip_idle, "Idle passes" above).
-  SimNs wake_ns_ = 0;         ///< passes before this may be skipped
-  uint8_t last_buttons_ = 0;  ///< the levels the firmware last sampled
+  SimNs wake_ns_ = 0;           ///< passes before this may be skipped
+  uint8_t last_buttons_ = 0;    ///< the levels the firmware last sampled
+  bool rest_known_ = false;     ///< rest_wake_ns_ holds (ask_deadline_after_chars)
+  SimNs rest_wake_ns_ = 0;      ///< the core's deadline without the slave's frame end
+  uint32_t rest_messages_ = 0;  ///< the slave's server_messages when it was asked
 };
 
 }  // namespace sim

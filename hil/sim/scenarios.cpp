@@ -2,6 +2,7 @@
 
 #include "sim/press_loop.h"
 #include "sim/scenario_parts.h"
+#include "sim/worst_presses.h"
 
 namespace mb2co {
 namespace sim {
@@ -148,7 +149,10 @@ LatencyResult latency_scenario(LineConfig c, const LatencyCase& lc, uint32_t pre
     c.lab_remote = 1;
   }
   c.bitrate_kbit = lc.bitrate_kbit;
-  if (log) log->set_run(strf("latency-%uk-%s", lc.bitrate_kbit, lc.remote ? "canopen" : "modbus"));
+  if (log) {
+    log->set_run(strf("latency-%uk-%s%s", lc.bitrate_kbit, lc.remote ? "canopen" : "modbus",
+                      lc.worst ? "-worst" : ""));
+  }
   Line line(c, log);
   line.pc(c.lab_pc).set_program(std::unique_ptr<PcProgram>(new LabProgram(1, lc.remote)));
   line.power_on_all();
@@ -165,11 +169,14 @@ LatencyResult latency_scenario(LineConfig c, const LatencyCase& lc, uint32_t pre
       if (f.id == up_id || f.id == down_id) ++r.lab_frames_lost;
     };
   }
-  PressRun presses_run = run_presses(line, station, station, presses, rng, progress);
+  PressRun presses_run = lc.worst ? search_worst_presses(line, station, station, lc.remote, progress)
+                                  : run_presses(line, station, station, presses, rng, progress);
   r.samples_ns = std::move(presses_run.samples_ns);
   r.lost = presses_run.lost;
 
-  r.bound = lab_bound(line, lc.remote);  // every Arduino is up by now
+  LabOperator op;
+  op.interference = lc.worst && lc.remote;   // what search_worst_presses presses besides the lab button
+  r.bound = lab_bound(line, lc.remote, op);  // every Arduino is up by now
   r.duration_ns = line.now();
   r.events = line.queue().handled();
   for (int i = 0; i < line.size(); ++i) r.rx_overflows += line.node(i).can().counters().rx_overflows;

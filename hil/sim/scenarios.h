@@ -96,6 +96,9 @@ Stop2Result stop2_scenario(const LineConfig& c, EventLog* log, const Progress& p
 struct LatencyCase {
   uint32_t bitrate_kbit = 500;
   bool remote = false;  ///< Modbus + CANopen (else Modbus only)
+  /// Presses at the phasings the bound assumes, found by a deterministic
+  /// search (--worst), instead of `presses` presses at random phases.
+  bool worst = false;
 };
 struct LatencyResult {
   LatencyCase c;

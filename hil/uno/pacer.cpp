@@ -17,14 +17,19 @@ uint64_t Pacer::allowed_sim_us(uint64_t sim_us, uint64_t wall_us) {
     dropped_us_ += due_us - sim_us;
     moved_at_wall_us_ = wall_us;
     offset_before_us_ = offset_us_;
+    held_at_sim_us_ = sim_us;
+    held_for_us_ = due_us - sim_us;
     offset_us_ = wall_us - sim_us;
   }
   return wall_us - offset_us_ + kLeadUs;
 }
 
 uint64_t Pacer::sim_of(uint64_t wall_us) const {
-  const uint64_t offset = wall_us < moved_at_wall_us_ ? offset_before_us_ : offset_us_;
-  return wall_us > offset ? wall_us - offset : 0;
+  if (wall_us >= moved_at_wall_us_) return wall_us > offset_us_ ? wall_us - offset_us_ : 0;
+  const uint64_t due_us = wall_us > offset_before_us_ ? wall_us - offset_before_us_ : 0;
+  if (due_us <= held_at_sim_us_ || held_for_us_ <= kReplayUs) return due_us;
+  // Into the hold-up by (due - held_at) of held_for: as far into kReplayUs.
+  return held_at_sim_us_ + (due_us - held_at_sim_us_) * kReplayUs / held_for_us_;
 }
 
 uint64_t Pacer::wait_us(uint64_t sim_us, uint64_t wall_us) const {

@@ -25,7 +25,15 @@ class Pacer {
   /// sends leaves up to kLeadUs early (on average the two cancel: the Modbus
   /// master's mean exchange time was the same with 1 and 2 ms).
   static constexpr uint64_t kLeadUs = 2000;
+  /// Behind by up to this much, the simulation catches up (passes back to
+  /// back, no sleep); further behind, it goes on from where it stands. Not
+  /// more: a board the host starves would then lag that far for good, and
+  /// every frame it sends reach its peers that late (100 ms was tried: SYNC
+  /// round trips of 68-302 ms in docs/labs.md's session at load 13).
   static constexpr uint64_t kBehindUs = 20000;
+  /// What came in during a hold-up reaches the simulation within this much
+  /// of its time after the move (sim_of()).
+  static constexpr uint64_t kReplayUs = 10000;
   /// Speed is judged over windows of this much wall time.
   static constexpr uint64_t kWindowUs = 1000000;
 
@@ -42,8 +50,11 @@ class Pacer {
   /// The simulated time at which something that happened at wall time
   /// `wall_us` reaches the simulation (a CAN frame's kernel timestamp). A
   /// time before the last move of the mapping keeps the mapping it happened
-  /// under: what came in while the simulation was held up arrives spread as
-  /// it came, after where the simulation stood, not all at once.
+  /// under, squeezed: what came in while the simulation was held up arrives
+  /// after where the simulation stood, spread over at most kReplayUs in the
+  /// order and proportion it came, not all at once (that would overrun the
+  /// chip's two receive buffers) and not over the whole hold-up (what comes
+  /// next would queue behind it and reach the chip back to back).
   uint64_t sim_of(uint64_t wall_us) const;
 
   /// Times the mapping moved (the simulation was held up more than
@@ -60,6 +71,8 @@ class Pacer {
   uint64_t offset_us_;             ///< wall_us - sim_us of the mapping
   uint64_t moved_at_wall_us_ = 0;  ///< when the mapping last moved (0: never)
   uint64_t offset_before_us_ = 0;  ///< the mapping before that move
+  uint64_t held_at_sim_us_ = 0;    ///< where the simulation stood at that move
+  uint64_t held_for_us_ = 0;       ///< and how far behind it was: the hold-up
   uint64_t window_wall_us_;        ///< start of the current speed window
   uint64_t window_sim_us_;
   bool behind_in_window_ = false;

@@ -121,6 +121,7 @@ Status UnoBoard::load(const std::string& elf_path, Wiring wiring) {
   }
   avr_->frequency = kCpuHz;
   avr_->sleep = &no_sleep;
+  avr_->run_cycle_limit = kBurstCycles;  // simavr's default 1: a call per instruction
   avr_load_firmware(avr_, fw.get());
   avr_->frequency = kCpuHz;  // an .mmcu section may have set another one
   // .data starts at the first SRAM address (after the 256 register and I/O
@@ -196,6 +197,8 @@ uint16_t UnoBoard::stack_used() const {
 }
 
 bool UnoBoard::run_until(uint64_t cycle) {
+  // The burst ends at `cycle` (header comment): a timer of its own there.
+  if (avr_->cycle < cycle) avr_cycle_timer_register(avr_, cycle - avr_->cycle, &on_run_end, this);
   while (avr_->cycle < cycle) {
     const int state = avr_run(avr_);
     if (state == cpu_Done || state == cpu_Crashed) {
@@ -207,7 +210,12 @@ bool UnoBoard::run_until(uint64_t cycle) {
       return false;
     }
   }
+  avr_cycle_timer_cancel(avr_, &on_run_end, this);
   return true;
+}
+
+uint64_t UnoBoard::on_run_end(avr_t*, uint64_t, void*) {
+  return 0;
 }
 
 uint64_t UnoBoard::cycle() const {

@@ -26,6 +26,7 @@ cli::Program make_program() {
       cli::duration("--duration", 1, 86400000, "stop after T simulated (seconds, or 250ms, 2min)"),
       cli::flag("--unpaced", "run as fast as simavr can, not at real time (measurements)"),
       cli::flag("--trace-can", "print 'can ID#DATA sim_us=T at_us=T' for every frame the chip sends"),
+      cli::flag("--stats", "at exit, the loop's system calls by kind and per simulated second (stderr)"),
   };
   for (const char* name :
        {"--serial", "--baud", "--parity", "--node-id", "--bitrate", "--stations", "--topology"}) {
@@ -56,6 +57,7 @@ void apply_options(const cli::Args& a, UnoOptions* o) {
   o->duration_ms = static_cast<uint32_t>(a.duration_ms("--duration", o->duration_ms));
   o->unpaced = a.has("--unpaced");
   o->trace_can = a.has("--trace-can");
+  o->stats = a.has("--stats");
 }
 
 }  // namespace uno

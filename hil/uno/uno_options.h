@@ -19,6 +19,7 @@ struct UnoOptions {
   uint32_t duration_ms = 0;       ///< --duration S: stop after S simulated seconds (0: run on)
   bool unpaced = false;           ///< --unpaced: as fast as simavr can (measurements)
   bool trace_can = false;         ///< --trace-can: a "can" line per frame the chip sends
+  bool stats = false;             ///< --stats: the loop's system calls at exit (io_counts.h)
 };
 
 /// The option table of mb2co-uno (help, parser and completion come from it).

@@ -7,7 +7,10 @@
 //      1018h/1 means the node is missing;
 //   2. every sub with a ParameterValue (resolved with the node id) that is
 //      not ro/const is read; the ones that differ are written, the first
-//      abort stops the node;
+//      abort stops the node and undoes it (all or nothing per node): what
+//      was written is written back with the value read in this step, in
+//      the reverse order (a PDO's entries again in the CiA 301 order), one
+//      line per entry restored;
 //      (1003h error history, 1010h and 1011h store/restore commands are
 //      never written from a DCF: what a dump reads there is a record or a
 //      capability, not a setting);
@@ -96,6 +99,9 @@ class NodeJob {
   unsigned equal() const { return equal_; }
   unsigned read_only() const { return read_only_; }
   bool saved() const { return saved_; }
+  /// After a refused write: one line per entry written back ("restored
+  /// 1017h/0 = 0x64") or that could not be ("not restored 2001h/0: ...").
+  const std::vector<std::string>& restore_lines() const { return restore_lines_; }
 
  private:
   /// A sub the DCF configures (or, `counted` false, one read for the PDO
@@ -113,6 +119,7 @@ class NodeJob {
     uint16_t index;
     uint8_t sub;
     std::vector<uint8_t> bytes;
+    bool reported = false;  ///< a restore step with a line (not the PDO order's own steps)
   };
 
   /// A transfer of this node's, not queued yet.
@@ -279,7 +286,7 @@ class NodeJob {
     if (next_write_ < writes_.size()) {
       const Write& w = writes_[next_write_++];
       queue(w.index, w.sub, false, w.bytes, [this](Transfer& t) {
-        if (!t.ok()) return failed(t, "writing");
+        if (!t.ok()) return refused_write(t);
         write_next();
       });
       return;
@@ -293,6 +300,127 @@ class NodeJob {
       return;
     }
     finish(kConfigured);
+  }
+
+  /// writes_[0, next_write_ - 1) were applied when `t` failed: the outcome
+  /// is decided now, the restore runs before on_finished.
+  void refused_write(const Transfer& t) {
+    net_->drop_queued(node_.id, canopen::kAbortTimeout);
+    const std::string what = "writing " + where(t.index, t.sub);
+    pending_why_ = t.by_server ? what + ": SDO abort " + hex8(t.result) + " (" + abort_text(t.result) + ")"
+                               : "no answer to " + where(t.index, t.sub);
+    pending_outcome_ = t.by_server ? kRefused : kMissing;
+    plan_restore(next_write_ - 1);
+    next_restore_ = 0;
+    restore_next();
+  }
+
+  /// The value read before (step 2), or nullptr when the read failed.
+  const std::vector<uint8_t>* before(uint16_t index, uint8_t sub) {
+    const Entry* e = entry(index, sub);
+    return e && e->known() ? &e->read->data : nullptr;
+  }
+
+  void add_restore(uint16_t index, uint8_t sub) {
+    const std::vector<uint8_t>* old = before(index, sub);
+    if (!old) {
+      restore_lines_.push_back("not restored " + where(index, sub) + ": it could not be read before");
+      return;
+    }
+    restores_.push_back(Write{index, sub, *old, true});
+  }
+
+  /// The entries of writes_[0, applied) in reverse order of their last
+  /// write, each back to its value before; a PDO as one block in the CiA
+  /// 301 order (invalid, count 0, mapping entries, count, parameters, COB-ID).
+  void plan_restore(size_t applied) {
+    std::vector<std::pair<uint16_t, uint8_t>> seen;
+    auto first_time = [&seen](uint16_t index, uint8_t sub) {
+      for (const auto& s : seen)
+        if (s.first == index && s.second == sub) return false;
+      seen.emplace_back(index, sub);
+      return true;
+    };
+    for (size_t i = applied; i-- > 0;) {
+      const Write& w = writes_[i];
+      if (!is_pdo_comm(w.index) && !is_pdo_map(w.index)) {
+        if (first_time(w.index, w.sub)) add_restore(w.index, w.sub);
+        continue;
+      }
+      const uint16_t comm = is_pdo_map(w.index) ? static_cast<uint16_t>(w.index - 0x200) : w.index;
+      if (first_time(comm, 0xFF)) plan_pdo_restore(comm, applied);  // 0xFF: the PDO as a whole
+    }
+  }
+
+  void plan_pdo_restore(uint16_t comm, size_t applied) {
+    const uint16_t map = static_cast<uint16_t>(comm + 0x200);
+    std::vector<uint8_t> cob_now;
+    std::vector<uint8_t> map_subs, comm_subs;  // written, latest write first
+    auto note = [](std::vector<uint8_t>* subs, uint8_t sub) {
+      for (uint8_t s : *subs)
+        if (s == sub) return;
+      subs->push_back(sub);
+    };
+    bool count_written = false;
+    for (size_t i = applied; i-- > 0;) {
+      const Write& w = writes_[i];
+      if (w.index == comm && w.sub == 1 && cob_now.empty()) cob_now = w.bytes;
+      if (w.index == comm && w.sub != 1) note(&comm_subs, w.sub);
+      if (w.index == map && w.sub != 0) note(&map_subs, w.sub);
+      if (w.index == map && w.sub == 0) count_written = true;
+    }
+    if (cob_now.empty()) {
+      const std::vector<uint8_t>* old = before(comm, 1);
+      if (old) cob_now = *old;
+    }
+    if (cob_now.size() == 4 && !(u32_of(cob_now) & 0x80000000u))
+      restores_.push_back(Write{comm, 1, bytes_of(u32_of(cob_now) | 0x80000000u, 4)});
+    if (count_written || !map_subs.empty()) {
+      restores_.push_back(Write{map, 0, {0}});
+      for (uint8_t s : map_subs) add_restore(map, s);
+      add_restore(map, 0);
+    }
+    for (uint8_t s : comm_subs) add_restore(comm, s);
+    bool cob_written = false;
+    for (size_t i = 0; i < applied; ++i) cob_written |= writes_[i].index == comm && writes_[i].sub == 1;
+    if (cob_written) add_restore(comm, 1);
+  }
+
+  std::string value_text(uint16_t index, uint8_t sub, const std::vector<uint8_t>& bytes) const {
+    const eds::SubObject* s = dcf_.find(index, sub);
+    eds::Value v;
+    v.bytes = bytes;
+    if (s) return eds::format_value(s->type, v);
+    return eds::format_value(eds::DataType::kOctetString, v);
+  }
+
+  /// One restore step after the other; an abort is said and the rest still
+  /// tried, silence ends the restore (the rest are said not restored).
+  void restore_next() {
+    if (next_restore_ >= restores_.size()) return finish(pending_outcome_, pending_why_);
+    const Write& w = restores_[next_restore_++];
+    queue(w.index, w.sub, false, w.bytes, [this](Transfer& t) {
+      const Write& done = restores_[next_restore_ - 1];
+      if (t.ok()) {
+        if (done.reported)
+          restore_lines_.push_back("restored " + where(done.index, done.sub) + " = " +
+                                   value_text(done.index, done.sub, done.bytes));
+        return restore_next();
+      }
+      const std::string step = where(done.index, done.sub) + (done.reported ? "" : " (PDO invalid first)");
+      if (t.by_server) {
+        restore_lines_.push_back("not restored " + step + ": SDO abort " + hex8(t.result) + " (" +
+                                 abort_text(t.result) + ")");
+        return restore_next();
+      }
+      restore_lines_.push_back("not restored " + step + ": no answer");
+      for (size_t i = next_restore_; i < restores_.size(); ++i)
+        if (restores_[i].reported)
+          restore_lines_.push_back("not restored " + where(restores_[i].index, restores_[i].sub) +
+                                   ": no answer");
+      net_->drop_queued(node_.id, canopen::kAbortTimeout);
+      finish(kMissing, pending_why_);
+    });
   }
 
   /// A node may answer "save" at once and write over its next passes (the
@@ -328,6 +456,11 @@ class NodeJob {
   std::string why_;
   unsigned written_ = 0, equal_ = 0, read_only_ = 0;
   bool saved_ = false;
+  std::vector<Write> restores_;
+  size_t next_restore_ = 0;
+  Outcome pending_outcome_ = kRefused;
+  std::string pending_why_;
+  std::vector<std::string> restore_lines_;
   uint32_t save_started_us_ = 0;  ///< when the node accepted "save"
   static const uint32_t kSavePollUs = 100000;
   static const uint32_t kSaveTimeoutUs = 10000000;
@@ -401,6 +534,12 @@ int configure_command(const Options& o, Transport& transport, std::ostream& out,
             << ",\"started\":" << (started ? "true" : "false");
       else
         out << ",\"why\":\"" << json_text(j->why()) << "\"";
+      if (!j->restore_lines().empty()) {
+        out << ",\"restore\":[";
+        for (size_t i = 0; i < j->restore_lines().size(); ++i)
+          out << (i ? "," : "") << "\"" << json_text(j->restore_lines()[i]) << "\"";
+        out << "]";
+      }
       out << "}\n";
       continue;
     }
@@ -417,6 +556,8 @@ int configure_command(const Options& o, Transport& transport, std::ostream& out,
         out << "missing (" << j->why() << ")\n";
         break;
     }
+    for (const std::string& line : j->restore_lines())
+      out << "node " << unsigned(j->id()) << ": " << line << "\n";
   }
   // Silence is the worse news: a missing node was not even identified.
   return missing ? kExitNoAnswer : refused ? kExitRefused : kExitOk;

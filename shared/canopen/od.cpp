@@ -28,7 +28,25 @@ static const uint8_t kOdTypeInfo[kOdTypeCount] MB2CO_FLASH = {
 #undef MB2CO_OD_TYPE_INFO
 
 ObjectDictionary::ObjectDictionary(const OdDefinition& def, uint8_t* values)
-    : def_(def), values_(values), hook_(nullptr), hook_ctx_(nullptr), revision_(0), node_id_(0) {}
+    : def_(def), values_(values), hook_(nullptr), hook_ctx_(nullptr), revision_(0), node_id_(0) {
+#ifndef __AVR__
+  resolve_direct();
+#endif
+}
+
+#ifndef __AVR__
+void ObjectDictionary::resolve_direct() {
+  for (uint16_t row = 0; row < kDirectRows; ++row) {
+    direct_[row] = Direct{0, 0};
+    if (row >= def_.row_count) continue;
+    const Place pl = place(row);
+    if ((flash_read(&pl.row->attr) & (kAttrRam | kAttrString)) != kAttrRam) continue;
+    const uint8_t n = numeric_size(pl.row);
+    if (n == 0 || n > 4) continue;
+    direct_[row] = Direct{static_cast<uint16_t>(value_at(pl) - values_), n};
+  }
+}
+#endif
 
 uint8_t ObjectDictionary::row_type(const OdRow* e) {
   const uint8_t low = flash_read(reinterpret_cast<const uint8_t*>(e) + kOdEntryTypeHookOffset) & 0x0F;
@@ -199,6 +217,13 @@ uint32_t ObjectDictionary::constant_at(Place p) const {
 // three fields they need straight from the row and move the value with one
 // memcpy (values are little-endian, like both targets).
 uint32_t ObjectDictionary::get(uint16_t row) const {
+#ifndef __AVR__
+  if (row < kDirectRows && direct_[row].size != 0) {
+    uint32_t v = 0;
+    memcpy(&v, values_ + direct_[row].offset, direct_[row].size);  // little-endian (checked above)
+    return v;
+  }
+#endif
   const Place pl = place(row);
   const uint8_t a = flash_read(&pl.row->attr);
   if (!(a & kAttrRam)) return constant_at(pl);

@@ -242,6 +242,21 @@ class ObjectDictionary {
   void* hook_ctx_;
   uint16_t revision_;
   uint8_t node_id_;
+#ifndef __AVR__
+  // Hosts only (the simulator runs every station's core on every pass; the
+  // Uno keeps its RAM and flash as they are): where get() finds a numeric
+  // RAM row's value, resolved once at construction from the constant rows,
+  // so get() skips place() and the type decoding. Offsets into values_ and
+  // sizes never change after construction (rows, types and the value
+  // layout are constant; the node id changes constants, not RAM rows).
+  struct Direct {
+    uint16_t offset;  ///< of the value in values_
+    uint8_t size;     ///< 1..4 bytes; 0: not a numeric RAM row of <= 4 bytes, get() decodes
+  };
+  static const uint16_t kDirectRows = 1024;  ///< rows beyond this decode (no OD here has as many)
+  Direct direct_[kDirectRows];
+  void resolve_direct();
+#endif
 };
 
 /// Little-endian helpers (the bus byte order).

@@ -117,7 +117,11 @@ void Tpdos::process(uint32_t now_us, const CanSink& sink) {
     }
     if (type < 254) continue;
     s.flags |= kEventType;
-    if (changed) s.flags |= kPending;
+#if MB2CO_CONFIG_PROFILE_EVENTS
+    if (changed && change_sends(n, type)) s.flags |= kPending;
+#else
+    if (changed) s.flags |= kPending;  // the station images: not a byte more
+#endif
     if ((s.flags & kEventTimer) && time_reached(now_us, s.event_deadline_us)) s.flags |= kPending;
     if ((s.flags & kInhibiting) && time_reached(now_us, s.inhibit_until_us)) {
       s.flags = static_cast<uint8_t>(s.flags & ~kInhibiting);

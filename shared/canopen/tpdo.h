@@ -11,6 +11,7 @@
 #include "canopen/od.h"
 #include "canopen/od_comm.h"
 #include "canopen/pdo_map.h"
+#include "profiles/profile.h"
 
 namespace mb2co {
 namespace canopen {
@@ -48,6 +49,19 @@ class Tpdos {
   SdoAbort on_write(uint16_t index, uint8_t sub, const uint8_t* data, bool apply);
   /// Frames the port refused (never decrements).
   uint16_t send_failures() const { return send_failures_; }
+  /// TPDOs (bit n: TPDO n + 1) whose transmission type 255, "event-driven,
+  /// device profile specific" in CiA 301, is the application's event: a
+  /// change of their data does not send them; request(), the event timer
+  /// and entering operational do (the I/O node: CiA 401's interrupt masks
+  /// decide). Type 254 stays change of data. None until set. Without the
+  /// profile's switch (profile::kProfileEvents) it does nothing.
+  void set_profile_events(uint8_t pdos) {
+#if MB2CO_CONFIG_PROFILE_EVENTS
+    profile_events_ = pdos;
+#else
+    (void)pdos;
+#endif
+  }
 
  private:
   struct State {
@@ -74,16 +88,29 @@ class Tpdos {
   /// Builds PDO n's payload from the OD and sends it (one copy for SYNC and
   /// RTR).
   void build_and_send(uint8_t n, uint32_t cob, const CanSink& sink, uint32_t now_us);
-  uint16_t comm_row(uint8_t n) const { return static_cast<uint16_t>(rec_.comm0 + n * 6u); }
+  uint16_t comm_row(uint8_t n) const {
+    return static_cast<uint16_t>(rec_.comm0 + n * 6u);
+  }
   /// Value of row `k` of PDO n's communication record (out of line: many callers).
   uint32_t comm(uint8_t n, uint8_t k) const;
-  uint16_t map_row(uint8_t n) const { return static_cast<uint16_t>(rec_.map0 + n * rec_.map_stride); }
+  uint16_t map_row(uint8_t n) const {
+    return static_cast<uint16_t>(rec_.map0 + n * rec_.map_stride);
+  }
+#if MB2CO_CONFIG_PROFILE_EVENTS
+  /// Whether a change of PDO n's data sends it (type 254/255).
+  bool change_sends(uint8_t n, uint8_t type) const {
+    return type != 255 || !((profile_events_ >> n) & 1u);
+  }
+#endif
 
   ObjectDictionary* od_;
   PdoRecords rec_;  ///< rows of 1800h and 1A00h sub 0, the mapping stride
   State st_[kPdoCount];
   uint16_t send_failures_;
   uint16_t seen_revision_;  ///< od_->revision() at the last process()
+#if MB2CO_CONFIG_PROFILE_EVENTS
+  uint8_t profile_events_;  ///< set_profile_events(); init() leaves it
+#endif
 };
 
 }  // namespace canopen

@@ -15,6 +15,9 @@ IoNode::IoNode(const CanSink& sink, uint32_t device_type)
   row_inputs_ = od_.find(0x6000, 1);
   row_outputs_ = od_.find(0x6200, 1);
   row_local_ = od_.find(0x2100, 0);
+  row_polarity_ = od_.find(0x6002, 1);
+  pins_[0] = pins_[1] = 0;
+  node_.tpdos().set_profile_events(0x0F);  // type 255: CiA 401's interrupt masks
   node_.set_app_hook(&IoNode::app_write, this);
   node_.set_reset_callback(&IoNode::on_reset, this);
 }
@@ -51,10 +54,44 @@ void IoNode::on_reset(void* ctx, NmtReset kind) {
     const CanControl control = flash_read(can);
     if (control.set_bitrate != nullptr) control.set_bitrate(n.node_.sink().ctx, v.x2001_2_bitrateKbit);
   }
+  // A reset node put 6000h and 6002h back to their defaults (or the saved
+  // polarity): 6000h reads the pins again.
+  for (uint8_t i = 0; i < 2; ++i) n.update_input(i, static_cast<uint8_t>(n.od_.get(n.row_polarity_ + i)));
 }
 
 void IoNode::set_input(uint8_t n, uint8_t value) {
-  if (n < 2) od_.set(static_cast<uint16_t>(row_inputs_ + n), value);
+  if (n >= 2) return;
+  pins_[n] = value;
+  update_input(n, static_cast<uint8_t>(od_.get(row_polarity_ + n)));
+}
+
+// Rows from 6002h/1 on: 6002h/1-2, 6005h/0, 6006h/0-2, 6007h/0-2, 6008h/0-2.
+enum : uint8_t { kGlobalEnable = 2, kAnyChange = 4, kLowToHigh = 7, kHighToLow = 10 };
+
+void IoNode::update_input(uint8_t n, uint8_t polarity) {
+  const uint16_t row = static_cast<uint16_t>(row_inputs_ + n);
+  const uint16_t param = static_cast<uint16_t>(row_polarity_ + n);
+  const uint8_t before = static_cast<uint8_t>(od_.get(row));
+  const uint8_t now = static_cast<uint8_t>(pins_[n] ^ polarity);
+  const uint8_t changed = before ^ now;
+  if (changed == 0) return;
+  od_.set(row, now);
+  const bool event =
+      ((changed & od_.get(param + kAnyChange)) | (changed & now & od_.get(param + kLowToHigh)) |
+       (changed & before & od_.get(param + kHighToLow))) != 0;
+  if (event && od_.get(static_cast<uint16_t>(row_polarity_ + kGlobalEnable)) != 0) request_input_pdos();
+}
+
+void IoNode::request_input_pdos() {
+  for (uint8_t n = 0; n < 4; ++n) {
+    const uint16_t map = od_.find(static_cast<uint16_t>(0x1A00 + n), 0);
+    const uint8_t count = static_cast<uint8_t>(od_.get(map));
+    for (uint8_t k = 1; k <= count; ++k)
+      if ((od_.get(static_cast<uint16_t>(map + k)) >> 16) == 0x6000u) {
+        node_.tpdos().request(n);
+        break;
+      }
+  }
 }
 
 uint8_t IoNode::output(uint8_t n) const {
@@ -69,6 +106,10 @@ HookResult IoNode::app_write(void* ctx, uint8_t, uint16_t index, uint8_t sub, co
     const uint16_t kbit = sub == 2 ? le16(data) : 0;
     if (sub == 2 && kbit != 125 && kbit != 250 && kbit != 500 && kbit != 1000) return kAbortInvalidValue;
     if (apply && sub == 1) n.node_.set_node_id_for_next_reset(data[0]);  // at reset communication
+    return kSdoOk;
+  }
+  if (index == 0x6002) {
+    if (apply) n.update_input(static_cast<uint8_t>(sub - 1), data[0]);  // before it is stored: the new one
     return kSdoOk;
   }
   if (index == 0x6200) {

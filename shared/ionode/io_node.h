@@ -5,6 +5,12 @@
 // 1010h (the node's two-slot storage, canopen/param_storage.h), a written
 // id in force from the next reset communication, the bit rate from the next
 // reset; a reset node without a saved set goes back to the power-on id.
+// CiA 401 inputs: 6000h is the pins' levels with the polarity 6002h applied
+// (a 1 inverts the bit), at every set_input() and write of 6002h (a written
+// polarity shows at once); a change of 6000h sends the TPDOs that map 6000h
+// (with transmission type 255, the device profile's event) only when 6005h
+// is TRUE and a changed bit is in the any-change mask 6006h, or rose and is
+// in 6007h, or fell and is in 6008h. Type 254 sends on any change.
 #pragma once
 #include <stdint.h>
 
@@ -32,7 +38,8 @@ class IoNode {
   static constexpr uint16_t kWidestRange = canopen::Node::kWidestRange;
   void process(uint32_t now_us) { node_.process(now_us); }
 
-  /// Input byte `n` (0 or 1) as read from the pins; published on change.
+  /// Input byte `n` (0 or 1) as read from the pins (before the polarity);
+  /// published as the interrupt masks say.
   void set_input(uint8_t n, uint8_t value);
   /// Output byte `n` (0 or 1) as last written by the network.
   uint8_t output(uint8_t n) const;
@@ -44,6 +51,10 @@ class IoNode {
   static canopen::HookResult app_write(void* ctx, uint8_t hook, uint16_t index, uint8_t sub,
                                        const uint8_t* data, uint16_t len, bool apply);
   static void on_reset(void* ctx, canopen::NmtReset kind);
+  /// 6000h/n+1 from the pins and `polarity`; a change the masks let
+  /// through requests the TPDOs mapping 6000h.
+  void update_input(uint8_t n, uint8_t polarity);
+  void request_input_pdos();
   static void receive_of(void* ctx, const CanFrame& f, uint32_t now_us) {
     static_cast<IoNode*>(ctx)->node_.receive(f, now_us);
   }
@@ -61,6 +72,8 @@ class IoNode {
   uint16_t row_inputs_;
   uint16_t row_outputs_;
   uint16_t row_local_;
+  uint16_t row_polarity_;  ///< 6002h/1; 6005h/0 to 6008h/1 follow it, 3 rows apart
+  uint8_t pins_[2];        ///< set_input()'s levels, before the polarity
 };
 
 }  // namespace ionode

@@ -1,6 +1,10 @@
 // Object Dictionary of the CiA 401-style digital I/O test node: two input
 // bytes (6000h), two output bytes (6200h), TPDO1 = inputs, RPDO1 = outputs,
 // as the CO4011 module of seed 004 §2.11 that the frame trace talks to.
+// The inputs' CiA 401 parameters (defaults as CiA 401 gives them): polarity
+// 6002h (1 = bit inverted), global interrupt enable 6005h (TRUE), interrupt
+// masks any change 6006h (FFh), low-to-high 6007h and high-to-low 6008h
+// (00h): which changes of 6000h send TPDO1 (IoNode).
 // 2001h/1-2 are the node's own id and CAN bit rate, as the gateway's
 // 2000h/1-2: saved with 1010h, in force from the next reset (IoNode).
 #pragma once
@@ -42,6 +46,19 @@ namespace ionode {
   N(0x6000, 0, x6000_0_highestSubIndex, U8, CONST, 0, kHookNone, 2, "Read input 8-bit: highest sub-index")      \
   N(0x6000, 1, x6000_1_readInput8Bit1, U8, RO, kAttrPdo, kHookNone, 0, "Read input 8-bit 1")                    \
   N(0x6000, 2, x6000_2_readInput8Bit2, U8, RO, kAttrPdo, kHookNone, 0, "Read input 8-bit 2")                    \
+  N(0x6002, 0, x6002_0_highestSubIndex, U8, CONST, 0, kHookNone, 2, "Polarity input 8-bit: highest sub-index")  \
+  N(0x6002, 1, x6002_1_polarityInput8Bit1, U8, RW, 0, kHookApp, 0, "Polarity input 8-bit 1")                   \
+  N(0x6002, 2, x6002_2_polarityInput8Bit2, U8, RW, 0, kHookApp, 0, "Polarity input 8-bit 2")                   \
+  N(0x6005, 0, x6005_0_globalInterruptEnable, BOOL, RW, 0, kHookNone, 1, "Global interrupt enable digital 8-bit") \
+  N(0x6006, 0, x6006_0_highestSubIndex, U8, CONST, 0, kHookNone, 2, "Interrupt mask any change 8-bit: highest sub-index") \
+  N(0x6006, 1, x6006_1_interruptMaskAnyChange1, U8, RW, 0, kHookNone, 0xFF, "Interrupt mask any change 8-bit 1") \
+  N(0x6006, 2, x6006_2_interruptMaskAnyChange2, U8, RW, 0, kHookNone, 0xFF, "Interrupt mask any change 8-bit 2") \
+  N(0x6007, 0, x6007_0_highestSubIndex, U8, CONST, 0, kHookNone, 2, "Interrupt mask low-to-high 8-bit: highest sub-index") \
+  N(0x6007, 1, x6007_1_interruptMaskLowToHigh1, U8, RW, 0, kHookNone, 0, "Interrupt mask low-to-high 8-bit 1")  \
+  N(0x6007, 2, x6007_2_interruptMaskLowToHigh2, U8, RW, 0, kHookNone, 0, "Interrupt mask low-to-high 8-bit 2")  \
+  N(0x6008, 0, x6008_0_highestSubIndex, U8, CONST, 0, kHookNone, 2, "Interrupt mask high-to-low 8-bit: highest sub-index") \
+  N(0x6008, 1, x6008_1_interruptMaskHighToLow1, U8, RW, 0, kHookNone, 0, "Interrupt mask high-to-low 8-bit 1")  \
+  N(0x6008, 2, x6008_2_interruptMaskHighToLow2, U8, RW, 0, kHookNone, 0, "Interrupt mask high-to-low 8-bit 2")  \
   N(0x6200, 0, x6200_0_highestSubIndex, U8, CONST, 0, kHookNone, 2, "Write output 8-bit: highest sub-index")    \
   N(0x6200, 1, x6200_1_writeOutput8Bit1, U8, RW, kAttrPdo | kAttrCommand, kHookApp, 0, "Write output 8-bit 1")  \
   N(0x6200, 2, x6200_2_writeOutput8Bit2, U8, RW, kAttrPdo | kAttrCommand, kHookApp, 0, "Write output 8-bit 2")

@@ -19,7 +19,7 @@
     !defined(MB2CO_CONFIG_DIAGNOSTICS) || !defined(MB2CO_CONFIG_TYPE_DESCRIPTIONS) ||                    \
     !defined(MB2CO_CONFIG_RESTORE_DEFAULTS) || !defined(MB2CO_CONFIG_SDO_BLOCK) ||                       \
     !defined(MB2CO_CONFIG_TPDO_RTR) || !defined(MB2CO_CONFIG_WIDE_TYPES) ||                              \
-    !defined(MB2CO_CONFIG_MODBUS_TCP)
+    !defined(MB2CO_CONFIG_MODBUS_TCP) || !defined(MB2CO_CONFIG_PROFILE_EVENTS)
 #error \
     "mb2co_profile.h: every MB2CO_CONFIG_* switch must be defined (shared/profiles/station/mb2co_profile.h lists them)"
 #endif
@@ -81,6 +81,10 @@ constexpr bool kRestoreDefaults = MB2CO_CONFIG_RESTORE_DEFAULTS != 0;
 constexpr bool kSdoBlock = MB2CO_CONFIG_SDO_BLOCK != 0;
 /// TPDOs answer remote requests (transmission types 252/253 by RTR).
 constexpr bool kTpdoRtr = MB2CO_CONFIG_TPDO_RTR != 0;
+/// TPDOs the application names (Tpdos::set_profile_events) send with type
+/// 255 on its event, not on a change of their data (the I/O node's CiA 401
+/// interrupt masks); off, type 255 is change of data like 254.
+constexpr bool kProfileEvents = MB2CO_CONFIG_PROFILE_EVENTS != 0;
 /// The OD's wide extras: 64-bit limits, data types 0008h-001Bh, Modbus map
 /// items wider than 32 bits, the gateway's example entries of 2500h.
 constexpr bool kWideTypes = MB2CO_CONFIG_WIDE_TYPES != 0;

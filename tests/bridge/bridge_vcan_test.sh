@@ -1,6 +1,6 @@
 #!/bin/bash
 # The bridge end to end (issue 13's must-show), run inside hil/uml/run-with-vcan.sh:
-# three serial I/O nodes on one segment (ptys joined by serial_hub.py), the
+# three serial I/O nodes on one segment (ptys joined by mb2co-serial-hub), the
 # bridge to vcan0 with offset 0x20; candump must see their boot-ups and
 # heartbeats at CAN node ids 21h-23h, and an SDO upload of 1018h sub 2 sent
 # with cansend to CAN node 22h must be answered by serial node 2 through the

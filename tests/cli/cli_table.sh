@@ -26,6 +26,8 @@ programs=(
   "mb2co-master|$build/pcapp/master/mb2co-master|"
   "mb2co-node|$build/firmware/linux/node/mb2co-node|"
   "mb2co-bridge|$build/firmware/linux/bridge/mb2co-bridge|"
+  "mb2co-serial-io-node|$build/firmware/linux/bridge/mb2co-serial-io-node|"
+  "mb2co-serial-hub|$build/firmware/linux/bridge/mb2co-serial-hub|"
   "mb2co-demo|$build/hil/demo/mb2co-demo|"
   "run-with-vcan.sh|$src/hil/uml/run-with-vcan.sh|"
 )

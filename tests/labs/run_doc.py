@@ -40,7 +40,7 @@ import time
 
 COMMAND_DEADLINE_S = 90
 JOB_DEADLINE_S = 60
-TOOL_DIRS = ["pcapp/master", "firmware/linux/node", "hil/uno", "pcapp/timing", "hil/lab"]
+TOOL_DIRS = ["pcapp/master", "firmware/linux/node", "firmware/linux/bridge", "hil/uno", "pcapp/timing", "hil/lab"]
 
 
 class Step:

@@ -1,8 +1,9 @@
 // mb2co-master dump and configure on vcan0 against three mb2co-node: a
 // dump is a DCF pcapp/eds reads back with the node's values; configure
 // writes what differs (then reports it equal), saves so that a restarted
-// node keeps it, refuses a node of the wrong identity, calls a silent node
-// missing and a malformed network file an error at its line.
+// node keeps it, refuses a node of the wrong identity, undoes what it wrote
+// on a node that refuses a value halfway, calls a silent node missing and a
+// malformed network file an error at its line.
 // ctest runs this binary inside hil/uml/run-with-vcan.sh.
 #include <gtest/gtest.h>
 
@@ -220,6 +221,66 @@ TEST(MasterConfigure, WritesWhatDiffersSavesRefusesAWrongIdentityAndCallsSilence
   EXPECT_EQ(absent.exit_code, 4) << absent.err;
   EXPECT_EQ(node_line(absent, 3), "node 3: configured: 0 written, 5 equal, 1 read-only skipped, started");
   EXPECT_EQ(node_line(absent, 9), "node 9: missing (no answer to 1018h/1)");
+}
+
+/// Every (index, sub) of `settings` as the node holds it now.
+std::vector<std::string> read_all(int node, const std::vector<Setting>& settings) {
+  std::vector<std::string> values;
+  for (const Setting& s : settings) {
+    char index[8];
+    std::snprintf(index, sizeof index, "%04X", s.index);
+    const MasterRun run =
+        run_master({"--eds", kEds, "read", std::to_string(node), index, std::to_string(s.sub)});
+    values.push_back(run.exit_code == 0 && run.out.size() == 1 ? run.out[0] : "error: " + run.err);
+  }
+  return values;
+}
+
+TEST(MasterConfigure, AValueRefusedHalfwayLeavesTheNodeAsItWas) {
+  TempDir dir;
+  NodeProcess nodes[2];
+  for (int i = 0; i < 2; ++i) ASSERT_TRUE(start_node(&nodes[i], &dir, 3 + i)) << nodes[i].error();
+
+  // Node 3: two station settings, then a debounce above its limit (1..500).
+  const std::vector<Setting> station = {{0x1017, 0, "250"}, {0x2000, 3, "0"}, {0x2000, 6, "600"}};
+  // Node 4: a heartbeat, then TPDO1 remapped onto 1017h, which is not
+  // PDO-mappable: refused in the middle of the PDO order (TPDO1 already
+  // invalid, its event timer and mapping count already written).
+  const std::vector<Setting> pdo = {
+      {0x1017, 0, "300"}, {0x1800, 5, "700"}, {0x1A00, 0, "1"}, {0x1A00, 1, "0x10170010"}};
+  // What the restore has to bring back, read before (with what the PDO
+  // order touches beside the DCF's own entries).
+  std::vector<Setting> pdo_read = pdo;
+  pdo_read.push_back({0x1800, 1, ""});
+  pdo_read.push_back({0x1A00, 2, ""});
+  const std::vector<std::string> before3 = read_all(3, station), before4 = read_all(4, pdo_read);
+  // A DCF from an EDS that gave no limit (as an older one): only the node
+  // can refuse the value, after the two before it are written.
+  eds::DeviceDescription unlimited = configured_model(station);
+  for (eds::SubObject& sub : unlimited.objects[0x2000].subs) sub.high_limit.reset();
+  write_file(dir.path("station.dcf"), eds::write_dcf(unlimited, 3));
+  write_file(dir.path("pdo.dcf"), eds::write_dcf(configured_model(pdo), 4));
+  write_file(dir.path("net.cpj"),
+             "[Topology]\nNodes=2\nNode3Present=1\nNode3DCFName=station.dcf\n"
+             "Node4Present=1\nNode4DCFName=pdo.dcf\n");
+
+  const MasterRun run = run_master({"configure", dir.path("net.cpj")});
+  EXPECT_EQ(run.exit_code, 1) << run.text() << run.err;
+  const std::vector<std::string> want = {
+      "node 3: refused: writing 2000h/6: SDO abort 06090031h (value of parameter written too high)",
+      "node 3: restored 2000h/3 = 0x1",
+      "node 3: restored 1017h/0 = 0x64",
+      "node 4: refused: writing 1A00h/1: SDO abort 06040041h (object cannot be mapped to the PDO)",
+      "node 4: restored 1A00h/0 = 0x2",
+      "node 4: restored 1800h/5 = 0x64",
+      "node 4: restored 1800h/1 = 0x184",
+      "node 4: restored 1017h/0 = 0x64",
+  };
+  EXPECT_EQ(run.out, want) << run.text();
+  EXPECT_EQ(read_all(3, station), before3);
+  EXPECT_EQ(read_all(4, pdo_read), before4);
+  EXPECT_EQ(nodes[0].stop(), 0);
+  EXPECT_EQ(nodes[1].stop(), 0);
 }
 
 TEST(MasterConfigure, BrokenNetworkFilesAreRefusedAtTheirLine) {

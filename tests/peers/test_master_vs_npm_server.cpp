@@ -127,6 +127,46 @@ TEST_F(MasterVsNpmServer, RefusalsCarryNpmsAbortCode) {
   EXPECT_NE(r.err.find("06020000"), std::string::npos) << describe(r);  // object does not exist
 }
 
+// configure all or nothing against a node that is not ours: the DCF (made
+// for another device) sets 2001h and 2002h, which npm's server takes, then
+// 2003h, which it does not have. Both are written back, in reverse order,
+// and npm's own client reads the values they had.
+TEST_F(MasterVsNpmServer, ConfigureRefusedHalfwayRestoresWhatItWrote) {
+  auto npm_reads = [](const char* index) {
+    const PeerResult p = run_peer_client({"upload", "--node", kNode, "--index", index, "--sub", "0"});
+    EXPECT_EQ(p.exit_code, 0) << p.describe();
+    return p.field("data");
+  };
+  const std::string u32_before = npm_reads("0x2001"), string_before = npm_reads("0x2002");
+  const std::string var = "ObjectType=0x7\nAccessType=rw\nPDOMapping=0\n";
+  ASSERT_TRUE(write_file(dir_->path("other.dcf"), [&] {
+    const std::string t =
+        "[FileInfo]\nFileName=other.dcf\nEDSVersion=4.0\n"
+        "[DeviceInfo]\nVendorName=another\n"
+        "[DeviceComissioning]\nNodeID=34\n"
+        "[MandatoryObjects]\nSupportedObjects=0\n"
+        "[ManufacturerObjects]\nSupportedObjects=3\n1=0x2001\n2=0x2002\n3=0x2003\n"
+        "[2001]\nParameterName=a\nDataType=0x0007\n" +
+        var + "ParameterValue=0x0BADCAFE\n" + "[2002]\nParameterName=b\nDataType=0x0009\n" + var +
+        "ParameterValue=configured\n" + "[2003]\nParameterName=c\nDataType=0x0005\n" + var +
+        "ParameterValue=1\n";
+    return std::vector<uint8_t>(t.begin(), t.end());
+  }()));
+  const std::string net = "[Topology]\nNodes=1\nNode34Present=1\nNode34DCFName=other.dcf\n";
+  ASSERT_TRUE(write_file(dir_->path("net.cpj"), std::vector<uint8_t>(net.begin(), net.end())));
+
+  const MasterRun r = master({"configure", dir_->path("net.cpj"), "--no-start"});
+  EXPECT_EQ(r.exit_code, 1) << describe(r);
+  ASSERT_EQ(r.out.size(), 3u) << describe(r);
+  EXPECT_EQ(r.out[0],
+            "node 34: refused: writing 2003h/0: SDO abort 06020000h (object does not exist in the object "
+            "dictionary)");
+  EXPECT_EQ(r.out[1].rfind("node 34: restored 2002h/0 = ", 0), 0u) << r.out[1];
+  EXPECT_EQ(r.out[2].rfind("node 34: restored 2001h/0 = 0x", 0), 0u) << r.out[2];
+  EXPECT_EQ(npm_reads("0x2001"), u32_before);
+  EXPECT_EQ(npm_reads("0x2002"), string_before);
+}
+
 TEST_F(MasterVsNpmServer, BlockAndSegmentedUploadOf64KiB) {
   // Before any download: the server's pattern.
   const std::vector<uint8_t> want = peer_pattern(kBig);

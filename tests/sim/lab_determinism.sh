@@ -5,7 +5,7 @@ set -euo pipefail
 lab=$1
 dir=$2
 rm -rf "$dir"
-args=(--stations 4 --presses 40 --bitrates 250k,1M --quiet)
+args=(--stations 4 --presses 40 --bitrates 250k,1M --quiet --events)
 "$lab" "${args[@]}" --seed 7 --out "$dir/a" >/dev/null
 "$lab" "${args[@]}" --seed 7 --out "$dir/b" >/dev/null
 "$lab" "${args[@]}" --seed 8 --out "$dir/c" >/dev/null

@@ -36,6 +36,7 @@ TEST(Pacer, AWallTimeThatIsLateOnlyHoldsTheSimulationBack) {
 }
 
 TEST(Pacer, CountsHoldUpsAndTheSimulatedTimeTheyDropped) {
+  static_assert(Pacer::kBehindUs == 20000, "the hold-up threshold this test and docs/uno-sim.md state");
   Pacer p(true, 0, 0);
   p.allowed_sim_us(10000, 25000);  // 15 ms behind: caught up, nothing dropped
   EXPECT_EQ(p.jumps(), 0u);
@@ -53,13 +54,31 @@ TEST(Pacer, FallingFarBehindMovesTheMappingInsteadOfABurst) {
   EXPECT_EQ(p.wall_of(10000), 60000u);
 }
 
-TEST(Pacer, WhatCameInWhileHeldUpArrivesSpreadAsItCame) {
+// What came in while held up arrives after where the simulation stood, in
+// the order and proportion it came but within kReplayUs: spread over the
+// whole hold-up (as until issue 25), it held back every frame that came
+// after the move, and those then reached the chip back to back (overrun).
+TEST(Pacer, WhatCameInWhileHeldUpArrivesSqueezedIntoTheReplayTime) {
+  static_assert(Pacer::kReplayUs == 10000, "the replay time this test and docs/uno-sim.md state");
   Pacer p(true, 0, 0);
   EXPECT_EQ(p.sim_of(7000), 7000u) << "in step: the same time";
   p.allowed_sim_us(10000, 60000);  // held up at 10 ms for 50 ms: the mapping moves
-  EXPECT_EQ(p.sim_of(30000), 30000u) << "came in while held up: 20 ms after where the simulation stood";
-  EXPECT_EQ(p.sim_of(45000), 45000u) << "15 ms after the one before, as it came";
+  EXPECT_EQ(p.sim_of(9000), 9000u) << "came before the hold-up: as it came";
+  EXPECT_EQ(p.sim_of(20000), 12000u) << "a fifth into the hold-up: a fifth into the 10 ms replay";
+  EXPECT_EQ(p.sim_of(35000), 15000u) << "half way: half way, in order and proportion";
+  EXPECT_EQ(p.sim_of(59000), 19800u) << "the end of the hold-up: by the end of the replay";
   EXPECT_EQ(p.sim_of(61000), 11000u) << "after the move: the new mapping";
+}
+
+// Behind by less than kBehindUs the mapping stays: a frame that came while
+// the simulation was held up reaches it at the time it came, and so does
+// the one after it, each in its place.
+TEST(Pacer, CatchingUpKeepsEveryFrameAtItsOwnTime) {
+  Pacer p(true, 0, 0);
+  EXPECT_EQ(p.allowed_sim_us(10000, 25000), 25000u + Pacer::kLeadUs) << "15 ms behind: catch up";
+  EXPECT_EQ(p.sim_of(20000), 20000u);
+  EXPECT_EQ(p.sim_of(26000), 26000u);
+  EXPECT_EQ(p.jumps(), 0u);
 }
 
 TEST(Pacer, ReportsASlowSimulationOnceWithItsRatio) {

@@ -10,11 +10,15 @@
 //     panel: A's joystick UP, sent in A's TPDO1 (181h) and received by B's
 //     RPDO1 (COB-ID set to 181h), lights B's LED D7; SYNC produced by A
 //     (1005h bit 30, 1006h) makes B send its TPDO1 set to transmission
-//     type 1 (1800h/2), once after each SYNC.
+//     type 1 (1800h/2), once after each SYNC;
+//   * the same two boards left alone (issue 25 item 4): SYNC every 20 ms,
+//     heartbeats every 100 ms watched by the other board for 300 ms, and
+//     not one EMCY 8110h (CAN overrun) or 8130h (heartbeat lost) in 5 s.
 #include <gtest/gtest.h>
 #include <poll.h>
 
 #include <chrono>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -56,6 +60,22 @@ class Master {
           *out = t.frame;
           return true;
         }
+      }
+      const auto left =
+          std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+      if (left.count() <= 0) return false;
+      pollfd p{can_.fd(), POLLIN, 0};
+      poll(&p, 1, static_cast<int>(left.count()));
+    }
+  }
+  /// Hands every frame to `done` as it comes until it returns true; false
+  /// on timeout.
+  bool watch(const std::function<bool(const CanFrame&)>& done, std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    for (;;) {
+      linux_port::TimedCanFrame t;
+      while (can_.receive(t)) {
+        if (done(t.frame)) return true;
       }
       const auto left =
           std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
@@ -131,9 +151,11 @@ void nmt_until(Master& m, uint8_t command, uint8_t node, bool operational) {
   }
 }
 
-/// mb2co-uno --image ionode with its EEPROM in `eeprom`.
-bool start_board(UnoProcess& board, const std::string& eeprom) {
-  return board.start_command({uno_program(), "--image", "ionode", "--eeprom", eeprom}, kDeadline);
+/// mb2co-uno --image ionode with its EEPROM in `eeprom` (and --stats).
+bool start_board(UnoProcess& board, const std::string& eeprom, bool stats = false) {
+  std::vector<std::string> argv{uno_program(), "--image", "ionode", "--eeprom", eeprom};
+  if (stats) argv.push_back("--stats");
+  return board.start_command(argv, kDeadline);
 }
 
 /// A fresh board alone on the bus becomes node `id` and saves it, as
@@ -159,6 +181,18 @@ void give_id(Master& m, const std::string& eeprom, uint8_t id) {
   while (m.read(id, 0x1010, 1) != 1u)
     ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "save never ended";
   EXPECT_EQ(board.stop(), 0);
+}
+
+/// docs/labs.md's boards A (node 1) and B (node 2), each given its id and
+/// started again from its saved EEPROM in `dir`.
+void start_a_and_b(Master& m, const TempDir& dir, UnoProcess& a, UnoProcess& b, bool stats = false) {
+  give_id(m, dir.path("a.eeprom"), 1);
+  give_id(m, dir.path("b.eeprom"), 2);
+  if (::testing::Test::HasFatalFailure()) return;
+  ASSERT_TRUE(start_board(a, dir.path("a.eeprom"), stats)) << a.error();
+  ASSERT_TRUE(start_board(b, dir.path("b.eeprom"), stats)) << b.error();
+  ASSERT_EQ(a.node_id(), 1);
+  ASSERT_EQ(b.node_id(), 2);
 }
 
 TEST(IoNodeUno, AnIdSetBySdoAndSavedIsTheBootUpIdOfTheNextStart) {
@@ -215,14 +249,9 @@ TEST(IoNodeUno, AsJoystickLightsBsLedAndAsSyncDrivesBsTpdo) {
   Master m;
   ASSERT_TRUE(m.ok());
   TempDir dir;
-  give_id(m, dir.path("a.eeprom"), 1);
-  give_id(m, dir.path("b.eeprom"), 2);
-  if (HasFatalFailure()) return;
   UnoProcess a, b;
-  ASSERT_TRUE(start_board(a, dir.path("a.eeprom"))) << a.error();
-  ASSERT_TRUE(start_board(b, dir.path("b.eeprom"))) << b.error();
-  ASSERT_EQ(a.node_id(), 1);
-  ASSERT_EQ(b.node_id(), 2);
+  start_a_and_b(m, dir, a, b);
+  if (HasFatalFailure()) return;
 
   // B's RPDO1 (6200h/1-2, 2 bytes) listens to A's TPDO1 (6000h/1-2, 181h).
   ASSERT_EQ(m.write(2, 0x1400, 1, 0x80000202u, 4), 0u);
@@ -255,6 +284,76 @@ TEST(IoNodeUno, AsJoystickLightsBsLedAndAsSyncDrivesBsTpdo) {
   ASSERT_EQ(m.write(1, 0x1005, 0, 0x80u, 4), 0u);
   CanFrame f{};
   EXPECT_FALSE(m.wait(0x080, &f, 1000ms)) << "A stopped producing SYNC";
+}
+
+// Issue 25 item 4: docs/labs.md's two boards, left alone. Each watches the
+// other's heartbeat (1016h/1: 300 ms; 1017h: 100 ms), A produces SYNC every
+// 20 ms and B answers each with its TPDO1. 250 SYNCs later neither board has
+// reported a CAN overrun (EMCY 8110h) nor the other lost (8130h), and B has
+// answered every SYNC, as long as the host ran both boards: a board the
+// host does not run for more than 20 ms (Pacer::kBehindUs) goes on from
+// where it stood (its peer may miss its heartbeats, frames may come closer
+// together than they were sent) and the exit line counts that hold-up. So
+// an alarm is a failure unless a board reports a hold-up; the figures are
+// printed either way.
+TEST(IoNodeUno, AQuietSessionOfTwoBoardsHasNoOverrunAndNoHeartbeatLoss) {
+  Master m;
+  ASSERT_TRUE(m.ok());
+  TempDir dir;
+  UnoProcess a, b;
+  start_a_and_b(m, dir, a, b, true);
+  if (HasFatalFailure()) return;
+  for (const uint8_t node : {uint8_t{1}, uint8_t{2}}) {
+    const uint32_t other = node == 1 ? 2 : 1;
+    ASSERT_EQ(m.write(node, 0x1017, 0, 100, 2), 0u);
+    ASSERT_EQ(m.write(node, 0x1016, 1, (other << 16) | 300u, 4), 0u);
+  }
+  ASSERT_EQ(m.write(2, 0x1400, 1, 0x80000202u, 4), 0u);
+  ASSERT_EQ(m.write(2, 0x1400, 1, 0x181u, 4), 0u);
+  ASSERT_EQ(m.write(2, 0x1800, 1, 0x80000182u, 4), 0u);
+  ASSERT_EQ(m.write(2, 0x1800, 2, 1, 1), 0u);
+  ASSERT_EQ(m.write(2, 0x1800, 1, 0x182u, 4), 0u);
+  nmt_until(m, 0x01, 1, true);
+  nmt_until(m, 0x01, 2, true);
+  ASSERT_EQ(m.write(1, 0x1006, 0, 20000u, 4), 0u);
+  ASSERT_EQ(m.write(1, 0x1005, 0, 0x40000080u, 4), 0u);
+
+  int syncs = 0, answers = 0, beats[2] = {};
+  std::vector<std::string> alarms;
+  const bool quiet_for_250_syncs = m.watch(
+      [&](const CanFrame& f) {
+        if (f.id == 0x080) ++syncs;
+        if (f.id == 0x182) ++answers;
+        if (f.id == 0x701 || f.id == 0x702) ++beats[f.id - 0x701];
+        const uint16_t code = static_cast<uint16_t>(f.data[0] | (f.data[1] << 8));
+        if ((f.id == 0x081 || f.id == 0x082) && f.dlc == 8 && (code == 0x8110 || code == 0x8130)) {
+          char text[64];
+          std::snprintf(text, sizeof text, "node %d EMCY %04Xh after %d SYNCs", f.id - 0x80, code, syncs);
+          alarms.push_back(text);
+        }
+        return syncs >= 250;
+      },
+      60s);
+  EXPECT_TRUE(quiet_for_250_syncs) << syncs << " SYNCs";
+  ASSERT_EQ(m.write(1, 0x1005, 0, 0x80u, 4), 0u);
+  EXPECT_EQ(a.stop(), 0);
+  EXPECT_EQ(b.stop(), 0);
+  // "... (1.00x real time; 0 hold-ups over 20 ms: ...)" of each board.
+  int hold_ups = 0;
+  for (UnoProcess* board : {&a, &b}) {
+    const std::string text = board->child.stderr_text();
+    std::printf("%s", text.c_str());
+    const size_t at = text.find(" hold-ups over ");
+    ASSERT_NE(at, std::string::npos) << "no exit line: " << text;
+    hold_ups += std::stoi(text.substr(text.rfind(' ', at - 1) + 1));
+  }
+  std::printf("%d SYNCs, %d answers, heartbeats %d and %d, %zu alarms, %d hold-ups\n", syncs, answers,
+              beats[0], beats[1], alarms.size(), hold_ups);
+  if (hold_ups > 0) return;  // the host, not the boards: see above
+  EXPECT_GE(answers, syncs - 1) << "B answers every SYNC (the last may be on its way)";
+  EXPECT_GE(beats[0], 45) << "A's heartbeats in 5 s";
+  EXPECT_GE(beats[1], 45) << "B's heartbeats in 5 s";
+  for (const std::string& alarm : alarms) ADD_FAILURE() << alarm << " without a hold-up";
 }
 
 }  // namespace

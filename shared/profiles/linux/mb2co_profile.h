@@ -12,6 +12,7 @@
 #define MB2CO_CONFIG_RESTORE_DEFAULTS 1    // OD 1011h
 #define MB2CO_CONFIG_SDO_BLOCK 1           // SDO block transfer, domains
 #define MB2CO_CONFIG_TPDO_RTR 1            // TPDOs answer remote requests
+#define MB2CO_CONFIG_PROFILE_EVENTS 1      // TPDO type 255 on the device profile's event (CiA 401)
 #define MB2CO_CONFIG_WIDE_TYPES 1          // 64-bit types, 0008h-001Bh, 2500h
 #define MB2CO_CONFIG_MODBUS_TCP 1          // Modbus/TCP channels into the slave
 #define MB2CO_CONFIG_ACCEPTANCE_FILTERS 1  // CAN filters set from the acceptance ranges

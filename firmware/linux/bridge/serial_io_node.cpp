@@ -1,8 +1,8 @@
 // mb2co-serial-io-node: the I/O node of shared/ionode (the unchanged node
-// core) on a serial CANopen segment (shared/serialnet), for the bridge's
-// end-to-end test: the segment options of mb2co-bridge plus --node-id and
-// --heartbeat-ms. It sets 1019h to the windows per cycle (a poll SYNC carries
-// its counter) and 1017h, then runs like the bridge: one poll() loop.
+// core) on a serial CANopen segment (shared/serialnet): what the bridge is
+// tried and tested with (docs/serial-canopen.md, "Try it"; tests/bridge). The
+// segment options of mb2co-bridge plus --node-id and --heartbeat-ms. It sets 1019h to the windows per cycle
+// (a poll SYNC carries its counter) and 1017h, then runs like the bridge: one poll() loop.
 #include <errno.h>
 #include <poll.h>
 
@@ -33,7 +33,7 @@ mb2co::cli::Program make_program() {
   using namespace mb2co;
   cli::Program p;
   p.name = "mb2co-serial-io-node";
-  p.description = "The CiA 401 I/O node on a serial CANopen segment (tests/bridge).\n";
+  p.description = "The CiA 401 I/O node on a serial CANopen segment (docs/serial-canopen.md).\n";
   cli::Command c;
   c.options = bridge::segment_options();
   c.options.push_back(cli::uint_range("--node-id", "N", 1, 126, "its node id, one of --nodes (required)"));

@@ -1,0 +1,184 @@
+#include "sim/worst_presses.h"
+
+#include <algorithm>
+#include <functional>
+#include <vector>
+
+#include "gateway/line_app.h"
+
+namespace mb2co {
+namespace sim {
+namespace {
+
+constexpr SimNs kMs = kNsPerMs;
+constexpr SimNs kS = kNsPerS;
+constexpr SimNs kSlice = 2 * kMs;  ///< how often the operator looks at the LED
+
+// The grid: kCoarse phases over one PC cycle pressed kCoarseRepeats times
+// each, then kFine + 1 phases spanning two coarse steps either side of the
+// worst coarse phase, pressed kFineRepeats times each.
+constexpr uint32_t kCoarse = 64;
+constexpr uint32_t kCoarseRepeats = 2;
+constexpr uint32_t kFine = 32;
+constexpr uint32_t kFineRepeats = 12;
+
+class Operator {
+ public:
+  Operator(Line& line, int button_station, int led_station, uint32_t button_pdo_id, uint32_t led_pdo_id,
+           bool interference)
+      : line_(line),
+        button_(button_station),
+        led_station_(led_station),
+        led_pdo_id_(led_pdo_id),
+        interference_(interference) {
+    line_.on_can = [this](const CanAttempt& a) {
+      if (!a.error && a.frame.id == led_pdo_id_ && a.frame.dlc > 0 && (a.frame.data[0] & 1u) &&
+          led_pdo_sof_ == 0)
+        led_pdo_sof_ = a.sof_ns;
+    };
+    // A press whose button or LED PDO a full receive buffer dropped is
+    // outside the bound's assumption (no frame lost): counted lost, not
+    // measured, even when a later PDO still carries it.
+    for (int s = 0; s < line_.size(); ++s) {
+      std::function<void(const CanFrame&)>& hook = line_.node(s).can().on_overflow;
+      saved_.push_back(hook);
+      hook = [this, button_pdo_id, led_pdo_id, chained = hook](const CanFrame& f) {
+        if (chained) chained(f);
+        if (f.id == button_pdo_id || f.id == led_pdo_id) lab_pdo_lost_ = true;
+      };
+    }
+  }
+  ~Operator() {
+    line_.on_leds = nullptr;
+    line_.on_can = nullptr;
+    for (int s = 0; s < line_.size(); ++s) line_.node(s).can().on_overflow = saved_[static_cast<size_t>(s)];
+  }
+
+  /// Presses at `at` (≥ now), releases once the LED is on, waits for it to
+  /// go off. False: the LED did not come within 1 s (a lost press). With
+  /// interference, STOP2 is pressed on every station with the lab button
+  /// (a STOP2 event: each station's TPDO1 and button TPDO2 leave with the
+  /// button's PDO) and STOP on every station `down_at` after the press (0:
+  /// not; their TPDO2s leave with the LED's PDO when down_at is the LED
+  /// PDO's time less a debounce).
+  bool press(SimNs at, SimNs down_at, SimNs* latency, SimNs* led_pdo_after) {
+    line_.run_until(at);
+    led_pdo_sof_ = 0;
+    lab_pdo_lost_ = false;
+    line_.set_button(button_, gateway::kStart, true);
+    if (interference_) {
+      for (int s = 0; s < line_.size(); ++s) line_.set_button(s, gateway::kStop2, true);
+      if (down_at != 0) {
+        line_.at(at + down_at, [this] {
+          for (int s = 0; s < line_.size(); ++s) line_.set_button(s, gateway::kStop, true);
+        });
+      }
+    }
+    const SimNs on = wait_for(true, at + kS);
+    const bool dropped = lab_pdo_lost_;  // before the LED came on
+    // Held long enough to count (the debounce), released together.
+    line_.run_until(std::max(line_.now(), at + down_at + 25 * kMs));
+    for (int s = 0; s < line_.size(); ++s) {
+      if (s == button_) line_.set_button(s, gateway::kStart, false);
+      if (interference_) line_.set_button(s, gateway::kStop2, false);
+      if (interference_) line_.set_button(s, gateway::kStop, false);
+    }
+    wait_for(false, line_.now() + kS);
+    if (on == 0 || dropped) return false;
+    *latency = on - at;
+    *led_pdo_after = led_pdo_sof_ > at ? led_pdo_sof_ - at : 0;
+    return true;
+  }
+
+ private:
+  /// Runs until the lab LED is `level` (its time) or `deadline` (0).
+  SimNs wait_for(bool level, SimNs deadline) {
+    changed_at_ = 0;
+    want_ = level;
+    line_.on_leds = [this](int s, uint8_t leds) {
+      if (s != led_station_) return;
+      lab_ = (leds & gateway::kLedLab) != 0;
+      if (lab_ == want_ && changed_at_ == 0) changed_at_ = line_.now();
+    };
+    while (lab_ != level && line_.now() < deadline) line_.run_for(kSlice);
+    return lab_ == level ? (changed_at_ != 0 ? changed_at_ : line_.now()) : 0;
+  }
+
+  Line& line_;
+  int button_;
+  int led_station_;
+  uint32_t led_pdo_id_;
+  bool interference_;
+  bool lab_ = false;
+  bool want_ = false;
+  SimNs changed_at_ = 0;
+  SimNs led_pdo_sof_ = 0;
+  bool lab_pdo_lost_ = false;
+  std::vector<std::function<void(const CanFrame&)>> saved_;
+};
+
+}  // namespace
+
+PressRun search_worst_presses(Line& line, int button_station, int led_station, bool interference,
+                              const Progress& progress) {
+  PressRun r;
+  const LineConfig& c = line.config();
+  Operator op(line, button_station, led_station, 0x280u + static_cast<uint32_t>(c.lab_remote + 1),
+              0x380u + static_cast<uint32_t>(c.lab_pc + 1), interference);
+  const SimNs cycle = c.pc.cycle_ns;
+  const SimNs debounce = SimNs{c.debounce_ms} * kMs;
+  const SimNs origin = 2 * kS;
+  const uint32_t total = kCoarse * kCoarseRepeats + (kFine + 1) * kFineRepeats;
+  uint32_t presses = 0;
+  // The next time ≥ 150 ms from now whose offset in the PC's cycle (counted
+  // from `origin`) is `phase`: the line has settled after the last press.
+  auto next_at = [&](SimNs phase) {
+    const SimNs earliest = line.now() + 150 * kMs;
+    const SimNs base = earliest - (earliest - origin) % cycle;
+    const SimNs t = base + phase;
+    return t >= earliest ? t : t + cycle;
+  };
+  // One press at `phase`; `led_pdo` is when the LED's PDO left after the
+  // last press at this phase (0: unknown), the STOPs of the interference
+  // are timed from it, `lead` earlier than a debounce before it.
+  auto measure = [&](SimNs phase, SimNs* led_pdo, SimNs lead) {
+    SimNs latency = 0;
+    SimNs pdo = 0;
+    const SimNs down_at = *led_pdo > debounce + lead ? *led_pdo - debounce - lead : 0;
+    if (op.press(next_at(phase), down_at, &latency, &pdo)) {
+      r.samples_ns.push_back(latency);
+      if (pdo != 0) *led_pdo = pdo;
+    } else {
+      ++r.lost;
+      latency = 0;
+    }
+    ++presses;
+    if (progress) progress(static_cast<double>(presses) / total);
+    return latency;
+  };
+  auto lead_of = [](uint32_t n) { return SimNs{n % 6} * 250 * kNsPerUs; };
+  line.run_until(origin);
+  const SimNs coarse_step = cycle / kCoarse;
+  SimNs worst_phase = 0;
+  SimNs worst = 0;
+  for (uint32_t k = 0; k < kCoarse; ++k) {
+    SimNs led_pdo = 0;
+    for (uint32_t n = 0; n < kCoarseRepeats; ++n) {
+      const SimNs v = measure(k * coarse_step, &led_pdo, lead_of(n + 2));
+      if (v > worst) {
+        worst = v;
+        worst_phase = k * coarse_step;
+      }
+    }
+  }
+  const SimNs span = 4 * coarse_step;
+  for (uint32_t k = 0; k <= kFine; ++k) {
+    const SimNs phase = (worst_phase + cycle - span / 2 + k * span / kFine) % cycle;
+    SimNs led_pdo = 0;
+    for (uint32_t n = 0; n < kFineRepeats; ++n) measure(phase, &led_pdo, lead_of(n));
+  }
+  return r;
+}
+
+}  // namespace sim
+}  // namespace mb2co

@@ -114,6 +114,7 @@ enum OdHook : uint8_t {
   kHookTpdoMap,     ///< 1A00h–1A03h
   kHookStore,       ///< 1010h, 1011h
   kHookApp,         ///< application area: the application decides
+  kHookTime,        ///< 1012h, 1013h (after kHookApp: the order of the others is kept)
 };
 
 /// One sub-entry's metadata as stored, constant, in flash on AVR (a row per
@@ -150,7 +151,7 @@ static_assert(offsetof(OdRow, sub) + 1 == kOdEntryTypeHookOffset &&
                   offsetof(OdRow, attr) == kOdEntryTypeHookOffset + 1 &&
                   offsetof(OdRow, def_slot) + 1 == kOdEntryLocOffset && sizeof(OdRow) == 8,
               "type and hook share the byte between sub and attr; loc is the last word");
-static_assert(kUnsigned64 < kOdTypeCount && kHookApp < 16, "types fit 5 bits, hooks a nibble");
+static_assert(kUnsigned64 < kOdTypeCount && kHookTime < 16, "types fit 5 bits, hooks a nibble");
 
 /// One sub-entry's metadata as the OD hands it out (ObjectDictionary::entry):
 /// the row and its default as the 32-bit value. `def` is the entry's own;

@@ -40,7 +40,7 @@ uint8_t Node::acceptance(CanIdRange* ranges) const {
     // Node id 1..127 and a consumer time: a heartbeat to watch.
     if (remote >= 1 && remote <= 127 && (entry & 0xFFFFu) != 0) r = exact(r, 0x700u + remote);
   }
-  if (TimeStamp::consuming()) r = exact(r, TimeStamp::can_id());  // TIME (1012h)
+  if (profile::kTime && TimeStamp::consuming()) r = exact(r, TimeStamp::can_id());  // TIME (1012h)
   if (profile::kTpdoRtr) *r++ = kTpdoRemoteRange;
   const uint8_t services = service_range_count_;
   if (services != 0) flash_copy(r, service_ranges_, services * sizeof *r);  // none: no table (null)
@@ -91,7 +91,7 @@ void Node::reset(NmtReset kind, uint32_t now_us) {
   tpdos_.init(&od_);
   rpdos_.init(&od_, &emcy_);
   sdo_.init(&od_, node_id_);
-  TimeStamp::init(&od_, now_us);
+  if (profile::kTime) TimeStamp::init(&od_, now_us);
   hb_consumer_.reset_all();
   for (uint8_t s = 1; s <= kHbConsumers; ++s) {
     hb_consumer_.configure(s, od_.get(static_cast<uint16_t>(row_[k1016] + s)));
@@ -105,6 +105,7 @@ void Node::reset(NmtReset kind, uint32_t now_us) {
   send_frame(sink_, static_cast<uint16_t>(0x700u + node_id_), 1, nullptr);
   enter(kNmtPreOperational);
   error_control_.restart();
+  (void)now_us;
 }
 
 void Node::enter(NmtState state) {
@@ -137,8 +138,10 @@ void Node::receive(const CanFrame& f, uint32_t now_us) {
   }
   // 1013h reads the time of this frame, and a write of it in this frame
   // (SDO, RPDO) sets the clock at its arrival.
-  TimeStamp::refresh(now_us);
-  if (TimeStamp::on_frame(f, now_us, nmt_.sdo_allowed())) return;
+  if (profile::kTime) {
+    TimeStamp::refresh(now_us);
+    if (TimeStamp::on_frame(f, now_us, nmt_.sdo_allowed())) return;
+  }
   if (nmt_.sync_allowed()) {
     uint8_t counter = 0;
     const Sync::Result r = sync_.on_frame(f, &counter);
@@ -254,7 +257,7 @@ void Node::next_deadline(NextDeadline& d) const {
     sync_.next_deadline(d);
     sdo_.next_deadline(d);
   }
-  TimeStamp::next_deadline(d, nmt_.sdo_allowed());
+  if (profile::kTime) TimeStamp::next_deadline(d, nmt_.sdo_allowed());
   if (nmt_.pdo_allowed()) {
     rpdos_.next_deadline(d);
     tpdos_.next_deadline(d);
@@ -289,7 +292,7 @@ void Node::process(uint32_t now_us) {
     if (sync_.process(now_us, true, sink_, &counter)) on_sync_event(counter, now_us);
     sdo_.process(now_us, sink_);
   }
-  TimeStamp::process(now_us, nmt_.sdo_allowed(), sink_);
+  if (profile::kTime) TimeStamp::process(now_us, nmt_.sdo_allowed(), sink_);
   if (nmt_.pdo_allowed()) {
     rpdos_.process(now_us);
     tpdos_.process(now_us, sink_);

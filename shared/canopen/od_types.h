@@ -114,8 +114,11 @@ enum OdHook : uint8_t {
   kHookTpdoMap,     ///< 1A00h–1A03h
   kHookStore,       ///< 1010h, 1011h
   kHookApp,         ///< application area: the application decides
-  kHookTime,        ///< 1012h, 1013h (after kHookApp: the order of the others is kept)
 };
+
+/// 1012h, 1013h (an OdHook beside the enum, after kHookApp: the switch on
+/// the others in Node::od_hook stays as it was where TIME is left out).
+const uint8_t kHookTime = kHookApp + 1;
 
 /// One sub-entry's metadata as stored, constant, in flash on AVR (a row per
 /// sub-entry makes this the largest table of an image). The 32-bit default

@@ -2,6 +2,10 @@
 
 #include <string.h>
 
+// Nothing where the profile has no TIME (the file's mere code in the link
+// moves the Uno image's layout).
+#if MB2CO_CONFIG_TIME
+
 #include "canopen/frame_out.h"
 #include "canopen/pdo_map.h"
 
@@ -21,8 +25,6 @@ TimeOfDay decode_time_of_day(const uint8_t* in6) {
   t.days = static_cast<uint16_t>(in6[4] | (in6[5] << 8));
   return t;
 }
-
-#if MB2CO_CONFIG_TIME
 
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
               "OD values are stored little-endian: loaded in place");
@@ -163,7 +165,7 @@ void TimeStamp::process(uint32_t now_us, bool, const CanSink&) {
 void TimeStamp::next_deadline(NextDeadline&, bool) const {}
 
 #endif
-#endif
 
 }  // namespace canopen
 }  // namespace mb2co
+#endif

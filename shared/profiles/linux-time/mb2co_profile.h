@@ -1,19 +1,11 @@
 // Profile "linux-time": the linux profile with TIME (1012h consumer + producer, 1013h): the TIME
 // service's tests build with it (tests/canopen/time). It becomes the linux profile once the
 // programs' saved sets, filters and docs follow 1012h/1013h (docs/performance.md, TIME).
-// One switch per service (1 in, 0 out); shared/profiles/profile.h says what
-// each means and how code reads them.
 #pragma once
 
+#include "../linux/mb2co_profile.h"
+
+#undef MB2CO_PROFILE_NAME
+#undef MB2CO_CONFIG_TIME
 #define MB2CO_PROFILE_NAME "linux-time"
-#define MB2CO_CONFIG_NETWORK 1             // FC 2Bh/0Dh to every node (CiA 309-2)
-#define MB2CO_CONFIG_GUARDING 1            // node/life guarding, 100Ch/100Dh
-#define MB2CO_CONFIG_DIAGNOSTICS 1         // Modbus FC 08
-#define MB2CO_CONFIG_TYPE_DESCRIPTIONS 1   // OD 0020h-0023h
-#define MB2CO_CONFIG_RESTORE_DEFAULTS 1    // OD 1011h
-#define MB2CO_CONFIG_SDO_BLOCK 1           // SDO block transfer, domains
-#define MB2CO_CONFIG_TPDO_RTR 1            // TPDOs answer remote requests
-#define MB2CO_CONFIG_WIDE_TYPES 1          // 64-bit types, 0008h-001Bh, 2500h
-#define MB2CO_CONFIG_MODBUS_TCP 1          // Modbus/TCP channels into the slave
-#define MB2CO_CONFIG_ACCEPTANCE_FILTERS 1  // CAN filters set from the acceptance ranges
-#define MB2CO_CONFIG_TIME 2                // TIME consumer + producer, 1012h/1013h
+#define MB2CO_CONFIG_TIME 2  // TIME consumer + producer, 1012h/1013h

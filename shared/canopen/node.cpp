@@ -40,6 +40,7 @@ uint8_t Node::acceptance(CanIdRange* ranges) const {
     // Node id 1..127 and a consumer time: a heartbeat to watch.
     if (remote >= 1 && remote <= 127 && (entry & 0xFFFFu) != 0) r = exact(r, 0x700u + remote);
   }
+  if (profile::kTime && TimeStamp::consuming()) r = exact(r, TimeStamp::can_id());  // TIME (1012h)
   if (profile::kTpdoRtr) *r++ = kTpdoRemoteRange;
   const uint8_t services = service_range_count_;
   if (services != 0) flash_copy(r, service_ranges_, services * sizeof *r);  // none: no table (null)
@@ -90,6 +91,7 @@ void Node::reset(NmtReset kind, uint32_t now_us) {
   tpdos_.init(&od_);
   rpdos_.init(&od_, &emcy_);
   sdo_.init(&od_, node_id_);
+  if (profile::kTime) TimeStamp::init(&od_, now_us);
   hb_consumer_.reset_all();
   for (uint8_t s = 1; s <= kHbConsumers; ++s) {
     hb_consumer_.configure(s, od_.get(static_cast<uint16_t>(row_[k1016] + s)));
@@ -133,6 +135,12 @@ void Node::receive(const CanFrame& f, uint32_t now_us) {
     if (r == kResetNone) return on_transition(before);
     if (save_.running()) return request_reset(r);  // after the save (process())
     return reset(r, now_us);
+  }
+  // 1013h reads the time of this frame, and a write of it in this frame
+  // (SDO, RPDO) sets the clock at its arrival.
+  if (profile::kTime) {
+    TimeStamp::refresh(now_us);
+    if (TimeStamp::on_frame(f, now_us, nmt_.sdo_allowed())) return;
   }
   if (nmt_.sync_allowed()) {
     uint8_t counter = 0;
@@ -249,6 +257,7 @@ void Node::next_deadline(NextDeadline& d) const {
     sync_.next_deadline(d);
     sdo_.next_deadline(d);
   }
+  if (profile::kTime) TimeStamp::next_deadline(d, nmt_.sdo_allowed());
   if (nmt_.pdo_allowed()) {
     rpdos_.next_deadline(d);
     tpdos_.next_deadline(d);
@@ -283,6 +292,7 @@ void Node::process(uint32_t now_us) {
     if (sync_.process(now_us, true, sink_, &counter)) on_sync_event(counter, now_us);
     sdo_.process(now_us, sink_);
   }
+  if (profile::kTime) TimeStamp::process(now_us, nmt_.sdo_allowed(), sink_);
   if (nmt_.pdo_allowed()) {
     rpdos_.process(now_us);
     tpdos_.process(now_us, sink_);
@@ -340,6 +350,11 @@ HookResult Node::od_hook(void* ctx, uint8_t hook, uint16_t index, uint8_t sub, c
   // in force).
   static_assert(kHookHbConsumer < kHookSync && kHookSync < kHookRpdoComm, "hooks in this order");
   if (apply && hook >= kHookHbConsumer && hook <= kHookRpdoComm) n.filters_stale_ = true;
+  // No code where the profile has no TIME (its rows are absent).
+  if (profile::kTime && hook == kHookTime) {
+    if (apply && index == 0x1012) n.filters_stale_ = true;
+    return n.TimeStamp::on_write(index, data, apply);
+  }
   switch (hook) {
     case kHookNmt:
       if (apply) n.error_control_.restart();

@@ -16,6 +16,7 @@
 #include "canopen/rpdo.h"
 #include "canopen/sdo_server.h"
 #include "canopen/sync.h"
+#include "canopen/time_stamp.h"
 #include "canopen/tpdo.h"
 #include "profiles/profile.h"
 
@@ -28,8 +29,9 @@ namespace canopen {
 typedef void (*ResetCallback)(void* ctx, NmtReset kind);
 
 /// Most standard CAN ids a node consumes: NMT, SYNC, SDO request, node
-/// guarding, one per RPDO, one per heartbeat consumer.
-const uint8_t kMaxConsumedIds = 4 + kPdoCount + kHbConsumers;
+/// guarding, one per RPDO, one per heartbeat consumer, TIME where the
+/// profile has it.
+const uint8_t kMaxConsumedIds = 4 + kPdoCount + kHbConsumers + (profile::kTime ? 1 : 0);
 /// The remote requests the TPDOs answer where the profile has them
 /// (profile::kTpdoRtr): every standard remote frame (a TPDO's COB-ID may
 /// change with any write of 1800h-1803h; RTR is rare).
@@ -44,8 +46,9 @@ const uint8_t kMaxAcceptanceRanges = kMaxConsumedIds + kRemoteRanges + kMaxServi
 
 /// The state of a Node that starts at zero: one block, value-initialised by
 /// the Node's constructor (a zero-fill, then the services' few non-zero
-/// defaults) instead of a store per member.
-struct NodeState {
+/// defaults) instead of a store per member. TIME is a base: its stand-in
+/// where the profile leaves it out takes no byte (time_stamp.h).
+struct NodeState : TimeStamp {
   const ParamStorage* storage_;
   OdWriteHook app_hook_;
   void* app_ctx_;
@@ -152,7 +155,8 @@ class Node : private NodeState {
   /// the TPDOs have not seen). Invariant, for a caller that sleeps: process()
   /// called at *at_us, or after any later input (receive(), an OD write, a
   /// reset request, on_controller_state()), does everything due; called
-  /// earlier than that it changes nothing observable. Valid after start()
+  /// earlier than that it changes nothing observable (but 1013h, the
+  /// network clock, which reads the time of the last call). Valid after start()
   /// and after a process() at now_us or before; inputs since void it. Every
   /// timer service contributes (heartbeat producer, node/life guarding,
   /// heartbeat consumers, SYNC producer, TPDO inhibit and event timers,
@@ -199,6 +203,9 @@ class Node : private NodeState {
   /// (MB2CO_CONFIG_SDO_BLOCK), its domain objects and block transfer switch
   /// (SdoServer::set_domain, set_block_transfer).
   SdoServer& sdo_server() { return sdo_; }
+  /// The network clock (TIME, 1013h; profile::kTime).
+  TimeStamp& time() { return *this; }
+  const TimeStamp& time() const { return *this; }
 
  private:
   static HookResult od_hook(void* ctx, uint8_t hook, uint16_t index, uint8_t sub, const uint8_t* data,

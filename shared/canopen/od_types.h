@@ -116,6 +116,10 @@ enum OdHook : uint8_t {
   kHookApp,         ///< application area: the application decides
 };
 
+/// 1012h, 1013h (an OdHook beside the enum, after kHookApp: the switch on
+/// the others in Node::od_hook stays as it was where TIME is left out).
+const uint8_t kHookTime = kHookApp + 1;
+
 /// One sub-entry's metadata as stored, constant, in flash on AVR (a row per
 /// sub-entry makes this the largest table of an image). The 32-bit default
 /// is not in the row: the rows share a pool of the distinct defaults
@@ -150,7 +154,7 @@ static_assert(offsetof(OdRow, sub) + 1 == kOdEntryTypeHookOffset &&
                   offsetof(OdRow, attr) == kOdEntryTypeHookOffset + 1 &&
                   offsetof(OdRow, def_slot) + 1 == kOdEntryLocOffset && sizeof(OdRow) == 8,
               "type and hook share the byte between sub and attr; loc is the last word");
-static_assert(kUnsigned64 < kOdTypeCount && kHookApp < 16, "types fit 5 bits, hooks a nibble");
+static_assert(kUnsigned64 < kOdTypeCount && kHookTime < 16, "types fit 5 bits, hooks a nibble");
 
 /// One sub-entry's metadata as the OD hands it out (ObjectDictionary::entry):
 /// the row and its default as the 32-bit value. `def` is the entry's own;

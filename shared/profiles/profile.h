@@ -19,7 +19,7 @@
     !defined(MB2CO_CONFIG_DIAGNOSTICS) || !defined(MB2CO_CONFIG_TYPE_DESCRIPTIONS) ||                    \
     !defined(MB2CO_CONFIG_RESTORE_DEFAULTS) || !defined(MB2CO_CONFIG_SDO_BLOCK) ||                       \
     !defined(MB2CO_CONFIG_TPDO_RTR) || !defined(MB2CO_CONFIG_WIDE_TYPES) ||                              \
-    !defined(MB2CO_CONFIG_MODBUS_TCP) || !defined(MB2CO_CONFIG_PROFILE_EVENTS)
+    !defined(MB2CO_CONFIG_MODBUS_TCP) || !defined(MB2CO_CONFIG_PROFILE_EVENTS) || !defined(MB2CO_CONFIG_TIME)
 #error \
     "mb2co_profile.h: every MB2CO_CONFIG_* switch must be defined (shared/profiles/station/mb2co_profile.h lists them)"
 #endif
@@ -46,6 +46,11 @@
 #define MB2CO_WITH_RESTORE_DEFAULTS(...) __VA_ARGS__
 #else
 #define MB2CO_WITH_RESTORE_DEFAULTS(...)
+#endif
+#if MB2CO_CONFIG_TIME
+#define MB2CO_WITH_TIME(...) __VA_ARGS__
+#else
+#define MB2CO_WITH_TIME(...)
 #endif
 #if MB2CO_CONFIG_NETWORK
 #define MB2CO_WITH_NETWORK(...) __VA_ARGS__
@@ -97,6 +102,12 @@ constexpr bool kModbusTcp = MB2CO_CONFIG_MODBUS_TCP != 0;
 /// carries no code for filters (the network gateway: it hears every node's
 /// SDO responses and heartbeats, more than the MCP2515's filters hold).
 constexpr bool kAcceptanceFilters = MB2CO_CONFIG_ACCEPTANCE_FILTERS != 0;
+/// TIME (CiA 301, 1012h) and the high-resolution time stamp 1013h: the
+/// node's network clock, set by TIME frames and 1013h writes
+/// (canopen/time_stamp.h). MB2CO_CONFIG_TIME 1: consumer; 2: the producer
+/// too (1012h bit 30; its day state costs RAM the station has not).
+constexpr bool kTime = MB2CO_CONFIG_TIME != 0;
+constexpr bool kTimeProducer = MB2CO_CONFIG_TIME >= 2;
 
 }  // namespace profile
 }  // namespace mb2co

@@ -73,7 +73,11 @@ class Acceptance : public ::testing::Test {
     CanIdRange ranges[kMaxAcceptanceRanges];
     return wanted(ranges, io.node().acceptance(ranges));
   }
-  Wanted node_ids(Ids ids) { return Wanted{std::move(ids), remote_policy()}; }
+  /// `ids` and TIME's 100h where the profile has it (1012h's default consumes it).
+  Wanted node_ids(Ids ids) {
+    if (profile::kTime) ids.insert(0x100);
+    return Wanted{std::move(ids), remote_policy()};
+  }
 
   FrameLog bus;
   ionode::IoNode io{bus.sink()};

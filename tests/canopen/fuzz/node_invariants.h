@@ -55,6 +55,12 @@ inline bool node_may_send_on(ionode::IoNode& io, uint32_t id) {
   if (!(emcy & 0x80000000u) && id == (emcy & 0x7FFu)) return true;
   const uint32_t sync = od.get(od.find(0x1005, 0));
   if ((sync & 0x40000000u) && id == (sync & 0x7FFu)) return true;
+  // TIME producer (1012h bit 30), where the profile has one.
+  const uint16_t time_row = od.find(0x1012, 0);
+  if (time_row != ObjectDictionary::kNoRow) {
+    const uint32_t time = od.get(time_row);
+    if ((time & 0x40000000u) && id == (time & 0x7FFu)) return true;
+  }
   for (uint16_t n = 0; n < kPdoCount; ++n) {
     const uint32_t cob = od.get(od.find(static_cast<uint16_t>(0x1800 + n), 1));
     if (!(cob & 0x80000000u) && id == (cob & 0x7FFu)) return true;

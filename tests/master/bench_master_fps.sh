@@ -19,7 +19,10 @@
 # the master per segment (strace -c) and user-mode instructions per segment
 # (valgrind --tool=callgrind: the difference between uploads of 64 KiB and
 # 32 KiB over the difference in segments, so the start-up cancels out).
-# BENCH_COUNTS=0 leaves them out.
+# BENCH_COUNTS=0 leaves them out. BENCH_BEFORE=DIR (another build, e.g. of
+# main in a worktree): its mb2co-master and BUILD_DIR's take turns on the
+# segmented upload, BENCH_ROUNDS times each, in the same boot against the
+# same node: the fairest before/after of the CPU per segment.
 #
 # BUILD_DIR (default build) holds mb2co-master and mb2co-node.
 set -euo pipefail
@@ -31,6 +34,7 @@ size=${BENCH_SIZE:-262144}
 rounds=${BENCH_ROUNDS:-3}
 cangen_frames=${BENCH_CANGEN_FRAMES:-50000}
 with_counts=${BENCH_COUNTS:-1}
+before=${BENCH_BEFORE:-}
 node_id=5
 
 # shellcheck source=tests/master/bench_node.sh
@@ -41,13 +45,13 @@ now_s() { date +%s.%N; }
 content() {
   python3 -c "import sys; sys.stdout.buffer.write(bytes((i * 7 + (i >> 8) + 13) & 0xFF for i in range($1)))"
 }
-# upload MODE FILE: runs the master under GNU time; "frames seconds cpu_s".
+# upload MODE FILE [MASTER]: runs the master under GNU time; "frames seconds cpu_s".
 upload() {
   rm -f "$2"
   local f0 f1 secs user sys
   f0=$(tx_frames)
   /usr/bin/time -f '%e %U %S' -o "$work/time.txt" \
-    "$master" -i vcan0 -t 5000 upload "$node_id" 1F50 1 "$2" "--$1" >"$work/up.out" 2>"$work/up.err" ||
+    "${3:-$master}" -i vcan0 -t 5000 upload "$node_id" 1F50 1 "$2" "--$1" >"$work/up.out" 2>"$work/up.err" ||
     { echo "bench_master_fps: $1 upload failed" >&2; cat "$work/up.out" "$work/up.err" >&2; exit 1; }
   f1=$(tx_frames)
   cmp -s "$work/in.bin" "$2" || { echo "bench_master_fps: $1 upload differs from the download" >&2; exit 1; }
@@ -72,6 +76,19 @@ for ((r = 1; r <= rounds; ++r)); do
   awk -v r="$r" -v c="$cangen_fps" -v f="$bf" -v s="$bs" -v cpu="$scpu" -v n="$segments" 'BEGIN {
     printf "%-5s %10d %10.0f %10.3f %6.0f%% %12.2f %14.1f\n", r, c, f / s, s, 100 * f / s / c, cpu, cpu * 1e6 / n }'
 done
+
+if [ -n "$before" ]; then
+  [ -x "$before/pcapp/master/mb2co-master" ] || { echo "bench_master_fps: $before/pcapp/master/mb2co-master missing" >&2; exit 2; }
+  echo "segmented upload, master CPU per segment, the two builds taking turns:"
+  for ((r = 1; r <= rounds; ++r)); do
+    for who in before after; do
+      prog=$master
+      [ "$who" = before ] && prog=$before/pcapp/master/mb2co-master
+      read -r _ _ scpu <<<"$(upload segmented "$work/up.bin" "$prog")"
+      awk -v w="$who" -v cpu="$scpu" -v n="$segments" 'BEGIN { printf "  %-6s %6.2f s %8.1f us/segment\n", w, cpu, cpu * 1e6 / n }'
+    done
+  done
+fi
 
 [ "$with_counts" = 1 ] || exit 0
 # Deterministic counts of a segmented upload (not timed).

@@ -27,6 +27,9 @@ uint64_t clock_us(clockid_t clock) {
   return static_cast<uint64_t>(ts.tv_sec) * 1000000u + static_cast<uint64_t>(ts.tv_nsec) / 1000u;
 }
 
+/// transmit()'s refusal of a frame it cannot convert (not an errno).
+constexpr int kInvalidFrame = -1;
+
 bool queue_full(int err) {
   return err == EAGAIN || err == EWOULDBLOCK || err == ENOBUFS;
 }
@@ -64,7 +67,36 @@ bool from_kernel_frame(const struct ::can_frame& in, CanFrame& out) {
 }
 
 SocketCanPort::SocketCanPort()
-    : fd_(-1), rcvbuf_bytes_(0), last_rx_overflows_(0), counters_{}, ifname_{}, error_{} {}
+    : fd_(-1),
+      rcvbuf_bytes_(0),
+      last_rx_overflows_(0),
+      rcvtimeo_us_(0),
+      clocks_read_(false),
+      real_minus_mono_us_(0),
+      read_mono_us_(0),
+      tx_{},
+      tx_count_(0),
+      rx_kernel_{},
+      rx_iov_{},
+      rx_msgs_{},
+      rx_control_{},
+      tx_kernel_{},
+      tx_iov_{},
+      tx_msgs_{},
+      counters_{},
+      ifname_{},
+      error_{} {
+  for (size_t i = 0; i < kBatch; ++i) {
+    rx_iov_[i] = iovec{&rx_kernel_[i], sizeof rx_kernel_[i]};
+    rx_msgs_[i].msg_hdr.msg_iov = &rx_iov_[i];
+    rx_msgs_[i].msg_hdr.msg_iovlen = 1;
+    rx_msgs_[i].msg_hdr.msg_control = rx_control_[i];
+    rx_msgs_[i].msg_hdr.msg_controllen = kRxControlBytes;
+    tx_iov_[i] = iovec{&tx_kernel_[i], sizeof tx_kernel_[i]};
+    tx_msgs_[i].msg_hdr.msg_iov = &tx_iov_[i];
+    tx_msgs_[i].msg_hdr.msg_iovlen = 1;
+  }
+}
 
 SocketCanPort::~SocketCanPort() {
   close();
@@ -75,6 +107,9 @@ void SocketCanPort::close() {
   fd_ = -1;
   rcvbuf_bytes_ = 0;
   last_rx_overflows_ = 0;
+  rcvtimeo_us_ = 0;
+  clocks_read_ = false;
+  tx_count_ = 0;
   counters_ = SocketCanCounters{};
 }
 
@@ -102,7 +137,9 @@ Status SocketCanPort::open(const char* ifname, int rcvbuf_bytes) {
   }
   snprintf(ifname_, sizeof ifname_, "%s", ifname);
 
-  const int fd = ::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW);
+  // Blocking, so that receive_within() can wait in recvmmsg; every other
+  // call passes MSG_DONTWAIT.
+  const int fd = ::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC, CAN_RAW);
   if (fd < 0) {
     const int err = errno;
     if (err == EAFNOSUPPORT) {
@@ -197,23 +234,53 @@ void SocketCanPort::set_filters_of(void* ctx, const CanIdRange* ranges, uint8_t 
 }
 
 size_t SocketCanPort::receive(TimedCanFrame* out, size_t capacity) {
+  return receive_with(out, capacity, MSG_DONTWAIT);
+}
+
+size_t SocketCanPort::receive_within(TimedCanFrame* out, size_t capacity, uint32_t wait_us) {
+  if (fd_ < 0 || capacity == 0) return 0;
+  if (wait_us == 0) return receive_with(out, capacity, MSG_DONTWAIT);
+  // Waking early costs a pass, waking late misses a deadline: a timeout
+  // already set is kept while it is no longer than the wait and at least
+  // half of it (a transfer's wait moves by microseconds from frame to frame).
+  if (rcvtimeo_us_ == 0 || rcvtimeo_us_ > wait_us || rcvtimeo_us_ < wait_us / 2) {
+    const timeval tv{static_cast<time_t>(wait_us / 1000000u), static_cast<suseconds_t>(wait_us % 1000000u)};
+    if (setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv) != 0) {
+      note("SO_RCVTIMEO", errno);
+      return receive_with(out, capacity, MSG_DONTWAIT);  // the caller's loop comes back
+    }
+    rcvtimeo_us_ = wait_us;
+  }
+  // Blocks for the first frame only, then takes what else is waiting.
+  return receive_with(out, capacity, MSG_WAITFORONE);
+}
+
+void SocketCanPort::read_clocks() {
+  const uint64_t mono_us = clock_us(CLOCK_MONOTONIC);
+  real_minus_mono_us_ = clock_us(CLOCK_REALTIME) - mono_us;
+  read_mono_us_ = mono_us;
+  clocks_read_ = true;
+}
+
+uint64_t SocketCanPort::monotonic_of(uint64_t stamp_real_us, bool* read_now) {
+  // Unsigned wrap-around: a stamp before the offset lands far outside the
+  // window, so the clocks are read and it is clamped below.
+  uint64_t at = stamp_real_us - real_minus_mono_us_;
+  const bool inside = clocks_read_ && at + kResyncUs >= read_mono_us_ && at <= read_mono_us_ + kResyncUs;
+  if (!inside && !*read_now) {  // once per call at most: a backlog older than the window is no reason
+    read_clocks();
+    *read_now = true;
+    at = stamp_real_us - real_minus_mono_us_;
+  }
+  // Every frame of this call came before a reading made for it (a
+  // wall-clock step can put the stamp after it).
+  return *read_now && at > read_mono_us_ ? read_mono_us_ : at;
+}
+
+size_t SocketCanPort::receive_with(TimedCanFrame* out, size_t capacity, int flags) {
   if (fd_ < 0 || capacity == 0) return 0;
   const size_t batch = capacity < kBatch ? capacity : kBatch;
-  // Room for SCM_TIMESTAMP and SO_RXQ_OVFL per frame.
-  constexpr size_t kControlBytes = CMSG_SPACE(sizeof(timeval)) + CMSG_SPACE(sizeof(uint32_t));
-  can_frame frames[kBatch];
-  iovec iov[kBatch];
-  mmsghdr msgs[kBatch];
-  alignas(cmsghdr) char control[kBatch][kControlBytes];
-  memset(msgs, 0, sizeof msgs);
-  for (size_t i = 0; i < batch; ++i) {
-    iov[i] = iovec{&frames[i], sizeof frames[i]};
-    msgs[i].msg_hdr.msg_iov = &iov[i];
-    msgs[i].msg_hdr.msg_iovlen = 1;
-    msgs[i].msg_hdr.msg_control = control[i];
-    msgs[i].msg_hdr.msg_controllen = kControlBytes;
-  }
-  const int got = recvmmsg(fd_, msgs, static_cast<unsigned>(batch), MSG_DONTWAIT, nullptr);
+  const int got = recvmmsg(fd_, rx_msgs_, static_cast<unsigned>(batch), flags, nullptr);
   if (got <= 0) {
     if (got < 0 && !queue_full(errno) && errno != EINTR) {
       ++counters_.io_errors;
@@ -221,29 +288,28 @@ size_t SocketCanPort::receive(TimedCanFrame* out, size_t capacity) {
     }
     return 0;
   }
-  // SO_TIMESTAMP is wall-clock time: shift it by the frame's age onto the
-  // monotonic clock. A step of the wall clock shows as age 0 (read time).
-  const uint64_t mono_us = clock_us(CLOCK_MONOTONIC);
-  const uint64_t real_us = clock_us(CLOCK_REALTIME);
+  bool clocks_read_now = false;
   size_t stored = 0;
   for (size_t i = 0; i < static_cast<size_t>(got); ++i) {
-    const msghdr& hdr = msgs[i].msg_hdr;
+    msghdr& hdr = rx_msgs_[i].msg_hdr;
     TimedCanFrame& slot = out[stored];
-    if (msgs[i].msg_len != sizeof(can_frame) || (hdr.msg_flags & MSG_TRUNC) != 0 ||
-        !from_kernel_frame(frames[i], slot.frame)) {
+    const bool whole = rx_msgs_[i].msg_len == sizeof(can_frame) && (hdr.msg_flags & MSG_TRUNC) == 0 &&
+                       from_kernel_frame(rx_kernel_[i], slot.frame);
+    if (!whole) {
       ++counters_.io_errors;
+      hdr.msg_controllen = kRxControlBytes;  // the kernel shortened it to what it wrote
       continue;
     }
-    slot.rx_time_us = mono_us;
-    for (cmsghdr* c = CMSG_FIRSTHDR(&hdr); c != nullptr; c = CMSG_NXTHDR(const_cast<msghdr*>(&hdr), c)) {
+    bool stamped = false;
+    for (cmsghdr* c = CMSG_FIRSTHDR(&hdr); c != nullptr; c = CMSG_NXTHDR(&hdr, c)) {
       if (c->cmsg_level != SOL_SOCKET) continue;
       if (c->cmsg_type == SCM_TIMESTAMP) {
         timeval tv{};
         memcpy(&tv, CMSG_DATA(c), sizeof tv);
-        const uint64_t stamp_us =
-            static_cast<uint64_t>(tv.tv_sec) * 1000000u + static_cast<uint64_t>(tv.tv_usec);
-        const uint64_t age_us = stamp_us <= real_us ? real_us - stamp_us : 0;
-        if (age_us <= mono_us) slot.rx_time_us = mono_us - age_us;
+        slot.rx_time_us =
+            monotonic_of(static_cast<uint64_t>(tv.tv_sec) * 1000000u + static_cast<uint64_t>(tv.tv_usec),
+                         &clocks_read_now);
+        stamped = true;
       } else if (c->cmsg_type == SO_RXQ_OVFL) {
         uint32_t overflows = 0;  // the kernel's wrapping drop count for this socket
         memcpy(&overflows, CMSG_DATA(c), sizeof overflows);
@@ -251,6 +317,8 @@ size_t SocketCanPort::receive(TimedCanFrame* out, size_t capacity) {
         last_rx_overflows_ = overflows;
       }
     }
+    if (!stamped) slot.rx_time_us = clock_us(CLOCK_MONOTONIC);  // no SO_TIMESTAMP: the read's time
+    hdr.msg_controllen = kRxControlBytes;
     ++stored;
   }
   counters_.rx_frames += stored;
@@ -278,27 +346,34 @@ size_t SocketCanPort::send(const CanFrame* frames, size_t count) {
       count_refused(0, count - sent);
       return sent;
     }
-    // Convert up to one batch, stopping before an invalid frame.
-    can_frame kernel[kBatch];
-    iovec iov[kBatch];
-    mmsghdr msgs[kBatch];
-    memset(msgs, 0, sizeof msgs);
-    size_t n = 0;
-    while (n < kBatch && sent + n < count && to_kernel_frame(frames[sent + n], kernel[n])) {
-      iov[n] = iovec{&kernel[n], sizeof kernel[n]};
-      msgs[n].msg_hdr.msg_iov = &iov[n];
-      msgs[n].msg_hdr.msg_iovlen = 1;
-      ++n;
-    }
-    if (n == 0) {  // frames[sent] is invalid
+    int err = 0;
+    sent += transmit(frames + sent, count - sent, &err);
+    if (err == 0) continue;
+    if (err == kInvalidFrame) {
       note("invalid frame (dlc > 8 or id out of range)", 0);
-      count_refused(0, count - sent);
+      err = 0;
+    }
+    count_refused(err, count - sent);
+    return sent;
+  }
+  return sent;
+}
+
+size_t SocketCanPort::transmit(const CanFrame* frames, size_t count, int* err) {
+  *err = 0;
+  size_t sent = 0;
+  while (sent < count) {
+    // Convert up to one batch, stopping before an invalid frame.
+    size_t n = 0;
+    while (n < kBatch && sent + n < count && to_kernel_frame(frames[sent + n], tx_kernel_[n])) ++n;
+    if (n == 0) {  // frames[sent] is invalid
+      *err = kInvalidFrame;
       return sent;
     }
-    const int done = sendmmsg(fd_, msgs, static_cast<unsigned>(n), MSG_DONTWAIT);
+    const int done = sendmmsg(fd_, tx_msgs_, static_cast<unsigned>(n), MSG_DONTWAIT);
     if (done <= 0) {
       if (done < 0 && errno == EINTR) continue;
-      count_refused(done < 0 ? errno : EAGAIN, count - sent);
+      *err = done < 0 ? errno : EAGAIN;
       return sent;
     }
     sent += static_cast<size_t>(done);
@@ -307,8 +382,50 @@ size_t SocketCanPort::send(const CanFrame* frames, size_t count) {
   return sent;
 }
 
+bool SocketCanPort::queue(const CanFrame& frame) {
+  can_frame probe;
+  if (!to_kernel_frame(frame, probe)) {
+    note("invalid frame (dlc > 8 or id out of range)", 0);
+    count_refused(0, 1);
+    return false;
+  }
+  if (tx_count_ == kQueueFrames) flush();
+  if (tx_count_ == kQueueFrames) {
+    count_refused(EAGAIN, 1);  // the kernel's queue and ours are full
+    return false;
+  }
+  tx_[tx_count_++] = frame;
+  return true;
+}
+
+size_t SocketCanPort::flush() {
+  if (tx_count_ == 0) return 0;
+  if (fd_ < 0) {
+    note("not open", 0);
+    count_refused(0, tx_count_);
+    tx_count_ = 0;
+    return 0;
+  }
+  int err = 0;
+  const size_t sent = transmit(tx_, tx_count_, &err);  // queue() let only valid frames in
+  size_t dropped = 0;
+  if (err != 0 && !queue_full(err)) {
+    // Refused for good (interface down): the rest goes, as a send's would.
+    dropped = tx_count_ - sent;
+    count_refused(err, dropped);
+  }
+  const size_t kept = tx_count_ - sent - dropped;  // the kernel's queue is full: next flush
+  memmove(tx_, tx_ + sent, kept * sizeof tx_[0]);
+  tx_count_ = kept;
+  return sent;
+}
+
 bool SocketCanPort::send_to(void* ctx, const CanFrame& frame) {
   return static_cast<SocketCanPort*>(ctx)->send(frame);
+}
+
+bool SocketCanPort::queue_to(void* ctx, const CanFrame& frame) {
+  return static_cast<SocketCanPort*>(ctx)->queue(frame);
 }
 
 }  // namespace linux_port

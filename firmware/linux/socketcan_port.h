@@ -1,17 +1,21 @@
 // SocketCAN port of the Linux build: one CAN_RAW socket bound to one
 // interface (can0, vcan0, ...), handing classic frames in and out as
-// mb2co::CanFrame. Non-blocking throughout; the owner polls fd() for POLLIN.
+// mb2co::CanFrame. Every call returns at once except receive_within(),
+// which waits for the first frame; the owner polls fd() for POLLIN or waits
+// in receive_within(). Frames go out one call each (send) or queued and
+// sent together (queue/flush: one sendmmsg per kBatch frames).
 //
 // Kernels without AF_CAN (no vcan) get interfaces from hil/uml/run-with-vcan.sh.
 #pragma once
+#include <linux/can.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <sys/socket.h>
+#include <sys/time.h>
+#include <sys/uio.h>
 
 #include "canopen/can_frame.h"
 #include "host/status.h"
-
-struct can_frame;   // <linux/can.h>
-struct can_filter;  // <linux/can.h>
 
 namespace mb2co {
 namespace linux_port {
@@ -22,7 +26,11 @@ struct TimedCanFrame {
   uint64_t rx_time_us;  ///< CLOCK_MONOTONIC in µs: the kernel's SO_TIMESTAMP
                         ///< (wall clock) mapped onto the monotonic clock when
                         ///< present, else the time of the read. The core's
-                        ///< 32-bit clock is this value truncated.
+                        ///< 32-bit clock is this value truncated. The mapping
+                        ///< (the offset between the two clocks) is read again
+                        ///< when a frame falls more than kResyncUs from its
+                        ///< last reading, so at most kResyncUs off after a
+                        ///< step of the wall clock; never later than the read.
 };
 
 /// One kernel acceptance filter (CAN_RAW_FILTER): a frame passes when
@@ -64,6 +72,14 @@ class SocketCanPort {
   static constexpr int kDefaultRcvbufBytes = 4 * 1024 * 1024;
   /// Frames per recvmmsg/sendmmsg call.
   static constexpr size_t kBatch = 32;
+  /// Frames queue() holds until flush(): a block transfer's sub-block (127)
+  /// and its neighbours.
+  static constexpr size_t kQueueFrames = 256;
+  /// How far (µs) a received frame may fall from the last reading of the
+  /// two clocks before they are read again (rx_time_us): under steady
+  /// traffic twice per 100 ms instead of twice per receive call. NTP slews
+  /// the wall clock by at most 500 ppm: < 50 µs of drift in that time.
+  static constexpr uint64_t kResyncUs = 100000;
 
   SocketCanPort();
   ~SocketCanPort();
@@ -101,6 +117,13 @@ class SocketCanPort {
   size_t receive(TimedCanFrame* out, size_t capacity);
   /// One frame, false when none is waiting.
   bool receive(TimedCanFrame& out) { return receive(&out, 1) == 1; }
+  /// As receive(), but waits up to `wait_us` for the first frame (0: not at
+  /// all): a poll() and a receive in one system call. Returns 0 after the
+  /// wait, on a signal (EINTR) or a read error. The wait is the socket's
+  /// SO_RCVTIMEO, set again only when the one set is longer than `wait_us`
+  /// or shorter than half of it (then it may return up to half the wait
+  /// early: the caller's loop just passes once more).
+  size_t receive_within(TimedCanFrame* out, size_t capacity, uint32_t wait_us);
 
   /// Queues one frame without blocking. False when it was not queued: full
   /// queue (tx_dropped), invalid frame or interface down (tx_errors).
@@ -109,8 +132,23 @@ class SocketCanPort {
   /// The rest are dropped and counted like refused single sends.
   size_t send(const CanFrame* frames, size_t count);
 
+  /// Takes a frame for the next flush(). False (not taken, counted like a
+  /// refused send) for an invalid frame, or when kQueueFrames are waiting
+  /// and a flush could not make room.
+  bool queue(const CanFrame& frame);
+  /// Sends the queued frames in order, kBatch per system call. Frames the
+  /// kernel has no room for (full queue) stay queued, in order, for the
+  /// next flush; frames it refuses otherwise (interface down) are dropped
+  /// and counted in tx_errors. Returns how many went out.
+  size_t flush();
+  /// Frames waiting for flush().
+  size_t queued() const { return tx_count_; }
+
   /// The port as the core's frame sink; valid while this object lives.
   CanSink sink() { return CanSink{&SocketCanPort::send_to, this}; }
+  /// The same through queue(): the owner's loop calls flush() after each
+  /// pass (a sub-block of 127 frames then costs 4 system calls, not 127).
+  CanSink queue_sink() { return CanSink{&SocketCanPort::queue_to, this}; }
   /// The core's controller settings (shared/platform/device_port.h), with sink()'s
   /// ctx: kernel filters from the device's acceptance ranges (set_ranges);
   /// no bit rate (a raw socket cannot set it: `ip link set can0 type can
@@ -123,6 +161,19 @@ class SocketCanPort {
 
  private:
   static bool send_to(void* ctx, const CanFrame& frame);
+  static bool queue_to(void* ctx, const CanFrame& frame);
+  /// recvmmsg with `flags` into `out`; see receive().
+  size_t receive_with(TimedCanFrame* out, size_t capacity, int flags);
+  /// The kernel's receive time (wall clock, µs) on the monotonic clock
+  /// (see rx_time_us); `*read_now`: the clocks were read during this
+  /// receive call (they are read at most once per call).
+  uint64_t monotonic_of(uint64_t stamp_real_us, bool* read_now);
+  /// Reads both clocks: the offset between them and the monotonic time.
+  void read_clocks();
+  /// Sends frames[0..count) until the kernel refuses one or one is
+  /// invalid; how many went out, `*err` the refusal's errno (0: all went;
+  /// kInvalidFrame, -1: frames[returned] cannot be converted).
+  size_t transmit(const CanFrame* frames, size_t count, int* err);
   static void set_filters_of(void* ctx, const CanIdRange* ranges, uint8_t count);
   /// Replaces the kernel filters by kernel[0..count) (CAN_RAW_FILTER).
   Status install(const struct ::can_filter* kernel, size_t count);
@@ -135,7 +186,25 @@ class SocketCanPort {
 
   int fd_;
   int rcvbuf_bytes_;
-  uint32_t last_rx_overflows_;  ///< kernel's SO_RXQ_OVFL count at the last frame
+  uint32_t last_rx_overflows_;   ///< kernel's SO_RXQ_OVFL count at the last frame
+  uint32_t rcvtimeo_us_;         ///< SO_RCVTIMEO set for receive_within (0: none yet)
+  bool clocks_read_;             ///< real_minus_mono_us_ and read_mono_us_ hold
+  uint64_t real_minus_mono_us_;  ///< CLOCK_REALTIME - CLOCK_MONOTONIC at the last reading
+  uint64_t read_mono_us_;        ///< CLOCK_MONOTONIC at the last reading
+  CanFrame tx_[kQueueFrames];    ///< queue(): [0, tx_count_) wait for flush()
+  size_t tx_count_;
+  /// recvmmsg/sendmmsg's descriptors, pointing into this object (it never
+  /// moves): set up once by the constructor, so a call fills in only the
+  /// frames it moves (a segmented transfer's receive of one frame cost 770
+  /// instructions setting up 32 slots, now a tenth of that).
+  static constexpr size_t kRxControlBytes = CMSG_SPACE(sizeof(timeval)) + CMSG_SPACE(sizeof(uint32_t));
+  struct ::can_frame rx_kernel_[kBatch];
+  iovec rx_iov_[kBatch];
+  mmsghdr rx_msgs_[kBatch];
+  alignas(cmsghdr) char rx_control_[kBatch][kRxControlBytes];
+  struct ::can_frame tx_kernel_[kBatch];
+  iovec tx_iov_[kBatch];
+  mmsghdr tx_msgs_[kBatch];
   SocketCanCounters counters_;
   char ifname_[16];
   char error_[160];

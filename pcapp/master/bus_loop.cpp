@@ -2,7 +2,6 @@
 
 #include <poll.h>
 #include <time.h>
-#include <unistd.h>
 
 #include "stop_signal.h"
 
@@ -49,45 +48,71 @@ uint32_t BusLoop::now_us() const {
 }
 
 void BusLoop::pass(uint32_t end) {
-  const CanSink out = port_.sink();
-  NextDeadline next(now_us());
+  const CanSink out = port_.queue_sink();
+  // The deadlines against the last pass's time: no clock read here. That
+  // time is older than now by the last pass's own work, so the wait may end
+  // that much late (microseconds; the wait is rounded up to ms for poll()).
+  NextDeadline next(now_);
   next.at(end);
   for (int i = 0; i < count_; ++i) services_[i]->next_deadline(next);
   uint32_t at_us = end;
   next.result(&at_us);
-  // Round up: waking a little late is harmless, waking early costs a pass.
-  const uint32_t wait_us = time_until(next.now_us(), at_us);
+  uint32_t wait_us = time_until(next.now_us(), at_us);
+  // Frames the kernel had no room for are sent again soon.
+  if (port_.queued() != 0 && wait_us > kRetrySendUs) wait_us = kRetrySendUs;
+  linux_port::TimedCanFrame frames[linux_port::SocketCanPort::kBatch];
+  const size_t batch = linux_port::SocketCanPort::kBatch;
+  size_t got = 0;
+  if (watcher_count_ == 0 && (wait_us == 0 || wait_us > 2 * kTimerSlackUs)) {
+    // Wait and read in one system call (a segmented transfer's round trip:
+    // this receive and the request's send, nothing else). The socket's
+    // timeout counts in jiffies: it is set kTimerSlackUs short, and the
+    // rest of the wait, if no frame came, is a precise poll() next pass.
+    got = port_.receive_within(frames, batch, wait_us == 0 ? 0 : wait_us - kTimerSlackUs);
+  } else {
+    got = wait_polling(wait_us) ? port_.receive(frames, batch) : 0;
+  }
+  // A signal that came between two waits only set the flag: read it here,
+  // or a SIGINT outside the wait would be lost.
+  if (stop_signalled()) interrupted_ = true;
+  // The pass's time: the newest frame's receive time when frames came (no
+  // clock read), else the clock's.
+  bool heard = false;
+  uint32_t at = 0;
+  while (got > 0) {
+    for (size_t k = 0; k < got; ++k) {
+      at = clock_.at(static_cast<uint32_t>(frames[k].rx_time_us));
+      for (int i = 0; i < count_; ++i) services_[i]->on_frame(frames[k].frame, at, out);
+    }
+    heard = true;
+    // Fewer than asked: the socket was empty (no extra call to find out).
+    if (got < batch) break;
+    got = port_.receive(frames, batch);
+  }
+  const uint32_t now = heard ? at : clock_.at(now_us());
+  now_ = now;
+  size_t from = 1;
+  for (int i = 0; i < watcher_count_; ++i) {
+    watchers_[i]->on_poll(fds_.data() + from, counts_[i], now);
+    from += counts_[i];
+  }
+  for (int i = 0; i < count_; ++i) services_[i]->process(now, out);
+  port_.flush();  // what the pass queued, in order, kBatch frames per call
+}
+
+bool BusLoop::wait_polling(uint32_t wait_us) {
   // The CAN socket first (-1 without one: poll() skips it), then each
   // watcher's descriptors, counted to hand them back.
   fds_.assign(1, pollfd{port_.fd(), POLLIN, 0});
-  size_t counts[kMaxServices];
   for (int i = 0; i < watcher_count_; ++i) {
     const size_t before = fds_.size();
     watchers_[i]->poll_fds(&fds_);
-    counts[i] = fds_.size() - before;
+    counts_[i] = fds_.size() - before;
   }
+  // Round up: waking a little late is harmless, waking early costs a pass.
   const int wait_ms = static_cast<int>((wait_us + 999u) / 1000u);
   poll(fds_.data(), fds_.size(), wait_ms);  // EINTR when a signal came during the wait
-  // A signal that came between two waits only set the flag: read it here,
-  // or a SIGINT outside poll() would be lost.
-  if (stop_signalled()) interrupted_ = true;
-  if (fds_[0].revents & POLLIN) {
-    linux_port::TimedCanFrame frames[linux_port::SocketCanPort::kBatch];
-    size_t got = 0;
-    while ((got = port_.receive(frames, linux_port::SocketCanPort::kBatch)) > 0) {
-      for (size_t k = 0; k < got; ++k) {
-        const uint32_t at = clock_.at(static_cast<uint32_t>(frames[k].rx_time_us));
-        for (int i = 0; i < count_; ++i) services_[i]->on_frame(frames[k].frame, at, out);
-      }
-    }
-  }
-  const uint32_t now = clock_.at(now_us());
-  size_t at = 1;
-  for (int i = 0; i < watcher_count_; ++i) {
-    watchers_[i]->on_poll(fds_.data() + at, counts[i], now);
-    at += counts[i];
-  }
-  for (int i = 0; i < count_; ++i) services_[i]->process(now, out);
+  return (fds_[0].revents & POLLIN) != 0;
 }
 
 }  // namespace master

@@ -1,7 +1,10 @@
 // The master's one thread: a SocketCAN port, the monotonic clock and the
-// portable services of shared/canopen/master, run by one poll() loop that
-// sleeps exactly until the earliest deadline any service reports (no
-// periodic wake-up: an idle master costs nothing).
+// portable services of shared/canopen/master, run by one loop that sleeps
+// exactly until the earliest deadline any service reports (no periodic
+// wake-up: an idle master costs nothing). Frames come in batches
+// (recvmmsg) with their kernel receive times, which are also the pass's
+// time when there are any (no clock read); what the services send is
+// queued and goes out in batches (sendmmsg) at the end of the pass.
 #pragma once
 #include <poll.h>
 #include <stdint.h>
@@ -67,15 +70,22 @@ class BusLoop {
   template <class Done>
   bool run_until(Done done, uint32_t limit_us) {
     if (limit_us > kLongestRunUs) limit_us = kLongestRunUs;
-    const uint32_t end = now_us() + limit_us;
+    now_ = clock_.at(now_us());
+    const uint32_t end = now_ + limit_us;
     for (;;) {
       pass(end);
       if (done()) return true;
-      if (interrupted_ || time_reached(now_us(), end)) return false;
+      if (interrupted_ || time_reached(now_, end)) return false;
     }
   }
-  /// Sends one frame now (NMT, SYNC by hand). False when the kernel refused it.
-  bool send(const CanFrame& frame) { return port_.send(frame); }
+  /// Sends one frame now (NMT, SYNC by hand), after what a pass left
+  /// queued. False when the kernel refused it.
+  bool send(const CanFrame& frame) {
+    port_.flush();
+    return port_.send(frame);
+  }
+  /// Sends at once (outside passes: an NMT command, aborts after run_until).
+  /// The services get a sink that queues, flushed at the end of each pass.
   CanSink sink() { return port_.sink(); }
   uint32_t now_us() const;
   /// A SIGINT or SIGTERM arrived (watch ends, transfers are aborted cleanly).
@@ -83,17 +93,30 @@ class BusLoop {
   const linux_port::SocketCanPort& port() const { return port_; }
 
  private:
-  /// One poll() until the earliest deadline (or `end`), then frames in, then
-  /// every service's process().
+  /// One wait until the earliest deadline (or `end`) that reads the frames
+  /// too, then frames in, every service's process(), and what they queued
+  /// out. System calls of a pass that hears one frame and answers it: the
+  /// wait-and-receive and one send; with watchers, a poll() more.
   void pass(uint32_t end);
+  /// poll() of the CAN socket and the watchers' descriptors (counts_ says
+  /// how many each added), precise to the µs timer; true when frames wait.
+  bool wait_polling(uint32_t wait_us);
+
+  /// Longest wait (µs) while frames the kernel had no room for are queued.
+  static const uint32_t kRetrySendUs = 1000;
+  /// How late a receive's SO_RCVTIMEO may end (µs): the kernel counts it in
+  /// jiffies, 10 ms at HZ=100. Shorter waits are poll()s (a SYNC period).
+  static const uint32_t kTimerSlackUs = 10000;
 
   linux_port::SocketCanPort port_;
   BusService* services_[kMaxServices] = {};
   int count_ = 0;
   PollWatcher* watchers_[kMaxServices] = {};
   int watcher_count_ = 0;
-  std::vector<pollfd> fds_;  ///< the CAN socket, then each watcher's (kept: no allocation per pass)
+  std::vector<pollfd> fds_;           ///< the CAN socket, then each watcher's (kept: no allocation per pass)
+  size_t counts_[kMaxServices] = {};  ///< descriptors each watcher added to fds_
   ServiceClock clock_;
+  uint32_t now_ = 0;  ///< the last pass's time (from clock_)
   bool interrupted_ = false;
 };
 

@@ -1,5 +1,6 @@
 #include "sdo_network.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace mb2co {
@@ -14,6 +15,7 @@ void SdoNetwork::queue(Transfer* t) {
   Node& n = nodes_[t->node];
   if (!n.used) {
     n.used = true;
+    used_.insert(std::lower_bound(used_.begin(), used_.end(), t->node), t->node);
     n.client.init(t->node);
     n.client.set_timeout_us(timeout_us_);
     // The producer time is the node's business; only the consumer time counts.
@@ -117,7 +119,7 @@ void SdoNetwork::drop_queued(uint8_t node, canopen::SdoAbort code) {
 }
 
 void SdoNetwork::abort_all(canopen::SdoAbort code, const CanSink& sink) {
-  for (uint8_t id = 1; id <= 127; ++id) {
+  for (const uint8_t id : used_) {  // end_queue notifies no one: used_ stays as it is
     Node& n = nodes_[id];
     if (n.client.busy()) n.client.abort(code, sink);
     end_queue(id, 0, code, false, false);
@@ -145,7 +147,7 @@ void SdoNetwork::on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sin
   now_us_ = now_us;
   sink_ = sink;
   if (f.extended()) return;
-  if (monitors_.on_frame(f, now_us)) return;
+  if (heartbeat_ms_ && monitors_.on_frame(f, now_us)) return;
   if (f.id < 0x581 || f.id > 0x5FF) return;
   const uint8_t id = static_cast<uint8_t>(f.id - 0x580);
   Node& n = nodes_[id];
@@ -157,7 +159,7 @@ void SdoNetwork::on_frame(const CanFrame& f, uint32_t now_us, const CanSink& sin
 void SdoNetwork::process(uint32_t now_us, const CanSink& sink) {
   now_us_ = now_us;
   sink_ = sink;
-  monitors_.process(now_us, sink);
+  if (heartbeat_ms_) monitors_.process(now_us, sink);
   for (uint8_t id : lost_) {
     Node& n = nodes_[id];
     if (n.queue.empty()) continue;
@@ -167,9 +169,11 @@ void SdoNetwork::process(uint32_t now_us, const CanSink& sink) {
     end_queue(id, 0, canopen::kAbortTimeout, true, true);
   }
   lost_.clear();
-  for (uint8_t id = 1; id <= 127; ++id) {
+  // By index: an on_done may queue a transfer for a new node, which
+  // inserts into used_ (a node then visited twice does no harm).
+  for (size_t i = 0; i < used_.size(); ++i) {
+    const uint8_t id = used_[i];
     Node& n = nodes_[id];
-    if (!n.used) continue;
     if (!n.queue.empty() && n.client.busy()) {
       n.client.process(now_us, sink);
       if (!n.client.busy()) finish_front(id, now_us, sink);
@@ -180,10 +184,10 @@ void SdoNetwork::process(uint32_t now_us, const CanSink& sink) {
 }
 
 void SdoNetwork::next_deadline(NextDeadline& d) const {
-  monitors_.next_deadline(d);
-  for (uint8_t id = 1; id <= 127; ++id) {
+  if (heartbeat_ms_) monitors_.next_deadline(d);
+  for (const uint8_t id : used_) {
     const Node& n = nodes_[id];
-    if (!n.used || n.queue.empty()) continue;
+    if (n.queue.empty()) continue;
     const Transfer* front = n.queue.front();
     if (n.client.busy())
       n.client.next_deadline(d);

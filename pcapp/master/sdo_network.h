@@ -65,6 +65,10 @@ class SdoNetwork : public BusService {
   static canopen::SdoAbort supply(void* ctx, uint32_t offset, uint8_t* buf, uint16_t n);
 
   Node nodes_[128];
+  /// Ids of the nodes with `used` set, ascending: each pass visits these,
+  /// not all 127 (a one-node transfer's pass was mostly that loop).
+  std::vector<uint8_t> used_;
+  /// Configured only with a watchdog (heartbeat_ms_): untouched otherwise.
   canopen::NodeMonitorTable<127> monitors_;
   uint32_t timeout_us_;
   uint16_t heartbeat_ms_;

@@ -23,52 +23,14 @@ set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
 build=${1:-$root/build}
-master=$build/pcapp/master/mb2co-master
-node_bin=$build/firmware/linux/node/mb2co-node
 peer=$root/tests/peers/canopen_peer.js
 sizes=${BENCH_SIZES:-131072 1048576}
 with_npm=${BENCH_NPM:-1}
 node_id=5
 
-for f in "$master" "$node_bin"; do
-  [ -x "$f" ] || { echo "bench_upload: $f missing (cmake --build $build --target mb2co-master mb2co-node)" >&2; exit 2; }
-done
-ip link show vcan0 >/dev/null 2>&1 || { echo "bench_upload: no vcan0 (run it inside hil/uml/run-with-vcan.sh)" >&2; exit 2; }
-
-work=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  rm -rf "$work"
-}
-trap cleanup EXIT
-
-# Polls a file for a line matching a pattern (a benchmark, not a test:
-# bounded by `tries` x 0.1 s).
-wait_for() {
-  local file=$1 pattern=$2 tries=${3:-600}
-  for ((i = 0; i < tries; ++i)); do
-    grep -q -- "$pattern" "$file" 2>/dev/null && return 0
-    sleep 0.1
-  done
-  echo "bench_upload: no '$pattern' in $file" >&2
-  cat "$file" >&2
-  return 1
-}
-
-"$node_bin" --can vcan0 --node-id "$node_id" --pty "$work/pty" >"$work/node.out" 2>&1 </dev/null &
-pids+=($!)
-wait_for "$work/node.out" '^ready'
-
-# Frames on the bus: the kernel's CAN transmit count (/proc/net/can/stats,
-# TXF). candump is no counter here: under user-mode Linux it misses about
-# half the frames of a block upload (no drop reported) while the kernel and
-# both ends see them all. The sandbox's bus carries only the node and the
-# client, so the count is the transfer's frames plus the node's heartbeats
-# during it.
-tx_frames() {
-  awk '/transmitted frames/ { print $1; exit }' /proc/net/can/stats
-}
+# shellcheck source=tests/master/bench_node.sh
+. "$here/bench_node.sh"
+bench_start bench_upload "$build" "$node_id"
 
 failed() {
   echo "bench_upload: $1 failed:" >&2

@@ -63,6 +63,8 @@ constexpr uint32_t kLongestWaitUs = 1000000;
 // docs/performance.md), microseconds on a real host. The rest wait in the
 // socket for the next pass, which polls without sleeping.
 constexpr size_t kMaxFramesPerPass = 8;
+// Longest sleep while frames the kernel had no room for wait to be sent.
+constexpr uint32_t kRetrySendUs = 1000;
 
 timespec as_timespec(uint32_t us) {
   return timespec{static_cast<time_t>(us / 1000000u), static_cast<long>(us % 1000000u) * 1000L};
@@ -128,9 +130,11 @@ int main(int argc, char** argv) {
   }
 
   canopen::ParamStorage storage = eeprom.storage();
+  // Queued: a pass's frames (a block upload's sub-block) leave together at
+  // its end (can.flush() below), kBatch per system call.
   const CanSink can_sink = !with_can         ? CanSink{&can_discard, nullptr}
                            : trace.is_open() ? traced_can.sink()
-                                             : can.sink();
+                                             : can.queue_sink();
   gateway::GatewayPorts ports{can_sink, modbus::ByteSink{&serial_write, &serial},
                               opt.eeprom.empty() ? nullptr : &storage, opt.baud};
   // Kernel filters from the gateway's acceptance ranges (a flood of other
@@ -239,6 +243,7 @@ int main(int argc, char** argv) {
       }
       frames_taken = got != 0;
     }
+    can.flush();         // what the pass sent, in order
     traced_can.flush();  // whole lines for a reader of the trace (nothing when none)
     uint32_t modbus_deadline_us = 0;
     if (!ready.empty() && !gw.modbus_slave().deadline(modbus_deadline_us)) {
@@ -255,12 +260,14 @@ int main(int argc, char** argv) {
       if (gw.next_deadline(now, &at_us)) due.at(at_us);
       control.next_deadline(due);
       due.in(kLongestWaitUs);
+      if (can.queued() != 0) due.in(kRetrySendUs);  // the kernel had no room: again soon
       due.result(&at_us);
       wait_us = time_until(port::monotonic_us(), at_us);
     }
   }
   // A clean exit keeps an answered save: its remaining passes first.
   while (gw.node().saving()) gw.process(port::monotonic_us(), control.buttons());
+  can.flush();
   serial.close();
   can.close();
   trace.close();

@@ -9,7 +9,8 @@ const CanControl TracedCan::kControl = {nullptr, &TracedCan::set_filters_of};
 
 bool TracedCan::send_to(void* ctx, const CanFrame& frame) {
   TracedCan& self = *static_cast<TracedCan*>(ctx);
-  if (!self.port_.send(frame)) return false;  // not on the bus: not in the trace either
+  // Queued for the loop's flush; a frame the port refused is not in the trace.
+  if (!self.port_.queue(frame)) return false;
   self.log_.write(realtime_us(), frame);
   return true;
 }

@@ -1,5 +1,5 @@
 // mb2co-node's CAN port with a trace (--trace-can): every frame the node
-// sends (once the socket took it) and every frame it takes in goes to a
+// sends (once the port queued it for its flush) and every frame it takes in goes to a
 // CanLogFile, stamped with the host's CLOCK_REALTIME as candump stamps its
 // lines, so the trace lines up with a `candump -L` of the same bus.
 #pragma once

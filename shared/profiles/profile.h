@@ -19,7 +19,8 @@
     !defined(MB2CO_CONFIG_DIAGNOSTICS) || !defined(MB2CO_CONFIG_TYPE_DESCRIPTIONS) ||                    \
     !defined(MB2CO_CONFIG_RESTORE_DEFAULTS) || !defined(MB2CO_CONFIG_SDO_BLOCK) ||                       \
     !defined(MB2CO_CONFIG_TPDO_RTR) || !defined(MB2CO_CONFIG_WIDE_TYPES) ||                              \
-    !defined(MB2CO_CONFIG_MODBUS_TCP) || !defined(MB2CO_CONFIG_PROFILE_EVENTS) || !defined(MB2CO_CONFIG_TIME)
+    !defined(MB2CO_CONFIG_MODBUS_TCP) || !defined(MB2CO_CONFIG_PROFILE_EVENTS) ||                        \
+    !defined(MB2CO_CONFIG_TIME)
 #error \
     "mb2co_profile.h: every MB2CO_CONFIG_* switch must be defined (shared/profiles/station/mb2co_profile.h lists them)"
 #endif

@@ -13,7 +13,7 @@ for name in vcan.socketcan_port node.ring node.network node.wide_types load.bus_
             node.trace_can node.ring_ids node.sdo_flood uno.student_line live.uno_chain3 master.bounds master.bursts \
             peers.npm_client_vs_node peers.npm_client_vs_npm_server peers.npm_listen_nmt_sync \
             timing.avr_compile.serial_segment \
-            peers.master_vs_npm_server peers.block_by_hand labs.doc live.serial_operator \
+            peers.master_vs_npm_server peers.block_by_hand labs.doc vcan.interactive_shell live.serial_operator \
             serialnet.avr_compile.serial_link cli.table_up_to_date cli.install_tree \
             bridge.vcan_poll bridge.vcan_token bridge.vcan_echo bridge.uno_vcan peers.npm_client_vs_ionode docs.serial-canopen \
             sim.image.SyncProcessing.RealImageAnswersEverySyncWithinTheBound sim.lab_plots_svg \

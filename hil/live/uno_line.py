@@ -141,11 +141,11 @@ class UnoLine(SimulatedLine):
         ups = [j for j, e in enumerate(events) if e.startswith("link up ")]
         return bool(ups) and any(e == "buttons none" for e in events[ups[-1]:])
 
-    def toggles_since(self, i, mark, led):
-        """How often board i's `led` changed after its event `mark` (the Uno
-        reports pin levels: a blinking LED is one that keeps changing)."""
-        values = [f[led] for kind, f in self.nodes[i].events[mark:] if kind == "leds"]
-        return sum(1 for a, b in zip(values, values[1:]) if a != b)
+    def blinking_since(self, i, mark, led):
+        """Board i's `led` read "blink" after its event `mark` (mb2co-uno
+        says so once the LED has toggled twice within 300 ms, as mb2co-node
+        says it from the neighbour's status: docs/uno-sim.md)."""
+        return self.nodes[i].first_event_since(mark, lambda kind, f: kind == "leds" and f[led] == "blink")
 
     def ran_since(self, i, mark):
         return self.nodes[i].first_event_since(mark, lambda kind, f: kind == "leds" and f["self"] == 1)
@@ -200,7 +200,7 @@ class UnoLine(SimulatedLine):
         watchers = [i for i in others if p in neighbours(i, n, self.ring)]
         for i in watchers:
             side = "prev" if neighbours(i, n, self.ring)[0] == p else "next"
-            self.wait(lambda: self.toggles_since(i, marks[i], side) >= 3,
+            self.wait(lambda: self.blinking_since(i, marks[i], side),
                       f"station {i}: RUN-{side} LED blinking (station {p} unknown) after its power went off")
         plant_up = len(self.plants[p].events)
         view = self.power_on(p)

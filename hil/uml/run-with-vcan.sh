@@ -3,6 +3,7 @@
 #
 # Usage: hil/uml/run-with-vcan.sh [--ifaces vcan0,vcan1] [--timeout SEC]
 #                                 [--mode auto|host|uml] -- COMMAND [ARGS...]
+#        hil/uml/run-with-vcan.sh [--ifaces ...] [--mode ...] [--build DIR] --shell
 #
 # auto (default): as root, try the host kernel first (fresh network namespace,
 # `ip link add type vcan`); otherwise, or when that fails, boot user-mode Linux
@@ -11,6 +12,13 @@
 # not share a bus), the caller's working directory and environment, stdin
 # /dev/null, and runs in its own PID namespace: background processes it leaves
 # die when it ends. Its stdout/stderr reach ours.
+#
+# --shell (also the default when no command is given and stdin is a terminal):
+# an interactive bash on this terminal instead of a command, for typing the
+# labs (docs/labs.md): the vcan interfaces up, the directories of the build's
+# programs (mb2co-*, found under --build DIR, default build/ of this checkout)
+# first on PATH, no time limit unless --timeout; `exit` ends it. The terminal
+# is in raw mode meanwhile (Ctrl-C reaches the guest's shell) and restored.
 #
 # Exit status: the command's (124 when --timeout hit it, 128+N for signal N);
 # 125 with one line on stderr when the sandbox could not be set up or an option
@@ -24,13 +32,16 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 session=$here/session.sh
 ifaces=vcan0
 timeout_s=600
+timeout_given=""
+shell=""
+build=$here/../../build
 mode=${MB2CO_VCAN_MODE:-auto}
 
 die() {
   echo "run-with-vcan: $*" >&2
   exit 125
 }
-usage_line="usage: run-with-vcan.sh [--ifaces vcan0,vcan1] [--timeout SEC] [--mode auto|host|uml] -- COMMAND [ARGS...]"
+usage_line="usage: run-with-vcan.sh [--ifaces vcan0,vcan1] [--timeout SEC] [--mode auto|host|uml] -- COMMAND [ARGS...] | --shell"
 usage() {
   echo "$usage_line" >&2
   exit 125
@@ -44,9 +55,11 @@ help() {
 
 while (($#)); do
   case $1 in
-    --ifaces | --timeout | --mode) (($# >= 2)) || die "$1 needs a value" ;;&
+    --ifaces | --timeout | --mode | --build) (($# >= 2)) || die "$1 needs a value" ;;&
     --ifaces) ifaces=$2; shift 2 ;;
-    --timeout) timeout_s=$2; shift 2 ;;
+    --timeout) timeout_s=$2; timeout_given=1; shift 2 ;;
+    --build) build=$2; shift 2 ;;
+    --shell) shell=1; shift ;;
     --mode) mode=$2; shift 2 ;;
     --) shift; break ;;
     -h | --help) help ;;
@@ -54,7 +67,17 @@ while (($#)); do
     *) die "unknown option '$1' (the command goes after --)" ;;
   esac
 done
-(($#)) || usage
+if [ -n "$shell" ]; then
+  (($# == 0)) || die "--shell takes no command"
+elif (($# == 0)); then
+  { [ -t 0 ] && [ -t 1 ]; } || usage
+  shell=1
+fi
+if [ -n "$shell" ]; then
+  { [ -t 0 ] && [ -t 1 ]; } || die "--shell needs a terminal on stdin and stdout"
+  [ -n "$timeout_given" ] || timeout_s=999999
+  set -- bash --rcfile "$here/shell-rc.sh" -i
+fi
 [[ $ifaces =~ ^[A-Za-z0-9_]{1,15}(,[A-Za-z0-9_]{1,15})*$ ]] ||
   die "bad --ifaces '$ifaces' (comma-separated names of at most 15 characters [A-Za-z0-9_])"
 [[ $timeout_s =~ ^[1-9][0-9]{0,5}$ ]] || die "bad --timeout '$timeout_s' (whole seconds, 1..999999)"
@@ -67,6 +90,8 @@ dir=$(mktemp -d "$base/mb2co-vcan.XXXXXX") || die "cannot create a temp dir in $
 
 uml_pid=""
 relays=()
+input_relay=""
+saved_tty=""
 # shellcheck disable=SC2317  # called from the EXIT trap
 cleanup() {
   # The UML `timeout` leads a process group; a ptrace-stopped UML helper can
@@ -75,6 +100,8 @@ cleanup() {
     kill -KILL -- "-$uml_pid" 2>/dev/null || true
     { wait "$uml_pid"; } 2>/dev/null || true # reaped quietly (no "Killed" line)
   fi
+  [ -z "$input_relay" ] || kill "$input_relay" 2>/dev/null || true
+  [ -z "$saved_tty" ] || stty "$saved_tty" 2>/dev/null || true
   ((${#relays[@]} == 0)) || kill "${relays[@]}" 2>/dev/null || true
   if [ -n "${MB2CO_VCAN_KEEP:-}" ]; then
     echo "run-with-vcan: kept $dir" >&2
@@ -91,12 +118,24 @@ trap 'exit 129' HUP
 MB2CO_ARGV=("$@")
 {
   declare -p MB2CO_ARGV
-  printf 'MB2CO_CWD=%q\nMB2CO_TIMEOUT_S=%q\nMB2CO_IFACES=%q\n' "$PWD" "$timeout_s" "$ifaces"
+  printf 'MB2CO_CWD=%q\nMB2CO_TIMEOUT_S=%q\nMB2CO_IFACES=%q\nMB2CO_SHELL=%q\n' "$PWD" "$timeout_s" "$ifaces" "$shell"
+  # The guest's terminal gets the size of ours (a tty of UML starts at 0x0).
+  [ -z "$shell" ] || printf 'MB2CO_TTY_SIZE=%q\n' "$(stty size 2>/dev/null || echo '24 80')"
 } >"$dir/request"
 while IFS= read -r name; do
   case $name in PWD | OLDPWD | SHLVL | _ | SHELLOPTS | BASHOPTS | MB2CO_VCAN_*) continue ;; esac
   printf 'export %s=%q\n' "$name" "${!name}"
 done < <(compgen -e) >"$dir/env"
+if [ -n "$shell" ]; then
+  # The folders holding the build's programs, first on the shell's PATH.
+  tools=""
+  if [ -d "$build" ]; then
+    tools=$(find "$build" -path '*/CMakeFiles' -prune -o -type f -perm -u+x -name 'mb2co-*' -printf '%h\n' |
+      sort -u | paste -sd:)
+  fi
+  [ -n "$tools" ] || echo "run-with-vcan: no mb2co-* programs under $build (build them, or give --build DIR)" >&2
+  printf 'export PATH=%q\n' "${tools:+$tools:}$PATH" >>"$dir/env"
+fi
 
 # Exit with the command's code if the session ran it; return if it did not.
 exit_with_session_rc() {
@@ -159,6 +198,19 @@ cat "$dir/host-stdout" &
 relays+=($!)
 cat "$dir/host-stderr" >&2 &
 relays+=($!)
+# --shell: console 1 reads our terminal too, through a fifo for the same
+# reason. Ours goes raw: the guest's tty does the line editing, echo and
+# Ctrl-C; a second echo or a SIGINT here would be wrong.
+console1=null,fd:3
+if [ -n "$shell" ]; then
+  mkfifo "$dir/host-stdin"
+  exec 6<>"$dir/host-stdin" 7<&0
+  saved_tty=$(stty -g)
+  stty raw -echo
+  cat <&7 >"$dir/host-stdin" &
+  input_relay=$!
+  console1=fd:6,fd:3
+fi
 
 # Boot parameters from DESIGN.md §10 (quick boot) plus skipping the raid6
 # benchmark (0.85 s; nothing here uses md-raid or btrfs); con0 is the kernel
@@ -166,7 +218,7 @@ relays+=($!)
 set +e
 TMPDIR=$mem_dir timeout -k 5 $((timeout_s + 120)) linux.uml \
   mem="$uml_mem" root=/dev/root rootfstype=hostfs rootflags=/ rw \
-  init="$session" con=null ssl=null con0=null,fd:5 con1=null,fd:3 con2=null,fd:4 \
+  init="$session" con=null ssl=null con0=null,fd:5 con1=$console1 con2=null,fd:4 \
   pty.legacy_count=0 cryptomgr.notests zswap.enabled=0 initcall_blacklist=raid6_select_algo quiet \
   MB2CO_VCAN_DIR="$dir" MB2CO_VCAN_MODE=uml \
   </dev/null 3>"$dir/host-stdout" 4>"$dir/host-stderr" 5>"$dir/console.log" >>"$dir/console.log" 2>&1 &
@@ -177,6 +229,10 @@ uml_rc=$?
 set -e
 kill -KILL -- "-$uml_pid" 2>/dev/null || true
 uml_pid=""
+if [ -n "$input_relay" ]; then
+  kill "$input_relay" 2>/dev/null || true
+  input_relay=""
+fi
 wait "${relays[@]}" 2>/dev/null || true
 relays=()
 

@@ -48,8 +48,9 @@ for i in "${ifaces[@]}"; do
 done
 out=$(ip -batch - 2>&1 <<<"$batch") || setup_failed "cannot create ${MB2CO_IFACES//,/ }: $out"
 
-# The command gets the caller's environment and directory, no stdin, a time
-# limit (exit 124 and a line on stderr when it hits), and a PID namespace.
+# The command gets the caller's environment and directory, no stdin (the
+# terminal for --shell), a time limit (exit 124 and a line on stderr when it
+# hits), and a PID namespace.
 run_command() {
   local unshare timeout
   if ! unshare=$(type -P unshare) || ! timeout=$(type -P timeout); then
@@ -67,7 +68,34 @@ run_command() {
   ) </dev/null
 }
 
-if [ "$mode" = uml ]; then
+# --shell: inside UML the shell leads its own session with console 1 as its
+# controlling tty (job control, Ctrl-C); on the host it stays in the caller's
+# session and terminal. --foreground keeps `timeout` from moving it out of the
+# terminal's foreground process group.
+run_shell() {
+  local lead=()
+  [ "$mode" = host ] || lead=(setsid -w -c)
+  (
+    set +u
+    # shellcheck source=/dev/null
+    . "$dir/env"
+    cd -- "$MB2CO_CWD" 2>/dev/null ||
+      { echo "run-with-vcan: working directory $MB2CO_CWD is not reachable" >&2; exit 125; }
+    exec unshare --pid --fork --kill-child --mount-proc -- \
+      "${lead[@]}" timeout --foreground -k 5 "$MB2CO_TIMEOUT_S" "${MB2CO_ARGV[@]}"
+  )
+}
+
+if [ -n "${MB2CO_SHELL:-}" ]; then
+  if [ "$mode" = uml ]; then
+    read -r rows cols <<<"${MB2CO_TTY_SIZE:-24 80}"
+    stty -F /dev/tty1 sane rows "$rows" cols "$cols"
+    run_shell </dev/tty1 >/dev/tty1 2>&1
+  else
+    run_shell
+  fi
+  rc=$?
+elif [ "$mode" = uml ]; then
   # The command writes into pipes (as it would on the host); relays copy them
   # to consoles 1 and 2, which the host wired to its stdout and stderr. The
   # fifos live on hostfs but behave as guest-local pipes.

@@ -230,6 +230,7 @@ int main(int argc, char** argv) {
     }
     uint64_t led_us = 0;
     if (rig.take_led_change(&led_us)) show_leds(led_us);
+    if (rig.panel().settle_blinks(rig.now_us())) show_leds(rig.now_us());
     if (!ready_said && rig.modbus_ready()) {
       ready_said = true;
       say("ready node=" + std::to_string(rig.booted_node()) + " can=" + opt.can + " serial=" + serial.path() +

@@ -49,14 +49,38 @@ void PanelChannel::process(uint64_t now_us) {
   }
 }
 
-void PanelChannel::set_led(uint8_t led, bool on) {
-  if (led < kMaxLeds) leds_[led] = on;
+void PanelChannel::set_led(uint8_t led, bool on, uint64_t now_us) {
+  if (led >= kMaxLeds || leds_[led] == on) return;
+  leds_[led] = on;
+  const bool may_blink = (image_.blinking_leds >> led) & 1u;
+  if (may_blink && led_changed_once_[led] && now_us - led_changed_us_[led] < kBlinkWindowUs)
+    blinking_[led] = true;
+  led_changed_us_[led] = now_us;
+  led_changed_once_[led] = true;
+}
+
+bool PanelChannel::settle_blinks(uint64_t now_us) {
+  bool settled = false;
+  for (uint8_t i = 0; i < kMaxLeds; ++i) {
+    if (blinking_[i] && now_us - led_changed_us_[i] >= kBlinkWindowUs) {
+      blinking_[i] = false;
+      settled = true;
+    }
+  }
+  return settled;
 }
 
 std::string PanelChannel::leds_line(uint32_t at_us) const {
   std::ostringstream out;
   out << "leds";
-  for (uint8_t i = 0; i < image_.led_count; ++i) out << ' ' << image_.led_names[i] << '=' << leds_[i];
+  for (uint8_t i = 0; i < image_.led_count; ++i) {
+    out << ' ' << image_.led_names[i] << '=';
+    if (blinking_[i]) {
+      out << "blink";
+    } else {
+      out << leds_[i];
+    }
+  }
   out << " at_us=" << at_us;
   return out.str();
 }

@@ -8,8 +8,12 @@
 //   quit   -> "bye"
 // state? and counters? read the gateway's memory in mb2co-node; on the Uno
 // image that is over Modbus only: they get "error ...". A "leds" line also
-// comes unasked whenever a LED pin changes. Button levels are what the pins
-// see (low = pressed); the image debounces them itself.
+// comes unasked whenever what a LED shows changes. A LED that may blink
+// (UnoImage::blinking_leds) and changes again within kBlinkWindowUs shows
+// "blink", as in mb2co-node, until it rests that long: one line when a
+// blink starts and one when it ends, not one at every 250 ms toggle.
+// Button levels are what the pins see (low = pressed); the image debounces
+// them itself.
 #pragma once
 #include <stdint.h>
 
@@ -24,6 +28,9 @@ class PanelChannel {
  public:
   static const uint8_t kMaxButtons = 8;
   static const uint8_t kMaxLeds = 8;
+  /// The gateway's blink half-period (line_app.h, 250 ms) and a margin for
+  /// its main loop: two changes closer than this are a blink.
+  static const uint32_t kBlinkWindowUs = 300000;
 
   /// The buttons and LEDs of `image` (kept by reference: a static table).
   explicit PanelChannel(const UnoImage& image = gateway_image()) : image_(image) {}
@@ -38,9 +45,12 @@ class PanelChannel {
   uint8_t buttons() const { return buttons_; }
   bool quit() const { return quit_; }
 
-  /// LED `led` (index into the image's LEDs) shows `on`.
-  void set_led(uint8_t led, bool on);
-  /// "leds ..." stamped `at_us`.
+  /// LED `led` (index into the image's LEDs) shows `on` from simulated `now_us`.
+  void set_led(uint8_t led, bool on, uint64_t now_us);
+  /// Ends the blinks that rested kBlinkWindowUs by `now_us`; true if any did
+  /// (the leds line changed).
+  bool settle_blinks(uint64_t now_us);
+  /// "leds ..." stamped `at_us` ("blink" for a blinking LED).
   std::string leds_line(uint32_t at_us) const;
 
  private:
@@ -49,6 +59,9 @@ class PanelChannel {
   uint8_t clicked_ = 0;  ///< buttons a click will release
   uint64_t release_at_us_[kMaxButtons] = {};
   bool leds_[kMaxLeds] = {};
+  uint64_t led_changed_us_[kMaxLeds] = {};
+  bool led_changed_once_[kMaxLeds] = {};  ///< led_changed_us_ holds a change
+  bool blinking_[kMaxLeds] = {};
   bool quit_ = false;
 };
 

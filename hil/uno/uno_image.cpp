@@ -8,6 +8,7 @@ namespace {
 const uint8_t kStationButtonPins[3] = {9, 3, 4};  // START, STOP, STOP2
 const char* const kStationLeds[5] = {"self", "prev", "next", "lab", "canerr"};
 const uint8_t kStationLedPins[5] = {5, 6, 14, 7, 8};
+const uint8_t kStationNeighbourLeds = 0x06;  // prev, next: blink while unknown (line_app.h)
 
 // mb2co-ionode's joystick, in the order of its 6000h/1 bits (ionode_main.cpp).
 const char* const kJoystick[5] = {"UP", "DOWN", "LEFT", "RIGHT", "CLICK"};
@@ -21,13 +22,13 @@ const UnoImage kNone = {};
 const UnoImage* images() {
   static const UnoImage kImages[] = {
       {"gateway", "mb2co-gateway.elf", panel_station_buttons(), kStationButtonPins, kStationLeds,
-       kStationLedPins, 5, true},
+       kStationLedPins, 5, true, kStationNeighbourLeds},
       // The station plus FC 2Bh/0Dh (docs/gateway-network.md): the same board.
       {"network", "mb2co-gateway-network.elf", panel_station_buttons(), kStationButtonPins, kStationLeds,
-       kStationLedPins, 5, true},
-      {"ionode", "mb2co-ionode.elf", {kJoystick, 5}, kJoystickPins, kShieldLeds, kShieldLedPins, 2, false},
+       kStationLedPins, 5, true, kStationNeighbourLeds},
+      {"ionode", "mb2co-ionode.elf", {kJoystick, 5}, kJoystickPins, kShieldLeds, kShieldLedPins, 2, false, 0},
       {"echo", "mcp2515-echo.elf", panel_station_buttons(), kStationButtonPins, kStationLeds, kStationLedPins,
-       5, false},
+       5, false, 0},
       kNone,
   };
   return kImages;

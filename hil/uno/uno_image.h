@@ -23,6 +23,9 @@ struct UnoImage {
   uint8_t led_count;
   /// The image is the gateway: `state?`/`counters?` are Modbus registers there.
   bool gateway;
+  /// Bit i: LED i may blink (the gateway's prev/next while that neighbour is
+  /// unknown, 250 ms on, 250 ms off); the panel shows it as "blink".
+  uint8_t blinking_leds;
 };
 
 /// The gateway (mb2co-gateway.elf): buttons D9 START, D3 STOP, D4 STOP2;

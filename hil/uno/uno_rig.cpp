@@ -44,7 +44,7 @@ bool UnoRig::run_until_us(uint64_t until_us) {
 void UnoRig::on_pin(uint8_t pin, bool high) {
   for (uint8_t i = 0; i < image_.led_count; ++i) {
     if (image_.led_pins[i] != pin) continue;
-    panel_.set_led(i, high);
+    panel_.set_led(i, high, board_.micros());
     led_changed_ = true;
     led_changed_us_ = board_.micros();
   }

@@ -15,6 +15,10 @@ The convention (docs/labs.md, "How this page is tested"):
   for in order, other lines in between being skipped.
 * A fenced block ```output %N shows more lines of job N's output, matched
   the same way, continuing after the last line matched for that job.
+* Named jobs, which no later step finds by bash's job number: a command
+  "COMMAND & echo $! > DIR/NAME.pid" starts job NAME (its first expected
+  line may be "[<...>] <...>"), and ```output NAME shows more of the job
+  last started as NAME.
 
 All commands run in ONE bash, in the source directory, with the build's
 tool directories first on PATH, so that `kill %2`, shell variables and
@@ -39,6 +43,8 @@ import tempfile
 import time
 
 COMMAND_DEADLINE_S = 90
+# "COMMAND & echo $! > DIR/NAME.pid": a background job named NAME.
+NAMED_JOB = re.compile(r"^(.*?)\s*&\s*echo \$! >\s*(\S*?([A-Za-z][\w-]*)\.pid)$")
 JOB_DEADLINE_S = 60
 TOOL_DIRS = ["pcapp/master", "firmware/linux/node", "firmware/linux/bridge", "hil/uno", "pcapp/timing", "hil/lab"]
 
@@ -47,7 +53,7 @@ class Step:
     def __init__(self, kind, line_no, text, expected):
         self.kind = kind  # "command" or "output"
         self.line_no = line_no
-        self.text = text  # the command, or the job spec "%N"
+        self.text = text  # the command, or the job spec "%N" or NAME
         self.expected = expected
 
 
@@ -58,7 +64,7 @@ def parse(path):
         lines = f.read().split("\n")
     for no, line in enumerate(lines, 1):
         if block is None:
-            m = re.match(r"^```(console|output %\d+)\s*$", line)
+            m = re.match(r"^```(console|output (?:%\d+|[A-Za-z][\w-]*))\s*$", line)
             if m:
                 block = m.group(1)
                 if block.startswith("output"):
@@ -206,32 +212,35 @@ def main():
         sys.stdout.flush()
 
     for n, step in enumerate(steps):
-        if step.kind == "command" and step.text.endswith("&"):
+        named = NAMED_JOB.match(step.text) if step.kind == "command" else None
+        if step.kind == "command" and (named or step.text.endswith("&")):
             log = os.path.join(logs, f"job{n}.log")
-            command = step.text[:-1].rstrip()
+            command = named.group(1) if named else step.text[:-1].rstrip()
             shell.send(f"{command} >{log} 2>&1 &")
-            rc, out = shell.run("jobs -l %+")
+            rc, out = shell.run((f"echo $! > {named.group(2)}; " if named else "") + "jobs -l %+")
             m = re.match(r"^\[(\d+)\]\+\s+(\d+)", out[0] if out else "")
             if rc != 0 or not m:
                 fail(step, f"background job did not start: {step.text}", [], out)
                 continue
-            jobs[m.group(1)] = Job(log)
+            jobs["%" + m.group(1)] = Job(log)
+            if named:
+                jobs[named.group(3)] = jobs["%" + m.group(1)]
             announced = f"[{m.group(1)}] {m.group(2)}"
             expected = list(step.expected)
             if args.record:
                 print(f"$ {step.text}\n{announced}")
                 time.sleep(3)
-                jobs[m.group(1)].poll()
-                print("\n".join(jobs[m.group(1)].lines[:12]))
+                jobs["%" + m.group(1)].poll()
+                print("\n".join(jobs["%" + m.group(1)].lines[:12]))
                 continue
-            if expected and re.match(r"^\[\d+\] ", expected[0]):
+            if expected and re.match(r"^\[(\d+|<\.\.\.>)\] ", expected[0]):
                 if not line_regex(expected[0]).match(announced):
                     fail(step, f"job number: {step.text}", expected[:1], [announced])
                 expected = expected[1:]
-            missing = jobs[m.group(1)].wait_for(expected, args.job_deadline)
+            missing = jobs["%" + m.group(1)].wait_for(expected, args.job_deadline)
             if missing is not None:
                 fail(step, f"job [{m.group(1)}] never printed a line like the doc's: {step.text}", [missing],
-                     jobs[m.group(1)].lines[-20:])
+                     jobs["%" + m.group(1)].lines[-20:])
         elif step.kind == "command":
             rc, out = shell.run(step.text)
             if args.record:
@@ -247,7 +256,7 @@ def main():
             elif not lines_match(step.expected, out):
                 fail(step, f"printed differs from the doc: {step.text}", step.expected, out)
         else:
-            job = jobs.get(step.text[1:])
+            job = jobs.get(step.text)
             if job is None:
                 fail(step, f"no background job {step.text}", step.expected, [])
                 continue

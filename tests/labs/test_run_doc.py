@@ -62,6 +62,30 @@ class RunDoc(unittest.TestCase):
         rc, out = run_page(page)
         self.assertEqual(rc, 0, out)
 
+    def test_named_jobs_need_no_job_numbers(self):
+        # Two jobs by name, the first restarted under the same name: its
+        # output block follows the newest one, and kill finds it by its file.
+        page = ("```console\n$ d=$(mktemp -d) && touch $d/f $d/g\n"
+                "$ tail -f $d/f & echo $! > $d/reader.pid\n[<...>] <...>\n"
+                "$ tail -f $d/g & echo $! > $d/other-reader.pid\n[<...>] <...>\n"
+                "$ echo one >> $d/f; echo two >> $d/g\n```\n"
+                "```output reader\none\n```\n"
+                "```output other-reader\ntwo\n```\n"
+                "```console\n$ kill $(cat $d/reader.pid); wait $(cat $d/reader.pid) || true\n"
+                "$ : > $d/f; tail -f $d/f & echo $! > $d/reader.pid\n[<...>] <...>\n"
+                "$ echo three >> $d/f\n```\n"
+                "```output reader\nthree\n```\n")
+        rc, out = run_page(page)
+        self.assertEqual(rc, 0, out)
+
+    def test_a_named_job_that_never_prints_a_line_fails_naming_the_block(self):
+        page = ("```console\n$ d=$(mktemp -d) && touch $d/f\n$ tail -f $d/f & echo $! > $d/reader.pid\n"
+                "$ echo one >> $d/f\n```\n"
+                "```output reader\ntwo\n```\n")
+        rc, out = run_page(page)
+        self.assertEqual(rc, 1, out)
+        self.assertIn("PAGE:6: job reader never printed a line like the doc's", out)
+
     def test_a_line_a_job_never_prints_fails_naming_the_block(self):
         page = ("```console\n$ f=$(mktemp)\n$ tail -f $f &\n[1] <...>\n$ echo one >> $f\n```\n"
                 "```output %1\none\none\n```\n")

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "rig_frame.h"
 #include "uno_rig.h"
 
 namespace mb2co {
@@ -43,14 +44,6 @@ std::string case_name(const ButtonCase& c) {
   return std::string(c.image) + "_" + find_image(c.image)->buttons.names[c.button];
 }
 
-CanFrame frame(uint32_t id, std::vector<uint8_t> data) {
-  CanFrame f{};
-  f.id = id;
-  f.dlc = static_cast<uint8_t>(data.size());
-  for (size_t i = 0; i < data.size(); ++i) f.data[i] = data[i];
-  return f;
-}
-
 class UnoButtonHeld : public ::testing::TestWithParam<ButtonCase> {};
 
 TEST_P(UnoButtonHeld, StaysPressedForTheImageWhileLedsAndSpiWriteItsPort) {
@@ -63,7 +56,7 @@ TEST_P(UnoButtonHeld, StaysPressedForTheImageWhileLedsAndSpiWriteItsPort) {
   ASSERT_TRUE(loaded) << loaded.message();
   ASSERT_TRUE(rig->run_until_us(300000));
   ASSERT_NE(rig->booted_node(), 0) << "no boot-up";
-  rig->can_in(frame(0x000, {0x01, 0x00}));  // NMT start all (the gateway starts itself)
+  rig->can_in(rig_frame(0x000, {0x01, 0x00}));  // NMT start all (the gateway starts itself)
   ASSERT_TRUE(rig->run_until_us(rig->now_us() + 50000));
   rig->take_can_out();
   uint64_t ignored = 0;
@@ -81,7 +74,8 @@ TEST_P(UnoButtonHeld, StaysPressedForTheImageWhileLedsAndSpiWriteItsPort) {
   while (rig->now_us() < pressed_us + kHoldUs) {
     if (c.drive_leds && rig->now_us() >= next_rpdo_us) {
       led_level = !led_level;
-      rig->can_in(frame(0x200 + rig->booted_node(), {static_cast<uint8_t>(led_level ? 0x03 : 0x00), 0x00}));
+      rig->can_in(
+          rig_frame(0x200 + rig->booted_node(), {static_cast<uint8_t>(led_level ? 0x03 : 0x00), 0x00}));
       next_rpdo_us += 100000;
     }
     ASSERT_TRUE(rig->run_until_us(rig->now_us() + kStepUs)) << rig->board().stop_reason();

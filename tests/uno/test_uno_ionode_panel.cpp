@@ -8,19 +8,12 @@
 #include <string>
 #include <vector>
 
+#include "rig_frame.h"
 #include "uno_rig.h"
 
 namespace mb2co {
 namespace uno {
 namespace {
-
-CanFrame frame(uint32_t id, std::vector<uint8_t> data) {
-  CanFrame f{};
-  f.id = id;
-  f.dlc = static_cast<uint8_t>(data.size());
-  for (size_t i = 0; i < data.size(); ++i) f.data[i] = data[i];
-  return f;
-}
 
 /// The frames the image sent with `id`, oldest first.
 std::vector<CanFrame> sent_on(UnoRig& rig, uint32_t id) {
@@ -37,7 +30,7 @@ TEST(UnoIoNode, JoystickPinsAreTheInputsAndLedPinsTheOutputsOfTheImage) {
   ASSERT_TRUE(loaded) << loaded.message();
   ASSERT_TRUE(rig.run_until_us(200000));
   ASSERT_EQ(rig.booted_node(), 0x20) << "a blank EEPROM: the default id";
-  rig.can_in(frame(0x000, {0x01, 0x20}));  // NMT start
+  rig.can_in(rig_frame(0x000, {0x01, 0x20}));  // NMT start
   ASSERT_TRUE(rig.run_until_us(rig.now_us() + 20000));
   rig.take_can_out();
 
@@ -56,12 +49,12 @@ TEST(UnoIoNode, JoystickPinsAreTheInputsAndLedPinsTheOutputsOfTheImage) {
   ASSERT_EQ(tpdo.size(), 1u);
   EXPECT_EQ(tpdo[0].data[0], 0x09) << "RIGHT is bit 3";
 
-  rig.can_in(frame(0x220, {0x02, 0x00}));  // RPDO1: 6200h/1 bit 1 = D8
+  rig.can_in(rig_frame(0x220, {0x02, 0x00}));  // RPDO1: 6200h/1 bit 1 = D8
   ASSERT_TRUE(rig.run_until_us(rig.now_us() + 20000));
   uint64_t changed_us = 0;
   EXPECT_TRUE(rig.take_led_change(&changed_us));
   EXPECT_EQ(rig.panel().leds_line(7), "leds d7=0 d8=1 at_us=7");
-  rig.can_in(frame(0x220, {0x01, 0x00}));
+  rig.can_in(rig_frame(0x220, {0x01, 0x00}));
   ASSERT_TRUE(rig.run_until_us(rig.now_us() + 20000));
   EXPECT_EQ(rig.panel().leds_line(7), "leds d7=1 d8=0 at_us=7");
 }

@@ -114,6 +114,7 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
   }
   std::vector<pollfd> fds;
+  fds.reserve(members.size());
   for (const Member& m : members) fds.push_back(pollfd{m.fd, POLLIN, 0});
   while (code == 0 && !bridge::stop_requested()) {
     if (poll(fds.data(), fds.size(), 200) < 0) {

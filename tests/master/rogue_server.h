@@ -44,7 +44,8 @@ class RogueServer {
   /// Opens vcan0 (receiving 605h only) and starts answering. False with
   /// error() when the socket cannot be set up.
   bool start(Handler handler);
-  /// Stops the thread (what it noted stays readable).
+  /// Stops the thread after it has taken every request already queued
+  /// (what it noted stays readable).
   void stop();
   const std::string& error() const { return error_; }
 
@@ -74,6 +75,8 @@ class RogueServer {
 
  private:
   void run();
+  /// Reads one queued request (recv `flags`) into the handler; false when none.
+  bool take_frame(int flags);
   void receive(const CanFrame& f);
 
   Handler handler_;

@@ -25,22 +25,15 @@
 #include "host/candump_text.h"
 #include "io_counts.h"
 #include "pacer.h"
-#include "serial_port.h"
-#include "socketcan_port.h"
+#include "platform/serial_port.h"
+#include "platform/socketcan_port.h"
+#include "platform/stop_signal.h"
 #include "uno_options.h"
 #include "uno_rig.h"
 
 namespace {
 
 using namespace mb2co;
-
-int g_signal_pipe[2] = {-1, -1};
-
-void on_signal(int) {
-  const char b = 1;
-  const ssize_t n = write(g_signal_pipe[1], &b, 1);
-  (void)n;
-}
 
 uint64_t wall_us() {
   timespec ts{};
@@ -71,12 +64,9 @@ int main(int argc, char** argv) {
   const uno::UnoImage& image = *uno::find_image(opt.image);  // the parser checked the name
   if (opt.elf.empty()) opt.elf = std::string(MB2CO_UNO_AVR_DIR) + "/" + image.elf;
 
-  if (pipe2(g_signal_pipe, O_CLOEXEC | O_NONBLOCK) != 0) return fail(std::string("pipe: ") + strerror(errno));
-  struct sigaction sa = {};
-  sa.sa_handler = on_signal;
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-  signal(SIGPIPE, SIG_IGN);
+  const int stop_fd = port::stop_signal_fd();
+  if (stop_fd < 0) return fail(std::string("pipe: ") + strerror(errno));
+  port::ignore_broken_pipes();
 
   static uno::UnoRig rig(image);  // large; static like the image's own globals
   const Status loaded = rig.load(opt.elf);
@@ -169,7 +159,7 @@ int main(int argc, char** argv) {
   // `*cut` is set).
   auto poll_inputs = [&](pollfd* fds, uint64_t wait_us, bool* cut) {
     fds[0] = {serial.fd(), POLLIN, 0};
-    fds[1] = {g_signal_pipe[0], POLLIN, 0};
+    fds[1] = {stop_fd, POLLIN, 0};
     fds[2] = {stdin_open ? 0 : -1, POLLIN, 0};
     fds[3] = {with_can ? can.fd() : -1, POLLIN, 0};
     const timespec timeout{static_cast<time_t>(wait_us / 1000000u),

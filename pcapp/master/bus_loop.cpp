@@ -3,13 +3,13 @@
 #include <poll.h>
 #include <time.h>
 
-#include "stop_signal.h"
+#include "platform/stop_signal.h"
 
 namespace mb2co {
 namespace master {
 
 Status BusLoop::open(const char* ifname) {
-  catch_stop_signals();
+  port::catch_stop_signals();
   return port_.open(ifname);
 }
 
@@ -74,7 +74,7 @@ void BusLoop::pass(uint32_t end) {
   }
   // A signal that came between two waits only set the flag: read it here,
   // or a SIGINT outside the wait would be lost.
-  if (stop_signalled()) interrupted_ = true;
+  if (port::stop_requested()) interrupted_ = true;
   // The pass's time: the newest frame's receive time when frames came (no
   // clock read), else the clock's.
   bool heard = false;

@@ -14,8 +14,8 @@
 #include "canopen/can_frame.h"
 #include "canopen/clock.h"
 #include "host/status.h"
+#include "platform/socketcan_port.h"
 #include "service_clock.h"
-#include "socketcan_port.h"
 
 namespace mb2co {
 namespace master {

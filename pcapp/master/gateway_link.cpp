@@ -8,7 +8,7 @@
 
 #include <cstring>
 
-#include "stop_signal.h"
+#include "platform/stop_signal.h"
 
 namespace mb2co {
 namespace master {
@@ -28,7 +28,7 @@ Status GatewayLink::open(const std::string& path, uint32_t baud, uint8_t slave, 
   path_ = path;
   baud_ = baud;
   slave_ = slave;
-  catch_stop_signals();
+  port::catch_stop_signals();
   ctx_ = modbus_new_rtu(path.c_str(), static_cast<int>(baud), parity, 8, 1);
   if (ctx_ == nullptr) return Status::failure("cannot use " + path + ": " + modbus_strerror(errno));
   if (modbus_set_slave(ctx_, slave) != 0) {
@@ -82,12 +82,12 @@ GatewayChannel::Outcome GatewayLink::exchange(const uint8_t* request, uint16_t l
   bool parsed = false;  // response_[0, got) is a whole answer already
   int64_t settle_until = 0;
   for (;;) {
-    if (stop_signalled()) return Outcome::kInterrupted;
+    if (port::stop_requested()) return Outcome::kInterrupted;
     const int64_t until = parsed ? settle_until : deadline;
     const int64_t left = until - now_ms();
     pollfd p{fd, POLLIN, 0};
     const int ready = left > 0 ? poll(&p, 1, static_cast<int>(left)) : 0;
-    if (ready < 0 && errno == EINTR) continue;  // stop_signalled() tells
+    if (ready < 0 && errno == EINTR) continue;  // port::stop_requested() tells
     if (ready <= 0) {
       if (parsed) return Outcome::kAnswered;
       error_ = got == 0 ? "no answer from " + where() + " within " + std::to_string(timeout_ms) + " ms"

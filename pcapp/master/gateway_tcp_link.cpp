@@ -5,9 +5,9 @@
 
 #include <cstring>
 
-#include "host/mbap_client.h"
 #include "modbus/master_codec.h"
-#include "stop_signal.h"
+#include "platform/mbap_client.h"
+#include "platform/stop_signal.h"
 
 namespace mb2co {
 namespace master {
@@ -16,7 +16,7 @@ Status GatewayTcpLink::open(const TcpAddress& where, uint8_t unit) {
   close();
   address_ = where;
   unit_ = unit;
-  catch_stop_signals();
+  port::catch_stop_signals();
   const std::string port = std::to_string(where.port);
   ctx_ = modbus_new_tcp_pi(where.host.c_str(), port.c_str());
   if (ctx_ == nullptr)
@@ -49,7 +49,7 @@ GatewayChannel::Outcome GatewayTcpLink::exchange(const uint8_t* request, uint16_
   }
   uint16_t n = 0;
   switch (mbap_exchange(modbus_get_socket(ctx_), request, length, ++transaction_, mbap_now_ms() + timeout_ms,
-                        adu_, &n, &stop_signalled)) {
+                        adu_, &n, &port::stop_requested)) {
     case MbapOutcome::kAnswer:
       break;
     case MbapOutcome::kInterrupted:

@@ -10,11 +10,11 @@
 
 #include "commands.h"
 #include "exit_codes.h"
+#include "platform/stop_signal.h"
 #include "serve_can_backend.h"
 #include "serve_events.h"
 #include "serve_server.h"
 #include "serve_thread_backend.h"
-#include "stop_signal.h"
 
 namespace mb2co {
 namespace master {
@@ -58,7 +58,7 @@ int serve_command(const Options& o, Transport& transport, std::ostream& out, std
     backend_service = can;
     bus->add(can);
   } else {
-    catch_stop_signals();
+    port::catch_stop_signals();
     bus = &gateway_loop;
     auto* thread = new ThreadServeBackend(o, transport);
     backend.reset(thread);

@@ -16,7 +16,7 @@ ThreadServeBackend::ThreadServeBackend(const Options& o, Transport& transport)
       where_("gateway " + o.gateway_port + ":" + std::to_string(o.gateway_slave)),
       wake_fd_(eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC)) {
   // SIGINT and SIGTERM go to the loop's thread (its poll() returns); the
-  // worker sees the flag at its next wait (stop_signal.h).
+  // worker sees the flag at its next wait (platform/stop_signal.h).
   sigset_t stop, old;
   sigemptyset(&stop);
   sigaddset(&stop, SIGINT);

@@ -8,9 +8,9 @@
 
 #include <cstring>
 
-#include "host/mbap_client.h"
 #include "modbus/master_codec.h"
 #include "modbus/network_pdu.h"
+#include "platform/mbap_client.h"
 
 namespace mb2co {
 namespace pcapp {

@@ -22,7 +22,7 @@
 #include <string>
 
 #include "modbus/slave.h"
-#include "serial_port.h"
+#include "platform/serial_port.h"
 #include "support/memory_bank.h"
 #include "support/test_layout.h"
 

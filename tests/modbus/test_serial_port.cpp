@@ -10,7 +10,7 @@
 
 #include <string>
 
-#include "serial_port.h"
+#include "platform/serial_port.h"
 
 namespace mb2co {
 namespace port {

@@ -8,7 +8,7 @@
 #include <poll.h>
 
 #include "npm_peer.h"
-#include "socketcan_port.h"
+#include "platform/socketcan_port.h"
 #include "uno_harness.h"
 
 namespace mb2co {

@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "node_harness.h"
-#include "socketcan_port.h"
+#include "platform/socketcan_port.h"
 #include "uno_harness.h"
 
 namespace mb2co {

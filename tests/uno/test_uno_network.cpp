@@ -25,7 +25,7 @@
 #include "master_cli.h"
 #include "network_gateway.h"
 #include "node_harness.h"
-#include "socketcan_port.h"
+#include "platform/socketcan_port.h"
 #include "uno_harness.h"
 
 namespace mb2co {

@@ -36,7 +36,7 @@
 
 #include "network_gateway.h"
 #include "node_harness.h"
-#include "socketcan_port.h"
+#include "platform/socketcan_port.h"
 #include "timing/can_bits.h"
 #include "uno_harness.h"
 

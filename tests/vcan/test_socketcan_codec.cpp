@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "can_text.h"
-#include "socketcan_port.h"
+#include "platform/socketcan_port.h"
 
 namespace {
 

@@ -15,7 +15,7 @@
 
 #include "can_text.h"
 #include "line_child.h"
-#include "socketcan_port.h"
+#include "platform/socketcan_port.h"
 
 namespace {
 

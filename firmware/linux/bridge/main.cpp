@@ -11,10 +11,10 @@
 #include <string>
 
 #include "bridge_options.h"
+#include "platform/socketcan_port.h"
+#include "platform/stop_signal.h"
 #include "segment_line.h"
 #include "serialnet/bridge.h"
-#include "socketcan_port.h"
-#include "stop_signal.h"
 
 namespace {
 
@@ -30,7 +30,7 @@ void to_bridge(void* ctx, uint8_t byte, uint32_t byte_us) {
 int poll_timeout_ms(const mb2co::serialnet::Bridge& bridge, uint32_t now) {
   mb2co::NextDeadline d(now);
   bridge.next_deadline(d);
-  return mb2co::bridge::poll_timeout_ms(d);
+  return mb2co::port::poll_timeout_ms(d);
 }
 
 }  // namespace
@@ -49,7 +49,8 @@ int main(int argc, char** argv) {
     return cli::kExitUsage;
   }
 
-  bridge::catch_stop_signals();
+  port::catch_stop_signals();
+  port::ignore_broken_pipes();
   bridge::SegmentLine line;
   const Status opened = line.open(opt.segment);
   if (!opened) return fail(opened.message());
@@ -64,7 +65,7 @@ int main(int argc, char** argv) {
               opt.segment.token ? "token" : "poll");
   std::fflush(stdout);
 
-  while (!bridge::stop_requested()) {
+  while (!port::stop_requested()) {
     pollfd fds[2] = {{line.fd(), POLLIN, 0}, {can.fd(), POLLIN, 0}};
     if (poll(fds, 2, poll_timeout_ms(br, port::monotonic_us())) < 0) {
       if (errno == EINTR) continue;

@@ -16,8 +16,8 @@
 
 #include "host/status.h"
 #include "platform/device_port.h"
+#include "platform/serial_port.h"
 #include "segment_options.h"
-#include "serial_port.h"
 
 namespace mb2co {
 namespace bridge {

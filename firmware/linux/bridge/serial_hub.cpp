@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "host/cli.h"
-#include "stop_signal.h"
+#include "platform/stop_signal.h"
 
 namespace {
 
@@ -101,7 +101,8 @@ int main(int argc, char** argv) {
   const std::vector<std::string>& specs = parsed.args.operands;
   if (specs.size() < 2) return fail("want at least two MEMBERs (try --help)", cli::kExitUsage);
 
-  bridge::catch_stop_signals();
+  port::catch_stop_signals();
+  port::ignore_broken_pipes();
   std::vector<Member> members(specs.size());
   std::vector<int> keep;
   int code = 0;
@@ -116,7 +117,7 @@ int main(int argc, char** argv) {
   std::vector<pollfd> fds;
   fds.reserve(members.size());
   for (const Member& m : members) fds.push_back(pollfd{m.fd, POLLIN, 0});
-  while (code == 0 && !bridge::stop_requested()) {
+  while (code == 0 && !port::stop_requested()) {
     if (poll(fds.data(), fds.size(), 200) < 0) {
       if (errno == EINTR) continue;
       code = fail(std::string("poll: ") + std::strerror(errno), 1);

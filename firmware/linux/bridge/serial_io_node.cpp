@@ -12,11 +12,11 @@
 #include <string>
 
 #include "ionode/io_node.h"
+#include "platform/stop_signal.h"
 #include "segment_line.h"
 #include "segment_options.h"
 #include "serialnet/serial_link.h"
 #include "serialnet/serial_node.h"
-#include "stop_signal.h"
 
 namespace {
 
@@ -62,7 +62,8 @@ int main(int argc, char** argv) {
       seg, seg.token ? serialnet::Access::kToken : serialnet::Access::kPolled, &config);
   if (!checked) return usage_error(checked.message());
 
-  bridge::catch_stop_signals();
+  port::catch_stop_signals();
+  port::ignore_broken_pipes();
 
   bridge::SegmentLine line;
   const Status opened = line.open(seg);
@@ -85,12 +86,12 @@ int main(int argc, char** argv) {
   std::printf("ready node=%ld serial=%s\n", node_id, line.port().path().c_str());
   std::fflush(stdout);
 
-  while (!bridge::stop_requested()) {
+  while (!port::stop_requested()) {
     NextDeadline d(port::monotonic_us());
     io.node().next_deadline(d);
     link.next_deadline(d);
     pollfd fd = {line.fd(), POLLIN, 0};
-    if (poll(&fd, 1, bridge::poll_timeout_ms(d)) < 0) {
+    if (poll(&fd, 1, port::poll_timeout_ms(d)) < 0) {
       if (errno == EINTR) continue;
       return 1;
     }

@@ -22,20 +22,13 @@
 #include "host/can_log_file.h"
 #include "modbus_tcp_server.h"
 #include "node_options.h"
+#include "platform/serial_port.h"
+#include "platform/socketcan_port.h"
+#include "platform/stop_signal.h"
 #include "program_data.h"
-#include "serial_port.h"
-#include "socketcan_port.h"
 #include "traced_can.h"
 
 namespace {
-
-int g_signal_pipe[2] = {-1, -1};
-
-void on_signal(int) {
-  const char b = 1;
-  const ssize_t n = write(g_signal_pipe[1], &b, 1);
-  (void)n;
-}
 
 bool serial_write(void* ctx, const uint8_t* data, uint16_t n) {
   return static_cast<mb2co::port::SerialPort*>(ctx)->write(data, n).is_ok();
@@ -90,13 +83,9 @@ int main(int argc, char** argv) {
   }
 
   // Signals from here on end the loop below, so that the pty link goes away.
-  if (pipe2(g_signal_pipe, O_CLOEXEC | O_NONBLOCK) != 0)
-    return fail(std::string("pipe: ") + std::strerror(errno));
-  struct sigaction sa = {};
-  sa.sa_handler = on_signal;
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-  signal(SIGPIPE, SIG_IGN);
+  const int stop_fd = port::stop_signal_fd();
+  if (stop_fd < 0) return fail(std::string("pipe: ") + std::strerror(errno));
+  port::ignore_broken_pipes();
 
   // A parameter file it could never save to is refused before anything is
   // opened or created (no pty link, no CAN socket).
@@ -193,7 +182,7 @@ int main(int argc, char** argv) {
   uint32_t wait_us = 0;  // until the earliest deadline the last pass saw
   while (!control.quit()) {
     pollfd fds[4 + node::ModbusTcpServer::kMaxPollFds] = {{serial.fd(), POLLIN, 0},
-                                                          {g_signal_pipe[0], POLLIN, 0},
+                                                          {stop_fd, POLLIN, 0},
                                                           {stdin_open ? 0 : -1, POLLIN, 0},
                                                           {with_can ? can.fd() : -1, POLLIN, 0}};
     const size_t tcp_fds = tcp.poll_fds(fds + 4);

@@ -4,7 +4,7 @@
 // lines, so the trace lines up with a `candump -L` of the same bus.
 #pragma once
 #include "host/can_log_file.h"
-#include "socketcan_port.h"
+#include "platform/socketcan_port.h"
 
 namespace mb2co {
 namespace node {

@@ -1,5 +1,5 @@
 // SocketCAN port: see socketcan_port.h for the contract.
-#include "socketcan_port.h"
+#include "platform/socketcan_port.h"
 
 #include <errno.h>
 #include <linux/can.h>

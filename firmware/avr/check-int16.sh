@@ -29,11 +29,11 @@ query=$(command -v clang-query || command -v clang-query-14 || echo /usr/lib/llv
 [[ -x $query ]] || { echo "check-int16: clang-query not found (apt-get install clang-tools)" >&2; exit 1; }
 arduino=/usr/share/arduino/hardware/arduino/avr
 sources=(shared/canopen/*.cpp shared/modbus/*.cpp shared/gateway/*.cpp shared/ionode/*.cpp
-         firmware/mcp2515/*.cpp firmware/avr/port/*.cpp firmware/avr/sketches/*/*.cpp)
+         shared/mcp2515/*.cpp firmware/avr/port/*.cpp firmware/avr/sketches/*/*.cpp)
 # The network profile: its image compiles the most code (FC 2Bh/0Dh).
 flags=(--target=avr -mmcu=atmega328p -std=gnu++14 -fno-exceptions -fno-rtti -Wall -Wextra
        -Wshift-sign-overflow -Wtautological-unsigned-zero-compare
-       -Ishared/profiles/network -Ishared -Ifirmware/mcp2515 -Ifirmware/avr -I"$arduino/cores/arduino" -I"$arduino/variants/standard"
+       -Ishared/profiles/network -Ishared -Ishared/mcp2515 -Ifirmware/avr -I"$arduino/cores/arduino" -I"$arduino/variants/standard"
        -isystem /usr/lib/avr/include -D__AVR_ATmega328P__ -DF_CPU=16000000L -DARDUINO=10819)
 checks='-*,bugprone-implicit-widening-of-multiplication-result,bugprone-misplaced-widening-cast'
 for w in sign-compare tautological-unsigned-zero-compare tautological-constant-out-of-range-compare \

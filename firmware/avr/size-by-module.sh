@@ -51,7 +51,7 @@ def area(path):
             "mb2co_avr_gateway": "shared/gateway",
             "mb2co_avr_modbus": "shared/modbus",
             "mb2co_avr_ionode": "shared/ionode",
-            "mb2co_avr_mcp2515": "firmware/mcp2515",
+            "mb2co_avr_mcp2515": "shared/mcp2515",
             "mb2co_avr_port": "firmware/avr/port",
             "arduino_core": "Arduino core",
         }

@@ -5,7 +5,7 @@
 // inputs (the second only after a wake-up by input); at each poll one read
 // per input that has something (CAN: again while a batch came back full;
 // each CAN read that returned frames also reads two clocks, with which
-// firmware/linux/socketcan_port.cpp dates them); one serial write and one
+// host/platform/socketcan_port.cpp dates them); one serial write and one
 // CAN send (sendmmsg, 32 frames each) for all that the pass produced.
 // Quiet and paced: a poll that sleeps and a clock reading, two per pass;
 // unpaced: one poll per pass.

@@ -1,7 +1,7 @@
 // --via-modbus tcp:HOST:PORT: the gateway channel (gateway_link.h) over
 // Modbus/TCP, to mb2co-node --tcp (docs/mb2co-node.md "Modbus/TCP").
 // libmodbus's TCP backend opens the connection (modbus_new_tcp_pi: names
-// and IPv6 too); the exchange is host/mbap_client.h's (libmodbus 3.1
+// and IPv6 too); the exchange is platform/mbap_client.h's (libmodbus 3.1
 // cannot receive an FC 2Bh response): the codec's RTU ADU as an MBAP frame
 // with our own transaction id, late answers skipped, the answer checked by
 // the same codec as on the serial line.

@@ -122,7 +122,7 @@ class ModbusLink {
   /// skipped. On success it is response[0, got).
   LinkResult raw(const uint8_t* request, uint16_t length, uint8_t* response, uint16_t capacity,
                  uint16_t& got);
-  /// raw() on Modbus/TCP (host/mbap_client.h): the answer with this
+  /// raw() on Modbus/TCP (platform/mbap_client.h): the answer with this
   /// request's transaction id, as an RTU ADU for the same codec.
   LinkResult raw_tcp(const uint8_t* request, uint16_t length, uint8_t* response, uint16_t& got);
   /// Reads and drops whatever waits on the device (no waiting): before every

@@ -1,4 +1,4 @@
-// firmware/linux/serial_port: pty pair with symlink, raw tty mode, stamped
+// host/platform/serial_port: pty pair with symlink, raw tty mode, stamped
 // non-blocking reads, writes, clean-up.
 #include <fcntl.h>
 #include <gtest/gtest.h>

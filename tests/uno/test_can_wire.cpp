@@ -1,7 +1,7 @@
 // The CAN wire behind the simulated Uno's MCP2515 (hil/uno/can_wire.h): each
 // frame takes its exact length in bits at the rate the chip is set to, the
 // lower identifier wins the idle wire, frames reach the chip at their last
-// bit. The chip is driven by the real driver (firmware/mcp2515) over the
+// bit. The chip is driven by the real driver (shared/mcp2515) over the
 // model's SPI, as the image drives it.
 #include <gtest/gtest.h>
 

@@ -10,7 +10,7 @@
 #   src/platform (the port contract)                -> shared/platform
 #   src/port                                        -> firmware/avr/port
 #   src/pins.h src/mb2co.h                          -> firmware/avr/
-#   src/mcp2515.* bit_timing.h filter_plan.* ...    -> firmware/mcp2515/
+#   src/mcp2515.* bit_timing.h filter_plan.* ...    -> shared/mcp2515/
 # The IDE compiles C++ as gnu++11; the sources need gnu++14 (README.md).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -37,7 +37,7 @@ make_library() {  # name profile
   ln -s "$root/firmware/avr/port" "$dir/src/port"
   ln -s "$root/firmware/avr/pins.h" "$dir/src/pins.h"
   ln -s "$root/firmware/avr/mb2co.h" "$dir/src/$1.h"
-  for f in "$root"/firmware/mcp2515/*.h "$root"/firmware/mcp2515/*.cpp; do ln -s "$f" "$dir/src/$(basename "$f")"; done
+  for f in "$root"/shared/mcp2515/*.h "$root"/shared/mcp2515/*.cpp; do ln -s "$f" "$dir/src/$(basename "$f")"; done
   echo "$1 library (profile $2): $dir"
 }
 make_library mb2co station

@@ -159,7 +159,7 @@ void blocks(gateway::Gateway& g) {
   (void)sink;
 }
 
-// MCP2515 acceptance-filter planning (firmware/mcp2515/filter_plan.h) for
+// MCP2515 acceptance-filter planning (shared/mcp2515/filter_plan.h) for
 // the ids a gateway consumes: node 2 of a 4-station ring (NMT, SYNC, SDO,
 // guarding RTR, RPDO1-3, the neighbours' heartbeats: 9 ids), its first 6,
 // and 12 (the planner's limit: 3 more heartbeat consumers).

@@ -1,3 +1,5 @@
+#include "sim/scenarios.h"
+
 #include "modbus/master_codec.h"
 #include "sim/scenario_parts.h"
 

@@ -8,7 +8,8 @@
 
 #include "gateway/line_app.h"
 #include "sim/pc_programs.h"
-#include "sim/scenarios.h"
+#include "sim/line.h"
+#include "sim/timeline.h"
 
 namespace mb2co {
 namespace sim {

@@ -11,25 +11,15 @@
 #pragma once
 #include <stdint.h>
 
-#include <functional>
 #include <string>
 #include <vector>
 
 #include "sim/lab_bound.h"
 #include "sim/line.h"
+#include "sim/timeline.h"
 
 namespace mb2co {
 namespace sim {
-
-/// Progress of a long run, 0..1 (called now and then).
-using Progress = std::function<void(double fraction)>;
-
-/// A RUN state change of a station's gateway (2100h/2) or a STOP2 press.
-struct TimelineEvent {
-  SimNs t_ns;
-  int station;
-  enum Kind : uint8_t { kRun, kStop, kStop2Press, kStartPress, kUnknown, kAlive } kind;
-};
 
 struct StationSummary {
   bool running = false;  ///< gateway RUN state at the end

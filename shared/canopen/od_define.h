@@ -42,7 +42,7 @@
 #include <stdint.h>
 
 #include "profiles/profile.h"
-#include "canopen/flash.h"
+#include "platform/flash.h"
 #include "canopen/od_types.h"
 
 namespace mb2co {

@@ -83,7 +83,7 @@
 #pragma once
 #include <stdint.h>
 
-#include "canopen/flash.h"
+#include "platform/flash.h"
 
 namespace mb2co {
 

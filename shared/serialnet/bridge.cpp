@@ -1,6 +1,6 @@
 #include "serialnet/bridge.h"
 
-#include "canopen/flash.h"
+#include "platform/flash.h"
 
 namespace mb2co {
 namespace serialnet {

@@ -1,6 +1,6 @@
 #include "serialnet/connection_set.h"
 
-#include "canopen/flash.h"
+#include "platform/flash.h"
 
 namespace mb2co {
 namespace serialnet {

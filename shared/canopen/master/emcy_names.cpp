@@ -1,6 +1,6 @@
 #include "canopen/master/emcy_names.h"
 
-#include "canopen/flash.h"
+#include "platform/flash.h"
 
 namespace mb2co {
 namespace canopen {

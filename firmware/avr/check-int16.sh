@@ -28,7 +28,7 @@ command -v clang-tidy >/dev/null || { echo "check-int16: clang-tidy not found (a
 query=$(command -v clang-query || command -v clang-query-14 || echo /usr/lib/llvm-14/bin/clang-query)
 [[ -x $query ]] || { echo "check-int16: clang-query not found (apt-get install clang-tools)" >&2; exit 1; }
 arduino=/usr/share/arduino/hardware/arduino/avr
-sources=(shared/canopen/*.cpp shared/modbus/*.cpp shared/gateway/*.cpp shared/ionode/*.cpp
+sources=(shared/crc/*.cpp shared/canopen/*.cpp shared/modbus/*.cpp shared/gateway/*.cpp shared/ionode/*.cpp
          shared/mcp2515/*.cpp firmware/avr/port/*.cpp firmware/avr/sketches/*/*.cpp)
 # The network profile: its image compiles the most code (FC 2Bh/0Dh).
 flags=(--target=avr -mmcu=atmega328p -std=gnu++14 -fno-exceptions -fno-rtti -Wall -Wextra

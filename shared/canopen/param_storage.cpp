@@ -1,6 +1,6 @@
 #include "canopen/param_storage.h"
 
-#include "modbus/crc16.h"
+#include "crc/crc16.h"
 
 namespace mb2co {
 namespace canopen {
@@ -105,12 +105,12 @@ bool load_rows(ObjectDictionary& od, const ParamStorage& st, uint16_t at, uint16
 bool crc_right(const ObjectDictionary& od, const ParamStorage& st, uint16_t at, const uint8_t* header) {
   const uint16_t len = payload_length(od);
   if (le16(header) != kMagic || le16(header + 4) != len || len > kMaxPayload) return false;
-  uint16_t crc = modbus::kCrcInit;
+  uint16_t crc = kCrcInit;
   for (uint16_t i = 0; i < len + kCrcBytes; ++i) {
-    if (i == len) crc = modbus::crc16(header, kHeader, crc);  // payload, header, then the CRC bytes
+    if (i == len) crc = crc16(header, kHeader, crc);  // payload, header, then the CRC bytes
     uint8_t b;
     if (!st.read(st.ctx, static_cast<uint16_t>(at + kHeader + i), &b, 1)) return false;
-    crc = modbus::crc16(&b, 1, crc);
+    crc = crc16(&b, 1, crc);
   }
   return crc == 0;  // residue 0: the CRC matches
 }
@@ -193,7 +193,7 @@ void ParamSave::start(const ObjectDictionary& od, const ParamStorage& st) {
   if (had_set && crc_right(od, st, newest ? kSlotBytes : 0, headers[newest]))
     slot_ = static_cast<uint8_t>(slot_ ^ 1u);
   length_ = payload_length(od);
-  crc_ = modbus::kCrcInit;
+  crc_ = kCrcInit;
   next_ = 1;
   next_row(od, 0);
 }
@@ -228,13 +228,13 @@ ParamSave::Result ParamSave::step(const ObjectDictionary& od, const ParamStorage
     } else if (offset < end - kCrcBytes) {
       b = in_row_ < sizeof entry_ ? entry_[in_row_] : od.ram(row_)[in_row_];
     } else {
-      if (offset == end - kCrcBytes) crc_ = modbus::crc16(h, kHeader, crc_);   // payload, then header
+      if (offset == end - kCrcBytes) crc_ = crc16(h, kHeader, crc_);           // payload, then header
       b = static_cast<uint8_t>(offset == end - kCrcBytes ? crc_ : crc_ >> 8);  // low byte first
     }
     ok = st.write(st.ctx, static_cast<uint16_t>((slot_ ? kSlotBytes : 0) + offset), &b, 1);
     const uint16_t done = next_++;
     if (offset >= kHeader && offset < end - kCrcBytes) {
-      crc_ = modbus::crc16(&b, 1, crc_);
+      crc_ = crc16(&b, 1, crc_);
       if (++in_row_ == od.capacity_of(row_)) next_row(od, static_cast<uint16_t>(row_ + 1));
     }
     if (ok && (done == 2 || done == end || done == end + 2u)) ok = barrier(st);

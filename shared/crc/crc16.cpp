@@ -1,13 +1,10 @@
-#include "modbus/crc16.h"
-
-#include "modbus/protocol.h"
+#include "crc/crc16.h"
 
 #ifdef __AVR__
 #include <util/crc16.h>
 #endif
 
 namespace mb2co {
-namespace modbus {
 
 #ifdef __AVR__
 // avr-libc's _crc16_update is this very CRC (reflected polynomial 0xA001) in
@@ -47,16 +44,15 @@ uint16_t append_crc(uint8_t* data, uint16_t length) {
   const uint16_t crc = crc16(data, length);
   data[length] = static_cast<uint8_t>(crc & 0xFFu);
   data[length + 1u] = static_cast<uint8_t>(crc >> 8);
-  return static_cast<uint16_t>(length + kCrcBytes);
+  return static_cast<uint16_t>(length + kCrc16Bytes);
 }
 
 bool crc_ok(const uint8_t* adu, uint16_t length) {
-  if (length < kCrcBytes + 1u) return false;
+  if (length < kCrc16Bytes + 1u) return false;
   // The CRC over the body and its own CRC (low byte first) is 0 exactly when
   // the CRC is right: a reflected CRC without final XOR leaves no residue.
   // No comparison of the two bytes.
   return crc16(adu, length) == 0u;
 }
 
-}  // namespace modbus
 }  // namespace mb2co

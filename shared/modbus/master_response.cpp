@@ -1,7 +1,7 @@
 // parse_response(): the master's checks of a response against its request.
 #include <string.h>
 
-#include "modbus/crc16.h"
+#include "crc/crc16.h"
 #include "modbus/master_codec.h"
 
 namespace mb2co {

@@ -4,7 +4,7 @@
 
 #include <string.h>
 
-#include "modbus/crc16.h"
+#include "crc/crc16.h"
 #include "modbus/master_codec.h"
 
 namespace mb2co {

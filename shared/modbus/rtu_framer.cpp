@@ -1,6 +1,6 @@
 #include "modbus/rtu_framer.h"
 
-#include "modbus/crc16.h"
+#include "crc/crc16.h"
 
 namespace mb2co {
 namespace modbus {

@@ -3,7 +3,7 @@
 // slave_diagnostics.cpp.
 #include "modbus/slave.h"
 
-#include "modbus/crc16.h"
+#include "crc/crc16.h"
 #include "modbus/network_pdu.h"
 
 namespace mb2co {

@@ -2,7 +2,7 @@
 
 #include <string.h>
 
-#include "modbus/crc16.h"
+#include "crc/crc16.h"
 
 namespace mb2co {
 namespace modbus {

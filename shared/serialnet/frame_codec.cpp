@@ -2,7 +2,7 @@
 
 #include <string.h>
 
-#include "modbus/crc16.h"
+#include "crc/crc16.h"
 
 namespace mb2co {
 namespace serialnet {
@@ -34,7 +34,7 @@ uint8_t encode(const ConnectionSet& set, const SerialMessage& m, uint8_t* out, u
   content[c++] = static_cast<uint8_t>(m.id);
   content[c++] = m.length;
   memcpy(content + c, m.data, m.length);
-  c = modbus::append_crc(content, static_cast<uint8_t>(c + m.length)) & 0xFFu;
+  c = append_crc(content, static_cast<uint8_t>(c + m.length)) & 0xFFu;
   uint8_t n = 0;
   out[n++] = kFlag;
   for (uint8_t i = 0; i < c; ++i) {
@@ -103,7 +103,7 @@ Decoder::Result Decoder::content(uint8_t byte, uint32_t byte_us) {
   }
   if (expected_ == 0 || got_ < expected_) return kNothing;
   in_message_ = false;
-  if (!modbus::crc_ok(raw_, got_)) return fail(kBadCrc);
+  if (!crc_ok(raw_, got_)) return fail(kBadCrc);
   const uint16_t id = ids == 2 ? static_cast<uint16_t>((raw_[0] << 8) | raw_[1]) : raw_[0];
   if ((id >> set_.id_bits) != 0) return fail(kBadId);
   msg_.id = id;

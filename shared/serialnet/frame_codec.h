@@ -8,7 +8,7 @@
 //
 // where everything after the 7Eh flag is byte-stuffed: a 7Eh or 7Dh in it is
 // sent as 7Dh followed by the byte XOR 20h (HDLC/PPP). The CRC is
-// CRC-16/MODBUS (poly 8005h reflected, init FFFFh; modbus/crc16.h) over the
+// CRC-16/MODBUS (poly 8005h reflected, init FFFFh; crc/crc16.h) over the
 // unstuffed id, length and data bytes. For 8-N-1 that is 10 bits per byte.
 //
 // Why a flag with stuffing and not idle-gap framing like Modbus RTU: a 7Eh

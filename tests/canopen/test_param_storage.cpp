@@ -125,7 +125,7 @@ TEST_F(Storage, TheErrorHistoryIsNotSaved) {
 }
 
 // CRC-16/MODBUS bit by bit (poly A001h reflected, init FFFFh), written here
-// independently of shared/modbus/crc16.cpp.
+// independently of shared/crc/crc16.cpp.
 uint16_t crc16_bitwise(const uint8_t* p, size_t n, uint16_t crc = 0xFFFF) {
   for (size_t i = 0; i < n; ++i) {
     crc ^= p[i];

@@ -1,5 +1,5 @@
 // What the libFuzzer targets of tests/fuzz share: an abort with a reason,
-// the textbook CRC-16/MODBUS (independent of shared/modbus/crc16), and a
+// the textbook CRC-16/MODBUS (independent of shared/crc/crc16), and a
 // snapshot of an OD's const entries.
 #pragma once
 #include <stddef.h>

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "crc/crc16.h"
 #include "line_harness.h"
-#include "modbus/crc16.h"
 #include "modbus/master_codec.h"
 #include "modbus/network_pdu.h"
 
@@ -243,7 +243,7 @@ TEST_F(NetworkService, NetworkViewListsTheGatewayAndWhatItHears) {
 TEST_F(NetworkService, MalformedRequestsGetException03AndDisabledGets01) {
   req_len = modbus::build_net_upload(req, sizeof req, kAddress, 2, 0x1018, 1, 0, 0);
   req[4] = 0x01;  // reserved byte
-  modbus::append_crc(req, static_cast<uint16_t>(req_len - 2u));
+  append_crc(req, static_cast<uint16_t>(req_len - 2u));
   ASSERT_EQ(ask(req_len), ParseStatus::kException);
   EXPECT_EQ(r.exception, Exception::kIllegalDataValue);
   // A later part with no download open.

@@ -13,9 +13,9 @@
 #include <thread>
 #include <vector>
 
+#include "crc/crc16.h"
 #include "gateway_answers.h"
 #include "gateway_link.h"
-#include "modbus/crc16.h"
 #include "modbus/network_pdu.h"
 
 namespace mb2co {
@@ -71,7 +71,7 @@ class PtyPeer {
 /// An ADU to slave kSlave of `pdu`, CRC appended.
 std::vector<uint8_t> adu(std::vector<uint8_t> pdu) {
   pdu.insert(pdu.begin(), kSlave);
-  const uint16_t crc = modbus::crc16(pdu.data(), static_cast<uint16_t>(pdu.size()));
+  const uint16_t crc = crc16(pdu.data(), static_cast<uint16_t>(pdu.size()));
   pdu.push_back(static_cast<uint8_t>(crc & 0xFF));
   pdu.push_back(static_cast<uint8_t>(crc >> 8));
   return pdu;
@@ -151,7 +151,7 @@ TEST_F(GatewayLinkTest, SilenceEndsAtTheResponseTimeout) {
 TEST_F(GatewayLinkTest, AnswerFromAnotherSlaveIsNotTaken) {
   std::vector<uint8_t> answer = upload_answer(request, length, {1, 2, 3, 4});
   answer[0] = kSlave + 1;
-  const uint16_t crc = modbus::crc16(answer.data(), static_cast<uint16_t>(answer.size() - 2));
+  const uint16_t crc = crc16(answer.data(), static_cast<uint16_t>(answer.size() - 2));
   answer[answer.size() - 2] = static_cast<uint8_t>(crc & 0xFF);
   answer[answer.size() - 1] = static_cast<uint8_t>(crc >> 8);
   peer.answer(length, {answer});

@@ -12,9 +12,9 @@
 #include <memory>
 #include <vector>
 
+#include "crc/crc16.h"
 #include "exit_codes.h"
 #include "gateway_network.h"
-#include "modbus/crc16.h"
 #include "modbus/master_codec.h"
 #include "modbus/network_pdu.h"
 #include "transfer_run.h"
@@ -55,7 +55,7 @@ class ScriptedGateway : public GatewayChannel {
   Outcome exchange(const uint8_t* request, uint16_t length, uint32_t timeout_ms,
                    modbus::NetResponse* out) override {
     timeouts_ms.push_back(timeout_ms);
-    EXPECT_TRUE(modbus::crc_ok(request, length));
+    EXPECT_TRUE(crc_ok(request, length));
     EXPECT_EQ(request[0], kSlave);
     Seen s;
     EXPECT_TRUE(modbus::parse_net_request(request + 1, static_cast<uint16_t>(length - 3), s.m))
@@ -87,7 +87,7 @@ class ScriptedGateway : public GatewayChannel {
         break;
     }
     adu_[0] = request[0];
-    const uint16_t total = modbus::append_crc(adu_, static_cast<uint16_t>(n + 1));
+    const uint16_t total = append_crc(adu_, static_cast<uint16_t>(n + 1));
     const modbus::ParseStatus st = modbus::parse_net_response(request, length, adu_, total, *out);
     EXPECT_TRUE(st == modbus::ParseStatus::kOk || st == modbus::ParseStatus::kException)
         << "the scripted answer does not parse: " << static_cast<int>(st);

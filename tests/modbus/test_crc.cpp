@@ -3,7 +3,7 @@
 #include <random>
 #include <vector>
 
-#include "modbus/crc16.h"
+#include "crc/crc16.h"
 
 namespace mb2co {
 namespace modbus {

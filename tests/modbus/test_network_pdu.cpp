@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "modbus/crc16.h"
+#include "crc/crc16.h"
 #include "modbus/master_codec.h"
 #include "modbus/network_pdu.h"
 

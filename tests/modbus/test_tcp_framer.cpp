@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "modbus/crc16.h"
+#include "crc/crc16.h"
 #include "modbus/master_codec.h"
 #include "modbus/tcp_framer.h"
 

@@ -4,7 +4,7 @@
 // summary and one event per change.
 #include <gtest/gtest.h>
 
-#include "modbus/crc16.h"
+#include "crc/crc16.h"
 #include "modbus/master_codec.h"
 #include "modbus/network_pdu.h"
 #include "status_view.h"
@@ -30,7 +30,7 @@ std::vector<NetViewEntry> through_the_wire(const std::vector<NetViewEntry>& entr
   uint8_t response[256];
   response[0] = 1;
   const uint16_t pdu = modbus::build_net_response(response + 1, 253, m);
-  const uint16_t adu = modbus::append_crc(response, static_cast<uint16_t>(pdu + 1));
+  const uint16_t adu = append_crc(response, static_cast<uint16_t>(pdu + 1));
   modbus::NetResponse r{};
   EXPECT_EQ(modbus::parse_net_response(request, n, response, adu, r), modbus::ParseStatus::kOk);
   std::vector<NetViewEntry> out;

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "crc/crc16.h"
 #include "line_harness.h"
-#include "modbus/crc16.h"
 #include "modbus/master_codec.h"
 #include "modbus/network_pdu.h"
 #include "profiles/profile.h"
@@ -34,7 +34,7 @@ class ProfileServices : public ::testing::Test {
     adu.insert(adu.end(), pdu.begin(), pdu.end());
     uint8_t buf[256];
     std::copy(adu.begin(), adu.end(), buf);
-    const uint16_t length = modbus::append_crc(buf, static_cast<uint16_t>(adu.size()));
+    const uint16_t length = append_crc(buf, static_cast<uint16_t>(adu.size()));
     const std::vector<uint8_t> rsp = line.modbus(0, buf, length);
     EXPECT_GE(rsp.size(), 5u) << "no answer";
     if (rsp.size() < 5u) return 0xFF;

@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "modbus/crc16.h"
+#include "crc/crc16.h"
 #include "serialnet/frame_codec.h"
 
 namespace mb2co {
@@ -54,7 +54,7 @@ TEST(FrameCodec, LayoutIsFlagIdLengthDataCrcLowFirst) {
   const ConnectionSet s7 = connection_set(IdBits::k7);
   const Bytes b = encoded(s7, msg(0x25, {0x11, 0x22}));
   uint8_t content[] = {0x25, 0x02, 0x11, 0x22, 0, 0};
-  modbus::append_crc(content, 4);
+  append_crc(content, 4);
   const Bytes want = {kFlag, 0x25, 0x02, 0x11, 0x22, content[4], content[5]};
   EXPECT_EQ(b, want);
   // 11-bit set: two id bytes, high first.

@@ -2,7 +2,7 @@
 // for (FC 08, 2B/0E), deliberately broken frames (bad CRC, split by a gap),
 // and reading a response straight from the serial file descriptor.
 // The CRC here is the bitwise textbook algorithm, independent of
-// shared/modbus/crc16 (the code under test).
+// shared/crc/crc16 (the code under test).
 #pragma once
 #include <stddef.h>
 #include <stdint.h>

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "modbus/crc16.h"
+#include "crc/crc16.h"
 #include "uno_rig.h"
 
 namespace mb2co {
@@ -34,7 +34,7 @@ TEST(UnoUart, AnAnswerLeavesAtTheLineRate) {
   ASSERT_TRUE(rig.modbus_ready());
   // FC 04, input registers 0..22 of slave 1: 5 + 46 bytes back.
   std::vector<uint8_t> req = {1, 4, 0, 0, 0, 23};
-  const uint16_t crc = modbus::crc16(req.data(), static_cast<uint16_t>(req.size()));
+  const uint16_t crc = crc16(req.data(), static_cast<uint16_t>(req.size()));
   req.push_back(static_cast<uint8_t>(crc & 0xFF));
   req.push_back(static_cast<uint8_t>(crc >> 8));
   rig.serial_in(req.data(), req.size());

@@ -32,7 +32,7 @@ make_library() {  # name profile
   mkdir -p "$dir/src"
   touch "$dir/.mb2co-generated"
   sed "s/^name=mb2co$/name=$1/" "$here/library.properties" >"$dir/library.properties"
-  for area in canopen modbus gateway ionode platform profiles; do ln -s "$root/shared/$area" "$dir/src/$area"; done
+  for area in canopen crc modbus gateway ionode platform profiles; do ln -s "$root/shared/$area" "$dir/src/$area"; done
   ln -s "$root/shared/profiles/$2/mb2co_profile.h" "$dir/src/mb2co_profile.h"
   ln -s "$root/firmware/avr/port" "$dir/src/port"
   ln -s "$root/firmware/avr/pins.h" "$dir/src/pins.h"

@@ -5,8 +5,8 @@
 
 #include <vector>
 
+#include "crc/crc16.h"
 #include "memory_bank.h"
-#include "modbus/crc16.h"
 #include "modbus/master_codec.h"
 #include "modbus/rtu_timing.h"
 #include "modbus/slave.h"

@@ -1,7 +1,6 @@
-#include "sim/scenarios.h"
-
 #include "modbus/master_codec.h"
 #include "sim/scenario_parts.h"
+#include "sim/scenarios.h"
 
 namespace mb2co {
 namespace sim {

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "gateway/line_app.h"
-#include "sim/pc_programs.h"
 #include "sim/line.h"
+#include "sim/pc_programs.h"
 #include "sim/timeline.h"
 
 namespace mb2co {

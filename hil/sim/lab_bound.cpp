@@ -200,7 +200,7 @@ LabBound bound_with(Line& line, bool remote, size_t bytes, SimNs request) {
   p.pc_compute_us = ceil_us(c.pc.compute_ns);
   p.master_end_us = 0;  // the PC predicts the response length
   p.serial.baud = c.baud;
-  p.serial.parity = timing::Parity::kEven;
+  p.serial.parity = modbus::Parity::kEven;
   p.slave_waits_t35 = true;
   p.read = remote ? timing::read_registers_exchange(1) : timing::read_bits_exchange(1);
   p.write = timing::write_single_exchange();

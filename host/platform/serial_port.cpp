@@ -94,7 +94,8 @@ Status SerialPort::create_pty(const std::string& link_path) {
   return Status::ok();
 }
 
-Status SerialPort::open_tty(const std::string& path, uint32_t baud, Parity parity, unsigned stop_bits) {
+Status SerialPort::open_tty(const std::string& path, uint32_t baud, modbus::Parity parity,
+                            unsigned stop_bits) {
   close();
   speed_t speed;
   if (!baud_constant(baud, speed)) {
@@ -113,8 +114,8 @@ Status SerialPort::open_tty(const std::string& path, uint32_t baud, Parity parit
   cfmakeraw(&t);
   t.c_cflag &= ~static_cast<tcflag_t>(CSIZE | PARENB | PARODD | CSTOPB);
   t.c_cflag |= CS8 | CLOCAL | CREAD;
-  if (parity != Parity::kNone) t.c_cflag |= PARENB;
-  if (parity == Parity::kOdd) t.c_cflag |= PARODD;
+  if (parity != modbus::Parity::kNone) t.c_cflag |= PARENB;
+  if (parity == modbus::Parity::kOdd) t.c_cflag |= PARODD;
   if (stop_bits == 2) t.c_cflag |= CSTOPB;
   t.c_cc[VMIN] = 0;
   t.c_cc[VTIME] = 0;

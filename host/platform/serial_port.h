@@ -14,8 +14,6 @@
 namespace mb2co {
 namespace port {
 
-using Parity = modbus::Parity;
-
 /// Microseconds of CLOCK_MONOTONIC, truncated to 32 bits (wraps like micros()).
 uint32_t monotonic_us();
 
@@ -39,7 +37,7 @@ class SerialPort {
 
   /// Opens an existing tty raw at `baud` (a standard rate), 8 data bits,
   /// `parity`, `stop_bits` 1 or 2; input/output queues flushed.
-  Status open_tty(const std::string& path, uint32_t baud, Parity parity, unsigned stop_bits = 1);
+  Status open_tty(const std::string& path, uint32_t baud, modbus::Parity parity, unsigned stop_bits = 1);
 
   void close();
   bool is_open() const { return fd_ >= 0; }

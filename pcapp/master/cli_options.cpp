@@ -186,7 +186,7 @@ Status apply_options(const cli::Args& a, Options* o) {
     }
   }
   o->baud = static_cast<uint32_t>(a.uint("--baud", o->baud));
-  o->parity = cli::parity_letter(a.parity("--parity", cli::Parity::kNone));
+  o->parity = a.parity("--parity", modbus::Parity::kNone);
   o->command = a.command != nullptr ? a.command->name : std::string();
   o->args = a;
   const std::string refusal = via_modbus_refusal(*o);

@@ -13,6 +13,7 @@
 #include "host/cli.h"
 #include "host/status.h"
 #include "host/tcp_address.h"
+#include "modbus/parity.h"
 #include "number_words.h"
 
 namespace mb2co {
@@ -49,7 +50,7 @@ struct Options {
   bool gateway_on_tcp = false;
   TcpAddress gateway_tcp;
   uint32_t baud = 115200;
-  char parity = 'N';  ///< 'N', 'E' or 'O' (libmodbus's letters)
+  modbus::Parity parity = modbus::Parity::kNone;
   std::string command;
   cli::Args args;  ///< the command's own options (args.has("--block")) and its operands
 };

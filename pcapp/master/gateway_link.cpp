@@ -23,13 +23,13 @@ int64_t now_ms() {
 
 }  // namespace
 
-Status GatewayLink::open(const std::string& path, uint32_t baud, uint8_t slave, char parity) {
+Status GatewayLink::open(const std::string& path, uint32_t baud, uint8_t slave, modbus::Parity parity) {
   close();
   path_ = path;
   baud_ = baud;
   slave_ = slave;
   port::catch_stop_signals();
-  ctx_ = modbus_new_rtu(path.c_str(), static_cast<int>(baud), parity, 8, 1);
+  ctx_ = modbus_new_rtu(path.c_str(), static_cast<int>(baud), modbus::parity_letter(parity), 8, 1);
   if (ctx_ == nullptr) return Status::failure("cannot use " + path + ": " + modbus_strerror(errno));
   if (modbus_set_slave(ctx_, slave) != 0) {
     Status refused = Status::failure(std::string("libmodbus refused slave ") + std::to_string(slave) + ": " +

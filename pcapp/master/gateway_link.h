@@ -14,6 +14,7 @@
 #include "host/status.h"
 #include "modbus/master_codec.h"
 #include "modbus/network_pdu.h"
+#include "modbus/parity.h"
 
 typedef struct _modbus modbus_t;
 
@@ -54,9 +55,10 @@ class GatewayLink : public GatewayChannel {
   GatewayLink(const GatewayLink&) = delete;
   GatewayLink& operator=(const GatewayLink&) = delete;
 
-  /// Opens `path` at `baud`, 8 data bits, `parity` ('N', 'E' or 'O') and
-  /// one stop bit, for slave `slave` (1..247).
-  Status open(const std::string& path, uint32_t baud, uint8_t slave, char parity = 'N');
+  /// Opens `path` at `baud`, 8 data bits, `parity` and one stop bit, for
+  /// slave `slave` (1..247).
+  Status open(const std::string& path, uint32_t baud, uint8_t slave,
+              modbus::Parity parity = modbus::Parity::kNone);
   void close();
   uint8_t slave() const { return slave_; }
 

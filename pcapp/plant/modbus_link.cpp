@@ -61,7 +61,8 @@ Status ModbusLink::open(const LinkSettings& settings) {
   settings_ = settings;
   ctx_ = settings.on_tcp
              ? modbus_new_tcp_pi(settings.tcp.host.c_str(), std::to_string(settings.tcp.port).c_str())
-             : modbus_new_rtu(settings.path.c_str(), settings.baud, settings.parity, 8, 1);
+             : modbus_new_rtu(settings.path.c_str(), settings.baud, modbus::parity_letter(settings.parity), 8,
+                              1);
   if (ctx_ == nullptr)
     return Status::failure("cannot use " + settings.where() + ": " + modbus_strerror(errno));
   const uint32_t us = static_cast<uint32_t>(settings.timeout_ms) * 1000u;

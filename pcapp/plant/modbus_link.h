@@ -25,6 +25,7 @@
 
 #include "host/status.h"
 #include "host/tcp_address.h"
+#include "modbus/parity.h"
 #include "station_io.h"
 #include "status_view.h"
 #include "transaction_plan.h"
@@ -41,7 +42,7 @@ struct LinkSettings {
   bool on_tcp = false;
   TcpAddress tcp;
   int baud = 115200;
-  char parity = 'N';    ///< N, E or O
+  modbus::Parity parity = modbus::Parity::kNone;
   int slave = 1;        ///< Modbus address 1..247
   int timeout_ms = 25;  ///< response timeout (and inter-byte timeout)
   int retries = 2;      ///< extra attempts after a timeout / CRC error

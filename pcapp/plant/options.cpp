@@ -160,10 +160,8 @@ Status parse_options(const QStringList& args, AppOptions& o) {
         QString("bad --baud '" + p.value(baud) + "' (a standard rate such as 9600, 19200, 115200)")
             .toStdString());
   }
-  cli::Parity par = cli::Parity::kNone;
-  Status parity_ok = cli::parse_parity("--parity", p.value(parity).toStdString(), &par);
+  Status parity_ok = cli::parse_parity("--parity", p.value(parity).toStdString(), &o.parity);
   if (!parity_ok) return parity_ok;
-  o.parity = cli::parity_letter(par);
   if (p.isSet(no_reset)) {
     if (p.isSet(boot)) {
       return Status::failure("--no-reset-wait and --boot-wait-ms exclude each other");

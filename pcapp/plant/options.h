@@ -8,6 +8,7 @@
 
 #include "host/status.h"
 #include "host/tcp_address.h"
+#include "modbus/parity.h"
 
 namespace mb2co {
 namespace pcapp {
@@ -20,7 +21,7 @@ struct AppOptions {
   bool on_tcp = false;
   TcpAddress tcp;
   int baud = 115200;
-  char parity = 'N';
+  modbus::Parity parity = modbus::Parity::kNone;
   int slave = 1;      ///< --tcp: the unit id, 255 unless given
   int cycle_ms = -1;  ///< -1: the config's step_ms if it sets one, else 20
   QString config;     ///< plant config file (station mode)

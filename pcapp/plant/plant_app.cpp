@@ -26,9 +26,7 @@ void say_error(const QString& line) {
 timing::SerialFormat serial_format(const AppOptions& o) {
   timing::SerialFormat f;
   f.baud = static_cast<uint32_t>(o.baud);
-  f.parity = o.parity == 'E'   ? timing::Parity::kEven
-             : o.parity == 'O' ? timing::Parity::kOdd
-                               : timing::Parity::kNone;
+  f.parity = o.parity;
   return f;
 }
 

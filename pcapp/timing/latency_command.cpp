@@ -17,13 +17,7 @@ Status serial_options(const Options& o, timing::LatencyParams& p) {
   p.serial.baud = static_cast<uint32_t>(v);
   if (!(s = uint_option(o, "--stop-bits", 1, 2, p.serial.stop_bits, &v))) return s;
   p.serial.stop_bits = static_cast<uint8_t>(v);
-  const cli::Parity fallback = p.serial.parity == timing::Parity::kEven  ? cli::Parity::kEven
-                               : p.serial.parity == timing::Parity::kOdd ? cli::Parity::kOdd
-                                                                         : cli::Parity::kNone;
-  const cli::Parity parity = o.args.parity("--parity", fallback);
-  p.serial.parity = parity == cli::Parity::kEven  ? timing::Parity::kEven
-                    : parity == cli::Parity::kOdd ? timing::Parity::kOdd
-                                                  : timing::Parity::kNone;
+  p.serial.parity = o.args.parity("--parity", p.serial.parity);
   p.slave_waits_t35 = !o.has("--no-t35");
   return Status::ok();
 }

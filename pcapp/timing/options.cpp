@@ -61,10 +61,7 @@ std::vector<cli::Option> latency_options() {
       cli::uint_range("--baud", "N", 1, 10000000,
                       "Modbus/RTU baud rate (default " + num(lat.serial.baud) + ")"),
       cli::parity("--parity", std::string("Modbus/RTU parity (default ") +
-                                  (lat.serial.parity == timing::Parity::kEven  ? "E"
-                                   : lat.serial.parity == timing::Parity::kOdd ? "O"
-                                                                               : "N") +
-                                  ")"),
+                                  modbus::parity_letter(lat.serial.parity) + ")"),
       cli::uint_range("--stop-bits", "N", 1, 2, "stop bits (default " + num(lat.serial.stop_bits) + ")"),
       cli::uint_range("--debounce-us", "US", 0, 100000000,
                       "button debounce (default " + num(lat.debounce_us) + ")"),

@@ -175,7 +175,7 @@ Status check_value(const Option& o, const std::string& v) {
   uint64_t n = 0;
   uint32_t bps = 0;
   std::vector<uint32_t> list;
-  Parity par = Parity::kNone;
+  modbus::Parity par = modbus::Parity::kNone;
   switch (o.kind) {
     case Kind::kFlag:
     case Kind::kRefused:
@@ -238,8 +238,8 @@ std::vector<uint32_t> Args::bitrates_bps(const std::string& name, std::vector<ui
   }
 }
 
-Parity Args::parity(const std::string& name, Parity fallback) const {
-  Parity v = fallback;
+modbus::Parity Args::parity(const std::string& name, modbus::Parity fallback) const {
+  modbus::Parity v = fallback;
   if (has(name)) (void)parse_parity(name, get(name), &v);
   return v;
 }

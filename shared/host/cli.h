@@ -105,7 +105,7 @@ class Args {
   uint64_t uint(const std::string& name, uint64_t fallback) const;
   uint32_t bitrate_bps(const std::string& name, uint32_t fallback) const;
   std::vector<uint32_t> bitrates_bps(const std::string& name, std::vector<uint32_t> fallback) const;
-  Parity parity(const std::string& name, Parity fallback) const;
+  modbus::Parity parity(const std::string& name, modbus::Parity fallback) const;
   uint64_t duration_ms(const std::string& name, uint64_t fallback) const;
 
   void set(const std::string& name, std::string value) { values_[name] = std::move(value); }

@@ -121,26 +121,22 @@ const std::vector<uint32_t>& can_bitrates() {
   return rates;
 }
 
-Status parse_parity(const std::string& option, const std::string& text, Parity* parity) {
+Status parse_parity(const std::string& option, const std::string& text, modbus::Parity* parity) {
   const std::string t = lower(text);
   if (t == "n" || t == "none") {
-    *parity = Parity::kNone;
+    *parity = modbus::Parity::kNone;
   } else if (t == "e" || t == "even") {
-    *parity = Parity::kEven;
+    *parity = modbus::Parity::kEven;
   } else if (t == "o" || t == "odd") {
-    *parity = Parity::kOdd;
+    *parity = modbus::Parity::kOdd;
   } else {
     return Status::failure(option + " must be N, E or O (none, even, odd), got \"" + text + "\"");
   }
   return Status::ok();
 }
 
-char parity_letter(Parity parity) {
-  return parity == Parity::kEven ? 'E' : parity == Parity::kOdd ? 'O' : 'N';
-}
-
-const char* parity_word(Parity parity) {
-  return parity == Parity::kEven ? "even" : parity == Parity::kOdd ? "odd" : "none";
+const char* parity_word(modbus::Parity parity) {
+  return parity == modbus::Parity::kEven ? "even" : parity == modbus::Parity::kOdd ? "odd" : "none";
 }
 
 Status parse_uint(const std::string& option, const std::string& text, uint64_t min, uint64_t max,

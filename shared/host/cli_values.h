@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "host/status.h"
+#include "modbus/parity.h"
 
 namespace mb2co {
 namespace cli {
@@ -34,13 +35,10 @@ std::string bitrates_text(const std::vector<uint32_t>& bps);
 /// The CAN bit rates the gateways support (CiA 301 table), bit/s.
 const std::vector<uint32_t>& can_bitrates();
 
-enum class Parity : uint8_t { kNone, kEven, kOdd };
 /// N, E, O, none, even, odd in any letter case.
-Status parse_parity(const std::string& option, const std::string& text, Parity* parity);
-/// 'N', 'E' or 'O'.
-char parity_letter(Parity parity);
-/// "none", "even" or "odd".
-const char* parity_word(Parity parity);
+Status parse_parity(const std::string& option, const std::string& text, modbus::Parity* parity);
+/// "none", "even" or "odd" (the letter: modbus::parity_letter).
+const char* parity_word(modbus::Parity parity);
 
 /// Decimal digits only, within [min, max].
 Status parse_uint(const std::string& option, const std::string& text, uint64_t min, uint64_t max,

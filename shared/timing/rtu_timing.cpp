@@ -23,7 +23,7 @@ bool serial_format_valid(const SerialFormat& f) {
 }
 
 uint8_t char_bits(const SerialFormat& f) {
-  return static_cast<uint8_t>(1u + f.data_bits + (f.parity == Parity::kNone ? 0u : 1u) + f.stop_bits);
+  return static_cast<uint8_t>(1u + f.data_bits + (f.parity == modbus::Parity::kNone ? 0u : 1u) + f.stop_bits);
 }
 
 uint64_t serial_frame_ns_floor(const SerialFormat& f, uint16_t bytes) {

@@ -11,13 +11,11 @@
 namespace mb2co {
 namespace timing {
 
-using Parity = modbus::Parity;
-
 /// A serial character format. The Modbus default is 8E1 (11 bits).
 struct SerialFormat {
   uint32_t baud = 115200;  ///< bit/s, > 0
   uint8_t data_bits = 8;   ///< RTU uses 8
-  Parity parity = Parity::kEven;
+  modbus::Parity parity = modbus::Parity::kEven;
   uint8_t stop_bits = 1;  ///< 1 or 2
 };
 

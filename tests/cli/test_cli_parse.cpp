@@ -60,7 +60,7 @@ TEST(CliParse, OptionsInEitherFormAndOperands) {
   const Parsed after = run({"watch", "--parity", "even", "--interface", "can1"});
   ASSERT_EQ(after.action, Action::kRun) << after.text;
   EXPECT_EQ(after.args.get("--interface"), "can1") << "a global option after the command";
-  EXPECT_EQ(after.args.parity("--parity", Parity::kNone), Parity::kEven);
+  EXPECT_EQ(after.args.parity("--parity", modbus::Parity::kNone), modbus::Parity::kEven);
   EXPECT_EQ(after.args.uint("--count", 7), 7u) << "the fallback when absent";
 }
 

@@ -9,6 +9,8 @@ namespace {
 
 using namespace mb2co;
 using namespace mb2co::cli;
+using mb2co::modbus::Parity;
+using mb2co::modbus::parity_letter;
 
 uint32_t bitrate_of(const std::string& text) {
   uint32_t bps = 0;

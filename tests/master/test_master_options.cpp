@@ -103,12 +103,12 @@ TEST(MasterOptions, GatewayPortSlaveAndSerialLine) {
   EXPECT_EQ(o.gateway_port, "/dev/ttyACM0");
   EXPECT_EQ(o.gateway_slave, 9u);
   EXPECT_EQ(o.baud, 19200u);
-  EXPECT_EQ(o.parity, 'E');
+  EXPECT_EQ(modbus::parity_letter(o.parity), 'E');
   o = options_of({"--via-modbus", "/tmp/st3", "scan", "1", "10"});
   EXPECT_EQ(o.gateway_port, "/tmp/st3");
   EXPECT_EQ(o.gateway_slave, 1u);
   EXPECT_EQ(o.baud, 115200u);
-  EXPECT_EQ(o.parity, 'N');
+  EXPECT_EQ(modbus::parity_letter(o.parity), 'N');
   EXPECT_TRUE(via_modbus_refusal(o).empty());
 }
 

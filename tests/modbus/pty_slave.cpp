@@ -38,7 +38,7 @@ void on_signal(int) {
 
 struct Options {
   std::string link, tty;
-  port::Parity parity = port::Parity::kNone;
+  modbus::Parity parity = modbus::Parity::kNone;
   unsigned stop_bits = 1;
   uint32_t baud = 115200;
   uint8_t address = test::kSlaveAddress;
@@ -76,11 +76,11 @@ Options parse_options(int argc, char** argv) {
     } else if (a == "--parity") {
       const std::string p = value();
       if (p == "none")
-        o.parity = port::Parity::kNone;
+        o.parity = modbus::Parity::kNone;
       else if (p == "even")
-        o.parity = port::Parity::kEven;
+        o.parity = modbus::Parity::kEven;
       else if (p == "odd")
-        o.parity = port::Parity::kOdd;
+        o.parity = modbus::Parity::kOdd;
       else
         usage_error("bad parity '" + p + "'");
     } else if (a == "--stop-bits") {

@@ -112,7 +112,7 @@ TEST_F(SerialPortTest, OpenTtyConfiguresRawModeBaudAndStopBits) {
   const Status pty_opened = pty.create_pty();
   ASSERT_TRUE(pty_opened) << pty_opened.message();
   SerialPort tty;
-  const Status tty_opened = tty.open_tty(pty.path(), 19200, Parity::kEven, 2);
+  const Status tty_opened = tty.open_tty(pty.path(), 19200, modbus::Parity::kEven, 2);
   ASSERT_TRUE(tty_opened) << tty_opened.message();
   termios t;
   ASSERT_EQ(tcgetattr(tty.fd(), &t), 0);
@@ -133,13 +133,13 @@ TEST_F(SerialPortTest, OpenTtyConfiguresRawModeBaudAndStopBits) {
 
 TEST_F(SerialPortTest, BadArgumentsGiveOneLineErrors) {
   SerialPort port;
-  const Status missing = port.open_tty("/dev/null-not-there", 9600, Parity::kNone);
+  const Status missing = port.open_tty("/dev/null-not-there", 9600, modbus::Parity::kNone);
   EXPECT_FALSE(missing);
   EXPECT_NE(missing.message().find("/dev/null-not-there"), std::string::npos);
-  const Status odd_baud = port.open_tty("/dev/null", 12345, Parity::kNone);
+  const Status odd_baud = port.open_tty("/dev/null", 12345, modbus::Parity::kNone);
   EXPECT_FALSE(odd_baud);
   EXPECT_NE(odd_baud.message().find("12345"), std::string::npos);
-  EXPECT_FALSE(port.open_tty("/dev/null", 9600, Parity::kNone, 3));
+  EXPECT_FALSE(port.open_tty("/dev/null", 9600, modbus::Parity::kNone, 3));
   EXPECT_FALSE(port.create_pty(dir_ + "/no/such/dir/link"));
   EXPECT_FALSE(port.is_open());
   uint8_t b;

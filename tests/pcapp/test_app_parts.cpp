@@ -44,7 +44,7 @@ TEST(Options, Defaults) {
   ASSERT_EQ(parse({}, o, msg), ParseOutcome::run);
   EXPECT_FALSE(o.latency);
   EXPECT_EQ(o.baud, 115200);
-  EXPECT_EQ(o.parity, 'N');
+  EXPECT_EQ(mb2co::modbus::parity_letter(o.parity), 'N');
   EXPECT_EQ(o.cycle_ms, -1);
   EXPECT_EQ(o.boot_wait_ms, -1);
   EXPECT_EQ(o.timeout_ms, 25);
@@ -73,7 +73,7 @@ TEST(Options, ParityLettersAndWords) {
     AppOptions o;
     QString msg;
     ASSERT_EQ(parse({"--parity", c.given}, o, msg), ParseOutcome::run) << c.given;
-    EXPECT_EQ(o.parity, c.parity) << c.given;
+    EXPECT_EQ(mb2co::modbus::parity_letter(o.parity), c.parity) << c.given;
   }
 }
 

@@ -50,7 +50,7 @@ TEST(TransactionPlan, WireTimeIsTheSumOfTheFramesAndSilences) {
   ASSERT_TRUE(
       plan_transactions(default_layout(), kStationReads, {Field::nmt_state}, {Field::run_command}, p));
   mb2co::timing::SerialFormat f;
-  f.parity = mb2co::timing::Parity::kNone;  // 8N1: 10 bits a character
+  f.parity = mb2co::modbus::Parity::kNone;  // 8N1: 10 bits a character
   // FC 04 of 23 registers: 8 + 51 bytes; FC 06: 8 + 8 bytes; 75 characters.
   const uint64_t ns_per_bit_x = 1000000000ull;  // frames are floored one by one
   EXPECT_EQ(plan_frame_time_ns(p, f),

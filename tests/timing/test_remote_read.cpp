@@ -11,7 +11,7 @@ namespace {
 SerialFormat fast_line() {
   SerialFormat f;
   f.baud = 115200;
-  f.parity = Parity::kEven;
+  f.parity = modbus::Parity::kEven;
   return f;
 }
 

@@ -13,7 +13,7 @@ namespace mb2co {
 namespace timing {
 namespace {
 
-SerialFormat format(uint32_t baud, Parity parity, uint8_t stop_bits) {
+SerialFormat format(uint32_t baud, modbus::Parity parity, uint8_t stop_bits) {
   SerialFormat f;
   f.baud = baud;
   f.parity = parity;
@@ -22,24 +22,24 @@ SerialFormat format(uint32_t baud, Parity parity, uint8_t stop_bits) {
 }
 
 TEST(Rtu, CharacterAndFrameTimes) {
-  EXPECT_EQ(char_bits(format(9600, Parity::kEven, 1)), 11);
-  EXPECT_EQ(char_bits(format(9600, Parity::kNone, 1)), 10);
-  EXPECT_EQ(char_bits(format(9600, Parity::kNone, 2)), 11);
+  EXPECT_EQ(char_bits(format(9600, modbus::Parity::kEven, 1)), 11);
+  EXPECT_EQ(char_bits(format(9600, modbus::Parity::kNone, 1)), 10);
+  EXPECT_EQ(char_bits(format(9600, modbus::Parity::kNone, 2)), 11);
   // 8 bytes of 11 bits at 9600 baud: 88/9600 s = 9.1666... ms.
-  EXPECT_EQ(serial_frame_ns_floor(format(9600, Parity::kEven, 1), 8), 9166666u);
-  EXPECT_EQ(serial_frame_ns_ceil(format(9600, Parity::kEven, 1), 8), 9166667u);
+  EXPECT_EQ(serial_frame_ns_floor(format(9600, modbus::Parity::kEven, 1), 8), 9166666u);
+  EXPECT_EQ(serial_frame_ns_ceil(format(9600, modbus::Parity::kEven, 1), 8), 9166667u);
 }
 
 TEST(Rtu, SilenceTimes) {
   // 3.5 x 11 bits at 9600 baud = 4010.4 µs, 1.5 x 11 = 1718.75 µs: rounded
   // up to whole µs as the slave's framer does.
-  EXPECT_EQ(t35_ns(format(9600, Parity::kEven, 1)), 4011000u);
-  EXPECT_EQ(t15_ns(format(9600, Parity::kEven, 1)), 1719000u);
-  EXPECT_EQ(t35_ns(format(19200, Parity::kEven, 1)), 2006000u);
-  EXPECT_EQ(t35_ns(format(10000, Parity::kNone, 1)), 3500000u);  // 3.5 x 1 ms
+  EXPECT_EQ(t35_ns(format(9600, modbus::Parity::kEven, 1)), 4011000u);
+  EXPECT_EQ(t15_ns(format(9600, modbus::Parity::kEven, 1)), 1719000u);
+  EXPECT_EQ(t35_ns(format(19200, modbus::Parity::kEven, 1)), 2006000u);
+  EXPECT_EQ(t35_ns(format(10000, modbus::Parity::kNone, 1)), 3500000u);  // 3.5 x 1 ms
   // Above 19200 baud the spec fixes 1.75 ms and 0.75 ms.
-  EXPECT_EQ(t35_ns(format(115200, Parity::kEven, 1)), 1750000u);
-  EXPECT_EQ(t15_ns(format(38400, Parity::kEven, 1)), 750000u);
+  EXPECT_EQ(t35_ns(format(115200, modbus::Parity::kEven, 1)), 1750000u);
+  EXPECT_EQ(t15_ns(format(38400, modbus::Parity::kEven, 1)), 750000u);
 }
 
 TEST(Rtu, ExchangeSizes) {
@@ -55,14 +55,14 @@ TEST(Rtu, ExchangeSizes) {
 
 TEST(Rtu, FormatValidation) {
   EXPECT_TRUE(serial_format_valid(SerialFormat{}));
-  EXPECT_FALSE(serial_format_valid(format(0, Parity::kEven, 1)));
-  EXPECT_FALSE(serial_format_valid(format(9600, Parity::kEven, 3)));
+  EXPECT_FALSE(serial_format_valid(format(0, modbus::Parity::kEven, 1)));
+  EXPECT_FALSE(serial_format_valid(format(9600, modbus::Parity::kEven, 3)));
 }
 
 // 10,000 baud 8N1: one character = 1 ms, t3.5 = 3.5 ms.
 LatencyParams hand_example() {
   LatencyParams p;
-  p.serial = format(10000, Parity::kNone, 1);
+  p.serial = format(10000, modbus::Parity::kNone, 1);
   p.debounce_us = 20000;
   p.fw_loop_us = 2000;
   p.pc_cycle_us = 50000;

@@ -5,7 +5,7 @@ namespace bridge {
 
 Status SegmentLine::open(const SegmentOptions& o) {
   echo_ = o.echo;
-  if (!o.serial.empty()) return port_.open_tty(o.serial, o.baud, port::Parity::kNone);
+  if (!o.serial.empty()) return port_.open_tty(o.serial, o.baud, modbus::Parity::kNone);
   return port_.create_pty(o.pty_link);
 }
 

@@ -101,12 +101,9 @@ int main(int argc, char** argv) {
   }
 
   port::SerialPort serial;
-  const port::Parity parity = opt.parity == 'E'   ? port::Parity::kEven
-                              : opt.parity == 'O' ? port::Parity::kOdd
-                                                  : port::Parity::kNone;
   const bool with_serial = opt.serial != node::kNoSerial;  // else Modbus/TCP only
   const Status opened = !with_serial          ? Status::ok()
-                        : !opt.serial.empty() ? serial.open_tty(opt.serial, opt.baud, parity)
+                        : !opt.serial.empty() ? serial.open_tty(opt.serial, opt.baud, opt.parity)
                                               : serial.create_pty(opt.pty_link);
   if (!opened) return fail(opened.message());
   linux_port::SocketCanPort can;

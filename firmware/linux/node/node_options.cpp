@@ -64,10 +64,7 @@ Status apply_options(const cli::Args& a, NodeOptions* o) {
   o->pty_link = a.get("--pty", o->pty_link);
   o->serial = a.get("--serial", o->serial);
   o->baud = static_cast<uint32_t>(a.uint("--baud", o->baud));
-  const cli::Parity given = o->parity == 'E'   ? cli::Parity::kEven
-                            : o->parity == 'O' ? cli::Parity::kOdd
-                                               : cli::Parity::kNone;
-  o->parity = cli::parity_letter(a.parity("--parity", given));
+  o->parity = a.parity("--parity", o->parity);
   o->node_id = static_cast<uint8_t>(a.uint("--node-id", o->node_id));
   if (a.has("--bitrate")) o->bitrate_kbit = static_cast<uint16_t>(a.bitrate_bps("--bitrate", 0) / 1000u);
   o->stations = static_cast<uint8_t>(a.uint("--stations", o->stations));

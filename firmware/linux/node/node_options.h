@@ -10,6 +10,7 @@
 #include "host/cli.h"
 #include "host/status.h"
 #include "host/tcp_address.h"
+#include "modbus/parity.h"
 
 namespace mb2co {
 namespace node {
@@ -19,7 +20,7 @@ struct NodeOptions {
   std::string pty_link;       ///< --pty PATH: symlink to the pty we create
   std::string serial;         ///< --serial DEV: an existing tty instead of a pty
   uint32_t baud = 115200;
-  char parity = 'N';          ///< N, E or O
+  modbus::Parity parity = modbus::Parity::kNone;
   uint8_t node_id = 1;        ///< used when no saved parameters say otherwise
   uint16_t bitrate_kbit = 0;  ///< 0: as stored / default (500); else 125, 250, 500 or 1000 (2000h/2's unit)
   uint8_t stations = 0;       ///< 0: as stored / default (4)

@@ -14,7 +14,7 @@
 //
 // Files, one concern each: node_station.cpp the pass scheduler (passes,
 // idle-pass skipping, release of outputs); node_timing.* the cost model;
-// uart_ring.* the serial receive ring; node_firmware.cpp the firmware
+// uart_ring.* the serial receive ring; node_gateway.cpp the firmware
 // adapter (the gateway on the station's ports, commissioning, watched
 // state); eeprom.h the EEPROM.
 #pragma once

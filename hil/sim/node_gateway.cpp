@@ -1,4 +1,4 @@
-// NodeStation's firmware adapter: the gateway core built on the station's
+// NodeStation's gateway: the firmware's gateway core built on the station's
 // ports (CAN controller, serial output, EEPROM, filters), the bench
 // commissioning, and the OD state the line watches. The pass scheduler is
 // node_station.cpp.

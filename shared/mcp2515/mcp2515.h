@@ -140,7 +140,7 @@ class Driver {
   bool configure_filters(const FilterPlan* plan);
   void fetch_received();
   void read_rx_buffer(uint8_t start, CanFrame& frame);
-  void rank_transmit_buffers(uint8_t pending_mask);
+  void rank_transmit_buffers(uint8_t queued);
 
   Spi spi_;
   uint8_t mode_;  ///< REQOP bits of the mode to return to after configuration

@@ -50,7 +50,7 @@ cli::Program make_program() {
   p.name = "mb2co-master";
   p.description =
       "A CANopen master on SocketCAN (docs/mb2co-master.md): SDO transfers to many nodes at once,\n"
-      "NMT, SYNC, a watch of the bus. With --via-modbus, SDO and NMT through an mb2co gateway on a\n"
+      "NMT, SYNC, TIME, a watch of the bus. With --via-modbus, SDO and NMT through an mb2co gateway on a\n"
       "serial port instead (FC 2Bh/0Dh, no CAN interface needed).\n";
   p.commands = {
       command("scan", "node ids that answer, with 1000h, 1018h, 1008h", "[FIRST [LAST]]", 2),
@@ -67,6 +67,11 @@ cli::Program make_program() {
                cli::uint_range("--overflow", "N", 0, 240,
                                "counter overflow value, 1019h (default 0: no counter)"),
                cli::text("--cob-id", "ID", "the SYNC's COB-ID, hex as 0x80 or 80h (default 0x80)")}),
+      command(
+          "time", "TIME frames (CiA 301 TIME_OF_DAY) with the host's clock, UTC", "", 0,
+          {cli::uint_range("--period", "MS", 1, 3600000, "one TIME every MS (needed for --count above 1)"),
+           cli::uint_range("--count", "N", 1, 1000000, "TIME frames to send (default 1)"),
+           cli::text("--cob-id", "ID", "the TIME's COB-ID, 1012h's, hex as 0x100 or 100h (default 0x100)")}),
       command(
           "watch", "NMT state, lost/back, EMCY, PDOs decoded, until Ctrl-C or --for", "", 0,
           {cli::text("--nodes", "LIST", "the node ids to watch: 2,3,5-7 (default 1-127)"),
@@ -199,7 +204,7 @@ std::string needs_can_frames(const std::string& what) {
 
 std::string via_modbus_refusal(const Options& o) {
   if (o.gateway_port.empty()) return std::string();
-  if (o.command == "watch" || o.command == "sync") return needs_can_frames(o.command);
+  if (o.command == "watch" || o.command == "sync" || o.command == "time") return needs_can_frames(o.command);
   if (o.command == "serve" && o.args.has("--heartbeat"))
     return needs_can_frames("serve --heartbeat (node states come from heartbeats)");
   if (o.watchdog_ms) return needs_can_frames("--watchdog (the watchdog listens to heartbeats)");

@@ -51,8 +51,8 @@ uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, ui
     return 0;
   }
   // How an open download ended between parts is news for its next part only.
-  const SdoAbort ended = s.open_result_;
-  s.open_result_ = kSdoOk;
+  const SdoAbort ended = s.phase_ == kDownloadEnded ? s.client_.result() : kSdoOk;
+  s.phase_ = kIdle;
   return s.on_request(pdu, capacity, ended);
 }
 
@@ -155,12 +155,10 @@ uint16_t NetworkService::start_remote(uint16_t capacity) {
     phase_ = kUpload;
     client_.start_upload(req_.index, req_.sub, kSdoAuto, data, 0xFFFFFFFFu, now_us_, sink_);
   } else {
-    part_start_ = 0;
-    part_end_ = req_.count;
-    phase_ = kDownload;
+    phase_ = kDownload;  // the first part: req_.start is 0
     client_.start_download(req_.index, req_.sub, req_.more_follows ? kSdoSegmented : kSdoAuto, data,
                            req_.object_size, now_us_, sink_);
-    client_.set_available(part_end_, sink_);
+    client_.set_available(req_.count, sink_);
   }
   in_request_ = false;
   return 0;  // answered when the transfer ends (answer())
@@ -168,15 +166,13 @@ uint16_t NetworkService::start_remote(uint16_t capacity) {
 
 bool NetworkService::continues_download(const NetMessage& m) const {
   return m.service == NetService::kSdoDownload && m.node_id == req_.node_id && m.index == req_.index &&
-         m.sub == req_.sub && m.object_size == req_.object_size && m.start == part_end_;
+         m.sub == req_.sub && m.object_size == req_.object_size && m.start == request_end();
 }
 
 void NetworkService::take_part() {
-  part_start_ = req_.start;
-  part_end_ = static_cast<uint32_t>(req_.start) + req_.count;
   phase_ = kDownload;
   in_request_ = true;  // the client reads the part's first segment now
-  client_.set_available(part_end_, sink_);
+  client_.set_available(request_end(), sink_);
   in_request_ = false;
 }
 
@@ -190,9 +186,9 @@ SdoAbort NetworkService::data_read(void* ctx, uint32_t offset, uint8_t* buf, uin
   // The part's data are in the request, still in the frame buffer only
   // while the slave holds the answer open (or the request is in hand);
   // gone when the master sent another frame over it. The client reads
-  // within [0, part_end_) (set_available) and from where it stopped.
-  if (offset < s.part_start_ || (!s.in_request_ && !s.slave_.answer_pending())) return kAbortGeneral;
-  memcpy(buf, s.slave_.response_pdu() + modbus::net::kSizedHeaderBytes + (offset - s.part_start_), n);
+  // within [0, request_end()) (set_available) and from where it stopped.
+  if (offset < s.req_.start || (!s.in_request_ && !s.slave_.answer_pending())) return kAbortGeneral;
+  memcpy(buf, s.slave_.response_pdu() + modbus::net::kSizedHeaderBytes + (offset - s.req_.start), n);
   return kSdoOk;
 }
 
@@ -200,9 +196,10 @@ SdoAbort NetworkService::data_write(void* ctx, uint32_t offset, const uint8_t* d
   NetworkService& s = *static_cast<NetworkService*>(ctx);
   if (!s.slave_.answer_pending()) return kSdoOk;  // answer dropped: the transfer runs on, unkept
   uint8_t* window = s.slave_.response_pdu() + modbus::net::kSizedHeaderBytes;
+  const uint32_t end = s.request_end();
   for (uint16_t i = 0; i < n; ++i) {
     const uint32_t at = offset + i;
-    if (at >= s.req_.start && at < s.window_end_) window[at - s.req_.start] = data[i];
+    if (at >= s.req_.start && at < end) window[at - s.req_.start] = data[i];
   }
   return kSdoOk;
 }
@@ -224,12 +221,11 @@ void NetworkService::answer() {
 
 void NetworkService::set_window(uint16_t capacity) {
   const uint16_t room = static_cast<uint16_t>(capacity - modbus::net::kSizedHeaderBytes);
-  const uint16_t want = req_.count == 0u || req_.count > room ? room : req_.count;
-  window_end_ = static_cast<uint32_t>(req_.start) + want;
+  if (req_.count == 0u || req_.count > room) req_.count = room;
 }
 
 void NetworkService::take_window(uint8_t* pdu, uint32_t size) {
-  const uint32_t end = min32(window_end_, size);
+  const uint32_t end = min32(request_end(), size);
   req_.count = static_cast<uint16_t>(end > req_.start ? end - req_.start : 0u);
   req_.object_size = size;
   req_.more_follows = static_cast<uint32_t>(req_.start) + req_.count < size;
@@ -261,10 +257,9 @@ void NetworkService::settle() {
     phase_ = kDownloadHeld;
     return answer();
   }
-  if (phase_ == kIdle || client_.busy()) return;
+  if (phase_ == kIdle || phase_ == kDownloadEnded || client_.busy()) return;
   if (phase_ == kDownloadHeld) {
-    open_result_ = client_.result();
-    phase_ = kIdle;
+    phase_ = kDownloadEnded;  // client_.result() holds the code for the next part
     return;
   }
   answer();

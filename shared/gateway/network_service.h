@@ -40,18 +40,19 @@ constexpr uint32_t kNetSdoTimeoutUs = 500000u;
 /// initialised by its constructor (one zero-fill instead of a store per
 /// member; the phase's zero is kIdle).
 struct NetworkServiceState {
-  enum Phase : uint8_t { kIdle, kUpload, kDownload, kDownloadHeld };
+  /// kDownloadEnded: an open download ended between parts (server abort,
+  /// our timeout); the client's result() is the code for its next part.
+  enum Phase : uint8_t { kIdle, kUpload, kDownload, kDownloadHeld, kDownloadEnded };
 
   NetworkView view_;
   /// The request being served (data: none kept). Its answer is built from
   /// it: the fields a response changes (count, size, more follows, data)
   /// are set on it as it is answered; continues_download() reads the rest.
+  /// It also says what the transfer may touch: an upload keeps the window
+  /// [start, start + count) (count: the bytes wanted, set_window()), a
+  /// download part's bytes are [start, start + count) of the object.
   modbus::NetMessage req_;
   uint32_t now_us_;
-  uint32_t window_end_;            ///< upload: end of the bytes wanted (start + room)
-  uint32_t part_start_;            ///< download: object offset of the part in the frame
-  uint32_t part_end_;              ///< download: end of the bytes available
-  canopen::SdoAbort open_result_;  ///< how an open download ended between parts (0: kSdoOk)
   Phase phase_;
   bool in_request_;  ///< inside handle(): the request is in the frame buffer
 };
@@ -81,6 +82,9 @@ class NetworkService : private NetworkServiceState {
   /// True between the parts of a multi-part download (a segmented download
   /// is open at the server).
   bool download_open() const { return phase_ == kDownloadHeld; }
+  /// The end of the bytes the request in hand carries or wants (a part's,
+  /// a window's): object offset.
+  uint32_t request_end() const { return static_cast<uint32_t>(req_.start) + req_.count; }
   const NetworkView& view() const { return view_; }
 
  private:
@@ -94,9 +98,9 @@ class NetworkService : private NetworkServiceState {
   canopen::SdoAbort local_upload(uint8_t* pdu, uint16_t capacity);
   canopen::SdoAbort local_download();
   uint16_t start_remote(uint16_t capacity);
-  /// An upload's window: bytes [req_.start, window_end_) of the object, as
-  /// many as the request asks for (0: as many as a response of `capacity`
-  /// bytes carries).
+  /// An upload's window: req_.count becomes the bytes wanted from
+  /// req_.start on, as many as the request asks for (0: as many as a
+  /// response of `capacity` bytes carries).
   void set_window(uint16_t capacity);
   /// req_ becomes the upload response for an object of `size` bytes whose
   /// window's bytes are in place after the header and size of `pdu` (at

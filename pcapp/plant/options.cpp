@@ -70,8 +70,10 @@ Status parse_options(const QStringList& args, AppOptions& o) {
                                  "step_ms, else 20).",
                                  "MS");
   const QCommandLineOption config("config", "Plant config file (docs/plant.md).", "FILE");
-  const QCommandLineOption timeout("timeout-ms", "Modbus response timeout 1..10000 ms (default 25).", "MS",
-                                   "25");
+  const QCommandLineOption timeout("timeout-ms",
+                                   "Modbus response timeout 1..10000 ms (default: the longest exchange "
+                                   "at --baud + the gateway's reply time + 25 ms; 36 at 115200).",
+                                   "MS");
   const QCommandLineOption retries("retries", "Retries after a timeout or bad frame 0..10 (default 2).", "N",
                                    "2");
   const QCommandLineOption boot("boot-wait-ms",

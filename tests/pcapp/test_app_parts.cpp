@@ -47,7 +47,7 @@ TEST(Options, Defaults) {
   EXPECT_EQ(o.parity, 'N');
   EXPECT_EQ(o.cycle_ms, -1);
   EXPECT_EQ(o.boot_wait_ms, -1);
-  EXPECT_EQ(o.timeout_ms, 25);
+  EXPECT_EQ(o.timeout_ms, -1) << "derived from the line";
   EXPECT_EQ(o.retries, 2);
 }
 

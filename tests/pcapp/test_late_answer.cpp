@@ -5,7 +5,7 @@
 // back. The injector models the simulated Uno on a loaded machine: it did not
 // run for a while, so it answers nothing at first and then every request it
 // had queued at once (late answers read together with the last retry's),
-// then each answer 80 ms late (well past the timeout) for a few more, then on
+// then each answer 55 ms late (past the timeout) for a few more, then on
 // time. The app must not exit,
 // must verify the gateway and reach its normal cycle.
 //
@@ -57,7 +57,7 @@ class LateAnswerInjector {
     /// The next late_count answers (reads from the gateway): each late_ms
     /// after the gateway gave it, in order.
     int late_count = 4;
-    std::chrono::milliseconds late{80};
+    std::chrono::milliseconds late{55};  // 1.5 timeouts of the 36 ms default: read with the retry
     /// The first corrupt_answers answers get a wrong CRC (on time).
     int corrupt_answers = 0;
   };
@@ -258,7 +258,7 @@ struct PlantLateAnswer : ::testing::Test {
 };
 
 // The answers to the three FC 2B/0E attempts all arrive together, after the
-// last attempt began; the next answers are 80 ms late. With the defaults (36 ms,
+// last attempt began; the next answers are 55 ms late. With the defaults (36 ms,
 // 2 retries) the app verifies the gateway, runs its cycle (a START from the
 // panel starts the station: the RUN command it writes lights the gateway's
 // RUN LED) and stops cleanly.

@@ -196,14 +196,18 @@ TEST(MasterNetwork, BadCommandLinesAndAMissingInterfaceGiveOneLineAndTheirExitCo
     int code;
     const char* says;
   } const cases[] = {
-      {{"nmt", "start", "128"}, 2, "node id '128' out of range"},
-      {{"nmt", "jump", "3"}, 2, "unknown command 'jump'"},
-      {{"nmt", "stop"}, 2, "nmt: want"},
+      {{"nmt", "start", "128"}, 2, "nmt: node id must be 1..127 or all, got \"128\""},
+      {{"nmt", "jump", "3"},
+       2,
+       "nmt: the NMT command must be start, stop, preop, reset or reset-comm, got \"jump\""},
+      {{"nmt", "stop"},
+       2,
+       "missing operand: nmt start|stop|preop|reset|reset-comm NODE|all (try mb2co-master nmt --help)"},
       {{"sync", "--overflow", "1"}, 2, "--overflow 1 is not allowed"},
       {{"sync", "--count", "3"}, 2, "needs --period"},
       {{"time", "--count", "3"}, 2, "needs --period"},
       {{"time", "--cob-id", "800h"}, 2, "--cob-id"},
-      {{"watch", "--nodes", "5-2"}, 2, "runs backwards"},
+      {{"watch", "--nodes", "5-2"}, 2, "a node range must run upwards (5-7), got \"5-2\""},
       {{"fly"}, 2, "unknown command \"fly\""},
   };
   for (const Case& c : cases) {

@@ -46,16 +46,22 @@ def area(path):
     if lib:
         library, member = lib.groups()
         member = member.replace(".obj", "").replace(".o", "")
-        groups = {
-            "mb2co_avr_canopen": "shared/canopen",
-            "mb2co_avr_gateway": "shared/gateway",
-            "mb2co_avr_modbus": "shared/modbus",
-            "mb2co_avr_ionode": "shared/ionode",
-            "mb2co_avr_mcp2515": "firmware/mcp2515",
-            "mb2co_avr_port": "firmware/avr/port",
-            "arduino_core": "Arduino core",
+        if library == "arduino_core":
+            return "Arduino core", member
+        # Ours are mb2co_avr_<profile>_<area> (firmware/avr/CMakeLists.txt):
+        # the area is the last word; anything else is the toolchain's.
+        areas = {
+            "canopen": "shared/canopen",
+            "gateway": "shared/gateway",
+            "modbus": "shared/modbus",
+            "ionode": "shared/ionode",
+            "serialnet": "shared/serialnet",
+            "mcp2515": "firmware/mcp2515",
+            "port": "firmware/avr/port",
         }
-        return groups.get(library, "C runtime (libgcc, libc)"), member
+        if library.startswith("mb2co_avr_"):
+            return areas.get(library.rsplit("_", 1)[-1], "mb2co (other)"), member
+        return "C runtime (libgcc, libc)", member
     if "crt" in name:
         return "C runtime (libgcc, libc)", name
     return "sketch", name.replace(".obj", "")

@@ -14,6 +14,10 @@ namespace lab {
 std::string report_header(const Options& o);
 std::string run_section(const sim::RunResult& r);
 std::string stop2_section(const sim::Stop2Result& r);
+/// "916 error frames (all ACK errors: no other station powered yet to
+/// acknowledge)": the count, and how many of them a station alone on the bus
+/// caused (power-up), so a PASS with error frames is not read as a bad bus.
+std::string error_frames_text(const sim::LineSummary& s);
 std::string latency_section(const std::vector<sim::LatencyResult>& results);
 std::string faults_section(const sim::FaultsResult& r);
 

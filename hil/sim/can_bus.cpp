@@ -240,6 +240,7 @@ void CanBus::finish() {
   busy_ns_ += current_.free_ns - current_.sof_ns;
   if (current_.error) {
     ++error_frames_;
+    if (ack_error_) ++ack_error_frames_;
     // An acknowledgement error of an error-passive sender does not count.
     const bool ack_only = ack_error_ && sender.state_ == CanErrorState::kPassive;
     if (sender.generation_ == current_gen_ && !ack_only) sender.count_tx_error();

@@ -152,6 +152,10 @@ class CanBus final : public Handler {
 
   uint64_t frames_ok() const { return frames_ok_; }
   uint64_t error_frames() const { return error_frames_; }
+  /// Of error_frames(): frames nobody acknowledged because no other
+  /// controller was powered and on the bus (a line powering up, one Arduino
+  /// before the next): the sender's retries, not a fault of the wire.
+  uint64_t ack_error_frames() const { return ack_error_frames_; }
   SimNs busy_ns() const { return busy_ns_; }
   const std::vector<CanController*>& controllers() const { return controllers_; }
 
@@ -182,6 +186,7 @@ class CanBus final : public Handler {
   bool ack_error_ = false;
   uint64_t frames_ok_ = 0;
   uint64_t error_frames_ = 0;
+  uint64_t ack_error_frames_ = 0;
   SimNs busy_ns_ = 0;
 };
 

@@ -22,7 +22,7 @@ FaultsResult faults_scenario(const LineConfig& c, EventLog* log, const Progress&
   // Longest pass of a plant station: it answers the 11-register read.
   uint8_t req[8];
   const uint16_t n = modbus::build_read_request(req, sizeof req, 1, modbus::fc::kReadInputRegisters,
-                                                regs::kIrButtons, regs::kIrStationBlock);
+                                                pc_registers().station_first, pc_registers().station_count);
   const SimNs step_ns =
       firmware_step_ns(c.node, max_pass_ns(c.node, c.node.can_rx_buffers, 8, request_cost(c.node, req, n)));
 

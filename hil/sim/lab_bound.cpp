@@ -25,16 +25,16 @@ uint32_t od_get(canopen::ObjectDictionary& od, uint16_t index, uint8_t sub) {
 SimNs lab_read_cost(const NodeTiming& t, bool remote) {
   uint8_t req[16];
   const uint16_t n = remote ? modbus::build_read_request(req, sizeof req, 1, modbus::fc::kReadInputRegisters,
-                                                         regs::kIrRemoteButtons, 1)
+                                                         pc_registers().remote_buttons, 1)
                             : modbus::build_read_request(req, sizeof req, 1, modbus::fc::kReadDiscreteInputs,
-                                                         regs::kDiStart, 1);
+                                                         pc_registers().start, 1);
   return request_cost(t, req, n);
 }
 
 /// The same for its write of the lab LED (FC 05).
 SimNs lab_write_cost(const NodeTiming& t) {
   uint8_t req[16];
-  const uint16_t n = modbus::build_write_single_coil(req, sizeof req, 1, regs::kCoilLabLed, true);
+  const uint16_t n = modbus::build_write_single_coil(req, sizeof req, 1, pc_registers().lab_led, true);
   return request_cost(t, req, n);
 }
 

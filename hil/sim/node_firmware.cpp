@@ -8,6 +8,7 @@
 
 #include "canopen/pdo_map.h"
 #include "filter_plan.h"
+#include "plant/station_fields.h"
 #include "sim/node_station.h"
 
 namespace mb2co {
@@ -25,17 +26,18 @@ void NodeStation::make_gateway() {
   gw_.reset(new gateway::Gateway(ports));
   if (!timing_.isr_stamps) gw_->modbus_slave().set_check_t15(false);
   canopen::ObjectDictionary& od = gw_->od();
-  namespace e = gateway::od::GatewayEntry;
-  const uint16_t rows[7] = {od.find(e::x2002_0_nmtState),    od.find(e::x2100_2_runState),
-                            od.find(e::x2100_3_stop2Count),  od.find(e::x2110_3_prevStatus),
-                            od.find(e::x2120_3_nextStatus),  od.find(e::x2110_1_prevRunState),
-                            od.find(e::x2120_1_nextRunState)};
-  // Read after every pass: resolved to their value bytes once, here (the
-  // gateway, and so its value block, lives until power off).
+  // The station's entries, by the names every PC program uses (NodeState's
+  // order), read after every pass: resolved to their value bytes once,
+  // here (the gateway, and so its value block, lives until power off).
+  using plant::Field;
+  const Field watched[kWatched] = {Field::nmt_state,   Field::run_state,   Field::stop2_count,
+                                   Field::prev_status, Field::next_status, Field::prev_run,
+                                   Field::next_run};
   const canopen::ObjectDictionary& values = od;
   for (size_t k = 0; k < kWatched; ++k) {
-    watched_[k] = values.ram(rows[k]);
-    watched_size_[k] = static_cast<uint8_t>(values.size_of(rows[k]));
+    const uint16_t row = od.find(plant::field_spec(watched[k]).key());
+    watched_[k] = values.ram(row);
+    watched_size_[k] = static_cast<uint8_t>(values.size_of(row));
     if (watched_[k] == nullptr || watched_size_[k] == 0 || watched_size_[k] > 2) {
       throw std::logic_error("watched OD entry is not a RAM value of 1 or 2 bytes");
     }

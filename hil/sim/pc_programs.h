@@ -5,47 +5,33 @@
 #pragma once
 #include <stdint.h>
 
-#include "gateway/gateway_od.h"
-#include "plant/controller.h"
+#include "gateway/register_map.h"
 #include "plant/latency_lab.h"
-#include "plant/plant.h"
+#include "plant/station_cycle.h"
 #include "sim/pc_station.h"
 
 namespace mb2co {
 namespace sim {
 
-/// Register map addresses used by the PC programs: the gateway's default
-/// map, looked up by the entries' names at compile time.
-namespace regs {
-namespace e = gateway::od::GatewayEntry;
-constexpr uint16_t ir(canopen::OdKey entry) {
-  return gateway::default_map_address(0x2401, entry);
-}
-constexpr uint16_t kIrButtons = ir(e::x6000_1_readInput8Bit1);  ///< START, STOP, STOP2 bits
-constexpr uint16_t kIrStop2Count = ir(e::x2100_3_stop2Count);
-constexpr uint16_t kIrPrevRun = ir(e::x2110_1_prevRunState);
-constexpr uint16_t kIrPrevStop2 = ir(e::x2110_2_prevStop2Count);
-constexpr uint16_t kIrPrevStatus = ir(e::x2110_3_prevStatus);
-constexpr uint16_t kIrNextRun = ir(e::x2120_1_nextRunState);
-constexpr uint16_t kIrNextStatus = ir(e::x2120_3_nextStatus);
-/// Input registers the plant program reads in one request: buttons .. next status.
-constexpr uint16_t kIrStationBlock = static_cast<uint16_t>(kIrNextStatus + 1u - kIrButtons);
-static_assert(kIrButtons < kIrStop2Count && kIrStop2Count < kIrPrevRun && kIrPrevRun < kIrPrevStop2 &&
-                  kIrPrevStop2 < kIrPrevStatus && kIrPrevStatus < kIrNextRun && kIrNextRun < kIrNextStatus &&
-                  kIrNextStatus != 0xFFFF,
-              "the station block is one read of the default input map");
-constexpr uint16_t kIrRemoteButtons = ir(e::x2130_1_remoteButtons);  ///< the watched station's buttons
-constexpr uint16_t kHrRunCommand = gateway::default_map_address(0x2400, e::x2100_1_runCommand);
-constexpr uint16_t kDiStart = gateway::default_map_address(0x2403, e::x2140_1_startPressed);
-constexpr uint16_t kCoilLabLed =
-    gateway::default_map_address(0x2402, e::x6200_1_writeOutput8Bit1);  ///< bit 0
-static_assert(kIrRemoteButtons != 0xFFFF && kHrRunCommand != 0xFFFF && kDiStart != 0xFFFF &&
-                  kCoilLabLed != 0xFFFF,
-              "entries of the default map");
-}  // namespace regs
+/// Where the PC programs' registers are in the gateway's default map,
+/// located once by the register map (gateway/register_map.h).
+struct PcRegisters {
+  /// The input registers the plant program reads in one request: every
+  /// field of plant::kStationReads (buttons .. next status).
+  uint16_t station_first;
+  uint16_t station_count;
+  /// Each field's input registers (width 0: not an input register).
+  gateway::MapItem input[plant::kFieldCount];
+  uint16_t run_command;     ///< holding register
+  uint16_t remote_buttons;  ///< input register: the watched station's buttons
+  uint16_t start;           ///< discrete input: own START button
+  uint16_t lab_led;         ///< coil: bit 0 of the lab LED output
+};
+const PcRegisters& pc_registers();
 
-/// Per cycle: FC 04 reads IR 0..10, the controller steps, the plant steps
-/// one step_ms, FC 06 writes the RUN command. After `lost_after` failed
+/// Per cycle: FC 04 reads the station block (IR 0..10), the station cycle
+/// (shared/plant) steps the controller and the plant one step_ms, FC 06
+/// writes the RUN command. After `lost_after` failed
 /// transactions in a row (1: at once, as the Qt app does) the link counts as
 /// lost: Controller::force_safe(), and the plant gets safe actuators.
 class PlantProgram : public PcProgram {
@@ -54,8 +40,8 @@ class PlantProgram : public PcProgram {
   uint16_t first_request(uint8_t* out, uint16_t capacity) override;
   uint16_t on_response(const modbus::Response* r, uint8_t* out, uint16_t capacity) override;
 
-  const plant::Plant& plant() const { return plant_; }
-  const plant::Controller& controller() const { return controller_; }
+  const plant::Plant& plant() const { return cycle_.plant(); }
+  const plant::Controller& controller() const { return cycle_.controller(); }
   bool link_lost() const { return failures_ >= lost_after_; }
   /// Cycles in which the link was lost and the plant still got unsafe
   /// actuators (must stay 0).
@@ -65,8 +51,7 @@ class PlantProgram : public PcProgram {
  private:
   void fail();
 
-  plant::Plant plant_;
-  plant::Controller controller_;
+  plant::StationCycle cycle_;
   uint8_t address_;
   uint32_t lost_after_;
   uint32_t failures_ = 0;
@@ -77,8 +62,8 @@ class PlantProgram : public PcProgram {
 
 /// Seed 000 §11: read a button, write its state to the lab LED (coil 1 of
 /// the PC's own Arduino). `remote`: the button is the watched station's,
-/// read as input register 18 (FC 04) after it crossed CANopen; otherwise
-/// the own START button, discrete input 0 (FC 02).
+/// read as an input register (FC 04) after it crossed CANopen; otherwise
+/// the own START button, a discrete input (FC 02).
 class LabProgram : public PcProgram {
  public:
   LabProgram(uint8_t modbus_address, bool remote) : address_(modbus_address), remote_(remote) {}

@@ -35,6 +35,7 @@ LineSummary summarize(Line& line) {
   }
   s.can_frames = line.bus().frames_ok();
   s.error_frames = line.bus().error_frames();
+  s.ack_error_frames = line.bus().ack_error_frames();
   s.duration_ns = line.now();
   s.bus_load =
       line.now() == 0 ? 0 : static_cast<double>(line.bus().busy_ns()) / static_cast<double>(line.now());

@@ -53,6 +53,7 @@ struct LineSummary {
   std::vector<TimelineEvent> timeline;
   uint64_t can_frames = 0;
   uint64_t error_frames = 0;
+  uint64_t ack_error_frames = 0;  ///< of error_frames: no other station powered to acknowledge
   uint64_t rx_overflows = 0;
   double bus_load = 0;  ///< busy time / run time
   SimNs duration_ns = 0;

@@ -42,10 +42,6 @@ die() {
   exit 125
 }
 usage_line="usage: run-with-vcan.sh [--ifaces vcan0,vcan1] [--timeout SEC] [--mode auto|host|uml] -- COMMAND [ARGS...] | --shell"
-usage() {
-  echo "$usage_line" >&2
-  exit 125
-}
 # --help is an answer, not an error (docs/cli.md): the usage on stdout, exit 0.
 help() {
   echo "$usage_line"
@@ -64,13 +60,13 @@ while (($#)); do
     --) shift; break ;;
     -h | --help) help ;;
     --version) echo "run-with-vcan.sh $(sed -n 's/^project(mb2co VERSION \([0-9.]*\).*/\1/p' "$here/../../CMakeLists.txt")"; exit 0 ;;
-    *) die "unknown option '$1' (the command goes after --)" ;;
+    *) die "unknown option $1, the command goes after -- (try run-with-vcan.sh --help)" ;;
   esac
 done
 if [ -n "$shell" ]; then
   (($# == 0)) || die "--shell takes no command"
 elif (($# == 0)); then
-  { [ -t 0 ] && [ -t 1 ]; } || usage
+  { [ -t 0 ] && [ -t 1 ]; } || die "missing operand: -- COMMAND [ARGS...], or a terminal for the shell (try run-with-vcan.sh --help)"
   shell=1
 fi
 if [ -n "$shell" ]; then
@@ -79,9 +75,9 @@ if [ -n "$shell" ]; then
   set -- bash --rcfile "$here/shell-rc.sh" -i
 fi
 [[ $ifaces =~ ^[A-Za-z0-9_]{1,15}(,[A-Za-z0-9_]{1,15})*$ ]] ||
-  die "bad --ifaces '$ifaces' (comma-separated names of at most 15 characters [A-Za-z0-9_])"
-[[ $timeout_s =~ ^[1-9][0-9]{0,5}$ ]] || die "bad --timeout '$timeout_s' (whole seconds, 1..999999)"
-case $mode in auto | host | uml) ;; *) die "bad --mode '$mode' (auto, host or uml)" ;; esac
+  die "--ifaces must be comma-separated names of at most 15 characters [A-Za-z0-9_], got \"$ifaces\""
+[[ $timeout_s =~ ^[1-9][0-9]{0,5}$ ]] || die "--timeout must be whole seconds 1..999999, got \"$timeout_s\""
+case $mode in auto | host | uml) ;; *) die "--mode must be auto, host or uml, got \"$mode\"" ;; esac
 [[ $session != *[[:space:]]* ]] || die "the checkout path must not contain blanks: $here"
 
 base=${TMPDIR:-/tmp}

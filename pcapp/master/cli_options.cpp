@@ -19,9 +19,10 @@ static_assert(kExitRefused == cli::kExitRuntime, "1 stays a runtime error");
 
 namespace {
 
-cli::Command command(std::string name, std::string summary, std::string operands, size_t max_operands,
-                     std::vector<cli::Option> options = {}) {
+cli::Command command(std::string name, std::string summary, std::string operands, size_t min_operands,
+                     size_t max_operands, std::vector<cli::Option> options = {}) {
   cli::Command c;
+  c.min_operands = min_operands;
   c.name = std::move(name);
   c.summary = std::move(summary);
   c.operands = std::move(operands);
@@ -50,25 +51,31 @@ cli::Program make_program() {
   p.name = "mb2co-master";
   p.description =
       "A CANopen master on SocketCAN (docs/mb2co-master.md): SDO transfers to many nodes at once,\n"
-      "NMT, SYNC, a watch of the bus. With --via-modbus, SDO and NMT through an mb2co gateway on a\n"
+      "NMT, SYNC, TIME, a watch of the bus. With --via-modbus, SDO and NMT through an mb2co gateway on a\n"
       "serial port instead (FC 2Bh/0Dh, no CAN interface needed).\n";
   p.commands = {
-      command("scan", "node ids that answer, with 1000h, 1018h, 1008h", "[FIRST [LAST]]", 2),
-      command("read", "SDO upload, shown as TYPE (or as --eds says)", "NODE INDEX SUB [TYPE]", 4),
-      command("write", "SDO download of VALUE (written as read prints it)", "NODE INDEX SUB [TYPE] VALUE", 5),
+      command("scan", "node ids that answer, with 1000h, 1018h, 1008h", "[FIRST [LAST]]", 0, 2),
+      command("read", "SDO upload, shown as TYPE (or as --eds says)", "NODE INDEX SUB [TYPE]", 3, 4),
+      command("write", "SDO download of VALUE (written as read prints it)", "NODE INDEX SUB [TYPE] VALUE", 4,
+              5),
       command("upload", "an object into a file, with progress (several nodes: FILE.<node>)",
-              "NODE INDEX SUB FILE", 4, upload_options()),
-      command("download", "a file into an object, with progress", "NODE INDEX SUB FILE", 4,
+              "NODE INDEX SUB FILE", 4, 4, upload_options()),
+      command("download", "a file into an object, with progress", "NODE INDEX SUB FILE", 4, 4,
               sdo_mode_options()),
-      command("nmt", "an NMT command to one node or all", "start|stop|preop|reset|reset-comm NODE|all", 2),
-      command("sync", "SYNC frames (with the 1019h counter when --overflow is 2..240)", "", 0,
+      command("nmt", "an NMT command to one node or all", "start|stop|preop|reset|reset-comm NODE|all", 2, 2),
+      command("sync", "SYNC frames (with the 1019h counter when --overflow is 2..240)", "", 0, 0,
               {cli::uint_range("--period", "MS", 1, 60000, "one SYNC every MS (needed for --count above 1)"),
                cli::uint_range("--count", "N", 1, 1000000, "SYNCs to send (default 1)"),
                cli::uint_range("--overflow", "N", 0, 240,
                                "counter overflow value, 1019h (default 0: no counter)"),
                cli::text("--cob-id", "ID", "the SYNC's COB-ID, hex as 0x80 or 80h (default 0x80)")}),
       command(
-          "watch", "NMT state, lost/back, EMCY, PDOs decoded, until Ctrl-C or --for", "", 0,
+          "time", "TIME frames (CiA 301 TIME_OF_DAY) with the host's clock, UTC", "", 0, 0,
+          {cli::uint_range("--period", "MS", 1, 3600000, "one TIME every MS (needed for --count above 1)"),
+           cli::uint_range("--count", "N", 1, 1000000, "TIME frames to send (default 1)"),
+           cli::text("--cob-id", "ID", "the TIME's COB-ID, 1012h's, hex as 0x100 or 100h (default 0x100)")}),
+      command(
+          "watch", "NMT state, lost/back, EMCY, PDOs decoded, until Ctrl-C or --for", "", 0, 0,
           {cli::text("--nodes", "LIST", "the node ids to watch: 2,3,5-7 (default 1-127)"),
            cli::uint_range("--heartbeat", "MS", 2, 65535,
                            "heartbeat consumer time: a node silent for MS is lost (default 1000)"),
@@ -77,13 +84,13 @@ cli::Program make_program() {
            cli::duration("--for", 1, 2000000, "stop after T (seconds, or 500ms, 2min)"),
            cli::flag("--raw", "only listen: PDOs as bytes, no SDO for the mappings")}),
       command("dump", "the whole OD (as --eds lists it) uploaded, as a DCF (stdout without FILE)",
-              "NODE [FILE.dcf]", 2),
+              "NODE [FILE.dcf]", 1, 2),
       command("configure", "the nodes of a network file written from their DCFs, then started",
-              "NETWORK_FILE", 1,
+              "NETWORK_FILE", 1, 1,
               {cli::flag("--save", "store the parameters (1010h/1 = \"save\")"),
                cli::flag("--no-start", "leave the nodes in their NMT state"),
                cli::flag("--one-at-a-time", "one node after the other, not all at once")}),
-      command("serve", "CiA 309-3 (ASCII, as canopend) to many clients on a local or TCP socket", "", 0,
+      command("serve", "CiA 309-3 (ASCII, as canopend) to many clients on a local or TCP socket", "", 0, 0,
               {cli::text("--listen", "ADDR",
                          "unix:PATH or tcp:[HOST:]PORT (default " + std::string(kServeListenDefault) +
                              "; tcp:PORT\nis 127.0.0.1: no authentication in CiA 309-3, bind where only "
@@ -148,9 +155,10 @@ Status parse_gateway(const std::string& text, Options* out) {
       std::all_of(text.begin() + static_cast<long>(colon) + 1, text.end(),
                   [](char c) { return isdigit(static_cast<unsigned char>(c)) != 0; })) {
     uint64_t slave = 0;
-    Status s = parse_number(text.substr(colon + 1), 247, "Modbus slave address", &slave);
-    if (!s) return s;
-    if (slave == 0) return Status::failure("Modbus slave address 0 is the broadcast: a gateway is 1..247");
+    // 0 is the broadcast: a gateway never answers it.
+    if (!parse_number(text.substr(colon + 1), 247, "SLAVE", &slave) || slave == 0) {
+      return Status::failure("--via-modbus SLAVE must be 1..247, got \"" + text.substr(colon + 1) + "\"");
+    }
     out->gateway_slave = static_cast<uint8_t>(slave);
     port = text.substr(0, colon);
   }
@@ -199,7 +207,7 @@ std::string needs_can_frames(const std::string& what) {
 
 std::string via_modbus_refusal(const Options& o) {
   if (o.gateway_port.empty()) return std::string();
-  if (o.command == "watch" || o.command == "sync") return needs_can_frames(o.command);
+  if (o.command == "watch" || o.command == "sync" || o.command == "time") return needs_can_frames(o.command);
   if (o.command == "serve" && o.args.has("--heartbeat"))
     return needs_can_frames("serve --heartbeat (node states come from heartbeats)");
   if (o.watchdog_ms) return needs_can_frames("--watchdog (the watchdog listens to heartbeats)");

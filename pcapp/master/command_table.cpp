@@ -12,10 +12,10 @@ CommandFunction command_function(const std::string& name) {
     CommandFunction run;
   };
   static const Entry kCommands[] = {
-      {"scan", scan_command},           {"read", read_command},         {"write", write_command},
-      {"upload", upload_command},       {"download", download_command}, {"nmt", nmt_command},
-      {"sync", sync_command},           {"watch", watch_command},       {"dump", dump_command},
-      {"configure", configure_command}, {"serve", serve_command}};
+      {"scan", scan_command},     {"read", read_command},           {"write", write_command},
+      {"upload", upload_command}, {"download", download_command},   {"nmt", nmt_command},
+      {"sync", sync_command},     {"time", time_command},           {"watch", watch_command},
+      {"dump", dump_command},     {"configure", configure_command}, {"serve", serve_command}};
   for (const Entry& e : kCommands) {
     if (name == e.name) return e.run;
   }

@@ -18,6 +18,7 @@ int upload_command(const Options& o, Transport& transport, std::ostream& out, st
 int download_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
 int nmt_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
 int sync_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
+int time_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
 int watch_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
 int dump_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);
 int configure_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err);

@@ -478,11 +478,10 @@ std::string json_text(const std::string& s) {
 }  // namespace
 
 int configure_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
-  const std::vector<std::string>& w = o.args.operands;  // at most 1 (the table)
+  const std::vector<std::string>& w = o.args.operands;  // exactly 1 (the table)
   const bool save = o.args.has("--save");
   const bool no_start = o.args.has("--no-start");
   const bool one_at_a_time = o.args.has("--one-at-a-time");
-  if (w.empty()) return fail(err, kExitUsage, "configure: want NETWORK_FILE");
   NetworkFile net;
   Status s = read_network_file(w[0], &net);
   if (!s) return fail(err, kExitUsage, "configure: " + s.message());

@@ -49,8 +49,7 @@ eds::Value value_of(const eds::SubObject& s, const std::vector<uint8_t>& bytes, 
 }  // namespace
 
 int dump_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
-  const std::vector<std::string>& w = o.args.operands;  // at most 2 (the table)
-  if (w.empty()) return fail(err, kExitUsage, "dump: want NODE [FILE.dcf]");
+  const std::vector<std::string>& w = o.args.operands;  // 1 or 2 (the table)
   uint8_t node = 0;
   Status s = parse_node_id(w[0], false, &node);
   if (!s) return fail(err, kExitUsage, "dump: " + s.message());

@@ -66,13 +66,13 @@ class SyncService : public BusService {
 
 int nmt_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
   const std::vector<std::string>& w = o.args.operands;
-  if (w.size() != 2) return fail(err, kExitUsage, "nmt: want nmt start|stop|preop|reset|reset-comm NODE|all");
+  // Two operands: the table's min_operands and max_operands (cli_options.cpp).
   const NmtName* name = nullptr;
   for (const NmtName& n : kNmtNames)
     if (w[0] == n.word) name = &n;
   if (!name)
     return fail(err, kExitUsage,
-                "nmt: unknown command '" + w[0] + "' (start, stop, preop, reset, reset-comm)");
+                "nmt: the NMT command must be start, stop, preop, reset or reset-comm, got \"" + w[0] + "\"");
   uint8_t node = 0;
   const Status s = parse_node_id(w[1], true, &node);
   if (!s) return fail(err, kExitUsage, "nmt: " + s.message());

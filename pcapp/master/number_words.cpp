@@ -22,12 +22,12 @@ Status parse_number(const std::string& text, uint64_t max, const char* what, uin
   const bool digits = !t.empty() && std::all_of(t.begin(), t.end(), [base](char c) {
     return base == 16 ? isxdigit(static_cast<unsigned char>(c)) != 0 : (c >= '0' && c <= '9');
   });
-  if (!digits || t.size() > 20) return Status::failure(std::string("bad ") + what + " '" + text + "'");
   errno = 0;
-  const unsigned long long v = strtoull(t.c_str(), nullptr, base);
-  if (errno != 0 || v > max)
-    return Status::failure(std::string(what) + " '" + text + "' out of range (at most " +
-                           std::to_string(max) + ")");
+  const unsigned long long v = digits && t.size() <= 20 ? strtoull(t.c_str(), nullptr, base) : 0;
+  if (!digits || t.size() > 20 || errno != 0 || v > max) {
+    return Status::failure(std::string(what) + " must be 0.." + std::to_string(max) +
+                           " (decimal, 0x.. or ..h), got \"" + text + "\"");
+  }
   *value = v;
   return Status::ok();
 }
@@ -38,10 +38,10 @@ Status parse_node_id(const std::string& text, bool allow_all, uint8_t* node_id) 
     return Status::ok();
   }
   uint64_t v = 0;
-  Status s = parse_number(text, 127, "node id", &v);
-  if (!s) return s;
-  if (v == 0)
-    return Status::failure("node id 0: node ids are 1..127" + std::string(allow_all ? " or all" : ""));
+  if (!parse_number(text, 127, "node id", &v) || v == 0) {
+    return Status::failure(std::string("node id must be 1..127") + (allow_all ? " or all" : "") + ", got \"" +
+                           text + "\"");
+  }
   *node_id = static_cast<uint8_t>(v);
   return Status::ok();
 }
@@ -58,7 +58,7 @@ Status parse_node_list(const std::string& text, std::vector<uint8_t>* nodes) {
     if (s && dash != std::string::npos) s = parse_node_id(part.substr(dash + 1), false, &b);
     if (!s) return s;
     if (dash == std::string::npos) b = a;
-    if (b < a) return Status::failure("node range '" + part + "' runs backwards");
+    if (b < a) return Status::failure("a node range must run upwards (5-7), got \"" + part + "\"");
     for (int id = a; id <= b; ++id) nodes->push_back(static_cast<uint8_t>(id));
     if (comma == std::string::npos) break;
     start = comma + 1;
@@ -73,7 +73,7 @@ Status parse_index_sub(const std::string& index, const std::string& sub, uint16_
   const bool marked = index.rfind("0x", 0) == 0 || index.rfind("0X", 0) == 0 ||
                       (!index.empty() && (index.back() == 'h' || index.back() == 'H'));
   Status st = parse_number(marked ? index : "0x" + index, 0xFFFF, "index", &v);
-  if (!st) return Status::failure("bad index '" + index + "' (hexadecimal, 0000..FFFF)");
+  if (!st) return Status::failure("index must be hexadecimal 0000..FFFF, got \"" + index + "\"");
   *i = static_cast<uint16_t>(v);
   st = parse_number(sub, 0xFF, "sub-index", &v);
   if (!st) return st;

@@ -28,8 +28,8 @@ struct Target {
   uint8_t sub = 0;
 };
 
+/// `w` has at least three words: the commands' min_operands (cli_options.cpp).
 Status parse_target(const std::vector<std::string>& w, Target* t) {
-  if (w.size() < 3) return Status::failure("want NODE INDEX SUB");
   Status s = parse_node_list(w[0], &t->nodes);
   if (!s) return s;
   return parse_index_sub(w[1], w[2], &t->index, &t->sub);
@@ -99,7 +99,7 @@ void file_result(std::ostream& out, const Transfer& t, const std::string& path, 
 }  // namespace
 
 int read_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
-  const std::vector<std::string>& w = o.args.operands;  // at most 4 (the table)
+  const std::vector<std::string>& w = o.args.operands;  // 3 or 4 (the table)
   Target target;
   Status s = parse_target(w, &target);
   if (!s) return fail(err, kExitUsage, "read: " + s.message());
@@ -136,11 +136,10 @@ int read_command(const Options& o, Transport& transport, std::ostream& out, std:
 }
 
 int write_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
-  const std::vector<std::string>& w = o.args.operands;  // at most 5 (the table)
+  const std::vector<std::string>& w = o.args.operands;  // 4 or 5 (the table)
   Target target;
   Status s = parse_target(w, &target);
-  if (!s || w.size() < 4)
-    return fail(err, kExitUsage, "write: " + (s ? "want NODE INDEX SUB [TYPE] VALUE" : s.message()));
+  if (!s) return fail(err, kExitUsage, "write: " + s.message());
   eds::DataType type;
   s = resolve_type(w.size() == 5 ? w[3] : std::string(), o.eds, target.index, target.sub, &type);
   if (!s) return fail(err, kExitUsage, "write: " + s.message());
@@ -162,13 +161,12 @@ int write_command(const Options& o, Transport& transport, std::ostream& out, std
 }
 
 int upload_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
-  const std::vector<std::string>& w = o.args.operands;  // at most 4 (the table)
+  const std::vector<std::string>& w = o.args.operands;  // exactly 4 (the table)
   canopen::SdoMode mode = canopen::kSdoAuto;
   Status s = sdo_mode(o.args, &mode);
   Target target;
   if (s) s = parse_target(w, &target);
-  if (!s || w.size() != 4)
-    return fail(err, kExitUsage, "upload: " + (s ? "want NODE INDEX SUB FILE" : s.message()));
+  if (!s) return fail(err, kExitUsage, "upload: " + s.message());
   const uint32_t max_bytes = static_cast<uint32_t>(o.args.uint("--max-bytes", kUploadMaxBytesDefault));
   if (const int code = open_transport(o, transport, err)) return code;
   std::vector<std::unique_ptr<Transfer>> ts = transfers_for(target, true, mode);
@@ -208,13 +206,12 @@ int upload_command(const Options& o, Transport& transport, std::ostream& out, st
 }
 
 int download_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
-  const std::vector<std::string>& w = o.args.operands;  // at most 4 (the table)
+  const std::vector<std::string>& w = o.args.operands;  // exactly 4 (the table)
   canopen::SdoMode mode = canopen::kSdoAuto;
   Status s = sdo_mode(o.args, &mode);
   Target target;
   if (s) s = parse_target(w, &target);
-  if (!s || w.size() != 4)
-    return fail(err, kExitUsage, "download: " + (s ? "want NODE INDEX SUB FILE" : s.message()));
+  if (!s) return fail(err, kExitUsage, "download: " + s.message());
   std::ifstream f(w[3], std::ios::binary);
   if (!f) return fail(err, kExitUsage, "download: cannot read " + w[3]);
   const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());

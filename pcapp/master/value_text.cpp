@@ -38,7 +38,8 @@ Status resolve_type(const std::string& word, const std::string& eds_path, uint16
                     eds::DataType* type) {
   if (!word.empty()) {
     const auto t = type_of_word(word);
-    if (!t) return Status::failure("unknown type '" + word + "' (" + type_words() + ")");
+    if (!t)
+      return Status::failure("TYPE must be one of " + std::string(type_words()) + ", got \"" + word + "\"");
     *type = *t;
     return Status::ok();
   }

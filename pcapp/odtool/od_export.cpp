@@ -2,8 +2,10 @@
 
 #include <cstdio>
 
+#include "canopen/pdo_map.h"
 #include "eds_value.h"
 #include "gateway/gateway.h"
+#include "gateway/register_map.h"
 
 namespace mb2co {
 namespace odtool {
@@ -307,38 +309,36 @@ std::string register_map_markdown(const ObjectDictionary& od) {
        "hears. It answers when the CAN transfer is done (a master waits up to 1 s); 2000h/10 = 0\n"
        "turns it off (exception 01). Layout, rules and examples: docs/gateway-network.md.\n";
   static const struct {
-    uint16_t index;
+    modbus::Table table;
     const char* title;
-    bool registers;
-  } tables[] = {{0x2400, "Holding registers (FC 03, 06, 10h, 17h)", true},
-                {0x2401, "Input registers (FC 04)", true},
-                {0x2402, "Coils (FC 01, 05, 0Fh)", false},
-                {0x2403, "Discrete inputs (FC 02)", false}};
+  } tables[] = {{modbus::Table::kHoldingRegisters, "Holding registers (FC 03, 06, 10h, 17h)"},
+                {modbus::Table::kInputRegisters, "Input registers (FC 04)"},
+                {modbus::Table::kCoils, "Coils (FC 01, 05, 0Fh)"},
+                {modbus::Table::kDiscreteInputs, "Discrete inputs (FC 02)"}};
   for (const auto& t : tables) {
     s += std::string("\n## ") + t.title +
          "\n\n| address | OD entry | bits | type | access | meaning |\n|---|---|---|---|---|---|\n";
-    const uint16_t row0 = od.find(t.index, 0);
-    const uint32_t count = od.get(row0);
-    uint32_t at = 0;
-    for (uint32_t k = 1; k <= count; ++k) {
-      const uint32_t entry = od.get(static_cast<uint16_t>(row0 + k));
-      const uint16_t index = static_cast<uint16_t>(entry >> 16);
-      const uint8_t sub = static_cast<uint8_t>(entry >> 8);
-      const uint8_t bits = static_cast<uint8_t>(entry);
-      // One register per 16 bits (OdRegisterBank).
-      const uint32_t width = (t.registers && entry != 0 && bits > 16) ? (bits + 15u) / 16u : 1;
-      const std::string addr =
-          width >= 2 ? std::to_string(at) + "-" + std::to_string(at + width - 1) : std::to_string(at);
-      if (entry == 0) {
+    // The addresses as the gateway lays them out (gateway/register_map.h).
+    gateway::MapWalk<gateway::OdMapEntries> walk(gateway::OdMapEntries(od, t.table),
+                                                 gateway::is_bit_table(t.table));
+    while (walk.next()) {
+      const gateway::MapItem& item = walk.item();
+      const uint32_t at = item.first;
+      const std::string addr = item.width >= 2
+                                   ? std::to_string(at) + "-" + std::to_string(at + item.width - 1)
+                                   : std::to_string(at);
+      if (item.entry == 0) {
         s += "| " + addr + " | - | - | - | - | unmapped |\n";
-      } else {
-        const uint16_t row = od.find(index, sub);
-        const OdEntry e = od.entry(row);
-        const bool writable = (e.attr & canopen::kAttrWrite) != 0;
-        s += "| " + addr + " | " + hex(index, 4) + "h/" + hex(sub, 2) + " | " + std::to_string(bits) + " | " +
-             type_name(e.data_type()) + " | " + (writable ? "rw" : "ro") + " | " + name_of(od, row) + " |\n";
+        continue;
       }
-      at += width;
+      const uint16_t index = canopen::map_index(item.entry);
+      const uint8_t sub = canopen::map_sub(item.entry);
+      const uint8_t bits = canopen::map_bits(item.entry);
+      const uint16_t row = od.find(index, sub);
+      const OdEntry e = od.entry(row);
+      const bool writable = (e.attr & canopen::kAttrWrite) != 0;
+      s += "| " + addr + " | " + hex(index, 4) + "h/" + hex(sub, 2) + " | " + std::to_string(bits) + " | " +
+           type_name(e.data_type()) + " | " + (writable ? "rw" : "ro") + " | " + name_of(od, row) + " |\n";
     }
   }
   return s;

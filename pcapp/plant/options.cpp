@@ -4,6 +4,7 @@
 #include <QCoreApplication>
 #include <type_traits>
 
+#include "host/cli_messages.h"
 #include "host/cli_values.h"
 
 namespace mb2co {
@@ -16,12 +17,27 @@ const char kDescription[] =
     "  station (default)  run the station: START/STOP/STOP2 on the Arduino, RUN state to it\n"
     "  latency            latency lab: a button mirrored to the lab LED, delay per press";
 
-bool to_int(const QString& text, long lo, long hi, long& out) {
-  bool ok = false;
-  const long v = text.toLong(&ok, 10);
-  if (!ok || v < lo || v > hi) return false;
-  out = v;
-  return true;
+const char kProgram[] = "mb2co-plant";
+
+std::string word(const QString& text) {
+  return text.toStdString();
+}
+
+/// Qt's parse errors in the wording of docs/cli.md (shared/host/cli_messages.h).
+Status parse_error(const QCommandLineParser& p, const QList<QCommandLineOption>& all) {
+  if (!p.unknownOptionNames().isEmpty()) {
+    const QString name = p.unknownOptionNames().front();
+    std::vector<std::string> known = {"--help", "--version"};
+    for (const QCommandLineOption& opt : all) known.push_back("--" + word(opt.names().back()));
+    return Status::failure(
+        cli::unknown_option(kProgram, "", word((name.size() == 1 ? "-" : "--") + name), known));
+  }
+  // Qt says "Missing value after '--port'." and "Unexpected value after '--plain'.".
+  const QString text = p.errorText();
+  const QString name = text.section('\'', 1, 1);
+  if (text.startsWith("Missing value after '")) return Status::failure(word(name) + " needs a value");
+  if (text.startsWith("Unexpected value after '")) return Status::failure(word(name) + " takes no value");
+  return Status::failure(word(text) + " " + cli::try_help(kProgram, ""));
 }
 
 bool standard_baud(long b) {
@@ -34,7 +50,6 @@ bool standard_baud(long b) {
 }  // namespace
 
 Status parse_options(const QStringList& args, AppOptions& o) {
-  QString message;
   QCommandLineParser p;
   p.setApplicationDescription(QString::fromUtf8(kDescription));
   const QCommandLineOption help = p.addHelpOption();
@@ -55,8 +70,10 @@ Status parse_options(const QStringList& args, AppOptions& o) {
                                  "step_ms, else 20).",
                                  "MS");
   const QCommandLineOption config("config", "Plant config file (docs/plant.md).", "FILE");
-  const QCommandLineOption timeout("timeout-ms", "Modbus response timeout 1..10000 ms (default 25).", "MS",
-                                   "25");
+  const QCommandLineOption timeout("timeout-ms",
+                                   "Modbus response timeout 1..10000 ms (default: the longest exchange "
+                                   "at --baud + the gateway's reply time + 25 ms; 36 at 115200).",
+                                   "MS");
   const QCommandLineOption retries("retries", "Retries after a timeout or bad frame 0..10 (default 2).", "N",
                                    "2");
   const QCommandLineOption boot("boot-wait-ms",
@@ -86,22 +103,7 @@ Status parse_options(const QStringList& args, AppOptions& o) {
   p.addOptions(all);
   p.addOption(list_options);
 
-  // The wording of docs/cli.md, not Qt's: "unknown option --x", "--x needs a value".
-  if (!p.parse(args)) {
-    if (!p.unknownOptionNames().isEmpty()) {
-      const QString name = p.unknownOptionNames().front();
-      return Status::failure(
-          QString((name.size() == 1 ? "unknown option -" : "unknown option --") + name + " (try --help)")
-              .toStdString());
-    }
-    const QString missing = "Missing value after '";
-    if (p.errorText().startsWith(missing)) {
-      QString name = p.errorText().mid(missing.size());
-      name.chop(2);  // "'."
-      return Status::failure(QString(name + " needs a value").toStdString());
-    }
-    return Status::failure(QString(p.errorText() + " (try --help)").toStdString());
-  }
+  if (!p.parse(args)) return parse_error(p, all);
   if (p.isSet(help)) {
     o.exit_text = p.helpText();
     return Status::ok();
@@ -124,9 +126,14 @@ Status parse_options(const QStringList& args, AppOptions& o) {
     }
   }
   const QStringList pos = p.positionalArguments();
-  if (pos.size() > 1 || (pos.size() == 1 && pos[0] != "station" && pos[0] != "latency")) {
-    return Status::failure(
-        QString("unknown mode '" + pos.join(' ') + "' (station or latency)").toStdString());
+  if (pos.size() > 1) {
+    return Status::failure("unexpected argument \"" + word(pos[1]) + "\" " + cli::try_help(kProgram, ""));
+  }
+  if (pos.size() == 1 && pos[0] != "station" && pos[0] != "latency") {
+    const std::string near = cli::nearest_word(word(pos[0]), {"station", "latency"});
+    return Status::failure("unknown mode \"" + word(pos[0]) + "\" (" +
+                           (near.empty() ? "station or latency" : "did you mean " + near + "?") + ") " +
+                           cli::try_help(kProgram, ""));
   }
   o.latency = pos.size() == 1 && pos[0] == "latency";
   o.list_ports = p.isSet(list);
@@ -137,14 +144,12 @@ Status parse_options(const QStringList& args, AppOptions& o) {
   o.log = p.value(log);
   o.csv = p.value(csv);
 
-  long v = 0;
-  auto number = [&](const QCommandLineOption& opt, long lo, long hi, auto& field) {
+  Status bad;
+  auto number = [&](const QCommandLineOption& opt, uint64_t lo, uint64_t hi, auto& field) {
     if (!p.isSet(opt) && opt.defaultValues().isEmpty()) return true;
-    if (!to_int(p.value(opt), lo, hi, v)) {
-      message = "bad --" + opt.names().front() + " '" + p.value(opt) + "' (want " + QString::number(lo) +
-                ".." + QString::number(hi) + ")";
-      return false;
-    }
+    uint64_t v = 0;
+    bad = cli::parse_uint("--" + word(opt.names().front()), word(p.value(opt)), lo, hi, &v);
+    if (!bad) return false;
     field = static_cast<std::remove_reference_t<decltype(field)>>(v);
     return true;
   };
@@ -153,12 +158,11 @@ Status parse_options(const QStringList& args, AppOptions& o) {
       !number(retries, 0, 10, o.retries) || !number(boot, 0, 60000, o.boot_wait_ms) ||
       !number(reconnect, 100, 600000, o.reconnect_max_ms) || !number(cycles, 1, 4000000000L, o.cycles) ||
       !number(presses, 1, 1000000, o.presses)) {
-    return Status::failure(message.toStdString());
+    return bad;
   }
   if (!standard_baud(o.baud)) {
     return Status::failure(
-        QString("bad --baud '" + p.value(baud) + "' (a standard rate such as 9600, 19200, 115200)")
-            .toStdString());
+        cli::bad_value("--baud", "a standard rate such as 9600, 19200, 115200", word(p.value(baud))));
   }
   cli::Parity par = cli::Parity::kNone;
   Status parity_ok = cli::parse_parity("--parity", p.value(parity).toStdString(), &par);
@@ -173,8 +177,7 @@ Status parse_options(const QStringList& args, AppOptions& o) {
   const QString b = p.value(button).toUpper();
   o.button = b == "START" ? 1 : b == "STOP" ? 2 : b == "STOP2" ? 4 : 0;
   if (o.button == 0) {
-    return Status::failure(
-        QString("bad --button '" + p.value(button) + "' (START, STOP or STOP2)").toStdString());
+    return Status::failure(cli::bad_value("--button", "START, STOP or STOP2", word(p.value(button))));
   }
   const bool latency_only = p.isSet(remote) || p.isSet(button) || p.isSet(presses) || p.isSet(csv);
   if (!o.latency && latency_only) {

@@ -21,10 +21,10 @@ struct AppOptions {
   TcpAddress tcp;
   int baud = 115200;
   char parity = 'N';
-  int slave = 1;      ///< --tcp: the unit id, 255 unless given
-  int cycle_ms = -1;  ///< -1: the config's step_ms if it sets one, else 20
-  QString config;     ///< plant config file (station mode)
-  int timeout_ms = 25;
+  int slave = 1;        ///< --tcp: the unit id, 255 unless given
+  int cycle_ms = -1;    ///< -1: the config's step_ms if it sets one, else 20
+  QString config;       ///< plant config file (station mode)
+  int timeout_ms = -1;  ///< -1: derived from the line (derived_timeout_ms, transaction_plan.h)
   int retries = 2;
   int boot_wait_ms = -1;  ///< -1: 2000 for an Arduino port, 0 otherwise
   int reconnect_max_ms = 5000;

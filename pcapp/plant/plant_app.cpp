@@ -110,7 +110,9 @@ int PlantApp::prepare() {
   sc.link.baud = options_.baud;
   sc.link.parity = options_.parity;
   sc.link.slave = options_.slave;
-  sc.link.timeout_ms = options_.timeout_ms;
+  const timing::SerialFormat wire = serial_format(options_);
+  sc.link.timeout_ms = options_.timeout_ms > 0 ? options_.timeout_ms
+                                               : derived_timeout_ms(plan_, options_.on_tcp ? nullptr : &wire);
   sc.link.retries = options_.retries;
   sc.boot_wait_ms = options_.boot_wait_ms;
   sc.reconnect_max_ms = options_.reconnect_max_ms;

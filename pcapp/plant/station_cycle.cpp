@@ -81,45 +81,37 @@ const char* neighbour_name(plant::NeighbourState s) {
 }  // namespace
 
 StationCycle::StationCycle(const RegisterLayout& layout, const plant::PlantConfig& config)
-    : layout_(layout), plant_(config), controller_(plant::controller_config_for(config)) {}
+    : layout_(layout), cycle_(config) {}
 
 std::vector<Field> StationCycle::required_reads() const {
-  return {Field::inputs,     Field::run_state,   Field::stop2_count, Field::stop_cause, Field::prev_run,
-          Field::prev_stop2, Field::prev_status, Field::next_run,    Field::next_status};
+  return {plant::kStationReads, plant::kStationReads + plant::kStationReadCount};
 }
 
 std::vector<Field> StationCycle::optional_reads() const {
-  return {Field::leds, Field::start_count, Field::stop_count, Field::error_register, Field::nmt_state};
+  return {plant::kStationOptionalReads, plant::kStationOptionalReads + plant::kStationOptionalReadCount};
 }
 
 void StationCycle::step(const RegisterImage& in, RegisterImage& out) {
-  const uint8_t buttons_before = panel_.buttons;
-  panel_ = decode_panel(layout_, in);
-  if (!panel_known_ || panel_.buttons != buttons_before) event_ = "buttons " + buttons_text(panel_.buttons);
-  panel_known_ = true;
-  const plant::ControllerCounters before = controller_.counters();
-  const State state_before = controller_.state();
-  const bool confirmed = run_written_[0] && run_written_[1];
-  const plant::ControllerOutputs& o =
-      controller_.step(controller_inputs(panel_, confirmed, plant_.sensors()));
-  plant_.step(o.plant);
-  const bool run = o.run == plant::RunState::running;
+  const uint8_t buttons_before = cycle_.panel().buttons;
+  const bool known_before = cycle_.panel_known();
+  const plant::ControllerCounters before = cycle_.controller().counters();
+  const State state_before = cycle_.controller().state();
+  const bool run = cycle_.step(decode_panel(layout_, in));
+  if (!known_before || cycle_.panel().buttons != buttons_before) {
+    event_ = "buttons " + buttons_text(cycle_.panel().buttons);
+  }
   out.put(layout_, Field::run_command, run ? 1u : 0u);
-  run_written_[1] = run_written_[0];
-  run_written_[0] = run;
   note_changes(before, state_before);
 }
 
 void StationCycle::step_offline() {
-  plant_.step(controller_.outputs().plant);
+  cycle_.step_offline();
 }
 
 void StationCycle::link_lost() {
-  const plant::ControllerCounters before = controller_.counters();
-  const State state_before = controller_.state();
-  controller_.force_safe();
-  run_written_[0] = run_written_[1] = false;  // the gateway may come back reset
-  panel_known_ = false;
+  const plant::ControllerCounters before = cycle_.controller().counters();
+  const State state_before = cycle_.controller().state();
+  cycle_.link_lost();
   note_changes(before, state_before);
 }
 
@@ -128,17 +120,17 @@ void StationCycle::safe_outputs(RegisterImage& out) const {
 }
 
 void StationCycle::note_changes(const plant::ControllerCounters& before, State state_before) {
-  const State now = controller_.state();
+  const State now = controller().state();
   if (now == state_before) return;
   if (!event_.empty()) event_ += '\n';
   event_ += std::string("state ") + state_name(now);
   for (uint8_t c = 0; c < plant::kStopCauseCount; ++c) {
-    if (controller_.counters().stops[c] != before.stops[c]) {
+    if (controller().counters().stops[c] != before.stops[c]) {
       event_ += std::string(" cause=") + stop_cause_name(static_cast<StopCause>(c));
       break;
     }
   }
-  if (now == State::fault) event_ += std::string(" fault=") + fault_name(controller_.fault());
+  if (now == State::fault) event_ += std::string(" fault=") + fault_name(controller().fault());
 }
 
 std::string StationCycle::take_event() {
@@ -148,13 +140,13 @@ std::string StationCycle::take_event() {
 }
 
 std::string StationCycle::status() const {
-  const plant::Sensors s = plant_.sensors();
-  const plant::ControllerInputs in = controller_inputs(panel_, false, s);
-  std::string line = std::string("station ") + state_name(controller_.state());
+  const plant::Sensors s = plant().sensors();
+  const plant::ControllerInputs in = controller_inputs(panel(), false, s);
+  std::string line = std::string("station ") + state_name(controller().state());
   line += std::string(" | prev ") + neighbour_name(in.prev_run) + " next " + neighbour_name(in.next_run);
-  line += " | bottles filled " + std::to_string(controller_.counters().bottles_filled) + " out " +
-          std::to_string(plant_.counters().handed_off) + " | level " + std::to_string(s.level_ml) + " mL";
-  line += " | buttons " + buttons_text(panel_.buttons);
+  line += " | bottles filled " + std::to_string(controller().counters().bottles_filled) + " out " +
+          std::to_string(plant().counters().handed_off) + " | level " + std::to_string(s.level_ml) + " mL";
+  line += " | buttons " + buttons_text(panel().buttons);
   return line;
 }
 
@@ -165,32 +157,32 @@ std::vector<const char*> StationCycle::column_names() const {
 }
 
 void StationCycle::columns(std::vector<LogValue>& out) const {
-  const plant::Sensors s = plant_.sensors();
-  const plant::ControllerOutputs& o = controller_.outputs();
+  const plant::Sensors s = plant().sensors();
+  const plant::ControllerOutputs& o = controller().outputs();
   auto n = [&](int64_t v) { out.push_back(LogValue{v, nullptr}); };
   auto t = [&](const char* v) { out.push_back(LogValue{0, v}); };
-  n(panel_.buttons);
-  n(panel_.run_state);
-  n(panel_.stop_cause);
-  n(panel_.stop2_count);
-  n(panel_.prev_stop2);
-  t(neighbour_name(neighbour_state(panel_.prev_status, panel_.prev_run)));
-  t(neighbour_name(neighbour_state(panel_.next_status, panel_.next_run)));
-  n(panel_.leds);
-  n(run_written_[0] ? 1 : 0);
-  t(state_name(controller_.state()));
+  n(panel().buttons);
+  n(panel().run_state);
+  n(panel().stop_cause);
+  n(panel().stop2_count);
+  n(panel().prev_stop2);
+  t(neighbour_name(neighbour_state(panel().prev_status, panel().prev_run)));
+  t(neighbour_name(neighbour_state(panel().next_status, panel().next_run)));
+  n(panel().leds);
+  n(cycle_.run_command() ? 1 : 0);
+  t(state_name(controller().state()));
   n(o.plant.motor_on ? 1 : 0);
   n(o.plant.valve_open ? 1 : 0);
   n(s.bottle_present ? 1 : 0);
   n(s.level_ml);
-  n(controller_.counters().bottles_filled);
-  n(plant_.counters().handed_off);
-  n(static_cast<int64_t>(plant_.counters().spilled_ul));
+  n(controller().counters().bottles_filled);
+  n(plant().counters().handed_off);
+  n(static_cast<int64_t>(plant().counters().spilled_ul));
 }
 
 std::string StationCycle::summary() const {
-  const plant::ControllerCounters& c = controller_.counters();
-  const plant::PlantCounters& p = plant_.counters();
+  const plant::ControllerCounters& c = controller().counters();
+  const plant::PlantCounters& p = plant().counters();
   std::string s = "starts=" + std::to_string(c.starts) + " filled=" + std::to_string(c.bottles_filled) +
                   " handed_off=" + std::to_string(p.handed_off) +
                   " overfilled=" + std::to_string(p.overfilled) +

@@ -1,9 +1,10 @@
-// The station mode: one plant step and one controller step per cycle
-// (docs/plant.md "The cycle"); the RUN command goes back to the gateway.
+// The station mode: the station cycle of shared/plant (one controller step
+// and one plant step per cycle, docs/plant.md "The cycle") on the registers
+// the app read; the RUN command goes back to the gateway. This file adds what
+// the app shows of it: events, the status line, log columns, the summary.
 #pragma once
 #include "cycle_mode.h"
-#include "plant/controller.h"
-#include "plant/plant.h"
+#include "plant/station_cycle.h"
 
 namespace mb2co {
 namespace pcapp {
@@ -28,21 +29,15 @@ class StationCycle : public CycleMode {
   void columns(std::vector<LogValue>& out) const override;
   std::string summary() const override;
 
-  const plant::Controller& controller() const { return controller_; }
-  const plant::Plant& plant() const { return plant_; }
-  const Panel& panel() const { return panel_; }
+  const plant::Controller& controller() const { return cycle_.controller(); }
+  const plant::Plant& plant() const { return cycle_.plant(); }
+  const Panel& panel() const { return cycle_.panel(); }
 
  private:
   void note_changes(const plant::ControllerCounters& before, plant::State state_before);
 
   const RegisterLayout& layout_;
-  plant::Plant plant_;
-  plant::Controller controller_;
-  Panel panel_;
-  bool panel_known_ = false;  ///< a read since the start / the last link loss
-  /// RUN commands written at the last two writes (the newest first): a
-  /// command is confirmed once it preceded a whole read (see controller_inputs).
-  bool run_written_[2] = {false, false};
+  plant::StationCycle cycle_;
   std::string event_;
 };
 

@@ -137,5 +137,19 @@ size_t transaction_count(const TransactionPlan& plan) {
   return exchanges(plan).size();
 }
 
+int derived_timeout_ms(const TransactionPlan& plan, const timing::SerialFormat* format) {
+  uint64_t exchange_ns = kGatewayReplyNs;  // Modbus/TCP: no wire time
+  if (format != nullptr) {
+    std::vector<timing::RtuExchange> all = exchanges(plan);
+    all.push_back(kIdentificationExchange);
+    for (const timing::RtuExchange& x : all) {
+      const uint64_t t35 = timing::t35_ns(*format);
+      exchange_ns =
+          std::max(exchange_ns, timing::transaction_timing(*format, x, t35, 0, kGatewayReplyNs).worst_ns);
+    }
+  }
+  return static_cast<int>((exchange_ns + kHostMarginNs + 999999u) / 1000000u);
+}
+
 }  // namespace pcapp
 }  // namespace mb2co

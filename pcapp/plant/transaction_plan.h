@@ -52,5 +52,28 @@ uint64_t plan_frame_time_ns(const TransactionPlan& plan, const timing::SerialFor
 /// Transactions per cycle.
 size_t transaction_count(const TransactionPlan& plan);
 
+/// The Uno gateway's reply time the response timeout allows for, from the
+/// end of a request's t3.5 to the first byte of its answer: its slowest
+/// answer (FC 04 of the whole map, 2,012 µs), one loop pass to notice the
+/// silence (≤ 428 µs) and a CAN frame handed in in that pass (≤ 736 µs),
+/// 3,176 µs measured cycle-exactly (docs/performance.md, "Gateway on the
+/// Uno"), rounded up.
+constexpr uint64_t kGatewayReplyNs = 4000000;
+/// What a loaded host adds: the app, a USB adapter's latency timer or the
+/// simulated Uno not scheduled for a while (the old fixed 25 ms timeout,
+/// which alone retried on a loaded host).
+constexpr uint64_t kHostMarginNs = 25000000;
+/// FC 2B/0E basic device identification, the link check: request 7 bytes;
+/// the answer (vendor, product and version of the gateway, 39 bytes with
+/// version 0.1.0) bounded at 48 bytes.
+constexpr timing::RtuExchange kIdentificationExchange = {7, 48};
+
+/// The response timeout derived from the line (docs/mb2co-plant.md, "Response
+/// timeout"): the longest transaction the app makes (the cycle's and FC 2B/0E)
+/// request + answer frames at `format`, + the slave's t3.5 + kGatewayReplyNs
+/// + kHostMarginNs, in whole ms rounded up. `format` null: Modbus/TCP, no
+/// wire time.
+int derived_timeout_ms(const TransactionPlan& plan, const timing::SerialFormat* format);
+
 }  // namespace pcapp
 }  // namespace mb2co

@@ -4,6 +4,7 @@
 
 #include "command_parts.h"
 #include "csv_set.h"
+#include "host/cli_messages.h"
 #include "serial_command.h"
 #include "timing/time_base.h"
 
@@ -39,12 +40,14 @@ Status message_set_option(const Options& o, std::vector<timing::MessageSpec>& se
   }
   for (const char* name : kLineOptions) {
     if (o.has(name)) {
-      return Status::failure(std::string("option ") + name + " describes a line: add --line N");
+      return Status::failure(std::string(name) + " describes a line: add --line N");
     }
   }
   if (o.positional.size() != 1) {
-    return Status::failure(o.positional.empty() ? "missing FILE.csv (or --line N)"
-                                                : "unexpected argument \"" + o.positional[1] + "\"");
+    const std::string command = o.args.command != nullptr ? o.args.command->name : "";
+    return Status::failure(o.positional.empty()
+                               ? cli::missing_operand(program().name, command, "FILE.csv (or --line N)")
+                               : "unexpected argument \"" + o.positional[1] + "\"");
   }
   if (!o.has("--bitrate")) {
     return Status::failure("missing --bitrate B (bit/s) for " + o.positional[0]);

@@ -12,8 +12,7 @@ namespace {
 
 Status parse_hex_bytes(const std::string& hex, CanFrame& frame) {
   if (hex.size() % 2 != 0 || hex.size() > 16) {
-    return Status::failure("option --data must be 0..8 bytes as an even number of hex digits, got \"" + hex +
-                           "\"");
+    return Status::failure("--data must be 0..8 bytes as an even number of hex digits, got \"" + hex + "\"");
   }
   for (size_t i = 0; i < hex.size(); i += 2) {
     unsigned value = 0;
@@ -24,7 +23,7 @@ Status parse_hex_bytes(const std::string& hex, CanFrame& frame) {
                         : c >= 'A' && c <= 'F' ? c - 'A' + 10
                                                : -1;
       if (digit < 0) {
-        return Status::failure("option --data must be hex digits, got \"" + hex + "\"");
+        return Status::failure("--data must be hex digits, got \"" + hex + "\"");
       }
       value = value * 16u + static_cast<unsigned>(digit);
     }
@@ -48,7 +47,7 @@ Status parse_id(const std::string& text, bool extended, uint32_t* id) {
     v = v * (hex ? 16u : 10u) + static_cast<uint64_t>(digit < 0 ? 0 : digit);
   }
   if (!ok || v > max) {
-    return Status::failure(std::string("option --id must be ") + (extended ? "0..0x1FFFFFFF" : "0..0x7FF") +
+    return Status::failure(std::string("--id must be ") + (extended ? "0..0x1FFFFFFF" : "0..0x7FF") +
                            " (decimal or 0x-hex), got \"" + text + "\"");
   }
   *id = static_cast<uint32_t>(v);
@@ -58,7 +57,7 @@ Status parse_id(const std::string& text, bool extended, uint32_t* id) {
 Status exact_frame(const Options& o, uint32_t bitrate, timing::WorstCase convention, std::ostream& out,
                    Format format) {
   if (!o.has("--id")) {
-    return Status::failure("option --data/--rtr needs --id");
+    return Status::failure("--data/--rtr needs --id");
   }
   CanFrame frame{};
   frame.flags = static_cast<uint8_t>((o.has("--ext") ? CanFrame::kExtended : 0) |
@@ -70,8 +69,7 @@ Status exact_frame(const Options& o, uint32_t bitrate, timing::WorstCase convent
     uint64_t dlc = 0;
     if (!(s = uint_option(o, "--dlc", 0, 8, 0, &dlc))) return s;
     if (!frame.rtr() && o.has("--data") && dlc != frame.dlc) {
-      return Status::failure("option --dlc disagrees with the " + std::to_string(frame.dlc) +
-                             " bytes of --data");
+      return Status::failure("--dlc disagrees with the " + std::to_string(frame.dlc) + " bytes of --data");
     }
     frame.dlc = static_cast<uint8_t>(dlc);
   }

@@ -31,8 +31,8 @@ Status uint_list(const Options& o, const char* name, unsigned min, unsigned max,
       v = v * 10u + static_cast<unsigned>(c - '0');
     }
     if (!ok || v < min || v > max) {
-      return Status::failure("option " + std::string(name) + " must be a list of whole numbers " +
-                             std::to_string(min) + ".." + std::to_string(max) + ", got \"" + text + "\"");
+      return Status::failure(std::string(name) + " must be a list of whole numbers " + std::to_string(min) +
+                             ".." + std::to_string(max) + ", got \"" + text + "\"");
     }
     out->push_back(v);
     from = comma + 1;
@@ -71,7 +71,7 @@ Status settings(const Options& o, Settings* st) {
   c.guard_us = static_cast<uint32_t>(args.uint("--guard-us", 100));
   st->dlc = static_cast<uint8_t>(args.uint("--dlc", 8));
   if (!(s = uint_list(o, "--ahead", 0, 8, &st->ahead))) return s;
-  if (st->ahead.size() > 8) return Status::failure("option --ahead takes at most 8 messages");
+  if (st->ahead.size() > 8) return Status::failure("--ahead takes at most 8 messages");
   st->missing = static_cast<uint8_t>(args.uint("--missing", 0));
   st->bridge = args.has("--bridge-us");
   st->bridge_us = static_cast<uint32_t>(args.uint("--bridge-us", 0));

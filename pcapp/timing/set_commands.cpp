@@ -146,7 +146,7 @@ Status rta_command(const Options& o, std::ostream& out, bool* deadline_missed, b
       if (o.get("--message") == a.set[i].name) target = i;
     }
     if (target == n) {
-      return Status::failure("option --message: no message named \"" + o.get("--message") + "\"");
+      return Status::failure("--message: no message named \"" + o.get("--message") + "\"");
     }
     if (results[target].revised != timing::Bound::kBounded) {
       return Status::failure("message \"" + o.get("--message") + "\" has no bounded busy period to draw");

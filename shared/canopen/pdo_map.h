@@ -10,13 +10,13 @@
 namespace mb2co {
 namespace canopen {
 
-inline uint16_t map_index(uint32_t entry) {
+constexpr uint16_t map_index(uint32_t entry) {
   return static_cast<uint16_t>(entry >> 16);
 }
-inline uint8_t map_sub(uint32_t entry) {
+constexpr uint8_t map_sub(uint32_t entry) {
   return static_cast<uint8_t>(entry >> 8);
 }
-inline uint8_t map_bits(uint32_t entry) {
+constexpr uint8_t map_bits(uint32_t entry) {
   return static_cast<uint8_t>(entry);
 }
 inline bool map_is_dummy(uint32_t entry) {

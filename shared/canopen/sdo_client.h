@@ -217,6 +217,13 @@ class SdoClient : private SdoClientState {
   bool size_known() const {
     return size_known_;
   }
+  /// The object of the current (or last) transfer.
+  uint16_t index() const {
+    return index_;
+  }
+  uint8_t subindex() const {
+    return sub_;
+  }
 #if MB2CO_CONFIG_SDO_BLOCK
   /// True when the current/last transfer was a block transfer with CRC.
   bool crc_used() const {

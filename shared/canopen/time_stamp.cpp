@@ -12,20 +12,6 @@
 namespace mb2co {
 namespace canopen {
 
-void encode_time_of_day(const TimeOfDay& t, uint8_t* out6) {
-  const uint32_t ms = t.ms & 0x0FFFFFFFu;
-  for (uint8_t i = 0; i < 4; ++i) out6[i] = static_cast<uint8_t>(ms >> (8 * i));
-  out6[4] = static_cast<uint8_t>(t.days);
-  out6[5] = static_cast<uint8_t>(t.days >> 8);
-}
-
-TimeOfDay decode_time_of_day(const uint8_t* in6) {
-  TimeOfDay t;
-  t.ms = le32(in6) & 0x0FFFFFFFu;  // bits 28-31 reserved (CO_TIME.c masks them too)
-  t.days = static_cast<uint16_t>(in6[4] | (in6[5] << 8));
-  return t;
-}
-
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
               "OD values are stored little-endian: loaded in place");
 

@@ -24,32 +24,15 @@
 #include "canopen/clock.h"
 #include "canopen/od.h"
 #include "canopen/sdo_abort.h"
+#include "canopen/time_of_day.h"
 #include "profiles/profile.h"
 
 namespace mb2co {
 namespace canopen {
 
-/// TIME_OF_DAY (CiA 301 §7.1.6.5): 28 bits of ms after midnight, days since
-/// 1984-01-01.
-struct TimeOfDay {
-  uint32_t ms;    ///< 0 .. kMsPerDay - 1
-  uint16_t days;  ///< since 1984-01-01
-};
-const uint32_t kMsPerDay = 86400000u;
-const uint8_t kTimeFrameLength = 6;
 /// 1012h bits (CANopenNode CO_TIME.c: isConsumer, isProducer).
 const uint32_t kTimeConsumer = 0x80000000u;
 const uint32_t kTimeProducer = 0x40000000u;
-
-/// The network clock's reading (µs since 1984-01-01, mod 2^32) at `t`.
-/// One day is 86,400,000,000 µs = 500,654,080 mod 2^32.
-inline uint32_t network_us_of(const TimeOfDay& t) {
-  return static_cast<uint32_t>(t.days) * 500654080u + t.ms * 1000u;
-}
-/// The 6 bytes of a TIME frame (little-endian UNSIGNED32 ms with the top 4
-/// bits 0, UNSIGNED16 days).
-void encode_time_of_day(const TimeOfDay& t, uint8_t* out6);
-TimeOfDay decode_time_of_day(const uint8_t* in6);
 
 #if MB2CO_CONFIG_TIME
 /// Members start at zero (the owner value-initialises it); init() after

@@ -186,29 +186,6 @@ MB2CO_OD_DECLARE(Gateway, MB2CO_GATEWAY_OD)
 MB2CO_OD_DEFAULTS(Gateway, MB2CO_GATEWAY_OD)
 }  // namespace od
 
-/// Modbus address of `entry` in the default map `map_index` (2400h-2403h),
-/// laid out as OdRegisterBank does (an entry takes one register per 16 bits,
-/// every bit one address); 0xFFFF when that map does not hold it by default. For
-/// programs that talk to a gateway with the default map and want its
-/// addresses as named constants (the simulator's PC programs); a map that
-/// may have been changed is read from the OD instead (pcapp RegisterLayout).
-constexpr uint16_t default_map_address(uint16_t map_index, canopen::OdKey entry) {
-  const bool bit_table = map_index == 0x2402 || map_index == 0x2403;
-  uint32_t count = 0;
-  uint16_t address = 0;
-  for (const canopen::OdDefault& d : od::GatewayDefaults) {
-    if (d.index != map_index) continue;
-    if (d.sub == 0) {
-      count = d.value;
-      continue;
-    }
-    if (d.sub > count) break;
-    if (d.value != 0 && (d.value >> 16) == entry.index && ((d.value >> 8) & 0xFFu) == entry.sub) return address;
-    address = static_cast<uint16_t>(address + (d.value == 0 || bit_table ? 1 : ((d.value & 0xFFu) + 15) / 16));
-  }
-  return 0xFFFF;
-}
-
 }  // namespace gateway
 }  // namespace mb2co
 // clang-format on

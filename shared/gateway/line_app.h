@@ -18,25 +18,12 @@
 #include "canopen/node.h"
 #include "canopen/od.h"
 #include "gateway/gateway_od.h"
+#include "gateway/line_values.h"
 #include "gateway/stop_cause.h"
 
 namespace mb2co {
 namespace gateway {
 
-enum Button : uint8_t { kStart = 0x01, kStop = 0x02, kStop2 = 0x04 };
-enum Led : uint8_t { kLedRunSelf = 0x01, kLedRunPrev = 0x02, kLedRunNext = 0x04, kLedLab = 0x08 };
-/// 2110h/3, 2120h/3: a neighbour's status (low bits) and a flag.
-enum NeighbourStatus : uint8_t {
-  kNeighbourUnknown = 0,  ///< no heartbeat (lost, or not yet heard): never "running"
-  kNeighbourAlive = 1,
-  kNeighbourNone = 2,  ///< end of a chain: no such station
-  /// Flag beside the status: no TPDO1 of this neighbour since this gateway's
-  /// reset, so its RUN state and STOP2 counter (2110h/1-2, 2120h/1-2) are
-  /// placeholders (0), not values it sent. Cleared by its first TPDO1; a
-  /// lost heartbeat does not set it again (the values then are the last it
-  /// sent). A PC counts no STOP2 events from a counter read with it set.
-  kNeighbourNotHeard = 0x80,
-};
 /// A neighbour whose RUN state is not known: no heartbeat, or alive but no
 /// TPDO1 heard yet (kNeighbourNotHeard); neither alive nor none. Its LED blinks.
 inline bool neighbour_shown_unknown(uint8_t status) {

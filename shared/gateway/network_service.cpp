@@ -45,45 +45,45 @@ uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, ui
   if (s.transfer_running()) return modbus::build_net_exception(pdu, Exception::kServerDeviceBusy);
   const bool next_part = s.phase_ == kDownloadHeld && s.continues_download(m);
   if (s.phase_ == kDownloadHeld && !next_part) s.end_open_download(kAbortGeneral);  // the master moved on
-  s.req_ = m;
+  s.start_ = m.start;
+  s.count_ = m.count;
   if (next_part) {
     s.take_part();
     return 0;
   }
   // How an open download ended between parts is news for its next part only.
-  const SdoAbort ended = s.open_result_;
-  s.open_result_ = kSdoOk;
-  return s.on_request(pdu, capacity, ended);
+  const SdoAbort ended = s.phase_ == kDownloadEnded ? s.client_.result() : kSdoOk;
+  s.phase_ = kIdle;
+  return s.on_request(pdu, capacity, m, ended);
 }
 
-uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, SdoAbort ended) {
-  if (req_.service == NetService::kNmt) return nmt(pdu, capacity);
-  const bool download = req_.service == NetService::kSdoDownload;
+uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, const NetMessage& m, SdoAbort ended) {
+  if (m.service == NetService::kNmt) return nmt(pdu, m);
+  if (m.service == NetService::kNetworkView) return list_view(pdu, capacity, m.node_id);
+  const bool download = m.service == NetService::kSdoDownload;
   SdoAbort code = kSdoOk;
-  if (req_.service == NetService::kNetworkView) {
-    list_view(pdu, capacity);
-  } else if (download && req_.start != 0u) {
+  if (download && m.start != 0u) {
     // A later part with no download open: it continues nothing.
     if (ended == kSdoOk) return modbus::build_net_exception(pdu, Exception::kIllegalDataValue);
     code = ended;
-  } else if (req_.node_id != node_.node_id()) {
-    return start_remote(capacity);
+  } else if (m.node_id != node_.node_id()) {
+    return start_remote(capacity, m);
   } else if (download) {
-    code = local_download();
+    code = local_download(m);
   } else {
-    code = local_upload(pdu, capacity);
+    return local_upload(pdu, capacity, m);
   }
   if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
-  return modbus::build_net_response(pdu, capacity, req_);  // a download response carries no data
+  return modbus::answer_net_request(pdu, false, 0, 0);  // a download's: the request's header and size
 }
 
 // ---- immediate services ----------------------------------------------------
 
-uint16_t NetworkService::nmt(uint8_t* pdu, uint16_t capacity) {
-  const NmtCommand command = static_cast<NmtCommand>(modbus::net_nmt_command(req_));
-  const uint8_t target = req_.node_id;
-  // Built first: a reset of our own node must not find the request gone.
-  const uint16_t length = modbus::build_net_response(pdu, capacity, req_);
+uint16_t NetworkService::nmt(uint8_t* pdu, const NetMessage& m) {
+  const NmtCommand command = static_cast<NmtCommand>(modbus::net_nmt_command(m));
+  const uint8_t target = m.node_id;
+  // The response is the request, in place before a reset of our own node.
+  const uint16_t length = modbus::answer_net_request(pdu, false, 0, 0);
   if (target != node_.node_id()) {
     // CiA 301 NMT node control: COB-ID 000h, command, node id (0: all).
     const uint8_t frame[2] = {static_cast<uint8_t>(command), target};
@@ -93,12 +93,12 @@ uint16_t NetworkService::nmt(uint8_t* pdu, uint16_t capacity) {
   return length;
 }
 
-void NetworkService::list_view(uint8_t* pdu, uint16_t capacity) {
+uint16_t NetworkService::list_view(uint8_t* pdu, uint16_t capacity, uint8_t first) {
   const uint16_t offset = modbus::net::kHeaderBytes;
   const uint16_t room = static_cast<uint16_t>((capacity - offset) / modbus::net::kViewEntryBytes);
   uint16_t count = 0;
   bool more = false;
-  for (uint8_t id = req_.node_id == 0u ? 1u : req_.node_id; id <= 127u; ++id) {
+  for (uint8_t id = first == 0u ? 1u : first; id <= 127u; ++id) {
     modbus::NetViewEntry e = {id, 0, 0};
     if (id == node_.node_id()) {
       e.nmt_state = node_.nmt_state();
@@ -117,66 +117,63 @@ void NetworkService::list_view(uint8_t* pdu, uint16_t capacity) {
     modbus::put_net_view_entry(pdu + offset + modbus::net::kViewEntryBytes * count, e);
     ++count;
   }
-  req_.more_follows = more;
-  req_.count = static_cast<uint16_t>(count * modbus::net::kViewEntryBytes);
-  req_.data = pdu + offset;
-  req_.data_length = req_.count;
+  return modbus::answer_net_request(pdu, more, static_cast<uint16_t>(count * modbus::net::kViewEntryBytes),
+                                    0);
 }
 
 // The gateway's own node: the local OD, as its SDO server would answer.
 // The upload's bytes go where the response carries them (the tail from the
 // starting address: at least the window, within the buffer).
-SdoAbort NetworkService::local_upload(uint8_t* pdu, uint16_t capacity) {
+uint16_t NetworkService::local_upload(uint8_t* pdu, uint16_t capacity, const NetMessage& m) {
   const uint16_t offset = modbus::net::kSizedHeaderBytes;
   uint16_t size = 0;
   const SdoAbort code =
-      od_.read(req_.index, req_.sub, pdu + offset, static_cast<uint16_t>(capacity - offset), &size);
-  if (req_.start < size) memmove(pdu + offset, pdu + offset + req_.start, size - req_.start);
+      od_.read(m.index, m.sub, pdu + offset, static_cast<uint16_t>(capacity - offset), &size);
+  if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
+  if (start_ < size) memmove(pdu + offset, pdu + offset + start_, size - start_);
   set_window(capacity);
-  take_window(pdu, size);
-  return code;
+  return answer_window(pdu, size);
 }
 
-SdoAbort NetworkService::local_download() {
+SdoAbort NetworkService::local_download(const NetMessage& m) {
   // No value of the gateway's OD is longer than one frame: one part only.
-  if (req_.more_follows) return kAbortTooLong;
-  return od_.write(req_.index, req_.sub, req_.data, req_.count);
+  if (m.more_follows) return kAbortTooLong;
+  return od_.write(m.index, m.sub, m.data, m.count);
 }
 
 // ---- remote transfers -------------------------------------------------------
 
-uint16_t NetworkService::start_remote(uint16_t capacity) {
-  client_.init(req_.node_id);
+uint16_t NetworkService::start_remote(uint16_t capacity, const NetMessage& m) {
+  client_.init(m.node_id);
   client_.set_timeout_us(kNetSdoTimeoutUs);
   const SdoData data = {&NetworkService::data_write, &NetworkService::data_read, this};
   in_request_ = true;
-  if (req_.service == NetService::kSdoUpload) {
+  if (m.service == NetService::kSdoUpload) {
     set_window(capacity);
     phase_ = kUpload;
-    client_.start_upload(req_.index, req_.sub, kSdoAuto, data, 0xFFFFFFFFu, now_us_, sink_);
+    client_.start_upload(m.index, m.sub, kSdoAuto, data, 0xFFFFFFFFu, now_us_, sink_);
   } else {
-    part_start_ = 0;
-    part_end_ = req_.count;
-    phase_ = kDownload;
-    client_.start_download(req_.index, req_.sub, req_.more_follows ? kSdoSegmented : kSdoAuto, data,
-                           req_.object_size, now_us_, sink_);
-    client_.set_available(part_end_, sink_);
+    phase_ = kDownload;  // the first part: start_ is 0
+    client_.start_download(m.index, m.sub, m.more_follows ? kSdoSegmented : kSdoAuto, data, m.object_size,
+                           now_us_, sink_);
+    client_.set_available(count_, sink_);
   }
   in_request_ = false;
   return 0;  // answered when the transfer ends (answer())
 }
 
+// The open download's node, object and size are the SDO client's; start_
+// and count_ are still the previous part's.
 bool NetworkService::continues_download(const NetMessage& m) const {
-  return m.service == NetService::kSdoDownload && m.node_id == req_.node_id && m.index == req_.index &&
-         m.sub == req_.sub && m.object_size == req_.object_size && m.start == part_end_;
+  return m.service == NetService::kSdoDownload && client_.request_id() == 0x600u + m.node_id &&
+         m.index == client_.index() && m.sub == client_.subindex() && m.object_size == client_.size() &&
+         m.start == request_end();
 }
 
 void NetworkService::take_part() {
-  part_start_ = req_.start;
-  part_end_ = static_cast<uint32_t>(req_.start) + req_.count;
   phase_ = kDownload;
   in_request_ = true;  // the client reads the part's first segment now
-  client_.set_available(part_end_, sink_);
+  client_.set_available(request_end(), sink_);
   in_request_ = false;
 }
 
@@ -190,9 +187,9 @@ SdoAbort NetworkService::data_read(void* ctx, uint32_t offset, uint8_t* buf, uin
   // The part's data are in the request, still in the frame buffer only
   // while the slave holds the answer open (or the request is in hand);
   // gone when the master sent another frame over it. The client reads
-  // within [0, part_end_) (set_available) and from where it stopped.
-  if (offset < s.part_start_ || (!s.in_request_ && !s.slave_.answer_pending())) return kAbortGeneral;
-  memcpy(buf, s.slave_.response_pdu() + modbus::net::kSizedHeaderBytes + (offset - s.part_start_), n);
+  // within [0, request_end()) (set_available) and from where it stopped.
+  if (offset < s.start_ || (!s.in_request_ && !s.slave_.answer_pending())) return kAbortGeneral;
+  memcpy(buf, s.slave_.response_pdu() + modbus::net::kSizedHeaderBytes + (offset - s.start_), n);
   return kSdoOk;
 }
 
@@ -200,41 +197,38 @@ SdoAbort NetworkService::data_write(void* ctx, uint32_t offset, const uint8_t* d
   NetworkService& s = *static_cast<NetworkService*>(ctx);
   if (!s.slave_.answer_pending()) return kSdoOk;  // answer dropped: the transfer runs on, unkept
   uint8_t* window = s.slave_.response_pdu() + modbus::net::kSizedHeaderBytes;
+  const uint32_t end = s.request_end();
   for (uint16_t i = 0; i < n; ++i) {
     const uint32_t at = offset + i;
-    if (at >= s.req_.start && at < s.window_end_) window[at - s.req_.start] = data[i];
+    if (at >= s.start_ && at < end) window[at - s.start_] = data[i];
   }
   return kSdoOk;
 }
 
 void NetworkService::answer() {
   const bool part = phase_ == kDownloadHeld;
+  const bool upload = phase_ == kUpload;
   if (!part) phase_ = kIdle;
   if (!slave_.answer_pending()) return;  // the master gave it up
   uint8_t* pdu = slave_.response_pdu();
-  const uint16_t capacity = slave_.response_capacity();
   if (!part && client_.status() == SdoClient::kFailed) {
     slave_.send_deferred(modbus::build_net_abort(pdu, client_.result()));
     return;
   }
-  // A download's response carries no data: the request's header and size.
-  if (req_.service == NetService::kSdoUpload) take_window(pdu, client_.size());
-  slave_.send_deferred(modbus::build_net_response(pdu, capacity, req_));
+  // The request is still in the buffer: the answer is built on it.
+  slave_.send_deferred(upload ? answer_window(pdu, client_.size())
+                              : modbus::answer_net_request(pdu, false, 0, 0));
 }
 
 void NetworkService::set_window(uint16_t capacity) {
   const uint16_t room = static_cast<uint16_t>(capacity - modbus::net::kSizedHeaderBytes);
-  const uint16_t want = req_.count == 0u || req_.count > room ? room : req_.count;
-  window_end_ = static_cast<uint32_t>(req_.start) + want;
+  if (count_ == 0u || count_ > room) count_ = room;
 }
 
-void NetworkService::take_window(uint8_t* pdu, uint32_t size) {
-  const uint32_t end = min32(window_end_, size);
-  req_.count = static_cast<uint16_t>(end > req_.start ? end - req_.start : 0u);
-  req_.object_size = size;
-  req_.more_follows = static_cast<uint32_t>(req_.start) + req_.count < size;
-  req_.data = pdu + modbus::net::kSizedHeaderBytes;
-  req_.data_length = req_.count;
+uint16_t NetworkService::answer_window(uint8_t* pdu, uint32_t size) {
+  const uint32_t end = min32(request_end(), size);
+  const uint16_t count = static_cast<uint16_t>(end > start_ ? end - start_ : 0u);
+  return modbus::answer_net_request(pdu, static_cast<uint32_t>(start_) + count < size, count, size);
 }
 
 // ---- driving ------------------------------------------------------------------
@@ -261,10 +255,9 @@ void NetworkService::settle() {
     phase_ = kDownloadHeld;
     return answer();
   }
-  if (phase_ == kIdle || client_.busy()) return;
+  if (phase_ == kIdle || phase_ == kDownloadEnded || client_.busy()) return;
   if (phase_ == kDownloadHeld) {
-    open_result_ = client_.result();
-    phase_ = kIdle;
+    phase_ = kDownloadEnded;  // client_.result() holds the code for the next part
     return;
   }
   answer();

@@ -40,18 +40,20 @@ constexpr uint32_t kNetSdoTimeoutUs = 500000u;
 /// initialised by its constructor (one zero-fill instead of a store per
 /// member; the phase's zero is kIdle).
 struct NetworkServiceState {
-  enum Phase : uint8_t { kIdle, kUpload, kDownload, kDownloadHeld };
+  /// kDownloadEnded: an open download ended between parts (server abort,
+  /// our timeout); the client's result() is the code for its next part.
+  enum Phase : uint8_t { kIdle, kUpload, kDownload, kDownloadHeld, kDownloadEnded };
 
   NetworkView view_;
-  /// The request being served (data: none kept). Its answer is built from
-  /// it: the fields a response changes (count, size, more follows, data)
-  /// are set on it as it is answered; continues_download() reads the rest.
-  modbus::NetMessage req_;
+  /// The request being served, besides what stays in the frame buffer (its
+  /// answer is built there, in place, from it: answer_net_request()) and
+  /// what the SDO client holds (node, object, size): the bytes it touches.
+  /// An upload keeps the window [start_, start_ + count_) (count_: the bytes
+  /// wanted, set_window()); a download part carries bytes [start_, start_ +
+  /// count_) of the object.
+  uint16_t start_;
+  uint16_t count_;
   uint32_t now_us_;
-  uint32_t window_end_;            ///< upload: end of the bytes wanted (start + room)
-  uint32_t part_start_;            ///< download: object offset of the part in the frame
-  uint32_t part_end_;              ///< download: end of the bytes available
-  canopen::SdoAbort open_result_;  ///< how an open download ended between parts (0: kSdoOk)
   Phase phase_;
   bool in_request_;  ///< inside handle(): the request is in the frame buffer
 };
@@ -81,27 +83,30 @@ class NetworkService : private NetworkServiceState {
   /// True between the parts of a multi-part download (a segmented download
   /// is open at the server).
   bool download_open() const { return phase_ == kDownloadHeld; }
+  /// The end of the bytes the request in hand carries or wants (a part's,
+  /// a window's): object offset.
+  uint32_t request_end() const { return static_cast<uint32_t>(start_) + count_; }
   const NetworkView& view() const { return view_; }
 
  private:
   static uint16_t handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, uint16_t capacity);
   /// `ended`: how the download open before this request ended (kSdoOk: none).
-  uint16_t on_request(uint8_t* pdu, uint16_t capacity, canopen::SdoAbort ended);
-  uint16_t nmt(uint8_t* pdu, uint16_t capacity);
-  /// The network view's entries into the response (`pdu`), req_ its fields.
-  void list_view(uint8_t* pdu, uint16_t capacity);
-  /// The gateway's own node (kSdoOk, or the code to answer with).
-  canopen::SdoAbort local_upload(uint8_t* pdu, uint16_t capacity);
-  canopen::SdoAbort local_download();
-  uint16_t start_remote(uint16_t capacity);
-  /// An upload's window: bytes [req_.start, window_end_) of the object, as
+  uint16_t on_request(uint8_t* pdu, uint16_t capacity, const modbus::NetMessage& m, canopen::SdoAbort ended);
+  uint16_t nmt(uint8_t* pdu, const modbus::NetMessage& m);
+  /// The network view's entries from node `first` on into the response.
+  uint16_t list_view(uint8_t* pdu, uint16_t capacity, uint8_t first);
+  /// The gateway's own node: the response (or the abort) in `pdu`.
+  uint16_t local_upload(uint8_t* pdu, uint16_t capacity, const modbus::NetMessage& m);
+  canopen::SdoAbort local_download(const modbus::NetMessage& m);
+  uint16_t start_remote(uint16_t capacity, const modbus::NetMessage& m);
+  /// An upload's window: count_ becomes the bytes wanted from start_ on, as
   /// many as the request asks for (0: as many as a response of `capacity`
   /// bytes carries).
   void set_window(uint16_t capacity);
-  /// req_ becomes the upload response for an object of `size` bytes whose
-  /// window's bytes are in place after the header and size of `pdu` (at
-  /// most the window; fewer at the object's end, none beyond it).
-  void take_window(uint8_t* pdu, uint32_t size);
+  /// The upload response in `pdu` for an object of `size` bytes whose
+  /// window's bytes are in place after the header and size (at most the
+  /// window; fewer at the object's end, none beyond it); its length.
+  uint16_t answer_window(uint8_t* pdu, uint32_t size);
   /// True when `m` is the next part of the open download.
   bool continues_download(const modbus::NetMessage& m) const;
   void take_part();

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "canopen/pdo_map.h"
+#include "gateway/register_map.h"
 
 namespace mb2co {
 namespace gateway {
@@ -10,12 +11,6 @@ namespace gateway {
 using canopen::ObjectDictionary;
 using modbus::Exception;
 using modbus::Table;
-
-namespace {
-bool is_bit_table(Table t) {
-  return t == Table::kCoils || t == Table::kDiscreteInputs;
-}
-}  // namespace
 
 // Where each table's rows start in cached_rows_, and how many there are.
 constexpr uint8_t kCacheBase[4] = {0, kCoilMapSize, kCoilMapSize + kDiscreteMapSize,
@@ -65,10 +60,9 @@ bool OdRegisterBank::reach(Walk* w, uint16_t address) {
     it.index = canopen::map_index(entry);
     it.sub = canopen::map_sub(entry);
     it.bits = canopen::map_bits(entry);
-    // One register per 16 bits (a string's 2 characters), at least one; on
-    // the AVR at most two (check_map_write: no entry wider than 32 bits).
-    const uint8_t wide = profile::kWideTypes ? static_cast<uint8_t>((it.bits + 15u) / 16u) : 2;
-    it.width = (entry != 0 && !w->bit_table && it.bits > 16) ? wide : 1;
+    // register_map.h lays the items out (on the AVR no entry is wider than
+    // 32 bits: check_map_write).
+    it.width = entry_width(entry, w->bit_table);
   } while (address >= it.first + it.width);
   // Only the item reached is looked up (not those before the request's start).
   it.row = row_of(*w, entry);

@@ -17,6 +17,7 @@
 
 #include "canopen/od.h"
 #include "gateway/gateway_od.h"
+#include "gateway/register_map.h"
 #include "modbus/register_bank.h"
 
 namespace mb2co {
@@ -37,13 +38,8 @@ class OdRegisterBank : public modbus::RegisterBank {
   modbus::Exception write_coils(uint16_t start, modbus::ConstBitSpan values) override;
   modbus::Exception write_registers(uint16_t start, modbus::ConstRegisterSpan values) override;
 
-  /// OD index of a table's map.
-  static uint16_t map_index(modbus::Table table) {
-    return static_cast<uint16_t>(0x2400 + static_cast<uint8_t>(table == modbus::Table::kHoldingRegisters ? 0
-                                                               : table == modbus::Table::kInputRegisters ? 1
-                                                               : table == modbus::Table::kCoils          ? 2
-                                                                                                : 3));
-  }
+  /// OD index of a table's map (register_map.h).
+  static uint16_t map_index(modbus::Table table) { return gateway::map_index(table); }
   /// Validates a write of `data` to map `index` (2400h-2403h) sub `sub`
   /// (the maps' handler, GatewayHandlers::register_map):
   /// the count within the map's capacity, an entry that names an existing

@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "host/cli_messages.h"
+
 namespace mb2co {
 namespace cli {
 namespace {
@@ -63,7 +65,26 @@ Parsed usage_error(std::string why) {
 }
 
 std::string try_help(const Program& p, const Command* c) {
-  return "(try " + p.name + (c != nullptr && !c->name.empty() ? " " + c->name : "") + " --help)";
+  return cli::try_help(p.name, c != nullptr ? c->name : "");
+}
+
+/// The long names a command takes (its own, then the global ones): what a
+/// near miss is compared with.
+std::vector<std::string> option_names(const Program& p, const Command& c) {
+  std::vector<std::string> names;
+  for (const std::vector<Option>* list : {&c.options, &p.global_options}) {
+    for (const Option& o : *list) {
+      if (o.kind != Kind::kRefused) names.push_back(o.name);
+    }
+  }
+  names.insert(names.end(), {"--help", "--version"});
+  return names;
+}
+
+std::vector<std::string> command_list(const Program& p) {
+  std::vector<std::string> names;
+  for (const Command& c : p.commands) names.push_back(c.name);
+  return names;
 }
 
 // The option words given before "--", to find --help and the like wherever they stand.
@@ -262,10 +283,13 @@ Parsed parse(const Program& program, int argc, const char* const* argv) {
     const Option* g = find_in(program.global_options, option_name(argv[name_at]));
     if (g == nullptr) break;
     const bool inline_value = std::string(argv[name_at]).find('=') != std::string::npos;
-    if (g->takes_value() && !inline_value && name_at + 1 < argc && !is_option_word(argv[name_at + 1]) &&
-        global_error.empty()) {
-      const Status s = check_value(*g, argv[name_at + 1]);
-      if (!s) global_error = s.message();
+    if (g->takes_value() && !inline_value && global_error.empty()) {
+      if (name_at + 1 >= argc || is_option_word(argv[name_at + 1])) {
+        global_error = g->name + " needs a value";
+      } else {
+        const Status s = check_value(*g, argv[name_at + 1]);
+        if (!s) global_error = s.message();
+      }
     }
     name_at += g->takes_value() && !inline_value ? 2 : 1;
   }
@@ -292,10 +316,14 @@ Parsed parse(const Program& program, int argc, const char* const* argv) {
       return usage_error("missing command (" + command_names(program) + ") " + try_help(program, nullptr));
     }
     if (is_option_word(argv[name_at])) {
-      return usage_error("unknown option " + option_name(argv[name_at]) + " " + try_help(program, nullptr));
+      Command globals;
+      return usage_error(
+          unknown_option(program.name, "", option_name(argv[name_at]), option_names(program, globals)));
     }
-    return usage_error("unknown command \"" + std::string(argv[name_at]) + "\" (" + command_names(program) +
-                       ") " + try_help(program, nullptr));
+    const std::string near = nearest_word(argv[name_at], command_list(program));
+    return usage_error("unknown command \"" + std::string(argv[name_at]) + "\" (" +
+                       (near.empty() ? command_names(program) : "did you mean " + near + "?") + ") " +
+                       try_help(program, nullptr));
   }
   r.args.command = command;
   std::map<std::string, bool> seen;
@@ -325,7 +353,7 @@ Parsed parse(const Program& program, int argc, const char* const* argv) {
           return usage_error(a + " is not an option of " + command->name + " " + try_help(program, command));
         }
       }
-      return usage_error("unknown option " + a + " " + try_help(program, command));
+      return usage_error(unknown_option(program.name, command->name, a, option_names(program, *command)));
     }
     if (o->kind == Kind::kRefused) return usage_error(o->name + " " + o->help);
     if (!o->takes_value() && inline_value) return usage_error(o->name + " takes no value");
@@ -341,6 +369,9 @@ Parsed parse(const Program& program, int argc, const char* const* argv) {
     const Status s = check_value(*o, value);
     if (!s) return usage_error(s.message());
     r.args.set(o->name, value);
+  }
+  if (r.args.operands.size() < command->min_operands) {
+    return usage_error(missing_operand(program.name, command->name, command->operands));
   }
   if (r.args.operands.size() > command->max_operands) {
     return usage_error("unexpected argument \"" + r.args.operands[command->max_operands] + "\" " +
@@ -372,7 +403,7 @@ std::string help_text(const Program& p, const Command* c) {
     for (const Command& cmd : p.commands) append_option_line(s, cmd.name, cmd.summary);
     s += "\n\"" + p.name + " COMMAND --help\" lists the options of COMMAND.\n";
     for (const Option& o : p.global_options) append_option_line(s, option_label(o), o.help);
-    append_option_line(s, "--help", "this text");
+    append_option_line(s, "-h, --help", "this text");
     append_option_line(s, "--version", std::string("print \"") + p.name + " " + version() + "\"");
     return s + p.footer;
   }

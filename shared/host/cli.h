@@ -80,6 +80,8 @@ struct Command {
   std::string operands;  ///< "[FILE.csv]" for the usage line ("" for none)
   size_t max_operands = 0;
   std::vector<Option> options;  ///< --help, --version are implied
+  /// Fewer operands are a usage error "missing operand: NAME OPERANDS".
+  size_t min_operands = 0;
 };
 
 struct Program {

@@ -53,8 +53,8 @@ Status parse_bitrate(const std::string& option, const std::string& text, uint32_
                            "\"");
   }
   if (scale == 1 && v < kMinBareBitrate) {
-    return Status::failure(option + " " + text + ": a bare number is bit/s and must be " +
-                           std::to_string(kMinBareBitrate) + " or more; did you mean " + text + "k?");
+    return Status::failure(option + " must be at least " + std::to_string(kMinBareBitrate) +
+                           " as a bare number (bit/s), got \"" + text + "\"; did you mean " + text + "k?");
   }
   if (v < min_bps || v > max_bps) {
     return Status::failure(option + " must be " + bitrate_text(min_bps) + ".." + bitrate_text(max_bps) +

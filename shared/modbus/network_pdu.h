@@ -122,6 +122,14 @@ bool parse_net_request(const uint8_t* pdu, uint16_t pdu_length, NetMessage& out)
 uint16_t build_net_response(uint8_t* pdu, uint16_t capacity, const NetMessage& m);
 /// Where the data of a response of `service` starts in the PDU.
 uint16_t net_response_data_offset(NetService service);
+/// Turns the request parsed from `pdu` into its normal response in place
+/// and returns its length: the request's header stays as it is (service,
+/// node id, index, subindex, starting address echoed). An upload or view
+/// response gets `more` and `count`, an upload's also the object `size`;
+/// their `count` data bytes must already be at net_response_data_offset().
+/// A download's and an NMT response are the request's header (and size,
+/// command) unchanged: the arguments are not used.
+uint16_t answer_net_request(uint8_t* pdu, bool more, uint16_t count, uint32_t size);
 /// Writes the exception response `code` (2 bytes).
 uint16_t build_net_exception(uint8_t* pdu, Exception code);
 /// Writes the exception-04 response carrying `abort_code` (7 bytes).

@@ -52,6 +52,23 @@ BridgeConfigError check_bridge_config(const BridgeConfig& config) {
   return BridgeConfigError::kOk;
 }
 
+bool serial_node_of(const BridgeConfig& config, uint16_t can_node, uint8_t* serial_node) {
+  if (can_node <= config.node_offset) return false;
+  const uint16_t n = static_cast<uint16_t>(can_node - config.node_offset);
+  if (n < config.bus.first_node || n > config.bus.last_node || n == config.bridge_node) return false;
+  *serial_node = static_cast<uint8_t>(n);
+  return true;
+}
+
+bool bridges_clash(const BridgeConfig& a, const BridgeConfig& b) {
+  uint8_t unused = 0;
+  for (uint16_t n = a.bus.first_node; n <= a.bus.last_node; ++n) {
+    if (n != a.bridge_node && serial_node_of(b, static_cast<uint16_t>(n + a.node_offset), &unused))
+      return true;
+  }
+  return false;
+}
+
 bool FrameFifo::push(const CanFrame& f) {
   if (count_ == kCapacity) return false;
   frames_[(head_ + count_) % kCapacity] = f;
@@ -72,14 +89,6 @@ Bridge::Bridge(const BridgeConfig& config, const modbus::ByteSink& line, const C
 
 void Bridge::receive(void* ctx, const CanFrame& f, uint32_t /*now_us*/) {
   static_cast<Bridge*>(ctx)->from_serial(f);
-}
-
-bool Bridge::serial_node_on_can(uint16_t can_node, uint8_t* serial_node) const {
-  if (can_node <= config_.node_offset) return false;
-  const uint16_t n = static_cast<uint16_t>(can_node - config_.node_offset);
-  if (n < config_.bus.first_node || n > config_.bus.last_node || n == config_.bridge_node) return false;
-  *serial_node = static_cast<uint8_t>(n);
-  return true;
 }
 
 bool Bridge::extra_to_serial(uint16_t can_id) const {
@@ -130,7 +139,7 @@ bool Bridge::route_to_serial(const CanFrame& in, CanFrame* out) {
       return false;
     }
     if (in.data[1] != 0) {
-      if (!serial_node_on_can(in.data[1], &node)) {
+      if (!serial_node_of(config_, in.data[1], &node)) {
         bump(counters_.not_consumed);
         return false;
       }
@@ -143,7 +152,7 @@ bool Bridge::route_to_serial(const CanFrame& in, CanFrame* out) {
     return false;
   }
   uint8_t node = 0;
-  const bool to_our_node = serial_node_on_can(id & kNodeMask, &node) && routed(id, kToSerial);
+  const bool to_our_node = serial_node_of(config_, id & kNodeMask, &node) && routed(id, kToSerial);
   if (!to_our_node && !extra_to_serial(id)) {
     bump(counters_.not_consumed);
     return false;

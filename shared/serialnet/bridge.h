@@ -64,6 +64,15 @@ enum class BridgeConfigError : uint8_t {
 };
 BridgeConfigError check_bridge_config(const BridgeConfig& config);
 
+/// Serial node of `config`'s segment that CAN node `can_node` stands for
+/// (first..last less the offset, never the bridge's own window); false: none.
+bool serial_node_of(const BridgeConfig& config, uint16_t can_node, uint8_t* serial_node);
+/// Seed 003's figure 7 puts several segments on one CAN bus, one bridge
+/// each: true when two of them would give serial nodes the same CAN node id
+/// (a heartbeat, a TPDO, an SDO channel claimed twice). Whoever configures
+/// the bridges of one CAN bus refuses such a pair.
+bool bridges_clash(const BridgeConfig& a, const BridgeConfig& b);
+
 /// A bounded FIFO of frames waiting for a full queue to accept them.
 class FrameFifo {
  public:
@@ -128,8 +137,6 @@ class Bridge {
   void from_serial(const CanFrame& f);
   /// Sends what waits, in order, until a queue refuses.
   void flush();
-  /// True when CAN node `can_node` is one of the segment's nodes (not the bridge).
-  bool serial_node_on_can(uint16_t can_node, uint8_t* serial_node) const;
   bool extra_to_serial(uint16_t can_id) const;
   static void bump(uint16_t& c) {
     if (c != 0xFFFFu) ++c;

@@ -85,7 +85,7 @@ TEST(CliParse, UsageErrorsSayWhatIsWrongInOneLine) {
   EXPECT_EQ(error_of({"send", "--bitrate", "--loop"}), "--bitrate needs a value");
   EXPECT_EQ(error_of({"send", "--bitrate="}), "--bitrate needs a value");
   EXPECT_EQ(error_of({"send", "--bitrate", "500"}),
-            "--bitrate 500: a bare number is bit/s and must be 10000 or more; did you mean 500k?");
+            "--bitrate must be at least 10000 as a bare number (bit/s), got \"500\"; did you mean 500k?");
   EXPECT_EQ(error_of({"send", "--count", "11"}), "--count must be a whole number 1..10, got \"11\"");
   EXPECT_EQ(error_of({"send", "--loop", "--loop"}), "--loop given twice");
   EXPECT_EQ(error_of({"send", "--loop=yes"}), "--loop takes no value");
@@ -93,9 +93,41 @@ TEST(CliParse, UsageErrorsSayWhatIsWrongInOneLine) {
   EXPECT_EQ(error_of({"send", "--parity", "E"}), "--parity is not an option of send (try tool send --help)");
   EXPECT_EQ(error_of({"send", "a", "b"}), "unexpected argument \"b\" (try tool send --help)");
   EXPECT_EQ(error_of({}), "missing command (send or watch) (try tool --help)");
-  EXPECT_EQ(error_of({"sned"}), "unknown command \"sned\" (send or watch) (try tool --help)");
+  EXPECT_EQ(error_of({"sned"}), "unknown command \"sned\" (did you mean send?) (try tool --help)");
+  EXPECT_EQ(error_of({"frob"}), "unknown command \"frob\" (send or watch) (try tool --help)");
   EXPECT_EQ(error_of({"--bogus", "send"}), "unknown option --bogus (try tool --help)");
-  EXPECT_EQ(error_of({"-i"}), "missing command (send or watch) (try tool --help)");
+  EXPECT_EQ(error_of({"-i"}), "--interface needs a value");
+  EXPECT_EQ(error_of({"-i", "--count", "3"}), "--interface needs a value");
+}
+
+TEST(CliParse, ANearOptionNameIsOfferedAsGitDoes) {
+  EXPECT_EQ(error_of({"send", "--bitrat", "500k"}),
+            "unknown option --bitrat, did you mean --bitrate? (try tool send --help)");
+  EXPECT_EQ(error_of({"send", "--cuont", "3"}),
+            "unknown option --cuont, did you mean --count? (try tool send --help)")
+      << "two letters swapped are one edit";
+  EXPECT_EQ(error_of({"send", "--interfase", "can0"}),
+            "unknown option --interfase, did you mean --interface? (try tool send --help)")
+      << "a global option is near too";
+  EXPECT_EQ(error_of({"--interfase", "can0", "send"}),
+            "unknown option --interfase, did you mean --interface? (try tool --help)");
+  EXPECT_EQ(error_of({"send", "--bogus"}), "unknown option --bogus (try tool send --help)") << "nothing near";
+}
+
+TEST(CliParse, FewerOperandsThanTheCommandNeedsAreMissing) {
+  Program p;
+  p.name = "hub";
+  Command c;
+  c.operands = "MEMBER MEMBER [MEMBER]...";
+  c.min_operands = 2;
+  c.max_operands = 8;
+  p.commands = {c};
+  const char* one[] = {"hub", "a"};
+  const Parsed r = parse(p, 2, one);
+  ASSERT_EQ(r.action, Action::kUsageError);
+  EXPECT_EQ(r.text, "missing operand: MEMBER MEMBER [MEMBER]... (try hub --help)");
+  const char* two[] = {"hub", "a", "b"};
+  EXPECT_EQ(parse(p, 3, two).action, Action::kRun);
 }
 
 TEST(CliParse, HelpOfTheCommandNamedWhereverItStands) {
@@ -110,6 +142,7 @@ TEST(CliParse, HelpOfTheCommandNamedWhereverItStands) {
   ASSERT_EQ(all.action, Action::kHelp);
   EXPECT_EQ(all.text.rfind("usage: tool COMMAND [options]\n", 0), 0u) << all.text;
   EXPECT_NE(all.text.find("  watch"), std::string::npos);
+  EXPECT_NE(all.text.find("  -h, --help"), std::string::npos) << "the short form in the program's help too";
   EXPECT_EQ(run({"send", "--", "--help"}).action, Action::kRun) << "an operand after --";
 }
 

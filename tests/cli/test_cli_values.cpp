@@ -38,9 +38,9 @@ TEST(Bitrate, SuffixesAndBitPerSecondMeanTheSame) {
 
 TEST(Bitrate, BareNumberBelow10000IsRefusedWithTheLikelyMeaning) {
   EXPECT_EQ(bitrate_error("500"),
-            "--bitrate 500: a bare number is bit/s and must be 10000 or more; did you mean 500k?");
+            "--bitrate must be at least 10000 as a bare number (bit/s), got \"500\"; did you mean 500k?");
   EXPECT_EQ(bitrate_error("9999"),
-            "--bitrate 9999: a bare number is bit/s and must be 10000 or more; did you mean 9999k?");
+            "--bitrate must be at least 10000 as a bare number (bit/s), got \"9999\"; did you mean 9999k?");
 }
 
 TEST(Bitrate, NonsenseAndOutOfRange) {
@@ -65,7 +65,7 @@ TEST(Bitrate, OneOfTheAllowedAndLists) {
   ASSERT_TRUE(parse_bitrate_list("--bitrates", "125k,1M,500000", can_bitrates(), &list).is_ok());
   EXPECT_EQ(list, (std::vector<uint32_t>{125000, 1000000, 500000}));
   EXPECT_EQ(parse_bitrate_list("--bitrates", "125k,500", can_bitrates(), &list).message(),
-            "--bitrates 500: a bare number is bit/s and must be 10000 or more; did you mean 500k?");
+            "--bitrates must be at least 10000 as a bare number (bit/s), got \"500\"; did you mean 500k?");
   EXPECT_FALSE(parse_bitrate_list("--bitrates", "125k,", can_bitrates(), &list).is_ok());
   EXPECT_EQ(list.size(), 3u) << "untouched on failure";
 }

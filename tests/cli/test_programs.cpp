@@ -47,9 +47,9 @@ TEST_F(Programs, LabBareBitrateRefusedWithTheHint) {
   const Result r = run(kLab, "--bitrates 125k,500 --out " + dir_ + "/lab");
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(r.out, "");
-  EXPECT_EQ(
-      r.err,
-      "mb2co-lab: --bitrates 500: a bare number is bit/s and must be 10000 or more; did you mean 500k?\n");
+  EXPECT_EQ(r.err,
+            "mb2co-lab: --bitrates must be at least 10000 as a bare number (bit/s), got \"500\"; did you "
+            "mean 500k?\n");
 }
 
 TEST_F(Programs, LabBitrateListInEitherNotation) {

@@ -5,6 +5,7 @@
 // EEPROM (nothing saved) says nothing. Starting never writes the EEPROM.
 #include <gtest/gtest.h>
 
+#include "gateway/register_map.h"
 #include "line_harness.h"
 #include "modbus/master_codec.h"
 #include "storage_damage.h"
@@ -16,9 +17,12 @@ using test::Line;
 namespace sd = test::storage_damage;
 namespace e = gateway::od::GatewayEntry;
 
-const uint16_t kIrDamageCount = gateway::default_map_address(0x2401, e::x2003_0_storageDamageCount);
-const uint16_t kIrErrorRegister = gateway::default_map_address(0x2401, e::x1001_0_errorRegister);
-static_assert(gateway::default_map_address(0x2401, e::x2003_0_storageDamageCount) != 0xFFFF,
+const uint16_t kIrDamageCount =
+    gateway::default_address(modbus::Table::kInputRegisters, e::x2003_0_storageDamageCount);
+const uint16_t kIrErrorRegister =
+    gateway::default_address(modbus::Table::kInputRegisters, e::x1001_0_errorRegister);
+static_assert(gateway::default_address(modbus::Table::kInputRegisters, e::x2003_0_storageDamageCount) !=
+                  0xFFFF,
               "the counter is in the default input map");
 
 void write_u8(canopen::ObjectDictionary& od, uint16_t index, uint8_t sub, uint8_t v) {

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <vector>
 
+#include "gateway/register_map.h"
 #include "line_harness.h"
 #include "value_bytes.h"
 
@@ -25,8 +26,10 @@ namespace entry = gateway::od::GatewayEntry;
 static_assert(MB2CO_CONFIG_WIDE_TYPES, "host builds carry the wide types");
 
 // Where the default holding map puts the process values of 2500h.
-constexpr uint16_t kHrReal = gateway::default_map_address(0x2400, entry::x2500_1_measuredValue);
-constexpr uint16_t kHrCounter = gateway::default_map_address(0x2400, entry::x2500_2_eventCounter);
+constexpr uint16_t kHrReal =
+    gateway::default_address(modbus::Table::kHoldingRegisters, entry::x2500_1_measuredValue);
+constexpr uint16_t kHrCounter =
+    gateway::default_address(modbus::Table::kHoldingRegisters, entry::x2500_2_eventCounter);
 static_assert(kHrCounter == kHrReal + 2, "REAL32: two registers");
 
 class WideRegisters : public ::testing::Test {
@@ -171,7 +174,8 @@ TEST_F(WideRegisters, SeveralRegistersAreWrittenWholeOrNotAtAll) {
 TEST_F(WideRegisters, AStringIsARunOfRegistersTwoCharactersEach) {
   // The device name (1008h, "mb2co gateway", 13 characters) in place of
   // the last input register entry: 7 registers, the last one padded.
-  const uint16_t address = gateway::default_map_address(0x2401, canopen::OdKey{0x2003, 0, 8});
+  const uint16_t address =
+      gateway::default_address(modbus::Table::kInputRegisters, canopen::OdKey{0x2003, 0, 8});
   uint8_t map_entry[4];
   canopen::put_le32(map_entry, MB2CO_PDO_MAP_ENTRY(0x1008, 0, 112));
   ASSERT_EQ(line.gw(0).od().write(0x2401, gateway::kInputMapSize, map_entry, 4), canopen::kSdoOk);

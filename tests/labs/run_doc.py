@@ -46,7 +46,10 @@ COMMAND_DEADLINE_S = 90
 # "COMMAND & echo $! > DIR/NAME.pid": a background job named NAME.
 NAMED_JOB = re.compile(r"^(.*?)\s*&\s*echo \$! >\s*(\S*?([A-Za-z][\w-]*)\.pid)$")
 JOB_DEADLINE_S = 60
-TOOL_DIRS = ["pcapp/master", "firmware/linux/node", "firmware/linux/bridge", "hil/uno", "pcapp/timing", "hil/lab"]
+TOOL_DIRS = [
+    "pcapp/master", "firmware/linux/node", "firmware/linux/bridge", "hil/uno", "pcapp/timing", "hil/lab",
+    "pcapp/plant", "pcapp/odtool", "hil/demo"
+]
 
 
 class Step:

@@ -11,7 +11,7 @@ source "$src/scripts/completion/mb2co.bash"
 # shellcheck disable=SC1091  # the same checkout
 source "$src/scripts/completion/expect_completion.bash"
 
-expect "scan read write upload download nmt sync watch dump configure serve" mb2co-master ""
+expect "scan read write upload download nmt sync time watch dump configure serve" mb2co-master ""
 expect "sync" mb2co-master sy
 expect "--period --parity" mb2co-master sync --p
 expect "--heartbeat --help" mb2co-master -i vcan0 watch --he

@@ -4,8 +4,11 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <regex>
+
 #include "master_cli.h"
 #include "node_harness.h"
+#include "wall_time.h"
 
 namespace mb2co {
 namespace test {
@@ -145,18 +148,66 @@ TEST(MasterNetwork, SyncSendsTheCounterOfItsOverflowAtItsPeriod) {
   EXPECT_GE(last_ms, 4 * 20.0 - 1.0);
 }
 
+TEST(MasterNetwork, TimeSendsTheHostClockAsTimeOfDayAtItsPeriod) {
+  LineChild candump;
+  ASSERT_TRUE(start_candump(&candump));
+  const int64_t before_ms = master::wall_clock_unix_ms();
+  const MasterRun run = run_master({"time", "--period", "50", "--count", "3"});
+  const int64_t after_ms = master::wall_clock_unix_ms();
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  ASSERT_EQ(run.out.size(), 3u) << run.text();
+
+  // What candump saw at 100h (1012h's default), decoded here by hand: 28
+  // bits of ms after midnight little-endian, then 16 bits of days since 1984.
+  std::vector<int64_t> sent_ms;
+  std::string line;
+  while (sent_ms.size() < 3 &&
+         candump.wait_line([](const std::string&) { return true; }, kVcanDeadline, &line)) {
+    unsigned id = 0;
+    std::vector<unsigned> data;
+    if (!parse_candump(line, &id, &data) || id != 0x100) continue;
+    ASSERT_EQ(data.size(), 6u) << line;
+    const int64_t ms = data[0] | data[1] << 8 | data[2] << 16 | (data[3] & 0x0F) << 24;
+    const int64_t days = data[4] | data[5] << 8;
+    const size_t n = sent_ms.size();
+    // The master's line names the same instant.
+    EXPECT_NE(run.out[n].find("days=" + std::to_string(days) + " ms=" + std::to_string(ms)),
+              std::string::npos)
+        << run.out[n] << " vs " << line;
+    EXPECT_EQ(run.out[n].rfind("time " + std::to_string(n + 1) + " ", 0), 0u) << run.out[n];
+    sent_ms.push_back(master::kCanopenEpochUnixMs + days * 86400000LL + ms);
+  }
+  ASSERT_EQ(sent_ms.size(), 3u);
+  // The host's clock when each was sent, UTC: within the run, and whole
+  // periods after the first, never early (a late frame does not move the
+  // next one: 1 ms for the ms truncation; no upper bound under load).
+  EXPECT_GE(sent_ms.front(), before_ms);
+  EXPECT_LE(sent_ms.back(), after_ms);
+  EXPECT_GE(sent_ms[1] - sent_ms[0], 50 - 1);
+  EXPECT_GE(sent_ms[2] - sent_ms[0], 2 * 50 - 1);
+  EXPECT_TRUE(std::regex_match(
+      run.out[0], std::regex(R"(time 1 \d{4}-\d\d-\d\dT\d\d:\d\d:\d\d\.\d{3}Z days=\d+ ms=\d+)")))
+      << "UTC, ISO 8601: " << run.out[0];
+}
+
 TEST(MasterNetwork, BadCommandLinesAndAMissingInterfaceGiveOneLineAndTheirExitCode) {
   struct Case {
     std::vector<std::string> args;
     int code;
     const char* says;
   } const cases[] = {
-      {{"nmt", "start", "128"}, 2, "node id '128' out of range"},
-      {{"nmt", "jump", "3"}, 2, "unknown command 'jump'"},
-      {{"nmt", "stop"}, 2, "nmt: want"},
+      {{"nmt", "start", "128"}, 2, "nmt: node id must be 1..127 or all, got \"128\""},
+      {{"nmt", "jump", "3"},
+       2,
+       "nmt: the NMT command must be start, stop, preop, reset or reset-comm, got \"jump\""},
+      {{"nmt", "stop"},
+       2,
+       "missing operand: nmt start|stop|preop|reset|reset-comm NODE|all (try mb2co-master nmt --help)"},
       {{"sync", "--overflow", "1"}, 2, "--overflow 1 is not allowed"},
       {{"sync", "--count", "3"}, 2, "needs --period"},
-      {{"watch", "--nodes", "5-2"}, 2, "runs backwards"},
+      {{"time", "--count", "3"}, 2, "needs --period"},
+      {{"time", "--cob-id", "800h"}, 2, "--cob-id"},
+      {{"watch", "--nodes", "5-2"}, 2, "a node range must run upwards (5-7), got \"5-2\""},
       {{"fly"}, 2, "unknown command \"fly\""},
   };
   for (const Case& c : cases) {

@@ -128,9 +128,11 @@ TEST_F(MasterTransfers, RefusalsAndSilenceGiveTheAbortCodeAndTheirExitCode) {
       {{"-t", "200", "read", "9", "1000", "0", "u32"},
        4,
        "node 9 1000h/0: SDO abort sent 05040000h (SDO protocol timed out)"},
-      {{"read", "2", "1000", "0", "q7"}, 2, "unknown type 'q7'"},
+      {{"read", "2", "1000", "0", "q7"},
+       2,
+       "read: TYPE must be one of b u8 u16 u24 u32 u64 i8 i16 i32 i64 r32 r64 vs os us d, got \"q7\""},
       {{"write", "2", "2000", "6", "u16", "70000"}, 2, "out of range"},
-      {{"read", "2", "1G00", "0", "u8"}, 2, "bad index '1G00'"},
+      {{"read", "2", "1G00", "0", "u8"}, 2, "read: index must be hexadecimal 0000..FFFF, got \"1G00\""},
   };
   for (const Case& c : cases) {
     const MasterRun run = run_master(c.args);

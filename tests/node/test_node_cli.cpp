@@ -75,9 +75,9 @@ TEST(Cli, BadOptionExits2WithOneLine) {
 TEST(Cli, BareBitRateIsRefusedWithTheHint) {
   std::string err;
   EXPECT_EQ(run_to_exit({"--bitrate", "500"}, &err), 2);
-  EXPECT_EQ(
-      err,
-      "mb2co-node: --bitrate 500: a bare number is bit/s and must be 10000 or more; did you mean 500k?\n");
+  EXPECT_EQ(err,
+            "mb2co-node: --bitrate must be at least 10000 as a bare number (bit/s), got \"500\"; did you "
+            "mean 500k?\n");
   EXPECT_EQ(run_to_exit({"--bitrate", "300k"}, &err), 2);
   EXPECT_EQ(err, "mb2co-node: --bitrate must be 125k, 250k, 500k or 1M, got \"300k\"\n");
 }

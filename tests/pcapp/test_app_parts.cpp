@@ -47,7 +47,7 @@ TEST(Options, Defaults) {
   EXPECT_EQ(o.parity, 'N');
   EXPECT_EQ(o.cycle_ms, -1);
   EXPECT_EQ(o.boot_wait_ms, -1);
-  EXPECT_EQ(o.timeout_ms, 25);
+  EXPECT_EQ(o.timeout_ms, -1) << "derived from the line";
   EXPECT_EQ(o.retries, 2);
 }
 
@@ -82,19 +82,23 @@ TEST(Options, BadValuesGiveOneLine) {
     QStringList args;
     const char* message;
   } cases[] = {
-      {{"--cycle-ms", "0"}, "bad --cycle-ms '0' (want 1..1000)"},
-      {{"--baud", "12345"}, "bad --baud '12345' (a standard rate such as 9600, 19200, 115200)"},
+      {{"--cycle-ms", "0"}, "--cycle-ms must be a whole number 1..1000, got \"0\""},
+      {{"--baud", "12345"}, "--baud must be a standard rate such as 9600, 19200, 115200, got \"12345\""},
       {{"--parity", "X"}, "--parity must be N, E or O (none, even, odd), got \"X\""},
       {{"--baud"}, "--baud needs a value"},
       {{"--slave", "2", "--slave", "3"}, "--slave given twice"},
-      {{"--slave", "248"}, "bad --slave '248' (want 1..247)"},
-      {{"--retries", "x"}, "bad --retries 'x' (want 0..10)"},
-      {{"run"}, "unknown mode 'run' (station or latency)"},
+      {{"--slave", "248"}, "--slave must be a whole number 1..247, got \"248\""},
+      {{"--retries", "x"}, "--retries must be a whole number 0..10, got \"x\""},
+      {{"run"}, "unknown mode \"run\" (station or latency) (try mb2co-plant --help)"},
+      {{"latncy"}, "unknown mode \"latncy\" (did you mean latency?) (try mb2co-plant --help)"},
+      {{"station", "latency"}, "unexpected argument \"latency\" (try mb2co-plant --help)"},
       {{"--presses", "3"},
        "--remote, --button, --presses and --csv belong to the latency mode (mb2co-plant latency ...)"},
-      {{"latency", "--button", "GO"}, "bad --button 'GO' (START, STOP or STOP2)"},
+      {{"latency", "--button", "GO"}, "--button must be START, STOP or STOP2, got \"GO\""},
       {{"--no-reset-wait", "--boot-wait-ms", "5"}, "--no-reset-wait and --boot-wait-ms exclude each other"},
-      {{"--bogus"}, "unknown option --bogus (try --help)"},
+      {{"--bogus"}, "unknown option --bogus (try mb2co-plant --help)"},
+      {{"--cycels"}, "unknown option --cycels, did you mean --cycles? (try mb2co-plant --help)"},
+      {{"--plain=yes"}, "--plain takes no value"},
   };
   for (const auto& c : cases) {
     AppOptions o;

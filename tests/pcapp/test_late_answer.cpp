@@ -1,10 +1,11 @@
-// mb2co-plant (the program, with its default 25 ms timeout and 2 retries)
+// mb2co-plant (the program, with its default timeout, 36 ms at 115200 baud
+// (derived_timeout_ms), and 2 retries)
 // against a gateway whose answers come late: the real firmware (mb2co-node
 // on a pty) behind a fault injector on a second pty that holds the answers
 // back. The injector models the simulated Uno on a loaded machine: it did not
 // run for a while, so it answers nothing at first and then every request it
 // had queued at once (late answers read together with the last retry's),
-// then each answer 40 ms late (the timeout is 25 ms) for a few more, then on
+// then each answer 55 ms late (past the timeout) for a few more, then on
 // time. The app must not exit,
 // must verify the gateway and reach its normal cycle.
 //
@@ -52,11 +53,11 @@ class LateAnswerInjector {
     /// last one's. At most stall_at_most after the first (when two answers
     /// came in one read here, fewer are counted).
     int stall_answers = 3;
-    std::chrono::milliseconds stall_at_most{60};
+    std::chrono::milliseconds stall_at_most{90};  // three attempts of the 36 ms default: 72 ms
     /// The next late_count answers (reads from the gateway): each late_ms
     /// after the gateway gave it, in order.
     int late_count = 4;
-    std::chrono::milliseconds late{40};
+    std::chrono::milliseconds late{55};  // 1.5 timeouts of the 36 ms default: read with the retry
     /// The first corrupt_answers answers get a wrong CRC (on time).
     int corrupt_answers = 0;
   };
@@ -236,7 +237,7 @@ struct PlantLateAnswer : ::testing::Test {
 
   /// START from the panel until the station runs. Pressed until the app
   /// reports the state, so a starved app cannot miss it; a link lost
-  /// meanwhile (25 ms is short on a loaded machine) makes the app safe and
+  /// meanwhile (a timeout is short on a loaded machine) makes the app safe and
   /// ignores a button held across the reconnection, so then it is released
   /// and pressed again.
   void start_station() {
@@ -257,7 +258,7 @@ struct PlantLateAnswer : ::testing::Test {
 };
 
 // The answers to the three FC 2B/0E attempts all arrive together, after the
-// last attempt began; the next answers are 40 ms late. With the defaults (25 ms,
+// last attempt began; the next answers are 55 ms late. With the defaults (36 ms,
 // 2 retries) the app verifies the gateway, runs its cycle (a START from the
 // panel starts the station: the RUN command it writes lights the gateway's
 // RUN LED) and stops cleanly.

@@ -59,6 +59,38 @@ TEST(TransactionPlan, WireTimeIsTheSumOfTheFramesAndSilences) {
   EXPECT_EQ(plan_wire_time_ns(p, f), plan_frame_time_ns(p, f) + 2u * 1750000u);
 }
 
+// mb2co-plant's response timeout follows the line (issue 27): the longest
+// exchange (here FC 04 of 23 registers, 8 + 51 bytes) on the wire, the
+// slave's t3.5, the gateway's reply time and the host margin.
+TEST(TransactionPlan, ResponseTimeoutIsDerivedFromTheBaudRateAndTheReplyTime) {
+  TransactionPlan p;
+  ASSERT_TRUE(
+      plan_transactions(default_layout(), kStationReads, {Field::nmt_state}, {Field::run_command}, p));
+  mb2co::timing::SerialFormat f;
+  f.parity = mb2co::timing::Parity::kNone;  // 8N1: 10 bits a character
+  // 59 characters of 10 bits at 115200: 5,122 µs (each frame rounded up),
+  // t3.5 1,750 µs, reply 4,000 µs, margin 25,000 µs: 35,872 µs → 36 ms.
+  EXPECT_EQ(derived_timeout_ms(p, &f), 36);
+  // At 9600 baud the frames alone are 61.5 ms (the old fixed 25 ms never
+  // waited long enough): 590 bits + t3.5 of 3.5 characters (3,646 µs) + 4 +
+  // 25 ms = 94,104 µs.
+  f.baud = 9600;
+  EXPECT_EQ(derived_timeout_ms(p, &f), 95);
+  // 8E1 at 9600: 11 bits a character, 67.6 ms of frames, t3.5 4,011 µs.
+  f.parity = mb2co::timing::Parity::kEven;
+  EXPECT_EQ(derived_timeout_ms(p, &f), 101);
+  // Modbus/TCP: no wire, the reply time and the margin.
+  EXPECT_EQ(derived_timeout_ms(p, nullptr), 29);
+  // FC 2B/0E (7 + 48 characters) is longer than a cycle of FC 04 of one
+  // register (8 + 7, which alone would give 33 ms): 4,775 µs + 1,750 +
+  // 4,000 + 25,000 = 35,525 µs.
+  TransactionPlan one;
+  ASSERT_TRUE(plan_transactions(default_layout(), {Field::run_state}, {}, {}, one));
+  f.baud = 115200;
+  f.parity = mb2co::timing::Parity::kNone;
+  EXPECT_EQ(derived_timeout_ms(one, &f), 36);
+}
+
 TEST(TransactionPlan, ReadWriteWhenTheHoldingMapHoldsEverything) {
   // A map that puts RUN command and the station's inputs in holding registers.
   std::vector<uint32_t> entries = {

@@ -134,6 +134,7 @@ TEST(CanBus, CorruptedFramesAreRetransmittedAfterAnErrorFrame) {
     EXPECT_EQ(f.data[0], static_cast<uint8_t>(i));
   }
   EXPECT_GT(b.bus.error_frames(), 5u);
+  EXPECT_EQ(b.bus.ack_error_frames(), 0u) << "a corrupted frame is no ACK error: the receiver was there";
   EXPECT_EQ(b.c[0]->counters().tx_ok, 40u);
   for (const CanAttempt& a : b.log) {
     if (a.error) {
@@ -167,9 +168,12 @@ TEST(CanBus, ALoneNodeGetsNoAcknowledgeAndStaysErrorPassive) {
   ASSERT_TRUE(b.c[0]->send(frame(0x701, 1)));
   b.q.run_until(100 * kNsPerMs);
   EXPECT_EQ(b.c[0]->state(), CanErrorState::kPassive);  // ACK errors never make it bus-off
+  EXPECT_GT(b.bus.error_frames(), 100u);
+  EXPECT_EQ(b.bus.ack_error_frames(), b.bus.error_frames()) << "every one unacknowledged";
   b.c[1]->set_powered(true);
   b.q.run_until(200 * kNsPerMs);
   EXPECT_EQ(b.c[0]->counters().tx_ok, 1u);
+  EXPECT_EQ(b.bus.ack_error_frames(), b.bus.error_frames()) << "acknowledged once the other one is up";
 }
 
 }  // namespace

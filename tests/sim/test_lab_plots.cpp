@@ -121,6 +121,22 @@ TEST(LabProgressBar, ANewStageIsDrawnAtOnce) {
   EXPECT_EQ(off.redraws(), 0u);
 }
 
+// The report's CAN line says which error frames a lone station caused at
+// power-up (a PASS of stop2 showed "916 error frames" without a word).
+TEST(LabReport, ErrorFramesSayHowManyWereAckErrors) {
+  sim::LineSummary s;
+  EXPECT_EQ(error_frames_text(s), "0 error frames");
+  s.error_frames = 916;
+  s.ack_error_frames = 916;
+  EXPECT_EQ(error_frames_text(s),
+            "916 error frames (all ACK errors: no other station powered yet to acknowledge)");
+  s.error_frames = 920;
+  EXPECT_EQ(error_frames_text(s),
+            "920 error frames (916 of them ACK errors: no other station powered yet to acknowledge)");
+  s.ack_error_frames = 0;
+  EXPECT_EQ(error_frames_text(s), "920 error frames") << "corruption only";
+}
+
 }  // namespace
 }  // namespace lab
 }  // namespace mb2co

@@ -204,9 +204,9 @@ TEST_F(Cli, BadCommandLinesWithExit2) {
   expect_one_line_error(run("rta " + set + " --bitrate 1M --svg x.svg"),
                         "options --svg FILE and --message NAME go together", 2);
   expect_one_line_error(run("rta " + set + " --bitrate 1M --svg x.svg --message NOPE"),
-                        "option --message: no message named \"NOPE\"", 2);
+                        "--message: no message named \"NOPE\"", 2);
   expect_one_line_error(run("rta " + set + " --bitrate 1M --sync-us 100"),
-                        "option --sync-us describes a line: add --line N", 2);
+                        "--sync-us describes a line: add --line N", 2);
   expect_one_line_error(run("rta " + set + " extra.csv --bitrate 1M"),
                         "unexpected argument \"extra.csv\" (try mb2co-timing rta --help)", 2);
   expect_one_line_error(run("rta --line 3 --tpdo-inhibit-100us 0"),
@@ -218,7 +218,7 @@ TEST_F(Cli, BadCommandLinesWithExit2) {
       "unknown command \"bogus\" (frame, load, rta, latency or serial) (try mb2co-timing --help)", 2);
   expect_one_line_error(run(""),
                         "missing command (frame, load, rta, latency or serial) (try mb2co-timing --help)", 2);
-  expect_one_line_error(run("frame --data 123"), "option --data/--rtr needs --id", 2);
+  expect_one_line_error(run("frame --data 123"), "--data/--rtr needs --id", 2);
   expect_one_line_error(run("latency --button-node 1"),
                         "--button-node and --pc-node must be different nodes within 1..--line", 2);
   expect_one_line_error(run("latency --parity space"),
@@ -227,9 +227,9 @@ TEST_F(Cli, BadCommandLinesWithExit2) {
 
 // "--bitrate 500" was 500 bit/s here and 500 kbit/s elsewhere: refused, with the likely meaning.
 TEST_F(Cli, BareBitrateBelow10000IsRefusedWithAHint) {
-  expect_one_line_error(run("rta --line 3 --bitrate 500"),
-                        "--bitrate 500: a bare number is bit/s and must be 10000 or more; did you mean 500k?",
-                        2);
+  expect_one_line_error(
+      run("rta --line 3 --bitrate 500"),
+      "--bitrate must be at least 10000 as a bare number (bit/s), got \"500\"; did you mean 500k?", 2);
   const Result k = run("rta --line 3 --bitrate 500k --json");
   const Result bps = run("rta --line 3 --bitrate 500000 --json");
   EXPECT_EQ(k.status, 0);

@@ -69,7 +69,7 @@ TEST(SerialCommand, RefusalsInOneLineAsUsageErrors) {
   Outcome o = serial({"--nodes", "31"});
   EXPECT_EQ(o.status, 2);
   EXPECT_EQ(o.err,
-            "mb2co-timing: option --nodes must be a list of whole numbers 1..15, got \"31\" "
+            "mb2co-timing: --nodes must be a list of whole numbers 1..15, got \"31\" "
             "(the 7-bit set has node ids 1..15)\n");
   o = serial({"--window-us", "1000", "--access", "token"});
   EXPECT_EQ(o.status, 2);

@@ -343,7 +343,8 @@ void Node::step_save() {
   emcy_.report(kEmcyStorage, r == ParamSave::kFailed, kErrGeneric);
 }
 
-bool Node::take_node_id_and_bitrate(NmtReset kind, uint8_t* node_id_entry, uint16_t bitrate_kbit) {
+bool Node::take_node_id_and_bitrate(NmtReset kind, uint8_t* node_id_entry,
+                                    const uint16_t& bitrate_kbit_entry) {
   if (kind == kResetCommunication) {
     *node_id_entry = node_id_;
   } else if (!params_loaded_) {
@@ -355,7 +356,7 @@ bool Node::take_node_id_and_bitrate(NmtReset kind, uint8_t* node_id_entry, uint1
   // at every reset, before the boot-up message leaves.
   if (can_control_ != nullptr) {
     const CanControl control = flash_read(can_control_);
-    if (control.set_bitrate != nullptr) control.set_bitrate(sink_.ctx, bitrate_kbit);
+    if (control.set_bitrate != nullptr) control.set_bitrate(sink_.ctx, bitrate_kbit_entry);
   }
   return true;
 }

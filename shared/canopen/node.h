@@ -133,9 +133,11 @@ class Node : private NodeState {
   /// saved parameters start()'s. False when that id is not the one the node
   /// runs with: the node then runs the communication area's reset once more
   /// for it, before its one boot-up, and the device does the rest of its
-  /// reset then. True: the bit rate has reached the controller
-  /// (CanControl::set_bitrate, before the boot-up) and the reset goes on.
-  bool take_node_id_and_bitrate(NmtReset kind, uint8_t* node_id_entry, uint16_t bitrate_kbit);
+  /// reset then. True: the bit rate entry's value has reached the
+  /// controller (CanControl::set_bitrate, before the boot-up) and the reset
+  /// goes on. (The entry by reference: read only then, on the AVR its load
+  /// is not held across the id's store.)
+  bool take_node_id_and_bitrate(NmtReset kind, uint8_t* node_id_entry, const uint16_t& bitrate_kbit_entry);
 
   /// A reset as if by NMT command, carried out at the next process() (so that
   /// a response to the request that asked for it can still leave first).

@@ -400,7 +400,7 @@ SdoAbort ObjectDictionary::write_row(uint16_t r, const uint8_t* data, uint16_t l
   // The entry's handler, once the node is bound (an OD without its node,
   // e.g. a tool's, checks and stores only).
   if (e.hook != kHookNone && owners_[kOdOwnerNode] != nullptr) {
-    const HookResult verdict = def_.call_handler(owners_, e.hook, e.index, e.sub, data, apply);
+    const HookResult verdict = def_.call_handler(owners_, e.hook, apply, e.index, e.sub, data);
     if (!verdict.store()) return verdict.abort();
   }
   store(e, data, len, apply);

@@ -66,9 +66,12 @@ const uint8_t kOdOwners = 3;
 /// (owners[0..kOdOwners), bound: ObjectDictionary::set_owner). MB2CO_OD_DEFINE generates it from the OD's
 /// handler list as one switch over the slots, each case a direct call of the slot's function: on the AVR the
 /// compiler's jump table in flash, every handler inlined into it (a flash table of function pointers, one
-/// out-of-line function per handler, measured 0.35 KB more: docs/performance.md).
-typedef HookResult (*OdHandlerCall)(void* const* owners, uint8_t slot, uint16_t index, uint8_t sub,
-                                    const uint8_t* data, bool apply);
+/// out-of-line function per handler, measured 0.35 KB more: docs/performance.md). `apply` comes before the
+/// entry (not last, as in OdWriteFunction): so avr-gcc keeps the switch's values in one run of saved
+/// registers and saves them through -mcall-prologues' shared helpers (the I/O node's switch 150 B smaller,
+/// measured).
+typedef HookResult (*OdHandlerCall)(void* const* owners, uint8_t slot, bool apply, uint16_t index,
+                                    uint8_t sub, const uint8_t* data);
 
 /// One line of a handler list (MB2CO_OD_DEFINE's HANDLERS, od_comm.h's
 /// MB2CO_OD_COMM_HANDLERS) as the compile-time checks see it: slot and owner.
@@ -99,6 +102,16 @@ constexpr bool od_rows_handled(const OdRow* rows, uint16_t count, const OdHandle
     if (!found) return false;
   }
   return true;
+}
+
+/// The slots the rows name, bit `slot` set for each (compile time): the
+/// handler call has a case only for these, so a handler of the node's list
+/// that no row of this OD names (the I/O node's restart request, TIME where
+/// the profile has none) costs its image nothing.
+constexpr uint16_t od_slots_named(const OdRow* rows, uint16_t count) {
+  uint16_t slots = 0;
+  for (uint16_t r = 0; r < count; ++r) slots = static_cast<uint16_t>(slots | (1u << rows[r].hook));
+  return static_cast<uint16_t>(slots & ~(1u << kHookNone));
 }
 
 class ObjectDictionary {

@@ -160,6 +160,22 @@ TEST(WriteHandlerOwner, WithoutTheNodeNoHandlerIsCalled) {
   EXPECT_EQ(od.get(od.find(0x2002, 0)), 9u);
 }
 
+// The handler call has a case only for the slots an OD's rows name
+// (MB2CO_OD_DEFINE): the set is each named slot once, never kHookNone.
+TEST(HandlerSlotsNamed, AreTheSlotsTheRowsName) {
+  static constexpr OdRow kRows[] = {{0x1017, 0, 0, kHookNmt, 0, 0, 0, 0},
+                                    {0x2000, 0, 0, kHookNone, 0, 0, 0, 0},
+                                    {0x2001, 1, 0, kHookNodeId, 0, 0, 0, 0},
+                                    {0x2001, 2, 0, kHookNodeId, 0, 0, 0, 0},
+                                    {0x2100, 0, 0, kHookApp + 2, 0, 0, 0, 0}};
+  constexpr uint16_t named = od_slots_named(kRows, 5);
+  static_assert(named == ((1u << kHookNmt) | (1u << kHookNodeId) | (1u << (kHookApp + 2))),
+                "the rows' slots");
+  EXPECT_EQ(named & (1u << kHookRestartRequest), 0u);
+  EXPECT_EQ(od_slots_named(kRows, 2), 1u << kHookNmt);
+  EXPECT_EQ(od_slots_named(kRows + 1, 1), 0u);
+}
+
 TEST(HookResultValue, SaysWhatTheBusMaySee) {
   EXPECT_TRUE(HookResult(kSdoOk).store());
   EXPECT_EQ(HookResult(kSdoOk).abort(), kSdoOk);

@@ -6,7 +6,7 @@ namespace mb2co {
 namespace canopen {
 
 Node::Node(ObjectDictionary& od, const CanSink& sink) : NodeState(), od_(od), sink_(sink) {
-  od_.set_write_hook(&Node::od_hook, this);
+  od_.set_owner(kOdOwnerNode, this);
 }
 
 static const uint16_t kIndices[] MB2CO_FLASH = {0x1016, 0x1017, 0x100C, 0x100D};
@@ -49,6 +49,7 @@ uint8_t Node::acceptance(CanIdRange* ranges) const {
 
 void Node::start(uint8_t node_id, uint32_t now_us) {
   next_node_id_ = node_id;
+  power_on_node_id_ = node_id;
   reset(kResetNode, now_us);
 }
 
@@ -342,42 +343,100 @@ void Node::step_save() {
   emcy_.report(kEmcyStorage, r == ParamSave::kFailed, kErrGeneric);
 }
 
-HookResult Node::od_hook(void* ctx, uint8_t hook, uint16_t index, uint8_t sub, const uint8_t* data,
-                         uint16_t len, bool apply) {
-  Node& n = *static_cast<Node*>(ctx);
-  // What the node consumes may change (1016h, 1005h, 1400h-1403h; 1003h and
-  // 1014h/1015h lie between them: the same ranges again, which a port finds
-  // in force).
-  static_assert(kHookHbConsumer < kHookSync && kHookSync < kHookRpdoComm, "hooks in this order");
-  if (apply && hook >= kHookHbConsumer && hook <= kHookRpdoComm) n.filters_stale_ = true;
-  // No code where the profile has no TIME (its rows are absent).
-  if (profile::kTime && hook == kHookTime) {
-    if (apply && index == 0x1012) n.filters_stale_ = true;
-    return n.TimeStamp::on_write(index, data, apply);
+bool Node::take_node_id_and_bitrate(NmtReset kind, uint8_t* node_id_entry,
+                                    const uint16_t& bitrate_kbit_entry) {
+  if (kind == kResetCommunication) {
+    *node_id_entry = node_id_;
+  } else if (!params_loaded_) {
+    *node_id_entry = power_on_node_id_;
   }
-  switch (hook) {
-    case kHookNmt:
-      if (apply) n.error_control_.restart();
-      return kSdoOk;
-    case kHookHbConsumer:
-      return n.on_hb_consumer_write(sub, le32(data), apply);
-    case kHookEmcy:
-      return n.emcy_.on_write(index, sub, data, apply);
-    case kHookSync:
-      return n.sync_.on_write(index, data, apply);
-    case kHookRpdoComm:
-    case kHookRpdoMap:
-      return n.rpdos_.on_write(index, sub, data, apply);
-    case kHookTpdoComm:
-    case kHookTpdoMap:
-      return n.tpdos_.on_write(index, sub, data, apply);
-    case kHookStore:
-      return n.on_store_write(index, le32(data), apply);
-    case kHookApp:
-      return n.app_hook_ != nullptr ? n.app_hook_(n.app_ctx_, hook, index, sub, data, len, apply) : kSdoOk;
-    default:
-      return kSdoOk;
+  next_node_id_ = *node_id_entry;
+  if (next_node_id_ != node_id_) return false;
+  // The one place the bit rate reaches the controller (platform/device_port.h):
+  // at every reset, before the boot-up message leaves.
+  if (can_control_ != nullptr) {
+    const CanControl control = flash_read(can_control_);
+    if (control.set_bitrate != nullptr) control.set_bitrate(sink_.ctx, bitrate_kbit_entry);
   }
+  return true;
+}
+
+// ---- the communication area's write handlers (od_comm.h) -------------------
+// Each is the one place a write of its entries reaches the service that owns
+// them; `apply` false decides only (OdWriteFunction). A write that may
+// change what the node consumes (1005h, 1012h, 1016h, 1400h-1403h) makes
+// the filters stale: the next process() hands acceptance() to the port.
+
+HookResult NodeHandlers::error_control(void* node, uint16_t, uint8_t, const uint8_t*, bool apply) {
+  if (apply) static_cast<Node*>(node)->error_control_.restart();
+  return kSdoOk;
+}
+
+HookResult NodeHandlers::heartbeat_consumer(void* node, uint16_t, uint8_t sub, const uint8_t* data,
+                                            bool apply) {
+  Node& n = *static_cast<Node*>(node);
+  if (apply) n.filters_stale_ = true;
+  return n.on_hb_consumer_write(sub, le32(data), apply);
+}
+
+HookResult NodeHandlers::emcy(void* node, uint16_t index, uint8_t sub, const uint8_t* data, bool apply) {
+  return static_cast<Node*>(node)->emcy_.on_write(index, sub, data, apply);
+}
+
+HookResult NodeHandlers::sync(void* node, uint16_t index, uint8_t, const uint8_t* data, bool apply) {
+  Node& n = *static_cast<Node*>(node);
+  if (apply) n.filters_stale_ = true;
+  return n.sync_.on_write(index, data, apply);
+}
+
+// A mapping write hands the port the ranges in force once more (a port
+// finds them set: nothing changes on the bus).
+HookResult NodeHandlers::rpdo(void* node, uint16_t index, uint8_t sub, const uint8_t* data, bool apply) {
+  Node& n = *static_cast<Node*>(node);
+  if (apply) n.filters_stale_ = true;
+  return n.rpdos_.on_write(index, sub, data, apply);
+}
+
+HookResult NodeHandlers::tpdo(void* node, uint16_t index, uint8_t sub, const uint8_t* data, bool apply) {
+  return static_cast<Node*>(node)->tpdos_.on_write(index, sub, data, apply);
+}
+
+HookResult NodeHandlers::store(void* node, uint16_t index, uint8_t, const uint8_t* data, bool apply) {
+  return static_cast<Node*>(node)->on_store_write(index, le32(data), apply);
+}
+
+// Only where the profile has TIME (od_comm.h lists them then).
+HookResult NodeHandlers::time_cob_id(void* node, uint16_t index, uint8_t, const uint8_t* data, bool apply) {
+  Node& n = *static_cast<Node*>(node);
+  if (apply) n.filters_stale_ = true;
+  return n.TimeStamp::on_write(index, data, apply);
+}
+
+HookResult NodeHandlers::time_stamp(void* node, uint16_t index, uint8_t, const uint8_t* data, bool apply) {
+  return static_cast<Node*>(node)->TimeStamp::on_write(index, data, apply);
+}
+
+// The id's range (1..127) is the entry's limit.
+HookResult NodeHandlers::node_id(void* node, uint16_t, uint8_t, const uint8_t* data, bool apply) {
+  if (apply) static_cast<Node*>(node)->next_node_id_ = data[0];  // at reset communication
+  return kSdoOk;
+}
+
+// The MCP2515's rates (platform/device_port.h, CanControl::set_bitrate);
+// in force from the next reset (Node::take_node_id_and_bitrate).
+HookResult NodeHandlers::bitrate(void*, uint16_t, uint8_t, const uint8_t* data, bool) {
+  const uint16_t kbit = le16(data);
+  if (kbit != 125 && kbit != 250 && kbit != 500 && kbit != 1000) return kAbortInvalidValue;
+  return kSdoOk;
+}
+
+// A request, not a setting: it reads back 0. Its range (0..2) is the
+// entry's limit.
+HookResult NodeHandlers::restart_request(void* node, uint16_t, uint8_t, const uint8_t* data, bool apply) {
+  if (apply && data[0] != 0) {
+    static_cast<Node*>(node)->request_reset(data[0] == 1 ? kResetCommunication : kResetNode);
+  }
+  return HookResult::handled();
 }
 
 }  // namespace canopen

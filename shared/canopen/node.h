@@ -12,6 +12,7 @@
 #include "canopen/heartbeat_consumer.h"
 #include "canopen/nmt_slave.h"
 #include "canopen/od.h"
+#include "canopen/od_comm.h"
 #include "canopen/param_storage.h"
 #include "canopen/rpdo.h"
 #include "canopen/sdo_server.h"
@@ -50,8 +51,6 @@ const uint8_t kMaxAcceptanceRanges = kMaxConsumedIds + kRemoteRanges + kMaxServi
 /// where the profile leaves it out takes no byte (time_stamp.h).
 struct NodeState : TimeStamp {
   const ParamStorage* storage_;
-  OdWriteHook app_hook_;
-  void* app_ctx_;
   ResetCallback reset_cb_;
   void* reset_ctx_;
   NmtSlave nmt_;
@@ -75,6 +74,7 @@ struct NodeState : TimeStamp {
   uint16_t row_1010_;  ///< 1010h sub 1
   uint8_t node_id_;
   uint8_t next_node_id_;
+  uint8_t power_on_node_id_;  ///< start()'s: the id of a reset node without saved parameters
   NmtReset pending_reset_;
   bool params_loaded_;
   /// Resets that found a damaged saved-parameter slot (CRC, limits; never
@@ -99,11 +99,6 @@ class Node : private NodeState {
   /// exception 06, busy) and a reset (NMT, request_reset) waits for its end.
   void set_storage(const ParamStorage* storage) { storage_ = storage; }
   const ParamStorage* storage() const { return storage_; }
-  /// Writes to entries with kHookApp go to the application.
-  void set_app_hook(OdWriteHook hook, void* ctx) {
-    app_hook_ = hook;
-    app_ctx_ = ctx;
-  }
   void set_reset_callback(ResetCallback cb, void* ctx) {
     reset_cb_ = cb;
     reset_ctx_ = ctx;
@@ -128,6 +123,21 @@ class Node : private NodeState {
   /// the one boot-up): how an application's saved id wins over a pending
   /// one at a reset node.
   void set_node_id_for_next_reset(uint8_t node_id) { next_node_id_ = node_id; }
+  /// The one policy of a device's own node id and bit rate entries (the
+  /// gateway's 2000h/1-2, the I/O node's 2001h/1-2; their writes are
+  /// NodeHandlers::node_id and ::bitrate: a written id in force from the
+  /// next reset communication, a rate of 125, 250, 500 or 1000 kbit/s), for
+  /// the device's reset callback. `*node_id_entry` becomes this reset's id:
+  /// at a reset communication the id the node took (written since, or
+  /// set_node_id_for_next_reset), at a reset node the saved one, or without
+  /// saved parameters start()'s. False when that id is not the one the node
+  /// runs with: the node then runs the communication area's reset once more
+  /// for it, before its one boot-up, and the device does the rest of its
+  /// reset then. True: the bit rate entry's value has reached the
+  /// controller (CanControl::set_bitrate, before the boot-up) and the reset
+  /// goes on. (The entry by reference: read only then, on the AVR its load
+  /// is not held across the id's store.)
+  bool take_node_id_and_bitrate(NmtReset kind, uint8_t* node_id_entry, const uint16_t& bitrate_kbit_entry);
 
   /// A reset as if by NMT command, carried out at the next process() (so that
   /// a response to the request that asked for it can still leave first).
@@ -208,8 +218,7 @@ class Node : private NodeState {
   const TimeStamp& time() const { return *this; }
 
  private:
-  static HookResult od_hook(void* ctx, uint8_t hook, uint16_t index, uint8_t sub, const uint8_t* data,
-                            uint16_t len, bool apply);
+  friend struct NodeHandlers;  // the OD's handlers of the communication area (od_comm.h)
   SdoAbort on_hb_consumer_write(uint8_t sub, uint32_t value, bool apply);
   HookResult on_store_write(uint16_t index, uint32_t value, bool apply);
   void reset(NmtReset kind, uint32_t now_us);

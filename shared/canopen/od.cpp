@@ -28,7 +28,7 @@ static const uint8_t kOdTypeInfo[kOdTypeCount] MB2CO_FLASH = {
 #undef MB2CO_OD_TYPE_INFO
 
 ObjectDictionary::ObjectDictionary(const OdDefinition& def, uint8_t* values)
-    : def_(def), values_(values), hook_(nullptr), hook_ctx_(nullptr), revision_(0), node_id_(0) {
+    : def_(def), values_(values), revision_(0), node_id_(0), owners_() {
 #ifndef __AVR__
   resolve_direct();
 #endif
@@ -397,8 +397,10 @@ SdoAbort ObjectDictionary::write_row(uint16_t r, const uint8_t* data, uint16_t l
     const SdoAbort abort = check_limits(e, data, len);
     if (abort != kSdoOk) return abort;
   }
-  if (e.hook != kHookNone && hook_ != nullptr) {
-    const HookResult verdict = hook_(hook_ctx_, e.hook, e.index, e.sub, data, len, apply);
+  // The entry's handler, once the node is bound (an OD without its node,
+  // e.g. a tool's, checks and stores only).
+  if (e.hook != kHookNone && owners_[kOdOwnerNode] != nullptr) {
+    const HookResult verdict = def_.call_handler(owners_, e.hook, apply, e.index, e.sub, data);
     if (!verdict.store()) return verdict.abort();
   }
   store(e, data, len, apply);

@@ -13,13 +13,13 @@
 namespace mb2co {
 namespace canopen {
 
-/// A write hook's decision (OdWriteHook): store the value, take it as done
+/// A write handler's decision (OdWriteHandler): store the value, take it as done
 /// without storing it, or refuse it with an SDO abort code.
 /// "Done, not stored" is no abort code and no bus value: write_row() answers
 /// it with abort() = kSdoOk, so it never leaves the OD. It is held in the
 /// 32 bits of the code (0xFFFFFFFF: not in any CiA 301 abort class) rather
 /// than in a flag beside it: one 32-bit value, like the services' SdoAbort
-/// results that Node::od_hook passes on unchanged (a flag made it a 5-byte
+/// results that the node's handlers pass on unchanged (a flag made it a 5-byte
 /// result and grew the Uno image: docs/performance.md). Nothing outside this
 /// class sees that value.
 class HookResult {
@@ -41,16 +41,78 @@ class HookResult {
   SdoAbort code_;
 };
 
-/// Validates (and lets the owning service take note of) a write before it is
-/// stored. `data`/`len` are the new value, little-endian as on the bus.
-/// Returns kSdoOk to accept, HookResult::handled() when the hook has done all
-/// there is to do, or an SDO abort code to refuse (nothing is stored).
-/// `apply` false: the check step of a request of several entries (Modbus FC
-/// 0Fh/10h/17h): decide exactly as with `apply` true, but carry out nothing
-/// (no save, no reset, no latch cleared, no service state changed), so that a
-/// request refused at its last entry leaves every observable state as it was.
-typedef HookResult (*OdWriteHook)(void* ctx, uint8_t hook, uint16_t index, uint8_t sub, const uint8_t* data,
-                                  uint16_t len, bool apply);
+/// An entry's write handler: validates a write before it is stored and
+/// applies it to the service that owns the entry, as CANopenNode's OD
+/// extensions (OD_extension_t's write) and Lely's download indications do.
+/// `owner` is the object bound to the handler's owner slot
+/// (ObjectDictionary::set_owner), `data` the new value, little-endian as on
+/// the bus, of the entry's size (checked before, with rights and limits).
+/// Returns kSdoOk to accept (the OD stores the value), HookResult::handled()
+/// when the handler has done all there is to do, or an SDO abort code to
+/// refuse (nothing is stored). `apply` false: the check step of a request of
+/// several entries (Modbus FC 0Fh/10h/17h): decide exactly as with `apply`
+/// true, but carry out nothing (no save, no reset, no latch cleared, no
+/// service state changed), so that a request refused at its last entry
+/// leaves every observable state as it was.
+typedef HookResult OdWriteFunction(void* owner, uint16_t index, uint8_t sub, const uint8_t* data, bool apply);
+
+/// Owner slots of an OD's handlers (ObjectDictionary::set_owner): the node
+/// (kOdOwnerNode: the communication area's handlers), and up to two objects
+/// of the device's (its application, a part of it such as a register bank).
+const uint8_t kOdOwnerNode = 0;
+const uint8_t kOdOwners = 3;
+
+/// Calls the handler of slot `slot` (OdRow::hook) with its owner
+/// (owners[0..kOdOwners), bound: ObjectDictionary::set_owner). MB2CO_OD_DEFINE generates it from the OD's
+/// handler list as one switch over the slots, each case a direct call of the slot's function: on the AVR the
+/// compiler's jump table in flash, every handler inlined into it (a flash table of function pointers, one
+/// out-of-line function per handler, measured 0.35 KB more: docs/performance.md). `apply` comes before the
+/// entry (not last, as in OdWriteFunction): so avr-gcc keeps the switch's values in one run of saved
+/// registers and saves them through -mcall-prologues' shared helpers (the I/O node's switch 150 B smaller,
+/// measured).
+typedef HookResult (*OdHandlerCall)(void* const* owners, uint8_t slot, bool apply, uint16_t index,
+                                    uint8_t sub, const uint8_t* data);
+
+/// One line of a handler list (MB2CO_OD_DEFINE's HANDLERS, od_comm.h's
+/// MB2CO_OD_COMM_HANDLERS) as the compile-time checks see it: slot and owner.
+struct OdHandlerLine {
+  uint8_t slot;
+  uint8_t owner;
+};
+/// True when every slot of a list is named once, none is 0, every one fits
+/// a row's nibble and every owner is an owner slot (compile time).
+template <size_t kLines>
+constexpr bool od_handlers_distinct(const OdHandlerLine (&lines)[kLines]) {
+  for (size_t i = 0; i < kLines; ++i) {
+    if (lines[i].slot == kHookNone || lines[i].slot >= kOdHandlerSlots || lines[i].owner >= kOdOwners)
+      return false;
+    for (size_t j = 0; j < i; ++j) {
+      if (lines[j].slot == lines[i].slot) return false;
+    }
+  }
+  return true;
+}
+/// True when every row that names a slot finds a line of the list for it
+/// (compile time).
+template <size_t kLines>
+constexpr bool od_rows_handled(const OdRow* rows, uint16_t count, const OdHandlerLine (&lines)[kLines]) {
+  for (uint16_t r = 0; r < count; ++r) {
+    bool found = rows[r].hook == kHookNone;
+    for (size_t i = 0; i < kLines && !found; ++i) found = lines[i].slot == rows[r].hook;
+    if (!found) return false;
+  }
+  return true;
+}
+
+/// The slots the rows name, bit `slot` set for each (compile time): the
+/// handler call has a case only for these, so a handler of the node's list
+/// that no row of this OD names (the I/O node's restart request, TIME where
+/// the profile has none) costs its image nothing.
+constexpr uint16_t od_slots_named(const OdRow* rows, uint16_t count) {
+  uint16_t slots = 0;
+  for (uint16_t r = 0; r < count; ++r) slots = static_cast<uint16_t>(slots | (1u << rows[r].hook));
+  return static_cast<uint16_t>(slots & ~(1u << kHookNone));
+}
 
 class ObjectDictionary {
  public:
@@ -64,10 +126,12 @@ class ObjectDictionary {
     touch();
   }
   uint8_t node_id() const { return node_id_; }
-  void set_write_hook(OdWriteHook hook, void* ctx) {
-    hook_ = hook;
-    hook_ctx_ = ctx;
-  }
+  /// Binds the object the handlers of owner slot `owner` (< kOdOwners) are
+  /// called with. The node binds kOdOwnerNode, and handlers are called only
+  /// then (an OD without its node checks rights, size and limits and
+  /// stores): a device that binds its node binds its own owners as well,
+  /// before the first write (Gateway, IoNode: in their constructors).
+  void set_owner(uint8_t owner, void* object) { owners_[owner] = object; }
   const OdDefinition& definition() const { return def_; }
 
   // ---- lookup ---------------------------------------------------------------
@@ -91,7 +155,7 @@ class ObjectDictionary {
   MB2CO_INLINE uint8_t attr(uint16_t row) const { return flash_read(&place(row).row->attr); }
   uint16_t index_of(uint16_t row) const;
   MB2CO_INLINE uint8_t sub_of(uint16_t row) const { return flash_read(&place(row).row->sub); }
-  /// OdHook of a row (kHookNone: no service validates writes to it).
+  /// Handler slot of a row (OdHook; kHookNone: no handler validates writes to it).
   MB2CO_INLINE uint8_t hook_of(uint16_t row) const {
     return static_cast<uint8_t>(
         flash_read(reinterpret_cast<const uint8_t*>(place(row).row) + kOdEntryTypeHookOffset) >> 4);
@@ -121,11 +185,12 @@ class ObjectDictionary {
   SdoAbort check_read(uint16_t index, uint8_t sub, uint16_t* row) const;
   /// Checks rights of a write before data arrives (segmented download).
   SdoAbort check_write(uint16_t index, uint8_t sub, uint16_t* row) const;
-  /// Writes (index, sub) from data/len: rights, size, limits, hook, then store.
+  /// Writes (index, sub) from data/len: rights, size, limits, the entry's
+  /// handler, then store.
   SdoAbort write(uint16_t index, uint8_t sub, const uint8_t* data, uint16_t len);
   /// write() of a row whose access rights the caller has checked (a mapped
-  /// RPDO entry): size, limits, hook, then store. With `apply` false only
-  /// the decision (the hook checks, OdWriteHook): the value is stored without
+  /// RPDO entry): size, limits, the entry's handler, then store. With `apply` false only
+  /// the decision (the handler checks, OdWriteHandler): the value is stored without
   /// a revision change, for the caller to check later entries of the same
   /// request against and then put back (ram_untracked).
   SdoAbort write_row(uint16_t row, const uint8_t* data, uint16_t len, bool apply = true);
@@ -238,10 +303,9 @@ class ObjectDictionary {
 
   const OdDefinition& def_;
   uint8_t* values_;
-  OdWriteHook hook_;
-  void* hook_ctx_;
   uint16_t revision_;
   uint8_t node_id_;
+  void* owners_[kOdOwners];  ///< set_owner(); null: not bound
 #ifndef __AVR__
   // Hosts only (the simulator runs every station's core on every pass; the
   // Uno keeps its RAM and flash as they are): where get() finds a numeric

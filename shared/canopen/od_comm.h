@@ -8,7 +8,50 @@
 #pragma once
 // The OD lists and their macros are tables, one row a line: not reflowed.
 // clang-format off
+#include "canopen/od.h"
 #include "canopen/od_define.h"
+
+namespace mb2co {
+namespace canopen {
+/// The write handlers of the entries below, each called with the Node
+/// (kOdOwnerNode) as OdWriteHandler says; defined in node.cpp (friends of
+/// the Node: they reach its services). One per entry kind, named in its
+/// rows' hook column through MB2CO_OD_COMM_HANDLERS.
+struct NodeHandlers {
+  static OdWriteFunction error_control;       ///< 1017h, 100Ch, 100Dh: the error control restarts
+  static OdWriteFunction heartbeat_consumer;  ///< 1016h/1-4: one consumer time per node id
+  static OdWriteFunction emcy;                ///< 1003h/0 (clears the history), 1014h, 1015h
+  static OdWriteFunction sync;                ///< 1005h, 1006h, 1019h
+  static OdWriteFunction rpdo;                ///< 1400h-1403h, 1600h-1603h
+  static OdWriteFunction tpdo;                ///< 1800h-1803h, 1A00h-1A03h
+  static OdWriteFunction store;               ///< 1010h "save", 1011h "load"
+  static OdWriteFunction time_cob_id;         ///< 1012h (profile::kTime)
+  static OdWriteFunction time_stamp;          ///< 1013h (profile::kTime)
+  static OdWriteFunction node_id;             ///< the device's own node id, from the next reset communication
+  static OdWriteFunction bitrate;             ///< the device's own bit rate: 125, 250, 500 or 1000 kbit/s
+  static OdWriteFunction restart_request;     ///< 1 reset communication, 2 reset node; reads back 0
+};
+}  // namespace canopen
+}  // namespace mb2co
+
+/// The node's handler list, H(slot, function, owner): first in every OD's
+/// handler table (MB2CO_OD_DEFINE), beside the rows below that name them.
+#define MB2CO_OD_COMM_HANDLERS(H)                                                                              \
+  H(::mb2co::canopen::kHookNmt, ::mb2co::canopen::NodeHandlers::error_control, ::mb2co::canopen::kOdOwnerNode)  \
+  H(::mb2co::canopen::kHookHbConsumer, ::mb2co::canopen::NodeHandlers::heartbeat_consumer,                     \
+    ::mb2co::canopen::kOdOwnerNode)                                                                            \
+  H(::mb2co::canopen::kHookEmcy, ::mb2co::canopen::NodeHandlers::emcy, ::mb2co::canopen::kOdOwnerNode)          \
+  H(::mb2co::canopen::kHookSync, ::mb2co::canopen::NodeHandlers::sync, ::mb2co::canopen::kOdOwnerNode)          \
+  H(::mb2co::canopen::kHookRpdo, ::mb2co::canopen::NodeHandlers::rpdo, ::mb2co::canopen::kOdOwnerNode)          \
+  H(::mb2co::canopen::kHookTpdo, ::mb2co::canopen::NodeHandlers::tpdo, ::mb2co::canopen::kOdOwnerNode)          \
+  H(::mb2co::canopen::kHookStore, ::mb2co::canopen::NodeHandlers::store, ::mb2co::canopen::kOdOwnerNode)        \
+  MB2CO_WITH_TIME(                                                                                             \
+  H(::mb2co::canopen::kHookTimeCobId, ::mb2co::canopen::NodeHandlers::time_cob_id, ::mb2co::canopen::kOdOwnerNode) \
+  H(::mb2co::canopen::kHookTimeStamp, ::mb2co::canopen::NodeHandlers::time_stamp, ::mb2co::canopen::kOdOwnerNode)) \
+  H(::mb2co::canopen::kHookNodeId, ::mb2co::canopen::NodeHandlers::node_id, ::mb2co::canopen::kOdOwnerNode)     \
+  H(::mb2co::canopen::kHookBitrate, ::mb2co::canopen::NodeHandlers::bitrate, ::mb2co::canopen::kOdOwnerNode)    \
+  H(::mb2co::canopen::kHookRestartRequest, ::mb2co::canopen::NodeHandlers::restart_request,                    \
+    ::mb2co::canopen::kOdOwnerNode)
 
 namespace mb2co {
 namespace canopen {
@@ -103,8 +146,8 @@ const uint32_t kLoadSignature = 0x64616F6Cu;  ///< "load" (1011h)
   N(0x1011, 0, x1011_0_highestSubIndex, U8, CONST, 0, kHookNone, 1, "Restore default parameters: highest sub-index") \
   N(0x1011, 1, x1011_1_restoreAllDefaults, U32, RW, 0, kHookStore, 1, "Restore all default parameters"))             \
   MB2CO_WITH_TIME(                                                                                                   \
-  N(0x1012, 0, x1012_0_cobIdTime, U32, RW, 0, kHookTime, 0x80000100, "COB-ID TIME (bit 31 consumer, 30 producer)")   \
-  N(0x1013, 0, x1013_0_highResolutionTimeStamp, U32, RW, kAttrPdo | kAttrCommand, kHookTime, 0, "High resolution time stamp (us since 1984-01-01, mod 2^32)")) \
+  N(0x1012, 0, x1012_0_cobIdTime, U32, RW, 0, kHookTimeCobId, 0x80000100, "COB-ID TIME (bit 31 consumer, 30 producer)")   \
+  N(0x1013, 0, x1013_0_highResolutionTimeStamp, U32, RW, kAttrPdo | kAttrCommand, kHookTimeStamp, 0, "High resolution time stamp (us since 1984-01-01, mod 2^32)")) \
   N(0x1014, 0, x1014_0_cobIdEmcy, U32, RW, kAttrNodeId, kHookEmcy, 0x80, "COB-ID EMCY")                              \
   N(0x1015, 0, x1015_0_inhibitTimeEmcy, U16, RW, 0, kHookEmcy, 0, "Inhibit time EMCY (100 us)")                      \
   N(0x1016, 0, x1016_0_highestSubIndex, U8, CONST, 0, kHookNone, 4, "Consumer heartbeat time: highest sub-index")    \
@@ -135,17 +178,17 @@ const uint32_t kLoadSignature = 0x64616F6Cu;  ///< "load" (1011h)
 // but for their index, values and defaults).
 #define MB2CO_OD_RPDO_COMM(N, INDEX, ID, COBID, FLAGS, TTYPE, EVENT, NAME)                          \
   N(INDEX, 0, ID##_0_highestSubIndex, U8, CONST, 0, kHookNone, 5, NAME ": highest sub-index")       \
-  N(INDEX, 1, ID##_1_cobId, U32, RW, FLAGS, kHookRpdoComm, COBID, NAME ": COB-ID")                  \
-  N(INDEX, 2, ID##_2_transmissionType, U8, RW, 0, kHookRpdoComm, TTYPE, NAME ": transmission type") \
-  N(INDEX, 3, ID##_3_inhibitTime, U16, RW, 0, kHookRpdoComm, 0, NAME ": inhibit time (unused)")     \
-  N(INDEX, 5, ID##_5_eventTimer, U16, RW, 0, kHookRpdoComm, EVENT, NAME ": event timer (ms)")
+  N(INDEX, 1, ID##_1_cobId, U32, RW, FLAGS, kHookRpdo, COBID, NAME ": COB-ID")                  \
+  N(INDEX, 2, ID##_2_transmissionType, U8, RW, 0, kHookRpdo, TTYPE, NAME ": transmission type") \
+  N(INDEX, 3, ID##_3_inhibitTime, U16, RW, 0, kHookRpdo, 0, NAME ": inhibit time (unused)")     \
+  N(INDEX, 5, ID##_5_eventTimer, U16, RW, 0, kHookRpdo, EVENT, NAME ": event timer (ms)")
 #define MB2CO_OD_TPDO_COMM(N, INDEX, ID, COBID, FLAGS, TTYPE, INHIBIT, EVENT, NAME)                   \
   N(INDEX, 0, ID##_0_highestSubIndex, U8, CONST, 0, kHookNone, 6, NAME ": highest sub-index")         \
-  N(INDEX, 1, ID##_1_cobId, U32, RW, FLAGS, kHookTpdoComm, COBID, NAME ": COB-ID")                    \
-  N(INDEX, 2, ID##_2_transmissionType, U8, RW, 0, kHookTpdoComm, TTYPE, NAME ": transmission type")   \
-  N(INDEX, 3, ID##_3_inhibitTime, U16, RW, 0, kHookTpdoComm, INHIBIT, NAME ": inhibit time (100 us)") \
-  N(INDEX, 5, ID##_5_eventTimer, U16, RW, 0, kHookTpdoComm, EVENT, NAME ": event timer (ms)")         \
-  N(INDEX, 6, ID##_6_syncStartValue, U8, RW, 0, kHookTpdoComm, 0, NAME ": SYNC start value")
+  N(INDEX, 1, ID##_1_cobId, U32, RW, FLAGS, kHookTpdo, COBID, NAME ": COB-ID")                    \
+  N(INDEX, 2, ID##_2_transmissionType, U8, RW, 0, kHookTpdo, TTYPE, NAME ": transmission type")   \
+  N(INDEX, 3, ID##_3_inhibitTime, U16, RW, 0, kHookTpdo, INHIBIT, NAME ": inhibit time (100 us)") \
+  N(INDEX, 5, ID##_5_eventTimer, U16, RW, 0, kHookTpdo, EVENT, NAME ": event timer (ms)")         \
+  N(INDEX, 6, ID##_6_syncStartValue, U8, RW, 0, kHookTpdo, 0, NAME ": SYNC start value")
 
 // One PDO mapping record (RPDO: 160n, TPDO: 1A0n): COUNT entries M1..M8;
 // ID as above (x1600_0_mappedCount, x1600_1_mappedObject1, ...).

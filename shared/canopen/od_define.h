@@ -16,6 +16,8 @@
 //               row wider than 32 bits its low 32 bits (the rest zero).
 //       access: CONST (value in the row, no RAM), RO, WO, RW
 //       flags:  0 or OdAttr bits (kAttrPdo, kAttrNodeId, kAttrCommand)
+//       hook:   the slot of the entry's write handler (OdHook, od_types.h;
+//               kHookNone: none), whose function the OD's handler list names
 //   S(index, sub, id, access, hook, capacity, "default text", "name")
 //       a VISIBLE_STRING of `capacity` characters; MB2CO_OD_OCTETS(n),
 //       MB2CO_OD_UNICODE(n) (n characters, 2n bytes) or MB2CO_OD_DOMAIN(n)
@@ -112,6 +114,8 @@ static_assert(offsetof(OdRecordTableOfOne, templates) == sizeof(OdRecords) && of
                   offsetof(OdRecordTableOfOne, row_templates) == sizeof(OdRecords) + sizeof(OdRecordRow),
               "the template rows follow OdRecords, the row bytes the template rows");
 
+class HookResult;  // od.h
+
 /// Everything constant about one OD: tables (flash on AVR) and sizes.
 struct OdDefinition {
   const OdRow* rows;          ///< the rows but those of PDO records, sorted by (index, sub); flash on AVR
@@ -125,6 +129,9 @@ struct OdDefinition {
   uint8_t limit_count;
   uint16_t values_size;       ///< bytes of the RAM value block
   const char* const* names;   ///< one per row; nullptr on AVR (names cost flash)
+  /// Calls an entry's write handler by its slot (OdRow::hook; od.h, OdHandlerCall).
+  HookResult (*call_handler)(void* const* owners, uint8_t slot, bool apply, uint16_t index, uint8_t sub,
+                             const uint8_t* data);
 };
 
 /// Where one OD entry is, generated for every row (`Name##Entry::id`).
@@ -587,7 +594,26 @@ constexpr uint8_t od_default_slot(const OdDefaultPool<kCount>& pool, uint32_t va
 #define MB2CO_OD_DEFAULTS(Name, LIST) \
   constexpr ::mb2co::canopen::OdDefault Name##Defaults[] = {LIST(MB2CO_OD_N_DEF, MB2CO_OD_S_DEF)};
 
-/// In exactly one .cpp: the tables. LIMITS is a list macro taking L.
+// A handler list's lines as the checks see them (od.h, OdHandlerLine), and
+// as the cases of the OD's handler call (OdHandlerCall).
+#define MB2CO_OD_H_LINE(slot, function, owner) {slot, owner},
+// A case whose slot no row names (kNamed, od_slots_named) returns before
+// the call: the compiler drops the call and the handler with it. The node's
+// owner is read once, before the switch (`node`), not in each of its cases
+// (40 B on each Uno image, measured).
+#define MB2CO_OD_H_CASE(slot, function, owner)                                                    \
+  case slot:                                                                                      \
+    if ((kNamed & (1u << (slot))) == 0) break;                                                    \
+    return function((owner) == ::mb2co::canopen::kOdOwnerNode ? node : owners[owner], index, sub, data, apply);
+/// A HANDLERS list of an OD that has no handlers of its own.
+#define MB2CO_OD_NO_HANDLERS(H)
+
+/// In exactly one .cpp: the tables. LIMITS is a list macro taking L;
+/// HANDLERS one taking H(slot, function, owner): the handlers of the
+/// application's slots (kHookApp on), declared beside the OD list; the
+/// node's (od_comm.h, MB2CO_OD_COMM_HANDLERS) come first in every OD. A row
+/// that names a slot without a handler, or a slot named twice, does not
+/// compile.
 /// Define MB2CO_OD_CUR_V to Name##Values and MB2CO_OD_CUR_P to Name##Strings first.
 #ifdef __AVR__
 #define MB2CO_OD_NAMES_TABLE(Name, LIST)
@@ -598,7 +624,7 @@ constexpr uint8_t od_default_slot(const OdDefaultPool<kCount>& pool, uint32_t va
 #define MB2CO_OD_NAMES_PTR(Name) Name##Names
 #endif
 
-#define MB2CO_OD_DEFINE(Name, LIST, LIMITS)                                                     \
+#define MB2CO_OD_DEFINE(Name, LIST, LIMITS, HANDLERS)                                           \
   struct Name##Strings {                                                                        \
     char first_; /* keeps the struct non-empty; offset 0 is never a real text */                \
     LIST(MB2CO_OD_N_NONE, MB2CO_OD_S_POOL)                                                      \
@@ -643,6 +669,24 @@ constexpr uint8_t od_default_slot(const OdDefaultPool<kCount>& pool, uint32_t va
   static_assert(::mb2co::canopen::od_limits_fit(Name##AllRows, Name##RowCount, Name##Limits,     \
                     static_cast<uint16_t>(sizeof(Name##Limits) / sizeof(Name##Limits[0]) - 1)), \
                 #Name ": a limited entry is at most as wide as OdLimitValue");                   \
+  static constexpr ::mb2co::canopen::OdHandlerLine Name##HandlerLines[] = {                   \
+      MB2CO_OD_COMM_HANDLERS(MB2CO_OD_H_LINE) HANDLERS(MB2CO_OD_H_LINE)};                       \
+  static_assert(::mb2co::canopen::od_handlers_distinct(Name##HandlerLines),                      \
+                #Name ": every handler slot once, 1-15, with an owner slot");    \
+  static ::mb2co::canopen::HookResult Name##CallHandler(void* const* owners, uint8_t slot, bool apply, \
+                                                         uint16_t index, uint8_t sub, const uint8_t* data) { \
+    constexpr uint16_t kNamed = ::mb2co::canopen::od_slots_named(Name##AllRows, Name##RowCount); \
+    void* const node = owners[::mb2co::canopen::kOdOwnerNode];                                  \
+    switch (slot) {                                                                             \
+      MB2CO_OD_COMM_HANDLERS(MB2CO_OD_H_CASE)                                                   \
+      HANDLERS(MB2CO_OD_H_CASE)                                                                 \
+      default:                                                                                  \
+        break;                                                                                  \
+    }                                                                                           \
+    return ::mb2co::canopen::kSdoOk;                                                            \
+  }                                                                                             \
+  static_assert(::mb2co::canopen::od_rows_handled(Name##AllRows, Name##RowCount, Name##HandlerLines), \
+                #Name ": every slot a row names has its handler");                              \
   MB2CO_OD_NAMES_TABLE(Name, LIST)                                                              \
   const ::mb2co::canopen::OdDefinition Name##Definition = {                                     \
       Name##Rows.rows,                                                                          \
@@ -655,5 +699,6 @@ constexpr uint8_t od_default_slot(const OdDefaultPool<kCount>& pool, uint32_t va
       Name##Limits,                                                                             \
       static_cast<uint8_t>(sizeof(Name##Limits) / sizeof(Name##Limits[0]) - 1),                 \
       static_cast<uint16_t>(sizeof(Name##Values)),                                              \
-      MB2CO_OD_NAMES_PTR(Name)};
+      MB2CO_OD_NAMES_PTR(Name),                                                                 \
+      &Name##CallHandler};
 // clang-format on

@@ -101,24 +101,32 @@ enum OdAttr : uint8_t {
                         ///< | offset of the default in the string pool
 };
 
-/// Which service validates and applies a write to this entry (OD write hook).
+/// The handler of an entry (OdRow::hook): its slot in the OD's table of write
+/// handlers (OdDefinition::handlers, od.h's OdHandler), which validates a
+/// write and applies it to the service that owns the entry, as CANopenNode's
+/// OD extensions (OD_extension_t's write) and Lely's download indications do.
+/// 0: no handler (the OD checks rights, size and limits, and stores). Slots
+/// below kHookApp are the node's, the same in every OD (od_comm.h,
+/// MB2CO_OD_COMM_HANDLERS); from kHookApp on, each device names its own
+/// (gateway_od.h, io_node_od.h). A slot is a nibble of the row.
 enum OdHook : uint8_t {
   kHookNone = 0,
-  kHookNmt,         ///< 1017h producer heartbeat, 100Ch/100Dh guarding
-  kHookHbConsumer,  ///< 1016h
-  kHookEmcy,        ///< 1003h, 1014h, 1015h
-  kHookSync,        ///< 1005h, 1006h, 1019h
-  kHookRpdoComm,    ///< 1400h–1403h
-  kHookRpdoMap,     ///< 1600h–1603h
-  kHookTpdoComm,    ///< 1800h–1803h
-  kHookTpdoMap,     ///< 1A00h–1A03h
-  kHookStore,       ///< 1010h, 1011h
-  kHookApp,         ///< application area: the application decides
+  kHookNmt,             ///< 1017h producer heartbeat, 100Ch/100Dh guarding
+  kHookHbConsumer,      ///< 1016h
+  kHookEmcy,            ///< 1003h, 1014h, 1015h
+  kHookSync,            ///< 1005h, 1006h, 1019h
+  kHookRpdo,            ///< 1400h–1403h, 1600h–1603h
+  kHookTpdo,            ///< 1800h–1803h, 1A00h–1A03h
+  kHookStore,           ///< 1010h, 1011h
+  kHookTimeCobId,       ///< 1012h (profile::kTime)
+  kHookTimeStamp,       ///< 1013h (profile::kTime)
+  kHookNodeId,          ///< the device's own node id (gateway 2000h/1, I/O node 2001h/1)
+  kHookBitrate,         ///< the device's own CAN bit rate in kbit/s (2000h/2, 2001h/2)
+  kHookRestartRequest,  ///< 1 reset communication, 2 reset node (gateway 2001h)
+  kHookApp,             ///< the first of the application's own slots
 };
-
-/// 1012h, 1013h (an OdHook beside the enum, after kHookApp: the switch on
-/// the others in Node::od_hook stays as it was where TIME is left out).
-const uint8_t kHookTime = kHookApp + 1;
+/// Slots a row can name (OdRow::hook: 4 bits).
+const uint8_t kOdHandlerSlots = 16;
 
 /// One sub-entry's metadata as stored, constant, in flash on AVR (a row per
 /// sub-entry makes this the largest table of an image). The 32-bit default
@@ -134,7 +142,7 @@ struct OdRow {
   uint16_t index;
   uint8_t sub;
   uint8_t type_low : 4;    ///< DataType bits 0-3 (data_type() is the type)
-  uint8_t hook : 4;        ///< OdHook (all below 10h)
+  uint8_t hook : 4;        ///< OdHook: the slot of its write handler (0: none)
   uint8_t attr;            ///< OdAttr bits
   uint8_t def_slot;        ///< the default: OdDefinition::defaults[def_slot], or with
                            ///< the top bit set (kOdLiteralDefaults) the low 7 bits
@@ -154,7 +162,8 @@ static_assert(offsetof(OdRow, sub) + 1 == kOdEntryTypeHookOffset &&
                   offsetof(OdRow, attr) == kOdEntryTypeHookOffset + 1 &&
                   offsetof(OdRow, def_slot) + 1 == kOdEntryLocOffset && sizeof(OdRow) == 8,
               "type and hook share the byte between sub and attr; loc is the last word");
-static_assert(kUnsigned64 < kOdTypeCount && kHookTime < 16, "types fit 5 bits, hooks a nibble");
+static_assert(kUnsigned64 < kOdTypeCount && kHookApp < kOdHandlerSlots && kOdHandlerSlots == 16,
+              "types fit 5 bits, handler slots a nibble");
 
 /// One sub-entry's metadata as the OD hands it out (ObjectDictionary::entry):
 /// the row and its default as the 32-bit value. `def` is the entry's own;

@@ -61,7 +61,7 @@ class TimeStamp {
   /// producer period while `allowed`.
   void process(uint32_t now_us, bool allowed, const CanSink& sink);
   void next_deadline(NextDeadline& d, bool allowed) const;
-  /// Validates writes of 1012h and 1013h (OD hook kHookTime).
+  /// Validates writes of 1012h and 1013h (its handlers, NodeHandlers::time_cob_id and ::time_stamp).
   SdoAbort on_write(uint16_t index, const uint8_t* data, bool apply);
 
   /// The network clock at `now_us` (µs since 1984-01-01, mod 2^32); the

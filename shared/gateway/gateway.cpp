@@ -22,7 +22,7 @@ Gateway::Gateway(const GatewayPorts& ports)
   if (profile::kNetwork) node_.set_service_ranges(kNetworkServiceRanges, kRanges);
   node_.set_storage(ports.storage);
   node_.set_can_control(ports.can_control);
-  node_.set_app_hook(&Gateway::app_write, this);
+  od_.set_owner(kOwnerGateway, this);
   node_.set_reset_callback(&Gateway::on_reset, this);
   node_.heartbeat_consumer().set_callback(&Gateway::on_heartbeat, this);
   node_.rpdos().set_callback(&Gateway::on_rpdo, this);
@@ -30,7 +30,6 @@ Gateway::Gateway(const GatewayPorts& ports)
 }
 
 void Gateway::start(uint32_t now_us, uint8_t default_node_id) {
-  default_node_id_ = default_node_id;
   now_us_ = now_us;
   // The node id is itself a saved parameter (2000h/1): the reset node of the
   // start loads it and names it the reset's id (on_reset) before the
@@ -43,21 +42,9 @@ void Gateway::start(uint32_t now_us, uint8_t default_node_id) {
 void Gateway::on_reset(void* ctx, NmtReset kind) {
   Gateway& g = *static_cast<Gateway*>(ctx);
   od::GatewayValues& v = g.values_;
-  // Without saved parameters the id given at power-on stays in force.
-  if (kind == kResetNode && !g.node_.params_loaded()) v.x2000_1_nodeId = g.default_node_id_;
-  // Reset node with an id written and not saved, or the power-on reset that
-  // loaded a saved id: 2000h/1 is this reset's id, and the node runs the
-  // communication area's reset once more for it before its boot-up
-  // (Node::reset); the rest is done then, once.
-  g.node_.set_node_id_for_next_reset(v.x2000_1_nodeId);
-  if (v.x2000_1_nodeId != g.node_.node_id()) return;
-  // The one place the bit rate reaches the controller (platform/device_port.h): at
-  // every reset, before the boot-up message leaves.
-  const CanControl* can = g.node_.can_control();
-  if (can != nullptr) {
-    const CanControl control = flash_read(can);
-    if (control.set_bitrate != nullptr) control.set_bitrate(g.node_.sink().ctx, v.x2000_2_bitrateKbit);
-  }
+  // 2000h/1-2 as every device keeps its id and bit rate (Node::take_node_id_and_bitrate);
+  // the rest once, in the reset that boots up with this id.
+  if (!g.node_.take_node_id_and_bitrate(kind, &v.x2000_1_nodeId, v.x2000_2_bitrateKbit)) return;
   g.slave_.set_address(v.x2000_5_modbusAddress);
   g.line_.on_reset(g.node_.node_id());
   g.start_pending_ = v.x2000_8_selfStarting != 0;
@@ -72,29 +59,12 @@ void Gateway::on_rpdo(void* ctx, uint8_t n) {
   g.line_.on_rpdo(n, g.now_us_);
 }
 
-// Side effects only with `apply` (OdWriteHook): a refused Modbus request of
-// several registers must not clear a latched stop or request a reset.
-HookResult Gateway::app_write(void* ctx, uint8_t, uint16_t index, uint8_t sub, const uint8_t* data, uint16_t,
-                              bool apply) {
-  Gateway& g = *static_cast<Gateway*>(ctx);
-  switch (index) {
-    case 0x2000:
-      if (sub == 2) {
-        const uint16_t kbit = le16(data);
-        if (kbit != 125 && kbit != 250 && kbit != 500 && kbit != 1000) return kAbortInvalidValue;
-      }
-      if (apply && sub == 1) g.node_.set_node_id_for_next_reset(data[0]);  // at reset communication
-      return kSdoOk;
-    case 0x2001:
-      if (apply && data[0] != 0) g.node_.request_reset(data[0] == 1 ? kResetCommunication : kResetNode);
-      return HookResult::handled();  // a request, not a setting: reads back 0
-    case 0x2100:
-      if (apply) g.line_.on_run_command(data[0]);
-      return kSdoOk;
-    default:
-      // The Modbus maps are the register bank's: it decides what they may name.
-      return OdRegisterBank::is_map_index(index) ? g.bank_.check_map_write(index, sub, data) : kSdoOk;
-  }
+// The RUN command reaches the line application only with `apply`
+// (OdWriteHandler): a refused Modbus request of several registers must not
+// clear a latched stop.
+HookResult GatewayHandlers::run_command(void* gateway, uint16_t, uint8_t, const uint8_t* data, bool apply) {
+  if (apply) static_cast<Gateway*>(gateway)->line_.on_run_command(data[0]);
+  return kSdoOk;
 }
 
 uint8_t Gateway::process(uint32_t now_us, uint8_t raw_buttons) {

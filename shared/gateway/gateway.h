@@ -97,8 +97,7 @@ class Gateway : private GatewayState {
   modbus::SlaveCore& modbus_slave() { return slave_; }
 
  private:
-  static canopen::HookResult app_write(void* ctx, uint8_t hook, uint16_t index, uint8_t sub,
-                                       const uint8_t* data, uint16_t len, bool apply);
+  friend struct GatewayHandlers;  // the OD's handler of the RUN command (gateway_od.h)
   static void on_reset(void* ctx, canopen::NmtReset kind);
   static void on_heartbeat(void* ctx, uint8_t node_id, canopen::HbEvent event, uint8_t nmt);
   static void on_rpdo(void* ctx, uint8_t n);
@@ -114,7 +113,6 @@ class Gateway : private GatewayState {
   OdRegisterBank bank_;
   OdDeviceIdentity identity_;
   modbus::SlaveWithFrame<kModbusFrameBytes> slave_;
-  uint8_t default_node_id_ = 1;
   // FC 2Bh / MEI 0Dh: the whole network from Modbus (network_slot.h:
   // the service, or nothing where the profile leaves it out).
   NetworkSlot net_;

@@ -265,6 +265,11 @@ Exception OdRegisterBank::write_step(Table table, uint16_t start, uint16_t count
   return ex;
 }
 
+canopen::HookResult GatewayHandlers::register_map(void* bank, uint16_t index, uint8_t sub,
+                                                  const uint8_t* data, bool) {
+  return static_cast<OdRegisterBank*>(bank)->check_map_write(index, sub, data);
+}
+
 canopen::SdoAbort OdRegisterBank::check_map_write(uint16_t index, uint8_t sub, const uint8_t* data) const {
   const ObjectDictionary& od = od_;
   // The map's table and its entries (the rows of its index after sub 0).

@@ -25,8 +25,11 @@ namespace gateway {
 
 class OdRegisterBank : public modbus::RegisterBank {
  public:
+  /// Binds itself as the owner of the maps' handler (kOwnerRegisterBank):
+  /// every write of 2400h-2403h, by SDO or Modbus, is checked by the bank.
   explicit OdRegisterBank(canopen::ObjectDictionary& od) : od_(od) {
     memset(cached_rows_, 0xFF, sizeof cached_rows_);
+    od_.set_owner(kOwnerRegisterBank, this);
   }
 
   bool covers(modbus::Table table, modbus::Access access, uint16_t start, uint16_t count) override;
@@ -37,10 +40,8 @@ class OdRegisterBank : public modbus::RegisterBank {
 
   /// OD index of a table's map (register_map.h).
   static uint16_t map_index(modbus::Table table) { return gateway::map_index(table); }
-  /// True for the indices of the maps (2400h–2403h): writes to them are the
-  /// bank's to validate (check_map_write), whoever writes (SDO, Modbus).
-  static bool is_map_index(uint16_t index) { return gateway::is_map_index(index); }
-  /// Validates a write of `data` to map `index` (is_map_index) sub `sub`:
+  /// Validates a write of `data` to map `index` (2400h-2403h) sub `sub`
+  /// (the maps' handler, GatewayHandlers::register_map):
   /// the count within the map's capacity, an entry that names an existing
   /// numeric entry the table can carry. SDO abort code or 0.
   canopen::SdoAbort check_map_write(uint16_t index, uint8_t sub, const uint8_t* data) const;

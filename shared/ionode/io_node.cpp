@@ -18,12 +18,11 @@ IoNode::IoNode(const CanSink& sink, uint32_t device_type)
   row_polarity_ = od_.find(0x6002, 1);
   pins_[0] = pins_[1] = 0;
   node_.tpdos().set_profile_events(0x0F);  // type 255: CiA 401's interrupt masks
-  node_.set_app_hook(&IoNode::app_write, this);
+  od_.set_owner(kOwnerIoNode, this);
   node_.set_reset_callback(&IoNode::on_reset, this);
 }
 
 void IoNode::start(uint8_t default_node_id, uint32_t now_us) {
-  default_node_id_ = default_node_id;
   // The saved id (2001h/1) is loaded by the start's reset node and named
   // the reset's id by on_reset, before the boot-up.
   node_.start(default_node_id, now_us);
@@ -32,28 +31,10 @@ void IoNode::start(uint8_t default_node_id, uint32_t now_us) {
 void IoNode::on_reset(void* ctx, NmtReset kind) {
   IoNode& n = *static_cast<IoNode*>(ctx);
   n.od_.set(n.od_.find(0x1000, 0), n.device_type_);
-  if (n.default_node_id_ == 0) n.default_node_id_ = n.node_.node_id();
-  od::IoNodeValues& v = n.values_;
-  // Reset communication: the node took the id written since (app_write) or
-  // given by its owner (Node::set_node_id_for_next_reset); 2001h/1 shows it.
-  // Reset node: the saved id, without saved parameters the power-on one.
-  if (kind == kResetCommunication) {
-    v.x2001_1_nodeId = n.node_.node_id();
-  } else if (!n.node_.params_loaded()) {
-    v.x2001_1_nodeId = n.default_node_id_;
-  }
-  // Reset node only: the node took an id written since and not saved, or
-  // the power-on id where one is saved; 2001h/1 is this reset's id, and the
-  // node runs the communication area's reset once more for it before its
-  // boot-up (Node::reset); the rest is done then, once.
-  n.node_.set_node_id_for_next_reset(v.x2001_1_nodeId);
-  if (v.x2001_1_nodeId != n.node_.node_id()) return;
-  // The bit rate reaches the controller at every reset, before the boot-up.
-  const CanControl* can = n.node_.can_control();
-  if (can != nullptr) {
-    const CanControl control = flash_read(can);
-    if (control.set_bitrate != nullptr) control.set_bitrate(n.node_.sink().ctx, v.x2001_2_bitrateKbit);
-  }
+  // 2001h/1-2 as every device keeps its id and bit rate (Node::take_node_id_and_bitrate);
+  // the rest once, in the reset that boots up with this id.
+  if (!n.node_.take_node_id_and_bitrate(kind, &n.values_.x2001_1_nodeId, n.values_.x2001_2_bitrateKbit))
+    return;
   // A reset node put 6000h and 6002h back to their defaults (or the saved
   // polarity): 6000h reads the pins again.
   for (uint8_t i = 0; i < 2; ++i) n.update_input(i, static_cast<uint8_t>(n.od_.get(n.row_polarity_ + i)));
@@ -98,26 +79,18 @@ uint8_t IoNode::output(uint8_t n) const {
   return n < 2 ? static_cast<uint8_t>(od_.get(static_cast<uint16_t>(row_outputs_ + n))) : 0;
 }
 
-HookResult IoNode::app_write(void* ctx, uint8_t, uint16_t index, uint8_t sub, const uint8_t* data, uint16_t,
-                             bool apply) {
-  IoNode& n = *static_cast<IoNode*>(ctx);
-  if (index == 0x2001) {
-    // The MCP2515's rates (platform/device_port.h, CanControl::set_bitrate).
-    const uint16_t kbit = sub == 2 ? le16(data) : 0;
-    if (sub == 2 && kbit != 125 && kbit != 250 && kbit != 500 && kbit != 1000) return kAbortInvalidValue;
-    if (apply && sub == 1) n.node_.set_node_id_for_next_reset(data[0]);  // at reset communication
-    return kSdoOk;
-  }
-  if (index == 0x6002) {
-    if (apply) n.update_input(static_cast<uint8_t>(sub - 1), data[0]);  // before it is stored: the new one
-    return kSdoOk;
-  }
-  if (index == 0x6200) {
-    // A hand switch (2100h) keeps the outputs under local control; and the
-    // outputs are process data: they follow the network only when operational.
-    if (n.od_.get(n.row_local_) != 0) return kAbortLocalControl;
-    if (n.node_.nmt_state() != kNmtOperational) return kAbortDeviceState;
-  }
+// Before it is stored: 6000h reads the pins with the new polarity.
+HookResult IoNodeHandlers::polarity(void* io, uint16_t, uint8_t sub, const uint8_t* data, bool apply) {
+  if (apply) static_cast<IoNode*>(io)->update_input(static_cast<uint8_t>(sub - 1), data[0]);
+  return kSdoOk;
+}
+
+// A hand switch (2100h) keeps the outputs under local control; and the
+// outputs are process data: they follow the network only when operational.
+HookResult IoNodeHandlers::outputs(void* io, uint16_t, uint8_t, const uint8_t*, bool) {
+  IoNode& n = *static_cast<IoNode*>(io);
+  if (n.od_.get(n.row_local_) != 0) return kAbortLocalControl;
+  if (n.node_.nmt_state() != kNmtOperational) return kAbortDeviceState;
   return kSdoOk;
 }
 

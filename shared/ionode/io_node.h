@@ -48,8 +48,7 @@ class IoNode {
   canopen::ObjectDictionary& od() { return od_; }
 
  private:
-  static canopen::HookResult app_write(void* ctx, uint8_t hook, uint16_t index, uint8_t sub,
-                                       const uint8_t* data, uint16_t len, bool apply);
+  friend struct IoNodeHandlers;  // the OD's handlers of 6002h and 6200h (io_node_od.h)
   static void on_reset(void* ctx, canopen::NmtReset kind);
   /// 6000h/n+1 from the pins and `polarity`; a change the masks let
   /// through requests the TPDOs mapping 6000h.
@@ -66,9 +65,6 @@ class IoNode {
   canopen::ObjectDictionary od_;
   canopen::Node node_;
   uint32_t device_type_;
-  /// The id given to start() (0: the node was started directly, Node::start:
-  /// its first id counts as the default).
-  uint8_t default_node_id_ = 0;
   uint16_t row_inputs_;
   uint16_t row_outputs_;
   uint16_t row_local_;

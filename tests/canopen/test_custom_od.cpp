@@ -35,7 +35,7 @@ using namespace ::mb2co::canopen;
 MB2CO_OD_DECLARE(Test, MB2CO_TEST_OD)
 #define MB2CO_OD_CUR_V TestValues
 #define MB2CO_OD_CUR_P TestStrings
-MB2CO_OD_DEFINE(Test, MB2CO_TEST_OD, MB2CO_TEST_LIMITS)
+MB2CO_OD_DEFINE(Test, MB2CO_TEST_OD, MB2CO_TEST_LIMITS, MB2CO_OD_NO_HANDLERS)
 #undef MB2CO_OD_CUR_V
 #undef MB2CO_OD_CUR_P
 }  // namespace od

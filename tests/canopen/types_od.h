@@ -66,7 +66,7 @@ using namespace ::mb2co::canopen;
 MB2CO_OD_DECLARE(Types, MB2CO_TYPES_OD)
 #define MB2CO_OD_CUR_V TypesValues
 #define MB2CO_OD_CUR_P TypesStrings
-MB2CO_OD_DEFINE(Types, MB2CO_TYPES_OD, MB2CO_TYPES_LIMITS)
+MB2CO_OD_DEFINE(Types, MB2CO_TYPES_OD, MB2CO_TYPES_LIMITS, MB2CO_OD_NO_HANDLERS)
 #undef MB2CO_OD_CUR_V
 #undef MB2CO_OD_CUR_P
 }  // namespace od

@@ -15,7 +15,7 @@ for name in vcan.socketcan_port node.ring node.network node.wide_types load.bus_
             timing.avr_compile.serial_segment \
             peers.master_vs_npm_server peers.block_by_hand labs.doc vcan.interactive_shell live.serial_operator \
             serialnet.avr_compile.serial_link cli.table_up_to_date cli.error_shapes docs.cli cli.install_tree \
-            bridge.vcan_poll bridge.vcan_token bridge.vcan_echo bridge.uno_vcan peers.npm_client_vs_ionode docs.serial-canopen docs.mb2co-master docs.examples \
+            bridge.vcan_poll bridge.vcan_token bridge.vcan_echo bridge.uno_vcan peers.npm_client_vs_ionode docs.serial-canopen docs.mb2co-master docs.mb2co-node docs.examples \
             sim.image.SyncProcessing.RealImageAnswersEverySyncWithinTheBound sim.lab_plots_svg \
             canopen.time.Time.ConsumerSetsTheClockTo1013hAtTheFramesArrival; do
   if ! grep -qE "Test +#[0-9]+: ${name//./\\.}\$" <<<"$list"; then

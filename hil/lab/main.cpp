@@ -75,6 +75,16 @@ int main(int argc, char** argv) {
                  o.duration_s, sim::run_min_duration_s(o.line));
     return 2;
   }
+  // sync-processing runs the real AVR image: without one there is nothing to
+  // measure, which is not a failed verdict (exit 3) but a missing input.
+  const std::string elf = o.elf.empty() ? std::string(MB2CO_LAB_DEFAULT_ELF) : o.elf;
+  if (o.scenario == lab::Scenario::kSyncProcessing && !std::filesystem::is_regular_file(elf)) {
+    std::fprintf(stderr,
+                 "mb2co-lab: no AVR image %s for sync-processing (--elf FILE, or build the firmware: "
+                 "scripts/build.sh)\n",
+                 elf.c_str());
+    return 1;
+  }
   const std::filesystem::path out(o.out_dir);
   std::error_code ec;
   std::filesystem::create_directories(out, ec);
@@ -170,7 +180,6 @@ int main(int argc, char** argv) {
     }
   }
   if (o.scenario == lab::Scenario::kSyncProcessing) {
-    const std::string elf = o.elf.empty() ? std::string(MB2CO_LAB_DEFAULT_ELF) : o.elf;
     const lab::SyncProcessingResult r = lab::sync_processing_run(elf, o.syncs, o.line.seed);
     report += lab::sync_processing_section(r);
     files.push_back({"sync-processing.svg", lab::sync_processing_svg(r)});

@@ -67,7 +67,7 @@ bool plan_accepts(const FilterPlan& plan, uint16_t id) {
 // The search: RXB0 takes a run ids_[a, b) of the sorted ids, RXB1 the ids
 // before and after it. Every run is tried, longer runs of a start first:
 // (0,n), (0,n-1) .. (0,1), (1,n) .. (n-1,n); a split whose RXB1 would take
-// two ids of one producer (kProducerBits) is out (the run of all ids leaves
+// both ids of a back-to-back pair (kBackToBackBits) is out (the run of all ids leaves
 // RXB1 none, so a plan is always found). The split letting the fewest ids
 // through wins, on a tie the first: of its start, the longest run, since
 // RXB0's ids roll over into RXB1 (two buffers of depth, RXB1's own one).
@@ -142,10 +142,10 @@ void FilterPlanner::finish_group(uint8_t values, uint16_t* scratch) {
     m0_ = mask_;
     cost0_ = cost;
     const uint8_t rest = static_cast<uint8_t>(n_ - (b_ - a_));
-    // The split is out when RXB1's ids have fewer distinct producers than
-    // ids (two of one producer).
+    // The split is out when RXB1's ids are fewer distinct under
+    // kBackToBackBits than ids (both of a back-to-back pair).
     if (!loses(static_cast<uint16_t>(cost + rest)) &&
-        distinct(a_, b_, false, kProducerBits, scratch, 0) == rest) {
+        distinct(a_, b_, false, kBackToBackBits, scratch, 0) == rest) {
       // RXB1 lets at least its own ids through: its (costly) search only
       // when even that could beat the best split so far. Without ids it
       // ends at once, exact and letting none through.
@@ -167,8 +167,8 @@ __attribute__((noinline)) bool FilterPlanner::step() {
   uint16_t work = 0;
   while (busy() && work < kStepWork) {
     if (d == 0) {
-      // Charged twice: a group's end (finish_group) counts RXB1's producers
-      // with another distinct().
+      // Charged twice: a group's end (finish_group) looks for back-to-back
+      // pairs in RXB1 with another distinct().
       d = distinct(a_, b_, phase_ == kRun, mask_, values, 0);
       work = static_cast<uint16_t>(work + 2u * n_ + kPairWork);
     }

@@ -6,11 +6,12 @@
 // The chip has RXB0 with mask RXM0 and filters RXF0..RXF1, and RXB1 with mask
 // RXM1 and filters RXF2..RXF5. A frame is accepted when, for some filter F of
 // a buffer with mask M, (id & M) == (F & M). RXB0 rolls over into RXB1, so
-// RXB1's own filters get at most one id of a producer (kProducerBits). With
-// at most 6 ids of different producers every id gets its own filter and the
-// masks stay exact; otherwise ids sharing a buffer are merged by clearing
-// mask bits, which also lets some unsubscribed ids through (FilterPlan::exact
-// is false then and accepted_ids says how many pass).
+// RXB1's own filters never get both ids of a pair that may arrive back to
+// back (kBackToBackBits). With at most 6 ids, no two of them such a pair,
+// every id gets its own filter and the masks stay exact; otherwise ids
+// sharing a buffer are merged by clearing mask bits, which also lets some
+// unsubscribed ids through (FilterPlan::exact is false then and
+// accepted_ids says how many pass).
 #pragma once
 #include <stdint.h>
 
@@ -23,25 +24,30 @@ namespace mcp2515 {
 /// and a greedy mask search for each buffer: time grows steeply with the
 /// count. Measured on the ATmega328P at 16 MHz (simavr, cycle count; lines
 /// filter_plan_* of firmware/avr/measure-pass-time.sh), the whole plan:
-/// 6 ids 3.9 ms, 9 ids (a gateway in a ring) 22 ms, 12 ids 72 ms. In a loop
+/// 6 ids 3.9 ms, 9 ids (a gateway in a ring) 23 ms, 12 ids 80 ms. In a loop
 /// that must keep going, plan with FilterPlanner (at most ~1 ms a step).
 constexpr uint8_t kMaxSubscribedIds = 12;
 constexpr uint16_t kMaxStandardId = 0x7FF;
-/// Id bits that name the frame's producer: ids equal in them may reach the
-/// bus back to back (CANopen's pre-defined connection set: the node id in
-/// bits 6..0; one node's heartbeat and TPDO timers expire in one pass of its
-/// loop; NMT, SYNC and TIME, node bits 0, come from one master). The chip
-/// holds two such frames only if the first lands in RXB0, which rolls over
-/// into RXB1, or the two land in different buffers: so a plan gives RXB1's
-/// own filters at most one id of a producer, the rest go to RXB0.
-constexpr uint16_t kProducerBits = 0x07F;
+/// Ids equal in these bits may reach the bus back to back: the node id
+/// (bits 6..0 in CANopen's pre-defined connection set) and bit 8, in which a
+/// node's TPDO1 (180h + n) and heartbeat (700h + n) agree, the two frames
+/// its timers send in one pass every period (station defaults: both
+/// 100 ms); so do NMT (000h) and SYNC (080h), a master's. The chip holds two
+/// such frames only if the first lands in RXB0, which rolls over into RXB1,
+/// or they land in different buffers: a plan never leaves both to RXB1's own
+/// filters. A node's other PDOs (280h, 380h, 480h + n, sent on events) and
+/// an SDO request (600h + n) differ in bit 8 from its heartbeat: RXB1 may
+/// take one of them beside it, which keeps the plans as tight as before
+/// (node 1 of the station's default ring of 4: 24 ids pass, not 16; with
+/// the node id alone as the pair's bits, 35).
+constexpr uint16_t kBackToBackBits = 0x17F;
 
 struct FilterPlan {
   uint16_t mask[2];       ///< RXM0 (RXB0), RXM1 (RXB1): 11-bit standard-id masks
   uint16_t filter[6];     ///< RXF0..RXF5: RXF0-1 use mask[0], RXF2-5 mask[1]
   bool exact;             ///< true when exactly the subscribed ids pass
   uint16_t accepted_ids;  ///< how many of the 2048 standard ids pass (>= distinct ids given)
-  // Invariant: the given ids RXB0's filters miss differ in kProducerBits.
+  // Invariant: the given ids RXB0's filters miss differ in kBackToBackBits.
 };
 
 /// The plan search in bounded steps, so that a main loop keeps serving its
@@ -54,9 +60,9 @@ class FilterPlanner {
  public:
   /// Comparisons of masked ids one step() does before it stops (it finishes
   /// the candidate merge in progress: at most 66 more). The longest step,
-  /// the last one (it also builds the plan) included, takes 0.71 ms for 9
-  /// ids, 0.92 ms for 12 on the ATmega328P at 16 MHz (35 and 116 steps).
-  static const uint16_t kStepWork = 320;
+  /// the last one (it also builds the plan) included, takes 0.70 ms for 9
+  /// ids, 0.88 ms for 12 on the ATmega328P at 16 MHz (44 and 149 steps).
+  static const uint16_t kStepWork = 270;
 
   /// Begins a plan for ids[0..count) as admitted_ids gives them: strictly
   /// ascending (sorted, no duplicates), each <= kMaxStandardId, 1 <= count

@@ -1,7 +1,7 @@
 // FilterPlanner: the plan search in bounded steps gives, byte for byte, the
 // plans of the one-shot search it replaced (kept below as the reference,
 // verbatim but for names, the sorting and, since issue 25, the splits it
-// leaves out (RXB1 with two ids of one producer) and their order (longer runs
+// leaves out (RXB1 with both ids of a back-to-back pair) and their order (longer runs
 // first, so that the first of equal plans has the longest run of its start),
 // stops and restarts cleanly, and rejects lists it cannot take.
 #include <gtest/gtest.h>
@@ -88,11 +88,11 @@ std::vector<uint16_t> sorted_unique(std::vector<uint16_t> ids) {
   return ids;
 }
 
-/// True when ids[0..n) differ pairwise in kProducerBits: RXB1 may take them.
-bool ref_producers_apart(const uint16_t* ids, uint8_t n) {
+/// True when no two of ids[0..n) are a back-to-back pair: RXB1 may take them.
+bool ref_pairs_apart(const uint16_t* ids, uint8_t n) {
   for (uint8_t i = 0; i < n; ++i) {
     for (uint8_t j = 0; j < i; ++j) {
-      if (((ids[i] ^ ids[j]) & kProducerBits) == 0) return false;
+      if (((ids[i] ^ ids[j]) & kBackToBackBits) == 0) return false;
     }
   }
   return true;
@@ -112,7 +112,7 @@ void ref_plan_filters(const uint16_t* ids, uint8_t count, FilterPlan& plan) {
       for (uint8_t i = 0; i < n; ++i) {
         if (i < a || i >= b) rest[r++] = sorted[i];
       }
-      if (!ref_producers_apart(rest, r)) continue;
+      if (!ref_pairs_apart(rest, r)) continue;
       const uint16_t m0 = ref_group_mask(sorted + a, len, 2);
       const uint16_t cost0 = ref_accepted_by(ref_distinct_values(sorted + a, len, m0), m0);
       const uint16_t bound = static_cast<uint16_t>(cost0 + r);

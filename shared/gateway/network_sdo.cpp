@@ -74,12 +74,11 @@ void NetworkService::send_segment() {
 // Bytes the response cannot carry (outside the window, or the master gave
 // the answer up) are dropped: the transfer runs on to its end.
 void NetworkService::store(uint32_t offset, const uint8_t* data, uint8_t n) {
+  const uint32_t end = request_end();
   if (!slave_.answer_pending()) return;
   uint8_t* window = slave_.response_pdu() + modbus::net::kSizedHeaderBytes;
-  const uint32_t end = request_end();
-  for (uint8_t i = 0; i < n; ++i) {
-    const uint32_t at = offset + i;
-    if (at >= start_ && at < end) window[at - start_] = data[i];
+  for (; n != 0u && offset < end; --n, ++offset, ++data) {
+    if (offset >= start_) window[offset - start_] = *data;
   }
 }
 
@@ -94,6 +93,11 @@ SdoAbort NetworkService::on_response(const CanFrame& f) {
   } else if (!toggle_matches(cmd, toggle_)) {  // 20h, 00h: a segment's
     return kAbortToggle;
   }
+  // Only progress restarts the timeout: every answer taken moves bytes or
+  // the protocol on but an empty upload segment that is not the last
+  // (00h/10h with n = 7 unused, c = 0), so a server that answers forever
+  // with those ends like a silent one (05040000h).
+  if ((cmd & 0xEFu) != 0x0Eu) deadline_us_ = now_us_ + kNetSdoTimeoutUs;
   switch (scs) {
     case 0x60:  // download initiated
       if (expedited_) {

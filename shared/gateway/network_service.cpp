@@ -206,14 +206,8 @@ void NetworkService::on_can_frame(const CanFrame& f, uint32_t now_us) {
   if (phase_ < kUpload || f.id != 0x580u + server_ || f.rtr() || f.extended() || f.dlc != 8u) return;
   // 80h is the server's abort in every step.
   if (f.data[0] == 0x80u) return end(static_cast<SdoAbort>(le32(&f.data[4])));
-  const uint32_t pos_before = pos_;
-  const uint8_t step_before = step_;
   const SdoAbort code = on_response(f);
-  if (code != kSdoOk) return abort(code);
-  // Only progress restarts the timeout (bytes moved or a step of the
-  // protocol): a server that answers forever with empty segments ends like
-  // a silent one (05040000h).
-  if (pos_ != pos_before || step_ != step_before) deadline_us_ = now_us + kNetSdoTimeoutUs;
+  if (code != kSdoOk) abort(code);
 }
 
 void NetworkService::process(uint32_t now_us) {

@@ -31,6 +31,12 @@ void NetworkService::abort(SdoAbort code) {
   end(code);
 }
 
+// A download of 1..4 bytes is one part (a part before the last carries 7
+// bytes or more, network_pdu.h): it goes in the initiate.
+bool NetworkService::expedited() const {
+  return size_ - 1u < 4u;
+}
+
 void NetworkService::start_remote(const NetMessage& m) {
   server_ = m.node_id;
   index_ = m.index;
@@ -43,20 +49,19 @@ void NetworkService::start_remote(const NetMessage& m) {
     step_ = 0x40;
     return send_mux(0x40, 0);
   }
-  // The first part of a download (start_ is 0): 1..4 bytes in one part are
-  // sent in the initiate, anything else in segments (the size indicated).
+  // The first part of a download (start_ is 0): 1..4 bytes are sent in the
+  // initiate, anything else in segments (the size indicated).
   phase_ = kDownload;
   step_ = 0x60;
   size_ = m.object_size;
-  expedited_ = !m.more_follows && size_ >= 1u && size_ <= 4u;
-  if (!expedited_) return send_mux(0x21, size_);
+  if (!expedited()) return send_mux(0x21, size_);
   uint8_t bytes[4] = {0, 0, 0, 0};
   memcpy(bytes, m.data, static_cast<uint8_t>(size_));
   send_mux(expedited_command(0x20, size_), le32(bytes));
 }
 
 // A segment is sent once; if it is lost the server's silence times out.
-void NetworkService::send_segment() {
+void NetworkService::send_segment(bool in_request) {
   const uint32_t left = size_ - pos_;
   seg_n_ = left < kSegmentBytes ? static_cast<uint8_t>(left) : kSegmentBytes;
   if (pos_ + seg_n_ > request_end()) return hold_part();  // its bytes are in the next part
@@ -64,7 +69,7 @@ void NetworkService::send_segment() {
   // request is in hand or its answer pending; gone when the master sent
   // another frame over it. The part starts at start_ <= pos_ (the open
   // download's end, continues_download()).
-  if (!in_request_ && !slave_.answer_pending()) return abort(kAbortGeneral);
+  if (!in_request && !slave_.answer_pending()) return abort(kAbortGeneral);
   step_ = 0x20;
   send_sdo(sink_, segment_command(toggle_, seg_n_, left <= kSegmentBytes),
            slave_.response_pdu() + modbus::net::kSizedHeaderBytes + (pos_ - start_), seg_n_,
@@ -100,11 +105,11 @@ SdoAbort NetworkService::on_response(const CanFrame& f) {
   if ((cmd & 0xEFu) != 0x0Eu) deadline_us_ = now_us_ + kNetSdoTimeoutUs;
   switch (scs) {
     case 0x60:  // download initiated
-      if (expedited_) {
+      if (expedited()) {
         pos_ = size_;
         end(kSdoOk);
       } else {
-        send_segment();
+        send_segment(false);
       }
       return kSdoOk;
     case 0x20:  // download segment taken
@@ -114,7 +119,7 @@ SdoAbort NetworkService::on_response(const CanFrame& f) {
         return kSdoOk;
       }
       toggle_ ^= kSegmentToggle;
-      send_segment();
+      send_segment(false);
       return kSdoOk;
     case 0x40: {                  // upload initiated
       if ((cmd & 0x02u) != 0u) {  // expedited: n unused bytes when indicated, else 4 bytes

@@ -49,13 +49,11 @@ uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, ui
     s.phase_ = kIdle;        // news for nobody: this request is not its part
   }
   s.start_ = m.start;
-  s.count_ = m.count;
+  s.count_ = static_cast<uint8_t>(m.count);  // a download's, in this frame; an upload's: set_window()
   if (next_part) {
     // The client reads the part's first segment now, from the request.
     s.phase_ = kDownload;
-    s.in_request_ = true;
-    s.send_segment();
-    s.in_request_ = false;
+    s.send_segment(true);
     return 0;
   }
   // How an open download ended between parts is news for its next part only.
@@ -74,10 +72,8 @@ uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, const NetMe
     if (ended == kSdoOk) return modbus::build_net_exception(pdu, Exception::kIllegalDataValue);
     code = ended;
   } else if (m.node_id != node_.node_id()) {
-    if (m.service == NetService::kSdoUpload) set_window(capacity);
-    in_request_ = true;
+    if (m.service == NetService::kSdoUpload) set_window(capacity, m.count);
     start_remote(m);
-    in_request_ = false;
     return 0;  // answered when the transfer ends (end())
   } else if (download) {
     code = local_download(m);
@@ -142,7 +138,7 @@ uint16_t NetworkService::local_upload(uint8_t* pdu, uint16_t capacity, const Net
       od_.read(m.index, m.sub, pdu + offset, static_cast<uint16_t>(capacity - offset), &size);
   if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
   if (start_ < size) memmove(pdu + offset, pdu + offset + start_, size - start_);
-  set_window(capacity);
+  set_window(capacity, m.count);
   return answer_window(pdu, size);
 }
 
@@ -187,9 +183,9 @@ void NetworkService::end(SdoAbort code) {
                                       : modbus::answer_net_request(pdu, false, 0, 0));
 }
 
-void NetworkService::set_window(uint16_t capacity) {
+void NetworkService::set_window(uint16_t capacity, uint16_t wanted) {
   const uint16_t room = static_cast<uint16_t>(capacity - modbus::net::kSizedHeaderBytes);
-  if (count_ == 0u || count_ > room) count_ = room;
+  count_ = static_cast<uint8_t>(wanted == 0u || wanted > room ? room : wanted);  // room <= kMaxSdoData
 }
 
 uint16_t NetworkService::answer_window(uint8_t* pdu, uint32_t size) {

@@ -57,18 +57,20 @@ struct NetworkServiceState {
   /// (count_: the bytes wanted, set_window()); a download part carries
   /// bytes [start_, start_ + count_) of the object.
   uint16_t start_;
-  uint16_t count_;
+  uint8_t count_;  ///< at most a response's data (net::kMaxSdoData)
   uint32_t now_us_;
   Phase phase_;
-  bool in_request_;  ///< inside handle(): the request is in the frame buffer
 
   // The SDO client end of a remote transfer (network_sdo.cpp): expedited
   // and segmented, upload and download, to node server_ (requests on
   // 600h + server_, responses on 580h + server_).
   uint32_t size_;  ///< the object's size: ours (download), the server's (upload; 0xFFFFFFFF while open)
   uint32_t pos_;   ///< object bytes moved: stored, or acknowledged by the server
-  uint32_t deadline_us_;      ///< the server's answer is due (kNetSdoTimeoutUs from the last progress)
-  canopen::SdoAbort result_;  ///< how the transfer ended (kDownloadEnded: the code for the next part)
+  union {
+    uint32_t deadline_us_;      ///< while it runs: the server's answer is due (kNetSdoTimeoutUs from the last
+                                ///< progress)
+    canopen::SdoAbort result_;  ///< once ended: how (kDownloadEnded: the code for the next part)
+  };
   uint16_t index_;
   uint8_t sub_;
   uint8_t server_;
@@ -78,7 +80,6 @@ struct NetworkServiceState {
   uint8_t step_;
   uint8_t toggle_;   ///< 00h or 10h: the next segment's toggle bit
   uint8_t seg_n_;    ///< data bytes of the download segment awaiting its answer
-  bool expedited_;   ///< a download sent in its initiate
   bool size_known_;  ///< an upload's size was indicated
 };
 
@@ -123,9 +124,9 @@ class NetworkService : private NetworkServiceState {
   uint16_t local_upload(uint8_t* pdu, uint16_t capacity, const modbus::NetMessage& m);
   canopen::SdoAbort local_download(const modbus::NetMessage& m);
   /// An upload's window: count_ becomes the bytes wanted from start_ on, as
-  /// many as the request asks for (0: as many as a response of `capacity`
-  /// bytes carries).
-  void set_window(uint16_t capacity);
+  /// many as the request asks for (`wanted`; 0: as many as a response of
+  /// `capacity` bytes carries).
+  void set_window(uint16_t capacity, uint16_t wanted);
   /// The upload response in `pdu` for an object of `size` bytes whose
   /// window's bytes are in place after the header and size (at most the
   /// window; fewer at the object's end, none beyond it); its length.
@@ -143,8 +144,10 @@ class NetworkService : private NetworkServiceState {
   /// bounds already in start_ and count_).
   void start_remote(const modbus::NetMessage& m);
   /// The next download segment, or hold_part() when its bytes are in a
-  /// later part.
-  void send_segment();
+  /// later part. `in_request`: called from handle(), the request in hand.
+  void send_segment(bool in_request);
+  /// True when the download goes in its initiate (1..4 bytes).
+  bool expedited() const;
   /// A frame from the server: the next step, kSdoOk, or the code to abort with.
   canopen::SdoAbort on_response(const CanFrame& f);
   /// Sends the abort frame `code` and ends the transfer with it.

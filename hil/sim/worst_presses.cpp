@@ -73,6 +73,9 @@ class Operator {
   /// PDO's time less a debounce).
   bool press(SimNs at, SimNs down_at, SimNs* latency, SimNs* led_pdo_after) {
     line_.run_until(at);
+    // Still on from the last press (its LED-off PDO lost in a receive
+    // overflow): this press measures nothing.
+    const bool stale = lab_;
     led_pdo_sof_ = 0;
     lab_pdo_lost_ = false;
     line_.set_button(button_, gateway::kStart, true);
@@ -94,7 +97,7 @@ class Operator {
       if (interference_) line_.set_button(s, gateway::kStop, false);
     }
     wait_for(false, line_.now() + kS);
-    if (on == 0 || dropped) return false;
+    if (on == 0 || dropped || stale) return false;
     *latency = on - at;
     *led_pdo_after = led_pdo_sof_ > at ? led_pdo_sof_ - at : 0;
     return true;

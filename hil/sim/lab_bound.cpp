@@ -4,6 +4,7 @@
 
 #include "canopen/pdo_map.h"
 #include "modbus/master_codec.h"
+#include "sim/lab_hops.h"
 #include "sim/pc_programs.h"
 #include "timing/line_config.h"
 #include "timing/time_base.h"
@@ -449,6 +450,27 @@ LabBound lab_bound(Line& line, bool remote, const LabOperator& op) {
   tight.build(remote, up, down, up_inhibit_us, down_inhibit_us, frames_pc, frames_led);
   out.bound = tight.bound();
   out.ok = true;
+  if (!remote) return out;
+  // The two hops together (docs/timing.md §9): each line-state TPDO at one
+  // hop, unless the hops are close, where the path between them is short.
+  const JointHops joint =
+      joint_hops(line, out.messages, up_id, down_id, bitrate, out.window_ns + jitter, out.step_ns);
+  if (!joint.split) return out;
+  uint64_t between = 0;  // the terms from the up hop's reception to the down PDO's queueing
+  bool in = false;
+  for (size_t i = 0; i < out.bound.count; ++i) {
+    const std::string name = out.bound.terms[i].name;
+    if (name == "can_down") in = false;
+    if (in) between += out.bound.terms[i].worst_ns;
+    if (name == "can_up") in = true;
+  }
+  const uint64_t close = out.bound.worst_ns - between + joint.close_ns;
+  HopTimes up_split = up, down_split = down;
+  up_split.worst_ns = joint.up_ns;
+  down_split.worst_ns = joint.down_ns;
+  tight.build(remote, up_split, down_split, up_inhibit_us, down_inhibit_us, frames_pc, frames_led);
+  if (close <= tight.bound().worst_ns && tight.bound().worst_ns < out.bound.worst_ns)
+    out.bound = tight.bound();
   return out;
 }
 

@@ -90,8 +90,10 @@ int main(int argc, char** argv) {
   // A parameter file it could never save to is refused before anything is
   // opened or created (no pty link, no CAN socket).
   node::EepromFile eeprom(opt.eeprom, opt.eeprom_write_us);
-  std::string eeprom_error;
-  if (!opt.eeprom.empty() && !eeprom.usable(&eeprom_error)) return fail(eeprom_error);
+  if (!opt.eeprom.empty()) {
+    const Status usable = eeprom.usable();
+    if (!usable) return fail(usable.message());
+  }
   // So is a trace file it cannot create (created here, empty when nothing
   // crossed the bus; with --can none nothing does).
   CanLogFile trace;

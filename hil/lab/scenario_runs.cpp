@@ -18,25 +18,28 @@ uint64_t monotonic_ns() {
                                    .count());
 }
 
+/// A scenario that is one run of the line: its section, its timeline, its
+/// simulated time and its verdict.
+void add_line_run(const Options& o, const char* name, const sim::LineSummary& line,
+                  const std::string& section, bool ok, LabRun* run) {
+  run->bar.clear();
+  run->report += section;
+  run->files.push_back({sim::strf("timeline-%s.svg", name), timeline_svg(line, o.line.stations, name)});
+  run->simulated_s += static_cast<double>(line.duration_ns) / 1e9;
+  run->pass = run->pass && ok;
+}
+
 /// The run scenario: --duration s of the line in production.
 void run_production(const Options& o, LabRun* run) {
   const sim::RunResult r = sim::run_scenario(o.line, o.duration_s * sim::kNsPerS, &run->log,
                                              [&](double f) { run->bar.show("run", f, monotonic_ns()); });
-  run->bar.clear();
-  run->report += run_section(r);
-  run->files.push_back({"timeline-run.svg", timeline_svg(r.line, o.line.stations, "run")});
-  run->simulated_s += static_cast<double>(r.line.duration_ns) / 1e9;
-  run->pass = run->pass && r.ok;
+  add_line_run(o, "run", r.line, run_section(r), r.ok, run);
 }
 
 void run_stop2(const Options& o, LabRun* run) {
   const sim::Stop2Result r =
       sim::stop2_scenario(o.line, &run->log, [&](double f) { run->bar.show("stop2", f, monotonic_ns()); });
-  run->bar.clear();
-  run->report += stop2_section(r);
-  run->files.push_back({"timeline-stop2.svg", timeline_svg(r.line, o.line.stations, "stop2")});
-  run->simulated_s += static_cast<double>(r.line.duration_ns) / 1e9;
-  run->pass = run->pass && r.ok;
+  add_line_run(o, "stop2", r.line, stop2_section(r), r.ok, run);
 }
 
 /// Button to LED at every bit rate, over Modbus and over Modbus + CANopen.
@@ -63,11 +66,7 @@ void run_latency(const Options& o, LabRun* run) {
 void run_faults(const Options& o, LabRun* run) {
   const sim::FaultsResult r =
       sim::faults_scenario(o.line, &run->log, [&](double f) { run->bar.show("faults", f, monotonic_ns()); });
-  run->bar.clear();
-  run->report += faults_section(r);
-  run->files.push_back({"timeline-faults.svg", timeline_svg(r.line, o.line.stations, "faults")});
-  run->simulated_s += static_cast<double>(r.line.duration_ns) / 1e9;
-  run->pass = run->pass && r.ok;
+  add_line_run(o, "faults", r.line, faults_section(r), r.ok, run);
 }
 
 /// sync-roundtrip or sync-latency (seed 000 §5) at every bit rate.

@@ -103,7 +103,7 @@ Status write_outputs(const lab::Options& o, lab::LabRun* run) {
   if (o.events) run->files.push_back({"events.csv", std::string(sim::EventLog::header()) + run->log.text()});
   const std::filesystem::path out(o.out_dir);
   for (const auto& f : run->files) {
-    const Status written = write_file(out / f.first, f.second);
+    Status written = write_file(out / f.first, f.second);
     if (!written) return written;
   }
   return Status::ok();
@@ -134,7 +134,7 @@ int main(int argc, char** argv) {
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 
   print_report(o, &run);
-  const Status written = write_outputs(o, &run);
+  Status written = write_outputs(o, &run);
   if (!written) {
     std::fprintf(stderr, "mb2co-lab: %s\n", written.message().c_str());
     return 1;

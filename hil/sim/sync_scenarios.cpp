@@ -106,7 +106,7 @@ Status sync_params_for(Line& line, const SyncLabConfig& lab, timing::SyncParams*
   p->pass_min_us = static_cast<uint32_t>((nt.pass_ns + nt.frame_ns) / kNsPerUs);
   p->debounce_us = uint32_t{c.debounce_ms} * 1000u;
   std::vector<timing::MessageSpec> messages;
-  const Status listed = line_can_messages(line, p->fw_loop_us, &messages);
+  Status listed = line_can_messages(line, p->fw_loop_us, &messages);
   if (!listed) return listed;
   HopTimes sync, pdo;
   if (!hop_times(messages, kSyncCobId, p->bitrate_bps, &sync) ||

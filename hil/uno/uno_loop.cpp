@@ -33,10 +33,10 @@ void say(const std::string& line) {
 }  // namespace
 
 Status UnoWiring::open(const UnoOptions& opt, UnoRig& rig) {
-  const Status loaded = rig.load(opt.elf);
+  Status loaded = rig.load(opt.elf);
   if (!loaded) return loaded;
   if (!opt.eeprom.empty()) {
-    const Status read = eeprom.load();
+    Status read = eeprom.load();
     if (!read) return read;
     rig.board().set_eeprom(eeprom.bytes(), eeprom.size());
   }

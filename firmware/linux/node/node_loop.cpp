@@ -71,7 +71,7 @@ Status NodeLoop::run() {
     // no byte that arrived before `now` is left unread when process(now) runs.
     const uint32_t now = port::monotonic_us();
     bool frames_taken = false;
-    const Status passed = pass(fds, tcp_fds, now, &frames_taken);
+    Status passed = pass(fds, tcp_fds, now, &frames_taken);
     if (!passed) return passed;
     // Sleep until something is due; after frames not at all: what they
     // made due (Gateway::next_deadline holds only after a process() that
@@ -86,7 +86,7 @@ Status NodeLoop::pass(pollfd* fds, size_t tcp_fds, uint32_t now, bool* frames_ta
     uint8_t bytes[256];
     uint32_t stamps[256];
     size_t n = 0;
-    const Status got = wiring_.serial.read(bytes, stamps, sizeof bytes, &n);
+    Status got = wiring_.serial.read(bytes, stamps, sizeof bytes, &n);
     if (!got) return got;
     for (size_t i = 0; i < n; ++i) gw_.on_serial_byte(bytes[i], stamps[i]);
   }

@@ -29,7 +29,7 @@ NodeWiring::NodeWiring(const NodeOptions& opt)
 
 Status NodeWiring::open(const NodeOptions& opt) {
   if (!opt.eeprom.empty()) {
-    const Status usable = eeprom.usable();
+    Status usable = eeprom.usable();
     if (!usable) return usable;
   }
   // The trace is created here, empty when nothing crossed the bus; with
@@ -38,7 +38,7 @@ Status NodeWiring::open(const NodeOptions& opt) {
     const Status created = trace.open(opt.trace_can, opt.can);
     if (!created) return Status::failure("--trace-can " + created.message());
   }
-  const Status opened = !with_serial          ? Status::ok()
+  Status opened = !with_serial          ? Status::ok()
                         : !opt.serial.empty() ? serial.open_tty(opt.serial, opt.baud, opt.parity)
                                               : serial.create_pty(opt.pty_link);
   if (!opened) return opened;

@@ -39,8 +39,8 @@ Status NodeWiring::open(const NodeOptions& opt) {
     if (!created) return Status::failure("--trace-can " + created.message());
   }
   Status opened = !with_serial          ? Status::ok()
-                        : !opt.serial.empty() ? serial.open_tty(opt.serial, opt.baud, opt.parity)
-                                              : serial.create_pty(opt.pty_link);
+                  : !opt.serial.empty() ? serial.open_tty(opt.serial, opt.baud, opt.parity)
+                                        : serial.create_pty(opt.pty_link);
   if (!opened) return opened;
   if (!with_can) return Status::ok();
   Status bound = can.open(opt.can.c_str());

@@ -36,8 +36,8 @@ int operator_sends(Line& line, int s, uint16_t n, int button_station, const LabO
 
 }  // namespace
 
-bool frames_in_window(Line& line, int x, int button_station, SimNs window_ns, SimNs jitter_ns,
-                      const LabOperator& op, uint32_t* frames, std::string* error) {
+Status frames_in_window(Line& line, int x, int button_station, SimNs window_ns, SimNs jitter_ns,
+                        const LabOperator& op, uint32_t* frames) {
   const LineConfig& c = line.config();
   const CanController& rx = line.node(x).can();
   const SimNs span = window_ns + jitter_ns;
@@ -72,8 +72,8 @@ bool frames_in_window(Line& line, int x, int button_station, SimNs window_ns, Si
       }
       if (period_us == 0) {
         if (type <= 240) continue;  // synchronous without a SYNC producer: never sent
-        *error = strf("TPDO%u of node %d has neither an inhibit time nor a known event rate", n + 1, s + 1);
-        return false;
+        return Status::failure(
+            strf("TPDO%u of node %d has neither an inhibit time nor a known event rate", n + 1, s + 1));
       }
       uint32_t sends = releases(span, SimNs{period_us} * kNsPerUs);
       const int caused = type >= 254 ? operator_sends(line, s, n, button_station, op) : -1;
@@ -92,7 +92,7 @@ bool frames_in_window(Line& line, int x, int button_station, SimNs window_ns, Si
       total += releases(span, SimNs{hb_ms} * kNsPerMs);
   }
   *frames = total;
-  return true;
+  return Status::ok();
 }
 
 }  // namespace sim

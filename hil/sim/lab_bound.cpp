@@ -4,6 +4,7 @@
 
 #include "canopen/pdo_map.h"
 #include "modbus/master_codec.h"
+#include "sim/lab_hops.h"
 #include "sim/pc_programs.h"
 #include "timing/line_config.h"
 #include "timing/time_base.h"
@@ -92,8 +93,7 @@ uint32_t tpdo_inhibit_us(Line& line, uint32_t cob_id) {
   return 0;
 }
 
-bool line_can_messages(Line& line, uint32_t jitter_us, std::vector<timing::MessageSpec>* out,
-                       std::string* error) {
+Status line_can_messages(Line& line, uint32_t jitter_us, std::vector<timing::MessageSpec>* out) {
   const LineConfig& c = line.config();
   out->clear();
   uint32_t sync_period_us = 0;
@@ -120,8 +120,8 @@ bool line_can_messages(Line& line, uint32_t jitter_us, std::vector<timing::Messa
         t_us = inhibit_us != 0 ? inhibit_us : application_interarrival_us(c, first);
       }
       if (t_us == 0) {
-        *error = strf("TPDO%u of node %d has neither an inhibit time nor a known event rate", n + 1, s + 1);
-        return false;
+        return Status::failure(
+            strf("TPDO%u of node %d has neither an inhibit time nor a known event rate", n + 1, s + 1));
       }
       timing::MessageSpec m{};
       timing::set_name(m, strf("TPDO%u.%d", n + 1, s + 1).c_str());
@@ -152,7 +152,7 @@ bool line_can_messages(Line& line, uint32_t jitter_us, std::vector<timing::Messa
     out->push_back(m);
   }
   timing::sort_by_priority(out->data(), out->size());
-  return true;
+  return Status::ok();
 }
 
 bool hop_times(const std::vector<timing::MessageSpec>& messages, uint32_t id, uint32_t bitrate_bps,
@@ -215,7 +215,11 @@ LabBound bound_with(Line& line, bool remote, size_t bytes, SimNs request) {
   const uint32_t bitrate = c.bitrate_kbit * 1000u;
   const uint32_t up_id = 0x280u + static_cast<uint32_t>(c.lab_remote + 1);
   const uint32_t down_id = 0x380u + static_cast<uint32_t>(c.lab_pc + 1);
-  if (!line_can_messages(line, p.fw_loop_us, &out.messages, &out.error)) return out;
+  const Status listed = line_can_messages(line, p.fw_loop_us, &out.messages);
+  if (!listed) {
+    out.error = listed.message();
+    return out;
+  }
   const uint32_t up_inhibit_us = tpdo_inhibit_us(line, up_id);
   const uint32_t down_inhibit_us = tpdo_inhibit_us(line, down_id);
   p.inhibit_us = up_inhibit_us > down_inhibit_us ? up_inhibit_us : down_inhibit_us;
@@ -413,8 +417,13 @@ LabBound lab_bound(Line& line, bool remote, const LabOperator& op) {
   const uint32_t bitrate = c.bitrate_kbit * 1000u;
   const uint32_t up_id = 0x280u + static_cast<uint32_t>(c.lab_remote + 1);
   const uint32_t down_id = 0x380u + static_cast<uint32_t>(c.lab_pc + 1);
-  if (out.messages.empty() && !line_can_messages(line, out.params.fw_loop_us, &out.messages, &out.error))
-    return out;
+  if (out.messages.empty()) {
+    const Status listed = line_can_messages(line, out.params.fw_loop_us, &out.messages);
+    if (!listed) {
+      out.error = listed.message();
+      return out;
+    }
+  }
   HopTimes up, down;
   SimNs longest_r = 0;
   if (remote &&
@@ -442,13 +451,37 @@ LabBound lab_bound(Line& line, bool remote, const LabOperator& op) {
   const SimNs jitter = out.step_ns + longest_r;  // a send's lateness and its time on the bus
   const int button = remote ? c.lab_remote : c.lab_pc;
   uint32_t frames_pc = 0, frames_led = 0;
-  if (!frames_in_window(line, c.lab_pc, button, out.window_ns, jitter, op, &frames_pc, &out.error) ||
-      (remote &&
-       !frames_in_window(line, c.lab_remote, button, out.window_ns, jitter, op, &frames_led, &out.error)))
+  Status counted = frames_in_window(line, c.lab_pc, button, out.window_ns, jitter, op, &frames_pc);
+  if (counted && remote)
+    counted = frames_in_window(line, c.lab_remote, button, out.window_ns, jitter, op, &frames_led);
+  if (!counted) {
+    out.error = counted.message();
     return out;
+  }
   tight.build(remote, up, down, up_inhibit_us, down_inhibit_us, frames_pc, frames_led);
   out.bound = tight.bound();
   out.ok = true;
+  if (!remote) return out;
+  // The two hops together (docs/timing.md §9): each line-state TPDO at one
+  // hop, unless the hops are close, where the path between them is short.
+  const JointHops joint =
+      joint_hops(line, out.messages, up_id, down_id, bitrate, out.window_ns + jitter, out.step_ns);
+  if (!joint.split) return out;
+  uint64_t between = 0;  // the terms from the up hop's reception to the down PDO's queueing
+  bool in = false;
+  for (size_t i = 0; i < out.bound.count; ++i) {
+    const std::string name = out.bound.terms[i].name;
+    if (name == "can_down") in = false;
+    if (in) between += out.bound.terms[i].worst_ns;
+    if (name == "can_up") in = true;
+  }
+  const uint64_t close = out.bound.worst_ns - between + joint.close_ns;
+  HopTimes up_split = up, down_split = down;
+  up_split.worst_ns = joint.up_ns;
+  down_split.worst_ns = joint.down_ns;
+  tight.build(remote, up_split, down_split, up_inhibit_us, down_inhibit_us, frames_pc, frames_led);
+  if (close <= tight.bound().worst_ns && tight.bound().worst_ns < out.bound.worst_ns)
+    out.bound = tight.bound();
   return out;
 }
 

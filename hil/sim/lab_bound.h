@@ -59,9 +59,8 @@ LabBound arduino_control_bound(Line& line);
 /// rate; synchronous types 0..240: the SYNC period × n, left out when no
 /// station produces SYNC), every heartbeat, and the producer's SYNC
 /// (1005h bit 30, period 1006h), each with queuing jitter `jitter_us`.
-/// False with *error when an event TPDO has no known rate.
-bool line_can_messages(Line& line, uint32_t jitter_us, std::vector<timing::MessageSpec>* out,
-                       std::string* error);
+/// Fails when an event TPDO has no known rate.
+Status line_can_messages(Line& line, uint32_t jitter_us, std::vector<timing::MessageSpec>* out);
 
 /// Inhibit time (µs) of the enabled TPDO with `cob_id` on the line; 0: none.
 uint32_t tpdo_inhibit_us(Line& line, uint32_t cob_id);

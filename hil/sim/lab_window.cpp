@@ -1,6 +1,7 @@
 #include "sim/lab_window.h"
 
 #include "sim/lab_bound.h"
+#include "sim/lab_hops.h"
 
 namespace mb2co {
 namespace sim {
@@ -16,16 +17,6 @@ uint32_t releases(SimNs span_ns, SimNs period_ns) {
   return static_cast<uint32_t>(span_ns / period_ns + 1);
 }
 
-/// True when no station's RUN state can change: no RUN command (2100h/1) is
-/// set, so RUN (command and no stop latched) stays 0 whatever is pressed.
-/// The latency lab's PC reads a button and writes the LED, nothing else.
-bool run_fixed(Line& line) {
-  for (int s = 0; s < line.size(); ++s) {
-    if (od_get(line.node(s).gateway().od(), 0x2100, 1) != 0) return false;
-  }
-  return true;
-}
-
 /// Sends of event TPDO `n` of station `s` the operator can cause in one
 /// window (its mapped objects changing), or -1 when it maps something the
 /// lab does not account for.
@@ -37,19 +28,16 @@ int operator_sends(Line& line, int s, uint16_t n, int button_station, const LabO
   const int others = op.interference ? 2 : 0;  // STOP2 with the press, STOP before the LED
   if (count == 1 && first == 0x6000) return (s == button_station ? 1 : 0) + others;  // debounced buttons
   if (count == 1 && first == 0x6200) return 1;  // the lab LED: on once per press
-  // The line state (RUN state 2100h/2, STOP2 counter 2100h/3): with RUN
-  // fixed it changes only when a STOP2 press here is counted.
-  if (count == 2 && (od_get(od, map, 1) >> 8) == 0x210002u && (od_get(od, map, 2) >> 8) == 0x210003u &&
-      run_fixed(line)) {
-    return op.interference ? 1 : 0;
-  }
+  // The line state (RUN state, STOP2 counter): with RUN fixed it changes
+  // only when a STOP2 press here is counted.
+  if (line_state_tpdo_fixed(line, s, n)) return op.interference ? 1 : 0;
   return -1;
 }
 
 }  // namespace
 
-bool frames_in_window(Line& line, int x, int button_station, SimNs window_ns, SimNs jitter_ns,
-                      const LabOperator& op, uint32_t* frames, std::string* error) {
+Status frames_in_window(Line& line, int x, int button_station, SimNs window_ns, SimNs jitter_ns,
+                        const LabOperator& op, uint32_t* frames) {
   const LineConfig& c = line.config();
   const CanController& rx = line.node(x).can();
   const SimNs span = window_ns + jitter_ns;
@@ -84,8 +72,8 @@ bool frames_in_window(Line& line, int x, int button_station, SimNs window_ns, Si
       }
       if (period_us == 0) {
         if (type <= 240) continue;  // synchronous without a SYNC producer: never sent
-        *error = strf("TPDO%u of node %d has neither an inhibit time nor a known event rate", n + 1, s + 1);
-        return false;
+        return Status::failure(
+            strf("TPDO%u of node %d has neither an inhibit time nor a known event rate", n + 1, s + 1));
       }
       uint32_t sends = releases(span, SimNs{period_us} * kNsPerUs);
       const int caused = type >= 254 ? operator_sends(line, s, n, button_station, op) : -1;
@@ -104,7 +92,7 @@ bool frames_in_window(Line& line, int x, int button_station, SimNs window_ns, Si
       total += releases(span, SimNs{hb_ms} * kNsPerMs);
   }
   *frames = total;
-  return true;
+  return Status::ok();
 }
 
 }  // namespace sim

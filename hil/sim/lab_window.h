@@ -8,6 +8,7 @@
 
 #include <string>
 
+#include "host/status.h"
 #include "sim/line.h"
 
 namespace mb2co {
@@ -31,10 +32,9 @@ struct LabOperator {
 /// period, the application's minimum inter-arrival), and for the event
 /// TPDOs of the lab line the sends the operator `op` can cause in one
 /// window plus the event timer's (docs/timing.md §9). `button_station` is
-/// the station of the lab button. False with *error when a message has no
-/// known rate.
-bool frames_in_window(Line& line, int x, int button_station, SimNs window_ns, SimNs jitter_ns,
-                      const LabOperator& op, uint32_t* frames, std::string* error);
+/// the station of the lab button. Fails when a message has no known rate.
+Status frames_in_window(Line& line, int x, int button_station, SimNs window_ns, SimNs jitter_ns,
+                        const LabOperator& op, uint32_t* frames);
 
 }  // namespace sim
 }  // namespace mb2co

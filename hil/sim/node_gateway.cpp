@@ -30,9 +30,9 @@ void NodeStation::make_gateway() {
   // order), read after every pass: resolved to their value bytes once,
   // here (the gateway, and so its value block, lives until power off).
   using plant::Field;
-  const Field watched[kWatched] = {Field::nmt_state,   Field::run_state,   Field::stop2_count,
-                                   Field::prev_status, Field::next_status, Field::prev_run,
-                                   Field::next_run};
+  const Field watched[kWatched] = {Field::kNmtState,   Field::kRunState,   Field::kStop2Count,
+                                   Field::kPrevStatus, Field::kNextStatus, Field::kPrevRun,
+                                   Field::kNextRun};
   const canopen::ObjectDictionary& values = od;
   for (size_t k = 0; k < kWatched; ++k) {
     const uint16_t row = od.find(plant::field_spec(watched[k]).key());

@@ -35,10 +35,10 @@ PcRegisters locate_pc_registers() {
   }
   r.station_first = static_cast<uint16_t>(first);
   r.station_count = static_cast<uint16_t>(end - first);
-  r.run_command = address_of(Table::kHoldingRegisters, plant::field_spec(Field::run_command).key());
-  r.remote_buttons = r.input[static_cast<int>(Field::remote_buttons)].first;
+  r.run_command = address_of(Table::kHoldingRegisters, plant::field_spec(Field::kRunCommand).key());
+  r.remote_buttons = r.input[static_cast<int>(Field::kRemoteButtons)].first;
   r.start = address_of(Table::kDiscreteInputs, gateway::od::GatewayEntry::x2140_1_startPressed);
-  r.lab_led = address_of(Table::kCoils, plant::field_spec(Field::lab_led).key());
+  r.lab_led = address_of(Table::kCoils, plant::field_spec(Field::kLabLed).key());
   return r;
 }
 

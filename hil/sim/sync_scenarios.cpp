@@ -68,7 +68,9 @@ struct SyncRun {
 
 // The bound for the line as commissioned (every Arduino up).
 void bound(Line& line, const SyncLabConfig& lab, SyncResult& r, bool response) {
-  r.bound_ok = sync_params_for(line, lab, &r.params, &r.error);
+  const Status found = sync_params_for(line, lab, &r.params);
+  r.bound_ok = found.is_ok();
+  if (!found) r.error = found.message();
   if (r.bound_ok)
     r.bound = response ? timing::sync_response_bound(r.params) : timing::sync_round_trip_bound(r.params);
 }
@@ -87,7 +89,7 @@ void finish(Line& line, SyncResult& r) {
 
 }  // namespace
 
-bool sync_params_for(Line& line, const SyncLabConfig& lab, timing::SyncParams* p, std::string* error) {
+Status sync_params_for(Line& line, const SyncLabConfig& lab, timing::SyncParams* p) {
   const LineConfig& c = line.config();
   const NodeTiming& nt = c.node;
   // No PC talks to these Arduinos: a pass hands in CAN frames only.
@@ -104,23 +106,21 @@ bool sync_params_for(Line& line, const SyncLabConfig& lab, timing::SyncParams* p
   p->pass_min_us = static_cast<uint32_t>((nt.pass_ns + nt.frame_ns) / kNsPerUs);
   p->debounce_us = uint32_t{c.debounce_ms} * 1000u;
   std::vector<timing::MessageSpec> messages;
-  if (!line_can_messages(line, p->fw_loop_us, &messages, error)) return false;
+  Status listed = line_can_messages(line, p->fw_loop_us, &messages);
+  if (!listed) return listed;
   HopTimes sync, pdo;
   if (!hop_times(messages, kSyncCobId, p->bitrate_bps, &sync) ||
       !hop_times(messages, kPdoB, p->bitrate_bps, &pdo)) {
-    *error = strf("no bounded CAN response time for the SYNC or the PDO at %u kbit/s", c.bitrate_kbit);
-    return false;
+    return Status::failure(
+        strf("no bounded CAN response time for the SYNC or the PDO at %u kbit/s", c.bitrate_kbit));
   }
   for (const timing::MessageSpec& m : messages) {
     if (m.id == kPdoB) p->pdo_dlc = m.dlc;
   }
   p->sync_queueing_worst_ns = sync.worst_ns - sync.frame_worst_ns;
   p->pdo_queueing_worst_ns = pdo.worst_ns - pdo.frame_worst_ns;
-  if (!timing::sync_params_valid(*p)) {
-    *error = "SYNC parameters out of range";
-    return false;
-  }
-  return true;
+  if (!timing::sync_params_valid(*p)) return Status::failure("SYNC parameters out of range");
+  return Status::ok();
 }
 
 SyncResult sync_roundtrip_scenario(const LineConfig& c, const SyncLabConfig& lab, uint32_t answers,

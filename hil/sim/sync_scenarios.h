@@ -65,7 +65,7 @@ SyncResult sync_latency_scenario(const LineConfig& c, const SyncLabConfig& lab, 
 
 /// The bound's inputs for `line` as commissioned by the SYNC labs (every
 /// Arduino up): frames, the line's analysis, the node timing model.
-bool sync_params_for(Line& line, const SyncLabConfig& lab, timing::SyncParams* p, std::string* error);
+Status sync_params_for(Line& line, const SyncLabConfig& lab, timing::SyncParams* p);
 
 /// §11 at one bit rate: the three paths side by side.
 struct AlternativeResult {

@@ -21,6 +21,13 @@ constexpr uint32_t kCoarse = 64;
 constexpr uint32_t kCoarseRepeats = 2;
 constexpr uint32_t kFine = 32;
 constexpr uint32_t kFineRepeats = 12;
+// Then the neighbours' power-on phase: kPhasings offsets, spread over the
+// worst latency found, at which their periodic frames (heartbeat, TPDO1
+// event timer: both run from their power-on) reach the lab's Arduinos,
+// each pressed kPhasingRepeats times at the worst phase.
+constexpr uint32_t kPhasings = 96;
+constexpr uint32_t kPhasingRepeats = 6;
+constexpr SimNs kPowerOff = 50 * kMs;  ///< off that long (capacitors drained)
 
 class Operator {
  public:
@@ -35,6 +42,9 @@ class Operator {
       if (!a.error && a.frame.id == led_pdo_id_ && a.frame.dlc > 0 && (a.frame.data[0] & 1u) &&
           led_pdo_sof_ == 0)
         led_pdo_sof_ = a.sof_ns;
+      if (!a.error && a.frame.id == watched_id_ && a.frame.dlc > 0 && a.frame.data[0] != 0 &&
+          watched_sof_ == 0)
+        watched_sof_ = a.sof_ns;
     };
     // A press whose button or LED PDO a full receive buffer dropped is
     // outside the bound's assumption (no frame lost): counted lost, not
@@ -63,6 +73,9 @@ class Operator {
   /// PDO's time less a debounce).
   bool press(SimNs at, SimNs down_at, SimNs* latency, SimNs* led_pdo_after) {
     line_.run_until(at);
+    // Still on from the last press (its LED-off PDO lost in a receive
+    // overflow): this press measures nothing.
+    const bool stale = lab_;
     led_pdo_sof_ = 0;
     lab_pdo_lost_ = false;
     line_.set_button(button_, gateway::kStart, true);
@@ -84,10 +97,29 @@ class Operator {
       if (interference_) line_.set_button(s, gateway::kStop, false);
     }
     wait_for(false, line_.now() + kS);
-    if (on == 0 || dropped) return false;
+    if (on == 0 || dropped || stale) return false;
     *latency = on - at;
     *led_pdo_after = led_pdo_sof_ > at ? led_pdo_sof_ - at : 0;
     return true;
+  }
+
+  /// Switches `stations` off and on again at `on_at` (> now + kPowerOff):
+  /// their heartbeat and event timers then run from that power-on.
+  void repower(const std::vector<int>& stations, SimNs on_at) {
+    line_.run_until(on_at - kPowerOff);
+    for (int s : stations) line_.power(s, false);
+    line_.run_until(on_at);
+    for (int s : stations) line_.power(s, true);
+  }
+
+  /// Start of the first frame with `id` (not a boot-up: first byte ≠ 0)
+  /// from now until `deadline` (0: none).
+  SimNs first_frame(uint32_t id, SimNs deadline) {
+    watched_id_ = id;
+    watched_sof_ = 0;
+    while (watched_sof_ == 0 && line_.now() < deadline) line_.run_for(kSlice);
+    watched_id_ = 0;
+    return watched_sof_;
   }
 
  private:
@@ -114,6 +146,8 @@ class Operator {
   SimNs changed_at_ = 0;
   SimNs led_pdo_sof_ = 0;
   bool lab_pdo_lost_ = false;
+  uint32_t watched_id_ = 0;
+  SimNs watched_sof_ = 0;
   std::vector<std::function<void(const CanFrame&)>> saved_;
 };
 
@@ -128,12 +162,17 @@ PressRun search_worst_presses(Line& line, int button_station, int led_station, b
   const SimNs cycle = c.pc.cycle_ns;
   const SimNs debounce = SimNs{c.debounce_ms} * kMs;
   const SimNs origin = 2 * kS;
-  const uint32_t total = kCoarse * kCoarseRepeats + (kFine + 1) * kFineRepeats;
+  std::vector<int> neighbours;  // the stations the search switches off and on
+  for (int s = 0; s < line.size(); ++s) {
+    if (s != button_station && s != led_station && s != c.lab_pc) neighbours.push_back(s);
+  }
+  const uint32_t total = kCoarse * kCoarseRepeats + (kFine + 1) * kFineRepeats +
+                         (neighbours.empty() ? 0 : kPhasings * kPhasingRepeats);
   uint32_t presses = 0;
   // The next time ≥ 150 ms from now whose offset in the PC's cycle (counted
   // from `origin`) is `phase`: the line has settled after the last press.
-  auto next_at = [&](SimNs phase) {
-    const SimNs earliest = line.now() + 150 * kMs;
+  auto next_at = [&](SimNs phase, SimNs lead = 150 * kMs) {
+    const SimNs earliest = line.now() + lead;
     const SimNs base = earliest - (earliest - origin) % cycle;
     const SimNs t = base + phase;
     return t >= earliest ? t : t + cycle;
@@ -141,11 +180,11 @@ PressRun search_worst_presses(Line& line, int button_station, int led_station, b
   // One press at `phase`; `led_pdo` is when the LED's PDO left after the
   // last press at this phase (0: unknown), the STOPs of the interference
   // are timed from it, `lead` earlier than a debounce before it.
-  auto measure = [&](SimNs phase, SimNs* led_pdo, SimNs lead) {
+  auto measure = [&](SimNs phase, SimNs* led_pdo, SimNs lead, SimNs at = 0) {
     SimNs latency = 0;
     SimNs pdo = 0;
     const SimNs down_at = *led_pdo > debounce + lead ? *led_pdo - debounce - lead : 0;
-    if (op.press(next_at(phase), down_at, &latency, &pdo)) {
+    if (op.press(at != 0 ? at : next_at(phase), down_at, &latency, &pdo)) {
       r.samples_ns.push_back(latency);
       if (pdo != 0) *led_pdo = pdo;
     } else {
@@ -172,10 +211,47 @@ PressRun search_worst_presses(Line& line, int button_station, int led_station, b
     }
   }
   const SimNs span = 4 * coarse_step;
+  SimNs fine_worst = 0;
+  SimNs fine_phase = worst_phase;
   for (uint32_t k = 0; k <= kFine; ++k) {
     const SimNs phase = (worst_phase + cycle - span / 2 + k * span / kFine) % cycle;
     SimNs led_pdo = 0;
-    for (uint32_t n = 0; n < kFineRepeats; ++n) measure(phase, &led_pdo, lead_of(n));
+    for (uint32_t n = 0; n < kFineRepeats; ++n) {
+      const SimNs v = measure(phase, &led_pdo, lead_of(n));
+      if (v > fine_worst) {
+        fine_worst = v;
+        fine_phase = phase;
+      }
+    }
+  }
+  if (neighbours.empty() || fine_worst == 0) return r;
+  // The neighbours' power-on phase: switched off and on so that the first
+  // heartbeat of the first of them (and what runs with it, its TPDO1's
+  // event timer) comes `offset` after a press at the worst phase, offsets
+  // spread over the worst latency. Calibrated once: the time from the
+  // power-on to that first heartbeat.
+  const uint32_t hb_id = 0x700u + static_cast<uint32_t>(neighbours.front() + 1);
+  const SimNs calibrate_on = line.now() + kPowerOff + 10 * kMs;
+  op.repower(neighbours, calibrate_on);
+  const SimNs first_hb = op.first_frame(hb_id, calibrate_on + kS);
+  if (first_hb == 0) return r;
+  const SimNs boot_to_hb = first_hb - calibrate_on;
+  for (uint32_t k = 0; k < kPhasings; ++k) {
+    // Half of the offsets just before the press, half just before the
+    // debounce runs out: there a frame lengthens the pass in progress and
+    // the press is counted later.
+    const SimNs around = (k % 2 == 0 ? 0 : debounce) + 2 * kMs;
+    const SimNs offset = around - (k / 2) * 3 * kMs / kPhasings;
+    SimNs led_pdo = 0;
+    for (uint32_t n = 0; n < kPhasingRepeats; ++n) {
+      // The press up to 1.5 ms before the worst phase: frames that count
+      // it later make up for it.
+      const SimNs phase = (fine_phase + cycle - n * 1500 * kNsPerUs / kPhasingRepeats) % cycle;
+      // Room for the switching off, the boot and the line settling.
+      const SimNs at = next_at(phase, kPowerOff + 10 * kMs + boot_to_hb + 300 * kMs);
+      op.repower(neighbours, at + offset - boot_to_hb);
+      measure(phase, &led_pdo, lead_of(n), at);
+    }
   }
   return r;
 }

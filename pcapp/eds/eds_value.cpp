@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include "host/status.h"
+
 namespace mb2co {
 namespace eds {
 
@@ -33,37 +35,30 @@ int digit_value(char c) {
   return 99;
 }
 
-/// Digits of one base into a uint64; false on a bad digit, none, or overflow.
-bool parse_digits(std::string_view s, unsigned base, uint64_t* out, std::string* error) {
-  if (s.empty()) {
-    *error = "a number without digits";
-    return false;
-  }
+/// Digits of one base into a uint64; fails on a bad digit, none, or overflow.
+Status parse_digits(std::string_view s, unsigned base, uint64_t* out) {
+  if (s.empty()) return Status::failure("a number without digits");
   uint64_t v = 0;
   for (const char c : s) {
     const int d = digit_value(c);
     if (d >= static_cast<int>(base)) {
-      *error = base == 8    ? "'" + std::string(1, c) + "' in an octal number (a leading 0 means octal)"
-               : base == 16 ? "'" + std::string(1, c) + "' in a hexadecimal number"
-                            : "not a number";
-      return false;
+      return Status::failure(base == 8
+                                 ? "'" + std::string(1, c) + "' in an octal number (a leading 0 means octal)"
+                             : base == 16 ? "'" + std::string(1, c) + "' in a hexadecimal number"
+                                          : "not a number");
     }
-    if (v > (UINT64_MAX - static_cast<uint64_t>(d)) / base) {
-      *error = "a number beyond 64 bits";
-      return false;
-    }
+    if (v > (UINT64_MAX - static_cast<uint64_t>(d)) / base) return Status::failure("a number beyond 64 bits");
     v = v * base + static_cast<uint64_t>(d);
   }
   *out = v;
-  return true;
+  return Status::ok();
 }
 
 /// CiA 306 integer literal without sign: 0x hex, leading-0 octal, decimal.
-bool parse_magnitude(std::string_view s, uint64_t* out, std::string* error) {
-  if (s.size() >= 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X'))
-    return parse_digits(s.substr(2), 16, out, error);
-  if (s.size() >= 2 && s[0] == '0') return parse_digits(s.substr(1), 8, out, error);
-  return parse_digits(s, 10, out, error);
+Status parse_magnitude(std::string_view s, uint64_t* out) {
+  if (s.size() >= 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X')) return parse_digits(s.substr(2), 16, out);
+  if (s.size() >= 2 && s[0] == '0') return parse_digits(s.substr(1), 8, out);
+  return parse_digits(s, 10, out);
 }
 
 struct Range {
@@ -143,7 +138,6 @@ ValueResult ok(Value v) {
 
 ValueResult parse_integer(const TypeInfo& t, std::string_view text, std::optional<uint8_t> node_id) {
   const Range range = range_of(t);
-  std::string error;
   // $NODEID, $NODEID+N, N+$NODEID
   const size_t at = [&] {
     for (size_t i = 0; i + 7 <= text.size(); ++i) {
@@ -168,7 +162,10 @@ ValueResult parse_integer(const TypeInfo& t, std::string_view text, std::optiona
       if (rest.empty()) return fail("a number missing before '+$NODEID'");
     }
     uint64_t base = 0;
-    if (!rest.empty() && !parse_magnitude(rest, &base, &error)) return fail(error);
+    if (!rest.empty()) {
+      const Status parsed = parse_magnitude(rest, &base);
+      if (!parsed) return fail(parsed.message());
+    }
     Value v;
     uint64_t bits = 0;
     if (node_id) {
@@ -195,7 +192,8 @@ ValueResult parse_integer(const TypeInfo& t, std::string_view text, std::optiona
   }
   if (digits.empty()) return fail("an empty value for " + std::string(t.name));
   uint64_t mag = 0;
-  if (!parse_magnitude(digits, &mag, &error)) return fail(error);
+  const Status parsed = parse_magnitude(digits, &mag);
+  if (!parsed) return fail(parsed.message());
   uint64_t bits = 0;
   if (!fit(range, negative, mag, &bits)) {
     return fail("'" + std::string(text) + "' is out of range for " + t.name);
@@ -246,8 +244,7 @@ ValueResult parse_hex_bytes(const TypeInfo& t, std::string_view text) {
 
 std::optional<uint64_t> parse_unsigned(std::string_view text, uint64_t max) {
   uint64_t v = 0;
-  std::string error;
-  if (text.empty() || !parse_magnitude(text, &v, &error) || v > max) return std::nullopt;
+  if (text.empty() || !parse_magnitude(text, &v) || v > max) return std::nullopt;
   return v;
 }
 

@@ -63,43 +63,42 @@ uint32_t GatewayLink::settle_ms() const {
   return t35_us / 1000u + 1u + 10u;
 }
 
-GatewayChannel::Outcome GatewayLink::exchange(const uint8_t* request, uint16_t length, uint32_t timeout_ms,
-                                              modbus::NetResponse* out) {
-  error_.clear();
-  if (ctx_ == nullptr || length < 4) {
-    error_ = "the gateway's port is not open";
-    return Outcome::kIoError;
-  }
+GatewayChannel::Exchange GatewayLink::exchange(const uint8_t* request, uint16_t length, uint32_t timeout_ms,
+                                               modbus::NetResponse* out) {
+  if (ctx_ == nullptr || length < 4)
+    return Exchange::failed(Outcome::kIoError, "the gateway's port is not open");
   const int fd = modbus_get_socket(ctx_);
   modbus_flush(ctx_);  // a late answer to an earlier request must not be taken for this one
   // libmodbus appends the CRC itself: hand it the request without ours.
-  if (modbus_send_raw_request(ctx_, request, length - modbus::kCrcBytes) != length) {
-    error_ = std::string("cannot send to ") + where() + ": " + modbus_strerror(errno);
-    return Outcome::kIoError;
-  }
+  if (modbus_send_raw_request(ctx_, request, length - modbus::kCrcBytes) != length)
+    return Exchange::failed(Outcome::kIoError,
+                            std::string("cannot send to ") + where() + ": " + modbus_strerror(errno));
   const int64_t deadline = now_ms() + timeout_ms;
   uint16_t got = 0;
   bool parsed = false;  // response_[0, got) is a whole answer already
   int64_t settle_until = 0;
   for (;;) {
-    if (port::stop_requested()) return Outcome::kInterrupted;
+    if (port::stop_requested()) return Exchange::interrupted();
     const int64_t until = parsed ? settle_until : deadline;
     const int64_t left = until - now_ms();
     pollfd p{fd, POLLIN, 0};
     const int ready = left > 0 ? poll(&p, 1, static_cast<int>(left)) : 0;
     if (ready < 0 && errno == EINTR) continue;  // port::stop_requested() tells
     if (ready <= 0) {
-      if (parsed) return Outcome::kAnswered;
-      error_ = got == 0 ? "no answer from " + where() + " within " + std::to_string(timeout_ms) + " ms"
-                        : "no valid answer from " + where() + " (" + std::to_string(got) + " bytes)";
-      return got == 0 ? Outcome::kNoAnswer : Outcome::kBadAnswer;
+      if (parsed) return Exchange::answered();
+      if (got == 0)
+        return Exchange::failed(Outcome::kNoAnswer, "no answer from " + where() + " within " +
+                                                        std::to_string(timeout_ms) + " ms");
+      return Exchange::failed(Outcome::kBadAnswer,
+                              "no valid answer from " + where() + " (" + std::to_string(got) + " bytes)");
     }
     const ssize_t n = ::read(fd, response_ + got, sizeof response_ - got);
     if (n <= 0) {
       if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
       // A hung-up device does not come back by waiting.
-      error_ = where() + ": " + (n == 0 ? std::string("end of file") : std::string(std::strerror(errno)));
-      return Outcome::kIoError;
+      return Exchange::failed(
+          Outcome::kIoError,
+          where() + ": " + (n == 0 ? std::string("end of file") : std::string(std::strerror(errno))));
     }
     got = static_cast<uint16_t>(got + n);
     const modbus::ParseStatus st = modbus::parse_net_response(request, length, response_, got, *out);
@@ -110,12 +109,10 @@ GatewayChannel::Outcome GatewayLink::exchange(const uint8_t* request, uint16_t l
     // bytes): more bytes within t3.5 make it that.
     if (parsed && !(st == modbus::ParseStatus::kException && out->abort_code == 0 &&
                     out->exception == modbus::Exception::kServerDeviceFailure))
-      return Outcome::kAnswered;
+      return Exchange::answered();
     if (parsed) settle_until = now_ms() + settle_ms();
-    if (got == sizeof response_) {
-      error_ = "an answer longer than any Modbus frame from " + where();
-      return Outcome::kBadAnswer;
-    }
+    if (got == sizeof response_)
+      return Exchange::failed(Outcome::kBadAnswer, "an answer longer than any Modbus frame from " + where());
   }
 }
 

@@ -10,6 +10,7 @@
 #include <stdint.h>
 
 #include <string>
+#include <utility>
 
 #include "host/status.h"
 #include "modbus/master_codec.h"
@@ -32,16 +33,27 @@ class GatewayChannel {
     kInterrupted,  ///< SIGINT/SIGTERM during the wait
     kIoError,      ///< the device went away (end of file, write refused)
   };
+  /// What one exchange came to. `status` fails, with the line that says
+  /// why, for kNoAnswer, kBadAnswer and kIoError; it is ok for kAnswered
+  /// and kInterrupted (an interrupt is the user's, not the link's).
+  struct Exchange {
+    Outcome outcome = Outcome::kAnswered;
+    Status status;
+
+    static Exchange answered() { return Exchange{}; }
+    static Exchange interrupted() { return Exchange{Outcome::kInterrupted, Status::ok()}; }
+    static Exchange failed(Outcome o, std::string why) {
+      return Exchange{o, Status::failure(std::move(why))};
+    }
+  };
   /// Sends the request ADU (CRC included, as build_net_request makes it)
   /// and waits up to `timeout_ms` for its answer, decoded into `out` (its
   /// data points into the channel's buffer: valid until the next exchange).
   /// kAnswered with ParseStatus kOk or kException only.
-  virtual Outcome exchange(const uint8_t* request, uint16_t length, uint32_t timeout_ms,
-                           modbus::NetResponse* out) = 0;
+  virtual Exchange exchange(const uint8_t* request, uint16_t length, uint32_t timeout_ms,
+                            modbus::NetResponse* out) = 0;
   /// "slave 1 on /dev/ttyACM0", for error lines.
   virtual std::string where() const = 0;
-  /// What went wrong in the last exchange that was not kAnswered.
-  virtual std::string last_error() const = 0;
 
  protected:
   ~GatewayChannel() = default;
@@ -62,10 +74,9 @@ class GatewayLink : public GatewayChannel {
   void close();
   uint8_t slave() const { return slave_; }
 
-  Outcome exchange(const uint8_t* request, uint16_t length, uint32_t timeout_ms,
-                   modbus::NetResponse* out) override;
+  Exchange exchange(const uint8_t* request, uint16_t length, uint32_t timeout_ms,
+                    modbus::NetResponse* out) override;
   std::string where() const override;
-  std::string last_error() const override { return error_; }
 
  private:
   /// After a frame that already parses, how long to wait for more bytes
@@ -78,7 +89,6 @@ class GatewayLink : public GatewayChannel {
   std::string path_;
   uint32_t baud_ = 115200;
   uint8_t slave_ = 1;
-  std::string error_;
   uint8_t response_[modbus::kMaxAduBytes + 8];
 };
 

@@ -33,9 +33,9 @@ Status gateway_nmt(GatewayChannel& channel, uint8_t slave, uint32_t timeout_ms, 
   uint8_t request[modbus::kMaxAduBytes];
   const uint16_t n = modbus::build_net_nmt(request, sizeof request, slave, node, command);
   modbus::NetResponse r{};
-  const GatewayChannel::Outcome got = channel.exchange(request, n, timeout_ms, &r);
-  if (got == GatewayChannel::Outcome::kInterrupted) return Status::failure("interrupted");
-  if (got != GatewayChannel::Outcome::kAnswered) return Status::failure(channel.last_error());
+  const GatewayChannel::Exchange got = channel.exchange(request, n, timeout_ms, &r);
+  if (got.outcome == GatewayChannel::Outcome::kInterrupted) return Status::failure("interrupted");
+  if (got.outcome != GatewayChannel::Outcome::kAnswered) return got.status;
   if (r.exception == modbus::Exception::kIllegalFunction) return Status::failure(no_network_access(channel));
   if (r.exception != modbus::Exception::kNone)
     return Status::failure(exception_text(r.exception) + " to the NMT command (" + channel.where() + ")");
@@ -134,13 +134,14 @@ GatewayNetwork::Step GatewayNetwork::ask(Transfer* t, const uint8_t* request, ui
   for (;;) {
     tick(progress_);
     if (t->finished) return Step::kInterrupted;  // abort_all from a callback
-    switch (channel_.exchange(request, length, response_timeout_ms_, r)) {
+    const GatewayChannel::Exchange got = channel_.exchange(request, length, response_timeout_ms_, r);
+    switch (got.outcome) {
       case GatewayChannel::Outcome::kInterrupted:
         return Step::kInterrupted;
       case GatewayChannel::Outcome::kNoAnswer:
       case GatewayChannel::Outcome::kBadAnswer:
       case GatewayChannel::Outcome::kIoError:
-        link_down(t, channel_.last_error());
+        link_down(t, got.status.message());
         return Step::kFailed;
       case GatewayChannel::Outcome::kAnswered:
         break;

@@ -40,41 +40,37 @@ std::string GatewayTcpLink::where() const {
   return "unit " + std::to_string(unit_) + " on tcp:" + address_.text();
 }
 
-GatewayChannel::Outcome GatewayTcpLink::exchange(const uint8_t* request, uint16_t length, uint32_t timeout_ms,
-                                                 modbus::NetResponse* out) {
-  error_.clear();
-  if (ctx_ == nullptr) {
-    error_ = "the gateway's connection is not open";
-    return Outcome::kIoError;
-  }
+GatewayChannel::Exchange GatewayTcpLink::exchange(const uint8_t* request, uint16_t length,
+                                                  uint32_t timeout_ms, modbus::NetResponse* out) {
+  if (ctx_ == nullptr) return Exchange::failed(Outcome::kIoError, "the gateway's connection is not open");
   uint16_t n = 0;
   switch (mbap_exchange(modbus_get_socket(ctx_), request, length, ++transaction_, mbap_now_ms() + timeout_ms,
                         adu_, &n, &port::stop_requested)) {
     case MbapOutcome::kAnswer:
       break;
     case MbapOutcome::kInterrupted:
-      return Outcome::kInterrupted;
+      return Exchange::interrupted();
     case MbapOutcome::kSilence:
-      error_ = "no answer from " + where() + " within " + std::to_string(timeout_ms) + " ms";
-      return Outcome::kNoAnswer;
+      return Exchange::failed(Outcome::kNoAnswer,
+                              "no answer from " + where() + " within " + std::to_string(timeout_ms) + " ms");
     case MbapOutcome::kPartial:
-      error_ = "no whole answer from " + where() + " within " + std::to_string(timeout_ms) + " ms";
-      return Outcome::kBadAnswer;
-    case MbapOutcome::kBadFrame:  // the stream cannot be cut into frames any more
-      error_ = "an answer with a bad MBAP header from " + where();
+      return Exchange::failed(Outcome::kBadAnswer, "no whole answer from " + where() + " within " +
+                                                       std::to_string(timeout_ms) + " ms");
+    case MbapOutcome::kBadFrame: {  // the stream cannot be cut into frames any more
+      Exchange failed =
+          Exchange::failed(Outcome::kIoError, "an answer with a bad MBAP header from " + where());
       close();
-      return Outcome::kIoError;
+      return failed;
+    }
     case MbapOutcome::kClosed:
-      error_ = where() + ": closed by the gateway";
-      return Outcome::kIoError;
+      return Exchange::failed(Outcome::kIoError, where() + ": closed by the gateway");
     case MbapOutcome::kSendFailed:
-      error_ = "cannot send to " + where() + ": " + std::strerror(errno);
-      return Outcome::kIoError;
+      return Exchange::failed(Outcome::kIoError, "cannot send to " + where() + ": " + std::strerror(errno));
   }
   const modbus::ParseStatus st = modbus::parse_net_response(request, length, adu_, n, *out);
-  if (st == modbus::ParseStatus::kOk || st == modbus::ParseStatus::kException) return Outcome::kAnswered;
-  error_ = "no valid answer from " + where() + " (" + std::to_string(n) + " bytes)";
-  return Outcome::kBadAnswer;
+  if (st == modbus::ParseStatus::kOk || st == modbus::ParseStatus::kException) return Exchange::answered();
+  return Exchange::failed(Outcome::kBadAnswer,
+                          "no valid answer from " + where() + " (" + std::to_string(n) + " bytes)");
 }
 
 }  // namespace master

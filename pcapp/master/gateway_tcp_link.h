@@ -30,17 +30,15 @@ class GatewayTcpLink : public GatewayChannel {
   void close();
   uint8_t unit() const { return unit_; }
 
-  Outcome exchange(const uint8_t* request, uint16_t length, uint32_t timeout_ms,
-                   modbus::NetResponse* out) override;
+  Exchange exchange(const uint8_t* request, uint16_t length, uint32_t timeout_ms,
+                    modbus::NetResponse* out) override;
   std::string where() const override;
-  std::string last_error() const override { return error_; }
 
  private:
   modbus_t* ctx_ = nullptr;
   TcpAddress address_;
   uint8_t unit_ = modbus::kMbapUnitDirect;
   uint16_t transaction_ = 0;
-  std::string error_;
   uint8_t adu_[modbus::kMaxAduBytes];
 };
 

@@ -24,34 +24,34 @@ void format_csv_header(const std::vector<const char*>& names, std::string& out) 
 void format_row(LogFormat format, const std::vector<const char*>& names, const std::vector<LogValue>& values,
                 std::string& out) {
   char number[24];
-  if (format == LogFormat::jsonl) out += '{';
+  if (format == LogFormat::kJsonl) out += '{';
   for (size_t i = 0; i < values.size(); ++i) {
     if (i) out += ',';
-    if (format == LogFormat::jsonl) {
+    if (format == LogFormat::kJsonl) {
       out += '"';
       out += names[i];
       out += "\":";
     }
     const LogValue& v = values[i];
     if (v.text != nullptr) {
-      if (format == LogFormat::jsonl) out += '"';
+      if (format == LogFormat::kJsonl) out += '"';
       out += v.text;
-      if (format == LogFormat::jsonl) out += '"';
+      if (format == LogFormat::kJsonl) out += '"';
     } else {
       const int n = std::snprintf(number, sizeof number, "%lld", static_cast<long long>(v.number));
       out.append(number, static_cast<size_t>(n));
     }
   }
-  if (format == LogFormat::jsonl) out += '}';
+  if (format == LogFormat::kJsonl) out += '}';
   out += '\n';
 }
 
 Status CycleLog::open(const std::string& path, const std::vector<const char*>& names) {
   close();
   if (ends_with(path, ".csv")) {
-    format_ = LogFormat::csv;
+    format_ = LogFormat::kCsv;
   } else if (ends_with(path, ".jsonl")) {
-    format_ = LogFormat::jsonl;
+    format_ = LogFormat::kJsonl;
   } else {
     return Status::failure("--log " + path + ": want a name ending in .csv or .jsonl");
   }
@@ -60,7 +60,7 @@ Status CycleLog::open(const std::string& path, const std::vector<const char*>& n
     return Status::failure("--log " + path + ": " + std::strerror(errno));
   }
   names_ = names;
-  if (format_ == LogFormat::csv) {
+  if (format_ == LogFormat::kCsv) {
     line_.clear();
     format_csv_header(names_, line_);
     std::fwrite(line_.data(), 1, line_.size(), file_);

@@ -13,7 +13,7 @@
 namespace mb2co {
 namespace pcapp {
 
-enum class LogFormat { csv, jsonl };
+enum class LogFormat { kCsv, kJsonl };
 
 /// Appends one row (with '\n') to `out`. CSV: values joined by ','; texts
 /// are plain words (no quoting needed). JSONL: {"name":value,...}.
@@ -34,7 +34,7 @@ class CycleLog {
 
  private:
   std::FILE* file_ = nullptr;
-  LogFormat format_ = LogFormat::csv;
+  LogFormat format_ = LogFormat::kCsv;
   std::vector<const char*> names_;
   std::string line_;
 };

@@ -9,17 +9,17 @@ LatencyCycle::LatencyCycle(const RegisterLayout& layout, bool remote, uint8_t bu
     : layout_(layout), remote_(remote), button_(button), max_presses_(max_presses) {}
 
 std::vector<Field> LatencyCycle::required_reads() const {
-  if (remote_) return {Field::remote_buttons, Field::remote_us, Field::led_us, Field::leds};
-  return {Field::inputs, Field::edge_us, Field::led_us, Field::leds};
+  if (remote_) return {Field::kRemoteButtons, Field::kRemoteUs, Field::kLedUs, Field::kLeds};
+  return {Field::kInputs, Field::kEdgeUs, Field::kLedUs, Field::kLeds};
 }
 
 void LatencyCycle::step(const RegisterImage& in, RegisterImage& out) {
   ++cycle_;
   const uint8_t buttons =
-      static_cast<uint8_t>(in.get(layout_, remote_ ? Field::remote_buttons : Field::inputs));
-  const uint32_t edge_us = in.get(layout_, remote_ ? Field::remote_us : Field::edge_us);
-  const uint32_t led_us = in.get(layout_, Field::led_us);
-  const bool lab_on = (in.get(layout_, Field::leds) & gateway::kLedLab) != 0;
+      static_cast<uint8_t>(in.get(layout_, remote_ ? Field::kRemoteButtons : Field::kInputs));
+  const uint32_t edge_us = in.get(layout_, remote_ ? Field::kRemoteUs : Field::kEdgeUs);
+  const uint32_t led_us = in.get(layout_, Field::kLedUs);
+  const bool lab_on = (in.get(layout_, Field::kLeds) & gateway::kLedLab) != 0;
 
   // First the LED change of a pending press, seen in this read.
   if (pending_ && led_us != led_us_before_) {
@@ -47,7 +47,7 @@ void LatencyCycle::step(const RegisterImage& in, RegisterImage& out) {
     pending_edge_us_ = edge_us;
     led_us_before_ = led_us;
   }
-  out.put(layout_, Field::lab_led, led ? 1u : 0u);
+  out.put(layout_, Field::kLabLed, led ? 1u : 0u);
 }
 
 void LatencyCycle::link_lost() {
@@ -57,7 +57,7 @@ void LatencyCycle::link_lost() {
 }
 
 void LatencyCycle::safe_outputs(RegisterImage& out) const {
-  out.put(layout_, Field::lab_led, 0);
+  out.put(layout_, Field::kLabLed, 0);
 }
 
 std::string LatencyCycle::take_event() {

@@ -34,7 +34,7 @@ class LatencyCycle : public CycleMode {
 
   std::vector<Field> required_reads() const override;
   std::vector<Field> optional_reads() const override { return {}; }
-  std::vector<Field> writes() const override { return {Field::lab_led}; }
+  std::vector<Field> writes() const override { return {Field::kLabLed}; }
 
   void step(const RegisterImage& in, RegisterImage& out) override;
   void step_offline() override {}

@@ -49,7 +49,7 @@ void LinkSupervisor::verify() {
     link_.close();
     const LinkSettings& s = link_.settings();
     std::string why = s.where() + ": " + identified.status.message();
-    const bool definite = identified.outcome == LinkStatus::exception;
+    const bool definite = identified.outcome == LinkStatus::kException;
     if (!definite && identified.heard) {
       heard_ = true;
       const bool late = identified.status.message().find("later than") != std::string::npos;

@@ -91,7 +91,7 @@ void ModbusLink::close() {
 
 template <class F>
 LinkResult ModbusLink::attempt(const char* what, F request) {
-  if (ctx_ == nullptr) return LinkResult::failure(LinkStatus::failed, std::string(what) + ": port closed");
+  if (ctx_ == nullptr) return LinkResult::failure(LinkStatus::kFailed, std::string(what) + ": port closed");
   std::string why;
   bool heard = false;
   for (int i = 0; i <= settings_.retries; ++i) {
@@ -104,10 +104,10 @@ LinkResult ModbusLink::attempt(const char* what, F request) {
     if (request() >= 0) return LinkResult::done();
     const int err = errno;
     why = std::string(what) + ": " + modbus_strerror(err);
-    if (is_exception(err)) return LinkResult::failure(LinkStatus::exception, why);
+    if (is_exception(err)) return LinkResult::failure(LinkStatus::kException, why);
     if (err != ETIMEDOUT) heard = true;
   }
-  return LinkResult::failure(LinkStatus::failed, why, heard);
+  return LinkResult::failure(LinkStatus::kFailed, why, heard);
 }
 
 bool ModbusLink::late_answer_within(int wait_ms) {
@@ -143,7 +143,7 @@ LinkResult ModbusLink::read(const TransactionPlan& plan, const RegisterImage& ou
   }
   for (const Block& b : plan.reads) {
     uint16_t* dest = in.block(b);
-    const bool input = b.table == RegTable::input;
+    const bool input = b.table == RegTable::kInput;
     LinkResult s = attempt(input ? "FC 04" : "FC 03", [&] {
       return input ? modbus_read_input_registers(ctx_, b.start, b.count, dest)
                    : modbus_read_registers(ctx_, b.start, b.count, dest);
@@ -183,7 +183,8 @@ LinkResult ModbusLink::raw_tcp(const uint8_t* request, uint16_t length, uint8_t*
       if (st == modbus::ParseStatus::kOk) return LinkResult::done();
       if (st == modbus::ParseStatus::kException) {
         const modbus::Exception e = net ? net_parsed.exception : parsed.exception;
-        return LinkResult::failure(LinkStatus::exception, "exception " + std::to_string(static_cast<int>(e)));
+        return LinkResult::failure(LinkStatus::kException,
+                                   "exception " + std::to_string(static_cast<int>(e)));
       }
       why = "bad answer (" + std::to_string(got) + " bytes)";
       heard = true;
@@ -191,12 +192,12 @@ LinkResult ModbusLink::raw_tcp(const uint8_t* request, uint16_t length, uint8_t*
     }
     // A broken stream or connection does not come back by retrying.
     if (o == MbapOutcome::kClosed || o == MbapOutcome::kSendFailed || o == MbapOutcome::kBadFrame)
-      return LinkResult::failure(LinkStatus::failed,
+      return LinkResult::failure(LinkStatus::kFailed,
                                  o == MbapOutcome::kBadFrame ? "bad MBAP header" : "connection closed", true);
     heard = heard || o == MbapOutcome::kPartial;
     why = o == MbapOutcome::kPartial ? "part of an answer" : "no answer";
   }
-  return LinkResult::failure(LinkStatus::failed, why, heard);
+  return LinkResult::failure(LinkStatus::kFailed, why, heard);
 }
 
 LinkResult ModbusLink::raw(const uint8_t* request, uint16_t length, uint8_t* response, uint16_t capacity,
@@ -212,7 +213,7 @@ LinkResult ModbusLink::raw(const uint8_t* request, uint16_t length, uint8_t* res
     // arrives during this attempt).
     if (drop_pending() > 0) heard = true;
     if (::write(fd, request, length) != static_cast<ssize_t>(length)) {
-      return LinkResult::failure(LinkStatus::failed, std::string("write: ") + std::strerror(errno));
+      return LinkResult::failure(LinkStatus::kFailed, std::string("write: ") + std::strerror(errno));
     }
     got = 0;
     const int64_t deadline = now_ms() + settings_.timeout_ms;
@@ -224,7 +225,7 @@ LinkResult ModbusLink::raw(const uint8_t* request, uint16_t length, uint8_t* res
       const ssize_t n = ::read(fd, response + got, capacity - got);
       if (n <= 0) {
         // A hung-up device does not come back by retrying.
-        return LinkResult::failure(LinkStatus::failed,
+        return LinkResult::failure(LinkStatus::kFailed,
                                    std::string("read: ") + (n == 0 ? "end of file" : std::strerror(errno)));
       }
       got = static_cast<uint16_t>(got + n);
@@ -240,17 +241,17 @@ LinkResult ModbusLink::raw(const uint8_t* request, uint16_t length, uint8_t* res
       else
         modbus::parse_response(request, length, response, got, parsed);
       const modbus::Exception e = net ? net_parsed.exception : parsed.exception;
-      return LinkResult::failure(LinkStatus::exception, "exception " + std::to_string(static_cast<int>(e)));
+      return LinkResult::failure(LinkStatus::kException, "exception " + std::to_string(static_cast<int>(e)));
     }
     if (got > 0) heard = true;
     why = got == 0 ? "no answer" : "bad answer (" + std::to_string(got) + " bytes)";
   }
-  return LinkResult::failure(LinkStatus::failed, why, heard);
+  return LinkResult::failure(LinkStatus::kFailed, why, heard);
 }
 
 LinkResult ModbusLink::network_view(std::vector<modbus::NetViewEntry>& view, bool& unsupported) {
   unsupported = false;
-  if (ctx_ == nullptr) return LinkResult::failure(LinkStatus::failed, "FC 2B/0D: port closed");
+  if (ctx_ == nullptr) return LinkResult::failure(LinkStatus::kFailed, "FC 2B/0D: port closed");
   view.clear();
   const uint8_t slave = static_cast<uint8_t>(settings_.slave);
   uint8_t request[32];
@@ -263,7 +264,7 @@ LinkResult ModbusLink::network_view(std::vector<modbus::NetViewEntry>& view, boo
     uint16_t got = 0;
     const LinkResult s = raw(request, n, response, sizeof response, got);
     modbus::NetResponse r{};
-    if (s.outcome == LinkStatus::exception) {
+    if (s.outcome == LinkStatus::kException) {
       modbus::parse_net_response(request, n, response, got, r);
       unsupported = r.exception == modbus::Exception::kIllegalFunction;
     }
@@ -271,7 +272,7 @@ LinkResult ModbusLink::network_view(std::vector<modbus::NetViewEntry>& view, boo
     modbus::parse_net_response(request, n, response, got, r);
     const size_t before = view.size();
     if (!append_view_entries(r.message, &view))
-      return LinkResult::failure(LinkStatus::failed, "FC 2B/0D network view: not whole entries");
+      return LinkResult::failure(LinkStatus::kFailed, "FC 2B/0D network view: not whole entries");
     if (!r.message.more_follows || view.size() == before || view.back().node_id >= 127) break;
     first = static_cast<uint8_t>(view.back().node_id + 1);
   }
@@ -279,7 +280,7 @@ LinkResult ModbusLink::network_view(std::vector<modbus::NetViewEntry>& view, boo
 }
 
 LinkResult ModbusLink::identify(std::string& identity) {
-  if (ctx_ == nullptr) return LinkResult::failure(LinkStatus::failed, "");
+  if (ctx_ == nullptr) return LinkResult::failure(LinkStatus::kFailed, "");
   const uint8_t slave = static_cast<uint8_t>(settings_.slave);
   uint8_t request[16];
   uint8_t response[256];
@@ -299,20 +300,20 @@ LinkResult ModbusLink::identify(std::string& identity) {
     }
     identity = parts[0] + " " + parts[1] + " " + parts[2];
     if (parts[0] != "mb2co") {
-      return LinkResult::failure(LinkStatus::exception, "slave " + std::to_string(settings_.slave) +
-                                                            " is not an mb2co gateway (vendor '" + parts[0] +
-                                                            "')");
+      return LinkResult::failure(LinkStatus::kException, "slave " + std::to_string(settings_.slave) +
+                                                             " is not an mb2co gateway (vendor '" + parts[0] +
+                                                             "')");
     }
     return LinkResult::done();
   }
-  if (s.outcome == LinkStatus::failed && !s.heard && late_answer_within(settings_.timeout_ms)) {
+  if (s.outcome == LinkStatus::kFailed && !s.heard && late_answer_within(settings_.timeout_ms)) {
     // Silence in every attempt, then bytes: a slave that answers, only later
     // than the timeout. Not the same as no slave at all (LinkSupervisor).
-    return LinkResult::failure(LinkStatus::failed,
+    return LinkResult::failure(LinkStatus::kFailed,
                                "FC 2B/0E: answer later than " + std::to_string(settings_.timeout_ms) + " ms",
                                true);
   }
-  if (s.outcome != LinkStatus::exception)
+  if (s.outcome != LinkStatus::kException)
     return LinkResult::failure(s.outcome, "FC 2B/0E: " + s.status.message(), s.heard);
   // No FC 2B: an echo (FC 08/00) at least shows a live slave at this address.
   n = modbus::build_diagnostics(request, sizeof request, slave, 0x0000, 0xA55A);

@@ -52,21 +52,21 @@ struct LinkSettings {
 };
 
 enum class LinkStatus : uint8_t {
-  ok,
-  exception,  ///< the slave answered with an exception (the link is fine)
-  failed,     ///< no valid answer after every retry: the link is lost
+  kOk,
+  kException,  ///< the slave answered with an exception (the link is fine)
+  kFailed,     ///< no valid answer after every retry: the link is lost
 };
 
 /// What a transaction came to: the outcome, and unless it is ok why, in
 /// `status` (one line).
 struct LinkResult {
-  LinkStatus outcome = LinkStatus::ok;
+  LinkStatus outcome = LinkStatus::kOk;
   Status status;
   /// failed, but bytes came back (a late, corrupt or foreign answer): a slave
   /// is there, the exchange with it was disturbed. false: silence.
   bool heard = false;
 
-  bool ok() const { return outcome == LinkStatus::ok; }
+  bool ok() const { return outcome == LinkStatus::kOk; }
   static LinkResult done() { return LinkResult(); }
   static LinkResult failure(LinkStatus outcome, std::string why, bool heard = false) {
     return LinkResult{outcome, Status::failure(std::move(why)), heard};
@@ -103,7 +103,7 @@ class ModbusLink {
 
   /// The gateway's view of the CANopen network (FC 2Bh/MEI 0Dh): every node
   /// it hears, with NMT state and heartbeat age, in node id order. An
-  /// exception comes back as LinkStatus::exception; `unsupported` tells
+  /// exception comes back as LinkStatus::kException; `unsupported` tells
   /// exception 01 (a gateway without the service, or with it switched off).
   LinkResult network_view(std::vector<modbus::NetViewEntry>& view, bool& unsupported);
 

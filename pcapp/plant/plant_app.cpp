@@ -183,7 +183,7 @@ void PlantApp::tick() {
       exchanged = true;
       modbus_us_.add(modbus_us);
       last_exception_.clear();
-    } else if (s.outcome == LinkStatus::failed) {
+    } else if (s.outcome == LinkStatus::kFailed) {
       lose_link(error);
     } else {
       // The gateway refused a request: the inputs or the written RUN state

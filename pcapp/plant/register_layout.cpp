@@ -34,9 +34,9 @@ void scan_map(const canopen::ObjectDictionary& od, Table table, RegisterLayout& 
 Location locate(const canopen::ObjectDictionary& od, Field field) {
   const canopen::OdKey key = field_spec(field).key();
   gateway::MapItem item = gateway::locate(od, Table::kHoldingRegisters, key);
-  if (item.mapped()) return {RegTable::holding, item.first, item.width};
+  if (item.mapped()) return {RegTable::kHolding, item.first, item.width};
   item = gateway::locate(od, Table::kInputRegisters, key);
-  if (item.mapped()) return {RegTable::input, item.first, item.width};
+  if (item.mapped()) return {RegTable::kInput, item.first, item.width};
   return {};
 }
 }  // namespace

@@ -25,11 +25,11 @@ using plant::field_spec;
 using plant::FieldSpec;
 using plant::kFieldCount;
 
-enum class RegTable : uint8_t { none = 0, holding = 1, input = 2 };
+enum class RegTable : uint8_t { kNone = 0, kHolding = 1, kInput = 2 };
 
 /// Where one field is: none when neither register map holds it.
 struct Location {
-  RegTable table = RegTable::none;
+  RegTable table = RegTable::kNone;
   uint16_t address = 0;
   uint8_t width = 0;  ///< registers: 1, or 2 for a 32-bit entry
 };

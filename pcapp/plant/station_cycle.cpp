@@ -10,15 +10,15 @@ using plant::StopCause;
 
 const char* state_name(State state) {
   switch (state) {
-    case State::stopped:
+    case State::kStopped:
       return "stopped";
-    case State::fault:
+    case State::kFault:
       return "fault";
-    case State::moving:
+    case State::kMoving:
       return "moving";
-    case State::approach:
+    case State::kApproach:
       return "approach";
-    case State::filling:
+    case State::kFilling:
       return "filling";
   }
   return "?";
@@ -26,15 +26,15 @@ const char* state_name(State state) {
 
 const char* stop_cause_name(StopCause cause) {
   switch (cause) {
-    case StopCause::stop_button:
+    case StopCause::kStopButton:
       return "stop_button";
-    case StopCause::local_stop2:
+    case StopCause::kLocalStop2:
       return "local_stop2";
-    case StopCause::prev_stop2:
+    case StopCause::kPrevStop2:
       return "prev_stop2";
-    case StopCause::link_lost:
+    case StopCause::kLinkLost:
       return "link_lost";
-    case StopCause::fault:
+    case StopCause::kFault:
       return "fault";
   }
   return "?";
@@ -43,13 +43,13 @@ const char* stop_cause_name(StopCause cause) {
 namespace {
 const char* fault_name(plant::Fault f) {
   switch (f) {
-    case plant::Fault::none:
+    case plant::Fault::kNone:
       return "none";
-    case plant::Fault::fill_timeout:
+    case plant::Fault::kFillTimeout:
       return "fill_timeout";
-    case plant::Fault::bottle_lost:
+    case plant::Fault::kBottleLost:
       return "bottle_lost";
-    case plant::Fault::overfill:
+    case plant::Fault::kOverfill:
       return "overfill";
   }
   return "?";
@@ -67,13 +67,13 @@ std::string buttons_text(uint8_t buttons) {
 
 const char* neighbour_name(plant::NeighbourState s) {
   switch (s) {
-    case plant::NeighbourState::absent:
+    case plant::NeighbourState::kAbsent:
       return "none";
-    case plant::NeighbourState::unknown:
+    case plant::NeighbourState::kUnknown:
       return "unknown";
-    case plant::NeighbourState::stopped:
+    case plant::NeighbourState::kStopped:
       return "stopped";
-    case plant::NeighbourState::running:
+    case plant::NeighbourState::kRunning:
       return "running";
   }
   return "?";
@@ -100,7 +100,7 @@ void StationCycle::step(const RegisterImage& in, RegisterImage& out) {
   if (!known_before || cycle_.panel().buttons != buttons_before) {
     event_ = "buttons " + buttons_text(cycle_.panel().buttons);
   }
-  out.put(layout_, Field::run_command, run ? 1u : 0u);
+  out.put(layout_, Field::kRunCommand, run ? 1u : 0u);
   note_changes(before, state_before);
 }
 
@@ -116,7 +116,7 @@ void StationCycle::link_lost() {
 }
 
 void StationCycle::safe_outputs(RegisterImage& out) const {
-  out.put(layout_, Field::run_command, 0);
+  out.put(layout_, Field::kRunCommand, 0);
 }
 
 void StationCycle::note_changes(const plant::ControllerCounters& before, State state_before) {
@@ -130,7 +130,7 @@ void StationCycle::note_changes(const plant::ControllerCounters& before, State s
       break;
     }
   }
-  if (now == State::fault) event_ += std::string(" fault=") + fault_name(controller().fault());
+  if (now == State::kFault) event_ += std::string(" fault=") + fault_name(controller().fault());
 }
 
 std::string StationCycle::take_event() {

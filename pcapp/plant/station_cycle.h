@@ -16,7 +16,7 @@ class StationCycle : public CycleMode {
 
   std::vector<Field> required_reads() const override;
   std::vector<Field> optional_reads() const override;
-  std::vector<Field> writes() const override { return {Field::run_command}; }
+  std::vector<Field> writes() const override { return {Field::kRunCommand}; }
 
   void step(const RegisterImage& in, RegisterImage& out) override;
   void step_offline() override;

@@ -5,7 +5,7 @@ namespace pcapp {
 
 namespace {
 int slot(RegTable t) {
-  return t == RegTable::holding ? 0 : 1;
+  return t == RegTable::kHolding ? 0 : 1;
 }
 }  // namespace
 
@@ -20,7 +20,7 @@ uint16_t* RegisterImage::block(const Block& b) {
 
 uint32_t RegisterImage::get(const RegisterLayout& layout, Field field) const {
   const Location& l = layout[field];
-  if (l.table == RegTable::none) return 0;
+  if (l.table == RegTable::kNone) return 0;
   const std::vector<uint16_t>& r = regs[slot(l.table)];
   if (static_cast<size_t>(l.address) + l.width > r.size()) return 0;
   return l.width == 2 ? (uint32_t{r[l.address]} << 16) | r[l.address + 1u] : r[l.address];
@@ -28,7 +28,7 @@ uint32_t RegisterImage::get(const RegisterLayout& layout, Field field) const {
 
 void RegisterImage::put(const RegisterLayout& layout, Field field, uint16_t value) {
   const Location& l = layout[field];
-  if (l.table == RegTable::none) return;
+  if (l.table == RegTable::kNone) return;
   std::vector<uint16_t>& r = regs[slot(l.table)];
   if (l.address < r.size()) r[l.address] = value;
 }

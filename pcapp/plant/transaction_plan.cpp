@@ -11,7 +11,7 @@ constexpr uint16_t kMaxReadRegisters = 125;       // FC 03/04/17h read quantity
 constexpr uint16_t kMaxReadWriteRegisters = 121;  // FC 17h write quantity
 
 int table_slot(RegTable t) {
-  return t == RegTable::holding ? 0 : 1;
+  return t == RegTable::kHolding ? 0 : 1;
 }
 
 bool mapped_between(const RegisterLayout& layout, RegTable table, uint16_t from, uint16_t to) {
@@ -68,7 +68,7 @@ Status plan_transactions(const RegisterLayout& layout, const std::vector<Field>&
                          TransactionPlan& plan) {
   std::vector<Location> reads[2];
   for (Field f : required) {
-    if (layout[f].table == RegTable::none) {
+    if (layout[f].table == RegTable::kNone) {
       const FieldSpec& s = field_spec(f);
       char od[16];
       std::snprintf(od, sizeof od, "%04Xh/%02X", s.index, s.sub);
@@ -77,12 +77,12 @@ Status plan_transactions(const RegisterLayout& layout, const std::vector<Field>&
     reads[table_slot(layout[f].table)].push_back(layout[f]);
   }
   for (Field f : optional) {
-    if (layout[f].table != RegTable::none) reads[table_slot(layout[f].table)].push_back(layout[f]);
+    if (layout[f].table != RegTable::kNone) reads[table_slot(layout[f].table)].push_back(layout[f]);
   }
   std::vector<Location> out;
   for (Field f : writes) {
     const Location& l = layout[f];
-    if (l.table != RegTable::holding || l.width != 1 || l.address >= layout.writable.size() ||
+    if (l.table != RegTable::kHolding || l.width != 1 || l.address >= layout.writable.size() ||
         !layout.writable[l.address]) {
       return Status::failure(std::string("the gateway's register map has no writable holding register for ") +
                              field_spec(f).name);
@@ -105,15 +105,15 @@ Status plan_transactions(const RegisterLayout& layout, const std::vector<Field>&
 
 std::string describe(const TransactionPlan& plan) {
   auto range = [](const Block& b) {
-    const std::string t = b.table == RegTable::holding ? "HR " : "IR ";
+    const std::string t = b.table == RegTable::kHolding ? "HR " : "IR ";
     return b.count == 1 ? t + std::to_string(b.start)
                         : t + std::to_string(b.start) + "-" + std::to_string(b.start + b.count - 1);
   };
   if (plan.read_write) return "FC 17 write " + range(plan.writes[0]) + " read " + range(plan.reads[0]);
   std::string s;
   for (const Block& b : plan.reads) {
-    s +=
-        (s.empty() ? "" : " + ") + std::string(b.table == RegTable::holding ? "FC 03 " : "FC 04 ") + range(b);
+    s += (s.empty() ? "" : " + ") + std::string(b.table == RegTable::kHolding ? "FC 03 " : "FC 04 ") +
+         range(b);
   }
   for (const Block& b : plan.writes) {
     s += (s.empty() ? "" : " + ") + std::string(b.count == 1 ? "FC 06 " : "FC 10 ") + range(b);

@@ -18,7 +18,7 @@ namespace mb2co {
 namespace pcapp {
 
 struct Block {
-  RegTable table = RegTable::none;
+  RegTable table = RegTable::kNone;
   uint16_t start = 0;
   uint16_t count = 0;
 };

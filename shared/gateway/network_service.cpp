@@ -44,15 +44,20 @@ uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, ui
     return modbus::build_net_exception(pdu, Exception::kIllegalDataValue);
   if (s.transfer_running()) return modbus::build_net_exception(pdu, Exception::kServerDeviceBusy);
   const bool next_part = s.phase_ == kDownloadHeld && s.continues_download(m);
-  if (s.phase_ == kDownloadHeld && !next_part) s.end_open_download(kAbortGeneral);  // the master moved on
+  if (s.phase_ == kDownloadHeld && !next_part) {
+    s.abort(kAbortGeneral);  // the master moved on
+    s.phase_ = kIdle;        // news for nobody: this request is not its part
+  }
   s.start_ = m.start;
-  s.count_ = m.count;
+  s.count_ = static_cast<uint8_t>(m.count);  // a download's, in this frame; an upload's: set_window()
   if (next_part) {
-    s.take_part();
+    // The client reads the part's first segment now, from the request.
+    s.phase_ = kDownload;
+    s.send_segment(true);
     return 0;
   }
   // How an open download ended between parts is news for its next part only.
-  const SdoAbort ended = s.phase_ == kDownloadEnded ? s.client_.result() : kSdoOk;
+  const SdoAbort ended = s.phase_ == kDownloadEnded ? s.result_ : kSdoOk;
   s.phase_ = kIdle;
   return s.on_request(pdu, capacity, m, ended);
 }
@@ -67,7 +72,9 @@ uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, const NetMe
     if (ended == kSdoOk) return modbus::build_net_exception(pdu, Exception::kIllegalDataValue);
     code = ended;
   } else if (m.node_id != node_.node_id()) {
-    return start_remote(capacity, m);
+    if (m.service == NetService::kSdoUpload) set_window(capacity, m.count);
+    start_remote(m);
+    return 0;  // answered when the transfer ends (end())
   } else if (download) {
     code = local_download(m);
   } else {
@@ -131,7 +138,7 @@ uint16_t NetworkService::local_upload(uint8_t* pdu, uint16_t capacity, const Net
       od_.read(m.index, m.sub, pdu + offset, static_cast<uint16_t>(capacity - offset), &size);
   if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
   if (start_ < size) memmove(pdu + offset, pdu + offset + start_, size - start_);
-  set_window(capacity);
+  set_window(capacity, m.count);
   return answer_window(pdu, size);
 }
 
@@ -141,88 +148,44 @@ SdoAbort NetworkService::local_download(const NetMessage& m) {
   return od_.write(m.index, m.sub, m.data, m.count);
 }
 
-// ---- remote transfers -------------------------------------------------------
+// ---- remote transfers (the SDO client end: network_sdo.cpp) ----------------
 
-uint16_t NetworkService::start_remote(uint16_t capacity, const NetMessage& m) {
-  client_.init(m.node_id);
-  client_.set_timeout_us(kNetSdoTimeoutUs);
-  const SdoData data = {&NetworkService::data_write, &NetworkService::data_read, this};
-  in_request_ = true;
-  if (m.service == NetService::kSdoUpload) {
-    set_window(capacity);
-    phase_ = kUpload;
-    client_.start_upload(m.index, m.sub, kSdoAuto, data, 0xFFFFFFFFu, now_us_, sink_);
-  } else {
-    phase_ = kDownload;  // the first part: start_ is 0
-    client_.start_download(m.index, m.sub, m.more_follows ? kSdoSegmented : kSdoAuto, data, m.object_size,
-                           now_us_, sink_);
-    client_.set_available(count_, sink_);
-  }
-  in_request_ = false;
-  return 0;  // answered when the transfer ends (answer())
-}
-
-// The open download's node, object and size are the SDO client's; start_
+// The open download's node, object and size are the transfer's; start_
 // and count_ are still the previous part's.
 bool NetworkService::continues_download(const NetMessage& m) const {
-  return m.service == NetService::kSdoDownload && client_.request_id() == 0x600u + m.node_id &&
-         m.index == client_.index() && m.sub == client_.subindex() && m.object_size == client_.size() &&
-         m.start == request_end();
+  return m.service == NetService::kSdoDownload && m.node_id == server_ && m.index == index_ &&
+         m.sub == sub_ && m.object_size == size_ && m.start == request_end();
 }
 
-void NetworkService::take_part() {
-  phase_ = kDownload;
-  in_request_ = true;  // the client reads the part's first segment now
-  client_.set_available(request_end(), sink_);
-  in_request_ = false;
+void NetworkService::hold_part() {
+  phase_ = kDownloadHeld;
+  step_ = kStepNone;  // any frame of the server's now is out of place
+  // The part's answer: the request's header and size, still in the buffer.
+  if (slave_.answer_pending())
+    slave_.send_deferred(modbus::answer_net_request(slave_.response_pdu(), false, 0, 0));
 }
 
-void NetworkService::end_open_download(SdoAbort code) {
-  client_.abort(code, sink_);
-  phase_ = kIdle;
-}
-
-SdoAbort NetworkService::data_read(void* ctx, uint32_t offset, uint8_t* buf, uint16_t n) {
-  NetworkService& s = *static_cast<NetworkService*>(ctx);
-  // The part's data are in the request, still in the frame buffer only
-  // while the slave holds the answer open (or the request is in hand);
-  // gone when the master sent another frame over it. The client reads
-  // within [0, request_end()) (set_available) and from where it stopped.
-  if (offset < s.start_ || (!s.in_request_ && !s.slave_.answer_pending())) return kAbortGeneral;
-  memcpy(buf, s.slave_.response_pdu() + modbus::net::kSizedHeaderBytes + (offset - s.start_), n);
-  return kSdoOk;
-}
-
-SdoAbort NetworkService::data_write(void* ctx, uint32_t offset, const uint8_t* data, uint16_t n) {
-  NetworkService& s = *static_cast<NetworkService*>(ctx);
-  if (!s.slave_.answer_pending()) return kSdoOk;  // answer dropped: the transfer runs on, unkept
-  uint8_t* window = s.slave_.response_pdu() + modbus::net::kSizedHeaderBytes;
-  const uint32_t end = s.request_end();
-  for (uint16_t i = 0; i < n; ++i) {
-    const uint32_t at = offset + i;
-    if (at >= s.start_ && at < end) window[at - s.start_] = data[i];
-  }
-  return kSdoOk;
-}
-
-void NetworkService::answer() {
-  const bool part = phase_ == kDownloadHeld;
-  const bool upload = phase_ == kUpload;
-  if (!part) phase_ = kIdle;
-  if (!slave_.answer_pending()) return;  // the master gave it up
-  uint8_t* pdu = slave_.response_pdu();
-  if (!part && client_.status() == SdoClient::kFailed) {
-    slave_.send_deferred(modbus::build_net_abort(pdu, client_.result()));
+// An open download that ended between parts leaves its code for the next
+// part; a transfer in hand is answered (unless the master gave it up).
+void NetworkService::end(SdoAbort code) {
+  result_ = code;
+  if (phase_ == kDownloadHeld) {
+    phase_ = kDownloadEnded;
     return;
   }
+  const bool upload = phase_ == kUpload;
+  phase_ = kIdle;
+  if (!slave_.answer_pending()) return;
+  uint8_t* pdu = slave_.response_pdu();
   // The request is still in the buffer: the answer is built on it.
-  slave_.send_deferred(upload ? answer_window(pdu, client_.size())
-                              : modbus::answer_net_request(pdu, false, 0, 0));
+  slave_.send_deferred(code != kSdoOk ? modbus::build_net_abort(pdu, code)
+                       : upload       ? answer_window(pdu, size_)
+                                      : modbus::answer_net_request(pdu, false, 0, 0));
 }
 
-void NetworkService::set_window(uint16_t capacity) {
+void NetworkService::set_window(uint16_t capacity, uint16_t wanted) {
   const uint16_t room = static_cast<uint16_t>(capacity - modbus::net::kSizedHeaderBytes);
-  if (count_ == 0u || count_ > room) count_ = room;
+  count_ = static_cast<uint8_t>(wanted == 0u || wanted > room ? room : wanted);  // room <= kMaxSdoData
 }
 
 uint16_t NetworkService::answer_window(uint8_t* pdu, uint32_t size) {
@@ -236,35 +199,20 @@ uint16_t NetworkService::answer_window(uint8_t* pdu, uint32_t size) {
 void NetworkService::on_can_frame(const CanFrame& f, uint32_t now_us) {
   now_us_ = now_us;
   view_.on_frame(f, now_us);
-  if (phase_ == kIdle || f.id != client_.response_id()) return;
-  client_.on_frame(f, now_us, sink_);
-  settle();
+  if (phase_ < kUpload || f.id != 0x580u + server_ || f.rtr() || f.extended() || f.dlc != 8u) return;
+  // 80h is the server's abort in every step.
+  if (f.data[0] == 0x80u) return end(static_cast<SdoAbort>(le32(&f.data[4])));
+  const SdoAbort code = on_response(f);
+  if (code != kSdoOk) abort(code);
 }
 
 void NetworkService::process(uint32_t now_us) {
   now_us_ = now_us;
-  if (phase_ != kIdle) client_.process(now_us, sink_);
-  settle();
-}
-
-// A part all sent (the client waits for the next) and a transfer that ended
-// are answered; an open download that ended between parts (server abort,
-// our timeout) leaves its code for the next part.
-void NetworkService::settle() {
-  if (phase_ == kDownload && client_.waiting_for_data()) {
-    phase_ = kDownloadHeld;
-    return answer();
-  }
-  if (phase_ == kIdle || phase_ == kDownloadEnded || client_.busy()) return;
-  if (phase_ == kDownloadHeld) {
-    phase_ = kDownloadEnded;  // client_.result() holds the code for the next part
-    return;
-  }
-  answer();
+  if (phase_ >= kUpload && time_reached(now_us, deadline_us_)) abort(kAbortTimeout);
 }
 
 void NetworkService::next_deadline(NextDeadline& d) const {
-  if (phase_ != kIdle) client_.next_deadline(d);
+  if (phase_ >= kUpload) d.at(deadline_us_);
 }
 
 }  // namespace gateway

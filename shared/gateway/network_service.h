@@ -1,5 +1,7 @@
 // FC 2Bh / MEI 0Dh behind the gateway's Modbus slave: SDO upload/download
-// to any node through the portable SDO client, NMT commands to one node or
+// to any node (the service is the SDO client end itself: expedited and
+// segmented, the data in the Modbus frame; canopen::SdoClient is the
+// master's, with buffers, streams and block transfer), NMT commands to one node or
 // all, and the network view (docs/gateway-network.md has the bytes, the
 // rules and the timing).
 //
@@ -23,7 +25,7 @@
 #include "canopen/clock.h"
 #include "canopen/node.h"
 #include "canopen/od.h"
-#include "canopen/sdo_client.h"
+#include "canopen/sdo_abort.h"
 #include "gateway/network_view.h"
 #include "modbus/network_pdu.h"
 #include "modbus/slave.h"
@@ -35,27 +37,50 @@ namespace gateway {
 /// request with abort 05040000h this long after the request (or after the
 /// previous segment).
 constexpr uint32_t kNetSdoTimeoutUs = 500000u;
+/// NetworkServiceState::step_ while the server is asked nothing (no command
+/// byte's bits 7-5 equal it).
+constexpr uint8_t kStepNone = 0x01;
 
 /// The members of a NetworkService that start at zero: one block, value-
 /// initialised by its constructor (one zero-fill instead of a store per
 /// member; the phase's zero is kIdle).
 struct NetworkServiceState {
   /// kDownloadEnded: an open download ended between parts (server abort,
-  /// our timeout); the client's result() is the code for its next part.
-  enum Phase : uint8_t { kIdle, kUpload, kDownload, kDownloadHeld, kDownloadEnded };
+  /// our timeout); result_ is the code for its next part. A remote transfer
+  /// runs in the phases from kUpload on.
+  enum Phase : uint8_t { kIdle, kDownloadEnded, kUpload, kDownload, kDownloadHeld };
 
   NetworkView view_;
   /// The request being served, besides what stays in the frame buffer (its
-  /// answer is built there, in place, from it: answer_net_request()) and
-  /// what the SDO client holds (node, object, size): the bytes it touches.
-  /// An upload keeps the window [start_, start_ + count_) (count_: the bytes
-  /// wanted, set_window()); a download part carries bytes [start_, start_ +
-  /// count_) of the object.
+  /// answer is built there, in place, from it: answer_net_request()): the
+  /// bytes it touches. An upload keeps the window [start_, start_ + count_)
+  /// (count_: the bytes wanted, set_window()); a download part carries
+  /// bytes [start_, start_ + count_) of the object.
   uint16_t start_;
-  uint16_t count_;
+  uint8_t count_;  ///< at most a response's data (net::kMaxSdoData)
   uint32_t now_us_;
   Phase phase_;
-  bool in_request_;  ///< inside handle(): the request is in the frame buffer
+
+  // The SDO client end of a remote transfer (network_sdo.cpp): expedited
+  // and segmented, upload and download, to node server_ (requests on
+  // 600h + server_, responses on 580h + server_).
+  uint32_t size_;  ///< the object's size: ours (download), the server's (upload; 0xFFFFFFFF while open)
+  uint32_t pos_;   ///< object bytes moved: stored, or acknowledged by the server
+  union {
+    uint32_t deadline_us_;      ///< while it runs: the server's answer is due (kNetSdoTimeoutUs from the last
+                                ///< progress)
+    canopen::SdoAbort result_;  ///< once ended: how (kDownloadEnded: the code for the next part)
+  };
+  uint16_t index_;
+  uint8_t sub_;
+  uint8_t server_;
+  /// What the server's next frame must be: its command byte's bits 7-5
+  /// (60h download initiate, 20h download segment, 40h upload initiate, 00h
+  /// upload segment); kStepNone (no such bits) while nothing is asked.
+  uint8_t step_;
+  uint8_t toggle_;   ///< 00h or 10h: the next segment's toggle bit
+  uint8_t seg_n_;    ///< data bytes of the download segment awaiting its answer
+  bool size_known_;  ///< an upload's size was indicated
 };
 
 class NetworkService : private NetworkServiceState {
@@ -98,25 +123,39 @@ class NetworkService : private NetworkServiceState {
   /// The gateway's own node: the response (or the abort) in `pdu`.
   uint16_t local_upload(uint8_t* pdu, uint16_t capacity, const modbus::NetMessage& m);
   canopen::SdoAbort local_download(const modbus::NetMessage& m);
-  uint16_t start_remote(uint16_t capacity, const modbus::NetMessage& m);
   /// An upload's window: count_ becomes the bytes wanted from start_ on, as
-  /// many as the request asks for (0: as many as a response of `capacity`
-  /// bytes carries).
-  void set_window(uint16_t capacity);
+  /// many as the request asks for (`wanted`; 0: as many as a response of
+  /// `capacity` bytes carries).
+  void set_window(uint16_t capacity, uint16_t wanted);
   /// The upload response in `pdu` for an object of `size` bytes whose
   /// window's bytes are in place after the header and size (at most the
   /// window; fewer at the object's end, none beyond it); its length.
   uint16_t answer_window(uint8_t* pdu, uint32_t size);
   /// True when `m` is the next part of the open download.
   bool continues_download(const modbus::NetMessage& m) const;
-  void take_part();
-  void settle();
-  /// The answer to the transfer that ended (or to a part taken).
-  void answer();
-  void end_open_download(canopen::SdoAbort code);
+  /// The transfer ended with `code` (kSdoOk: done): answered, or between
+  /// parts kept for the next part.
+  void end(canopen::SdoAbort code);
+  /// A download part all sent: answered; the download waits for the next.
+  void hold_part();
 
-  static canopen::SdoAbort data_write(void* ctx, uint32_t offset, const uint8_t* data, uint16_t n);
-  static canopen::SdoAbort data_read(void* ctx, uint32_t offset, uint8_t* buf, uint16_t n);
+  // ---- the SDO client end (network_sdo.cpp) ----
+  /// Starts the remote transfer `m` asks for (the part's or window's
+  /// bounds already in start_ and count_).
+  void start_remote(const modbus::NetMessage& m);
+  /// The next download segment, or hold_part() when its bytes are in a
+  /// later part. `in_request`: called from handle(), the request in hand.
+  void send_segment(bool in_request);
+  /// True when the download goes in its initiate (1..4 bytes).
+  bool expedited() const;
+  /// A frame from the server: the next step, kSdoOk, or the code to abort with.
+  canopen::SdoAbort on_response(const CanFrame& f);
+  /// Sends the abort frame `code` and ends the transfer with it.
+  void abort(canopen::SdoAbort code);
+  /// Sends an initiate (or abort) frame: `cmd`, the object, `value`.
+  void send_mux(uint8_t cmd, uint32_t value);
+  /// Upload bytes that belong at object offset `offset`: into the window.
+  void store(uint32_t offset, const uint8_t* data, uint8_t n);
 
   canopen::Node& node_;
   canopen::ObjectDictionary& od_;
@@ -124,7 +163,6 @@ class NetworkService : private NetworkServiceState {
   CanSink sink_;
   const uint8_t* enabled_;
   modbus::NetRequestHandler handler_;
-  canopen::SdoClient client_;
 };
 
 }  // namespace gateway

@@ -106,22 +106,22 @@ bool parse_net_request(const uint8_t* pdu, uint16_t pdu_length, NetMessage& out)
   if ((pdu[2] & net::kReservedControlBits) != 0u || pdu[3] != 0u) return false;
   if (!service_of(pdu[2], out.service)) return false;
   decode_header(pdu, out);
-  // Every service: a node id up to 127; more follows only on a download.
-  if (out.node_id > 127u || (out.more_follows && out.service != NetService::kSdoDownload)) return false;
-  switch (out.service) {
-    case NetService::kSdoUpload:
-      return pdu_length == net::kHeaderBytes && out.node_id != 0u &&
-             static_cast<uint32_t>(out.start) + out.count <= 0xFFFFu;
-    case NetService::kSdoDownload:
-      return out.node_id != 0u && parse_sdo_download(pdu, pdu_length, out);
-    default:
-      break;
+  const bool sdo = out.service <= NetService::kSdoDownload;
+  // Every service: a node id up to 127 (an SDO transfer's a node's, not 0);
+  // more follows only on a download.
+  if (out.node_id > 127u || (sdo && out.node_id == 0u) ||
+      (out.more_follows && out.service != NetService::kSdoDownload)) {
+    return false;
   }
-  // NMT and the network view use no index, subindex or starting address.
-  if ((out.index | out.sub | out.start) != 0u) return false;
-  if (out.service == NetService::kNetworkView) return pdu_length == net::kHeaderBytes && out.count == 0u;
-  // NMT: one byte, a command CiA 301 defines.
-  if (pdu_length != net::kHeaderBytes + 1u || out.count != 1u) return false;
+  if (out.service == NetService::kSdoDownload) return parse_sdo_download(pdu, pdu_length, out);
+  // The rest have a fixed length: the header, and NMT's command byte.
+  const uint8_t body = out.service == NetService::kNmt ? 1u : 0u;
+  if (pdu_length != net::kHeaderBytes + body) return false;
+  if (sdo) return static_cast<uint32_t>(out.start) + out.count <= 0xFFFFu;  // an upload's window
+  // NMT and the network view use no index, subindex or starting address,
+  // and count their data: NMT one byte, a command CiA 301 defines.
+  if ((out.index | out.sub | out.start) != 0u || out.count != body) return false;
+  if (body == 0u) return true;
   out.data = pdu + net::kHeaderBytes;
   out.data_length = 1;
   return valid_nmt_command(out.data[0]);

@@ -29,13 +29,13 @@ const ControllerOutputs& Controller::step(const ControllerInputs& in) {
 
   // Priority when several come together: the station's own STOP first.
   bool stop_requested = true;
-  StopCause cause = StopCause::stop_button;
+  StopCause cause = StopCause::kStopButton;
   if (in.stop_pressed) {
-    cause = StopCause::stop_button;
+    cause = StopCause::kStopButton;
   } else if (in.stop2_pressed || local_events != 0u) {
-    cause = StopCause::local_stop2;
+    cause = StopCause::kLocalStop2;
   } else if (prev_events != 0u) {
-    cause = StopCause::prev_stop2;
+    cause = StopCause::kPrevStop2;
   } else {
     stop_requested = false;
   }
@@ -44,31 +44,31 @@ const ControllerOutputs& Controller::step(const ControllerInputs& in) {
     if (stop_requested) {
       stop(cause);
     } else if (overfill_edge) {
-      enter_fault(Fault::overfill);
+      enter_fault(Fault::kOverfill);
     } else {
       run_cycle(in.plant, present_edge);
     }
   } else if (start_edge && !stop_requested) {
     ++counters_.starts;
-    fault_ = Fault::none;
+    fault_ = Fault::kNone;
     state_ = resume_;
     run_cycle(in.plant, present_edge);
   }
-  if (!running() && present_edge && resume_ == State::moving) {
+  if (!running() && present_edge && resume_ == State::kMoving) {
     // The belt's last step brought a bottle to the sensor, seen only now
     // (in the stop cycle, or first after a link outage). That edge will not
     // come again: keep it, so START resumes with the whole approach to go.
-    resume_ = State::approach;
+    resume_ = State::kApproach;
     approach_left_ = config_.approach_steps;
   }
   outputs_.lamp_neighbour_unknown =
-      in.prev_run == NeighbourState::unknown || in.next_run == NeighbourState::unknown;
+      in.prev_run == NeighbourState::kUnknown || in.next_run == NeighbourState::kUnknown;
   update_outputs();
   return outputs_;
 }
 
 const ControllerOutputs& Controller::force_safe() {
-  if (running()) stop(StopCause::link_lost);
+  if (running()) stop(StopCause::kLinkLost);
   start_.forget();
   update_outputs();
   return outputs_;
@@ -76,33 +76,33 @@ const ControllerOutputs& Controller::force_safe() {
 
 void Controller::run_cycle(const Sensors& s, bool present_edge) {
   switch (state_) {
-    case State::moving:
+    case State::kMoving:
       if (!present_edge) return;
       approach_left_ = config_.approach_steps;
-      state_ = State::approach;
+      state_ = State::kApproach;
       // fall through - with approach_steps == 0 the bottle is already in place
-    case State::approach:
+    case State::kApproach:
       if (approach_left_ > 0u) {
         --approach_left_;
         return;
       }
-      state_ = State::filling;
+      state_ = State::kFilling;
       fill_steps_ = 0;
       // fall through - open the valve in the cycle the bottle arrives
-    case State::filling:
+    case State::kFilling:
       if (s.level_full) {
         ++counters_.bottles_filled;
-        state_ = State::moving;
+        state_ = State::kMoving;
       } else if (config_.sensor_at_valve && !s.bottle_present) {
-        enter_fault(Fault::bottle_lost);
+        enter_fault(Fault::kBottleLost);
       } else if (fill_steps_ >= config_.fill_timeout_steps) {
-        enter_fault(Fault::fill_timeout);
+        enter_fault(Fault::kFillTimeout);
       } else {
         ++fill_steps_;
       }
       return;
-    case State::stopped:
-    case State::fault:
+    case State::kStopped:
+    case State::kFault:
       return;
   }
 }
@@ -110,21 +110,21 @@ void Controller::run_cycle(const Sensors& s, bool present_edge) {
 void Controller::stop(StopCause cause) {
   ++counters_.stops[static_cast<uint8_t>(cause)];
   resume_ = state_;  // the belt stands still: resuming later is exact
-  state_ = State::stopped;
+  state_ = State::kStopped;
 }
 
 void Controller::enter_fault(Fault fault) {
-  ++counters_.stops[static_cast<uint8_t>(StopCause::fault)];
+  ++counters_.stops[static_cast<uint8_t>(StopCause::kFault)];
   fault_ = fault;
-  resume_ = State::moving;
-  state_ = State::fault;
+  resume_ = State::kMoving;
+  state_ = State::kFault;
 }
 
 void Controller::update_outputs() {
-  outputs_.run = running() ? RunState::running : RunState::stopped;
-  outputs_.plant.motor_on = state_ == State::moving || state_ == State::approach;
-  outputs_.plant.valve_open = state_ == State::filling;
-  outputs_.lamp_fault = state_ == State::fault;
+  outputs_.run = running() ? RunState::kRunning : RunState::kStopped;
+  outputs_.plant.motor_on = state_ == State::kMoving || state_ == State::kApproach;
+  outputs_.plant.valve_open = state_ == State::kFilling;
+  outputs_.lamp_fault = state_ == State::kFault;
 }
 
 }  // namespace plant

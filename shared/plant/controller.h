@@ -17,11 +17,11 @@ namespace mb2co {
 namespace plant {
 
 /// Own RUN state as written to the Arduino.
-enum class RunState : uint8_t { stopped = 0, running = 1 };
+enum class RunState : uint8_t { kStopped = 0, kRunning = 1 };
 
 /// A neighbour's RUN state as the gateway reports it. `unknown` = its
 /// heartbeat is lost (never taken for running); `absent` = end of the chain.
-enum class NeighbourState : uint8_t { absent = 0, unknown = 1, stopped = 2, running = 3 };
+enum class NeighbourState : uint8_t { kAbsent = 0, kUnknown = 1, kStopped = 2, kRunning = 3 };
 
 /// The controller's stop counters (ControllerCounters::stops), one per cause
 /// it tells apart. Not a second list of causes: each is one of the line's
@@ -29,11 +29,11 @@ enum class NeighbourState : uint8_t { absent = 0, unknown = 1, stopped = 2, runn
 /// says which; only the numbering differs (a dense counter index, and the
 /// order of the PC app's reports).
 enum class StopCause : uint8_t {
-  stop_button = 0,  ///< STOP pressed
-  local_stop2 = 1,  ///< STOP2 pressed on this station's panel
-  prev_stop2 = 2,   ///< STOP2 pressed on the previous station
-  link_lost = 3,    ///< force_safe(): the serial link to the Arduino is gone
-  fault = 4,        ///< the controller found the plant misbehaving
+  kStopButton = 0,  ///< STOP pressed
+  kLocalStop2 = 1,  ///< STOP2 pressed on this station's panel
+  kPrevStop2 = 2,   ///< STOP2 pressed on the previous station
+  kLinkLost = 3,    ///< force_safe(): the serial link to the Arduino is gone
+  kFault = 4,       ///< the controller found the plant misbehaving
 };
 constexpr uint8_t kStopCauseCount = 5;
 
@@ -41,23 +41,23 @@ constexpr uint8_t kStopCauseCount = 5;
 /// link is the silence the firmware's watchdog sees from its side; a fault is
 /// the controller's own decision, which the firmware sees as RUN command 0.
 constexpr gateway::StopCause reported_cause(StopCause cause) {
-  return cause == StopCause::stop_button   ? gateway::kCauseStopButton
-         : cause == StopCause::local_stop2 ? gateway::kCauseStop2Here
-         : cause == StopCause::prev_stop2  ? gateway::kCauseStop2Previous
-         : cause == StopCause::link_lost   ? gateway::kCausePcSilent
+  return cause == StopCause::kStopButton   ? gateway::kCauseStopButton
+         : cause == StopCause::kLocalStop2 ? gateway::kCauseStop2Here
+         : cause == StopCause::kPrevStop2  ? gateway::kCauseStop2Previous
+         : cause == StopCause::kLinkLost   ? gateway::kCausePcSilent
                                            : gateway::kCauseNone;
 }
 
 enum class Fault : uint8_t {
-  none = 0,
-  fill_timeout = 1,  ///< "full" not reached within fill_timeout_steps
-  bottle_lost = 2,   ///< sensor at the valve lost the bottle while filling
-  overfill = 3,      ///< the overfill switch rose while running
+  kNone = 0,
+  kFillTimeout = 1,  ///< "full" not reached within fill_timeout_steps
+  kBottleLost = 2,   ///< sensor at the valve lost the bottle while filling
+  kOverfill = 3,     ///< the overfill switch rose while running
 };
 
 /// stopped and fault are safe (motor off, valve closed). moving, approach and
 /// filling are RUNNING: the filling cycle moving -> approach -> filling -> moving.
-enum class State : uint8_t { stopped = 0, fault = 1, moving = 2, approach = 3, filling = 4 };
+enum class State : uint8_t { kStopped = 0, kFault = 1, kMoving = 2, kApproach = 3, kFilling = 4 };
 
 /// Everything the controller reads in one cycle.
 struct ControllerInputs {
@@ -71,14 +71,14 @@ struct ControllerInputs {
   /// placeholder then. Nothing is counted from it; the next known value is
   /// compared with the last known one, so events meanwhile count once.
   bool prev_stop2_known = true;
-  NeighbourState prev_run = NeighbourState::absent;
-  NeighbourState next_run = NeighbourState::absent;
+  NeighbourState prev_run = NeighbourState::kAbsent;
+  NeighbourState next_run = NeighbourState::kAbsent;
   Sensors plant;
 };
 
 /// Everything the controller decides in one cycle.
 struct ControllerOutputs {
-  RunState run = RunState::stopped;     ///< write to the Arduino every cycle
+  RunState run = RunState::kStopped;    ///< write to the Arduino every cycle
   Actuators plant;                      ///< apply to the plant's next step
   bool lamp_fault = false;              ///< a fault waits for START
   bool lamp_neighbour_unknown = false;  ///< a neighbour's state is unknown (heartbeat lost)
@@ -97,7 +97,7 @@ struct ControllerCounters {
 /// What the controller must know about the plant it drives.
 struct ControllerConfig {
   uint32_t approach_steps = 0;      ///< belt steps from the sensor's edge to the valve
-  uint32_t fill_timeout_steps = 1;  ///< longest filling before Fault::fill_timeout
+  uint32_t fill_timeout_steps = 1;  ///< longest filling before Fault::kFillTimeout
   bool sensor_at_valve = true;      ///< sensor_to_valve_mm == 0: the bottle must stay seen while filling
 };
 
@@ -127,7 +127,7 @@ class Controller {
   State state() const { return state_; }
   Fault fault() const { return fault_; }
   bool running() const {
-    return state_ == State::moving || state_ == State::approach || state_ == State::filling;
+    return state_ == State::kMoving || state_ == State::kApproach || state_ == State::kFilling;
   }
   const ControllerOutputs& outputs() const { return outputs_; }
   const ControllerCounters& counters() const { return counters_; }
@@ -140,9 +140,9 @@ class Controller {
   void update_outputs();
 
   ControllerConfig config_;
-  State state_ = State::stopped;
-  State resume_ = State::moving;  ///< running state START resumes
-  Fault fault_ = Fault::none;
+  State state_ = State::kStopped;
+  State resume_ = State::kMoving;  ///< running state START resumes
+  Fault fault_ = Fault::kNone;
   uint32_t approach_left_ = 0;
   uint32_t fill_steps_ = 0;  ///< steps with the valve open for the current bottle
   RisingEdge start_;

@@ -5,22 +5,22 @@
 namespace mb2co {
 namespace plant {
 
-const Field kStationReads[kStationReadCount] = {Field::inputs,      Field::run_state, Field::stop2_count,
-                                                Field::stop_cause,  Field::prev_run,  Field::prev_stop2,
-                                                Field::prev_status, Field::next_run,  Field::next_status};
+const Field kStationReads[kStationReadCount] = {Field::kInputs,     Field::kRunState, Field::kStop2Count,
+                                                Field::kStopCause,  Field::kPrevRun,  Field::kPrevStop2,
+                                                Field::kPrevStatus, Field::kNextRun,  Field::kNextStatus};
 const Field kStationOptionalReads[kStationOptionalReadCount] = {
-    Field::leds, Field::start_count, Field::stop_count, Field::error_register, Field::nmt_state};
+    Field::kLeds, Field::kStartCount, Field::kStopCount, Field::kErrorRegister, Field::kNmtState};
 
 NeighbourState neighbour_state(uint8_t status, uint8_t run) {
   switch (status) {
     case gateway::kNeighbourAlive:
-      return run != 0 ? NeighbourState::running : NeighbourState::stopped;
+      return run != 0 ? NeighbourState::kRunning : NeighbourState::kStopped;
     case gateway::kNeighbourNone:
-      return NeighbourState::absent;
+      return NeighbourState::kAbsent;
     default:
       // Lost, not heard since the gateway's reset (kNeighbourNotHeard), or a
       // status we do not know: never "running".
-      return NeighbourState::unknown;
+      return NeighbourState::kUnknown;
   }
 }
 
@@ -28,7 +28,7 @@ ControllerInputs controller_inputs(const Panel& panel, bool run_confirmed, const
   ControllerInputs in;
   in.start_pressed = (panel.buttons & gateway::kStart) != 0;
   const bool latched_stop =
-      run_confirmed && panel.run_state == 0 && panel.stop_cause == reported_cause(StopCause::stop_button);
+      run_confirmed && panel.run_state == 0 && panel.stop_cause == reported_cause(StopCause::kStopButton);
   in.stop_pressed = (panel.buttons & gateway::kStop) != 0 || latched_stop;
   in.stop2_pressed = (panel.buttons & gateway::kStop2) != 0;
   in.local_stop2_events = panel.stop2_count;
@@ -50,7 +50,7 @@ bool StationCycle::step(const Panel& panel) {
   const ControllerOutputs& o = controller_.step(controller_inputs(panel_, confirmed, plant_.sensors()));
   plant_.step(o.plant);
   run_written_[1] = run_written_[0];
-  run_written_[0] = o.run == RunState::running;
+  run_written_[0] = o.run == RunState::kRunning;
   return run_written_[0];
 }
 

@@ -38,20 +38,20 @@ Panel decode_panel(const Read& read) {
   auto u8 = [&](Field f) { return static_cast<uint8_t>(read(f)); };
   auto u16 = [&](Field f) { return static_cast<uint16_t>(read(f)); };
   Panel p;
-  p.buttons = u8(Field::inputs);
-  p.run_state = u8(Field::run_state);
-  p.stop_cause = u8(Field::stop_cause);
-  p.leds = u8(Field::leds);
-  p.prev_run = u8(Field::prev_run);
-  p.prev_status = u8(Field::prev_status);
-  p.next_run = u8(Field::next_run);
-  p.next_status = u8(Field::next_status);
-  p.error_register = u8(Field::error_register);
-  p.nmt_state = u8(Field::nmt_state);
-  p.stop2_count = u16(Field::stop2_count);
-  p.prev_stop2 = u16(Field::prev_stop2);
-  p.start_count = u16(Field::start_count);
-  p.stop_count = u16(Field::stop_count);
+  p.buttons = u8(Field::kInputs);
+  p.run_state = u8(Field::kRunState);
+  p.stop_cause = u8(Field::kStopCause);
+  p.leds = u8(Field::kLeds);
+  p.prev_run = u8(Field::kPrevRun);
+  p.prev_status = u8(Field::kPrevStatus);
+  p.next_run = u8(Field::kNextRun);
+  p.next_status = u8(Field::kNextStatus);
+  p.error_register = u8(Field::kErrorRegister);
+  p.nmt_state = u8(Field::kNmtState);
+  p.stop2_count = u16(Field::kStop2Count);
+  p.prev_stop2 = u16(Field::kPrevStop2);
+  p.start_count = u16(Field::kStartCount);
+  p.stop_count = u16(Field::kStopCount);
   return p;
 }
 

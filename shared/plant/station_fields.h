@@ -13,26 +13,26 @@ namespace plant {
 /// Values of 8/16-bit entries fit one register; the latency timestamps are
 /// 32-bit (two registers, high word first).
 enum class Field : uint8_t {
-  inputs,          ///< x6000_1_readInput8Bit1: START, STOP, STOP2 levels (gateway::Button bits)
-  run_state,       ///< x2100_2_runState: RUN state as the firmware decided it
-  stop2_count,     ///< x2100_3_stop2Count: this panel's STOP2 event counter
-  stop_cause,      ///< x2100_4_stopCause: gateway::StopCause of the latched stop
-  start_count,     ///< x2100_5_startCount
-  stop_count,      ///< x2100_6_stopCount
-  prev_run,        ///< x2110_1_prevRunState
-  prev_stop2,      ///< x2110_2_prevStop2Count
-  prev_status,     ///< x2110_3_prevStatus: gateway::NeighbourStatus
-  next_run,        ///< x2120_1_nextRunState
-  next_status,     ///< x2120_3_nextStatus
-  leds,            ///< x2200_0_leds: gateway::Led bits as driven
-  edge_us,         ///< x2300_1_buttonEdgeUs: last button edge, firmware µs
-  led_us,          ///< x2300_2_labLedUs: last lab LED change, firmware µs
-  remote_us,       ///< x2300_3_remoteButtonsUs: last remote buttons arrival, firmware µs
-  remote_buttons,  ///< x2130_1_remoteButtons: button levels of the watched station (by PDO)
-  error_register,  ///< x1001_0_errorRegister
-  nmt_state,       ///< x2002_0_nmtState
-  run_command,     ///< x2100_1_runCommand (written): the PC's RUN command
-  lab_led,         ///< x6200_1_writeOutput8Bit1 (written): bit 0 = lab LED
+  kInputs,         ///< x6000_1_readInput8Bit1: START, STOP, STOP2 levels (gateway::Button bits)
+  kRunState,       ///< x2100_2_runState: RUN state as the firmware decided it
+  kStop2Count,     ///< x2100_3_stop2Count: this panel's STOP2 event counter
+  kStopCause,      ///< x2100_4_stopCause: gateway::StopCause of the latched stop
+  kStartCount,     ///< x2100_5_startCount
+  kStopCount,      ///< x2100_6_stopCount
+  kPrevRun,        ///< x2110_1_prevRunState
+  kPrevStop2,      ///< x2110_2_prevStop2Count
+  kPrevStatus,     ///< x2110_3_prevStatus: gateway::NeighbourStatus
+  kNextRun,        ///< x2120_1_nextRunState
+  kNextStatus,     ///< x2120_3_nextStatus
+  kLeds,           ///< x2200_0_leds: gateway::Led bits as driven
+  kEdgeUs,         ///< x2300_1_buttonEdgeUs: last button edge, firmware µs
+  kLedUs,          ///< x2300_2_labLedUs: last lab LED change, firmware µs
+  kRemoteUs,       ///< x2300_3_remoteButtonsUs: last remote buttons arrival, firmware µs
+  kRemoteButtons,  ///< x2130_1_remoteButtons: button levels of the watched station (by PDO)
+  kErrorRegister,  ///< x1001_0_errorRegister
+  kNmtState,       ///< x2002_0_nmtState
+  kRunCommand,     ///< x2100_1_runCommand (written): the PC's RUN command
+  kLabLed,         ///< x6200_1_writeOutput8Bit1 (written): bit 0 = lab LED
 };
 constexpr int kFieldCount = 20;
 

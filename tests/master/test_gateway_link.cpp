@@ -95,14 +95,20 @@ class GatewayLinkTest : public ::testing::Test {
   uint8_t request[64];
   uint16_t length = 0;
   modbus::NetResponse r{};
+  GatewayChannel::Exchange got;  ///< the last exchange's, for its failure line
+
+  /// One exchange of `request` with the link; what it came to.
+  GatewayChannel::Outcome exchange(uint32_t timeout_ms) {
+    got = link.exchange(request, length, timeout_ms, &r);
+    return got.outcome;
+  }
 };
 
 TEST_F(GatewayLinkTest, NormalResponseInTwoPiecesIsTakenWhole) {
   const std::vector<uint8_t> answer = upload_answer(request, length, {0x2C, 0x0B, 0x00, 0x00});
   const std::vector<uint8_t> head(answer.begin(), answer.begin() + 6), tail(answer.begin() + 6, answer.end());
   peer.answer(length, {head, tail});
-  ASSERT_EQ(link.exchange(request, length, 2000, &r), GatewayChannel::Outcome::kAnswered)
-      << link.last_error();
+  ASSERT_EQ(exchange(2000), GatewayChannel::Outcome::kAnswered) << got.status.message();
   EXPECT_EQ(r.exception, modbus::Exception::kNone);
   ASSERT_EQ(r.message.data_length, 4u);
   EXPECT_EQ(r.message.data[0], 0x2C);
@@ -113,23 +119,21 @@ TEST_F(GatewayLinkTest, NormalResponseInTwoPiecesIsTakenWhole) {
 
 TEST_F(GatewayLinkTest, AbortResponseCarriesTheCode) {
   peer.answer(length, {adu({0xAB, 0x04, 0x0D, 0x06, 0x02, 0x00, 0x00})});
-  ASSERT_EQ(link.exchange(request, length, 2000, &r), GatewayChannel::Outcome::kAnswered)
-      << link.last_error();
+  ASSERT_EQ(exchange(2000), GatewayChannel::Outcome::kAnswered) << got.status.message();
   EXPECT_EQ(r.exception, modbus::Exception::kServerDeviceFailure);
   EXPECT_EQ(r.abort_code, 0x06020000u);
 }
 
 TEST_F(GatewayLinkTest, PlainExceptionIsTakenAfterTheLineStaysQuiet) {
   peer.answer(length, {adu({0xAB, 0x04})});
-  ASSERT_EQ(link.exchange(request, length, 2000, &r), GatewayChannel::Outcome::kAnswered)
-      << link.last_error();
+  ASSERT_EQ(exchange(2000), GatewayChannel::Outcome::kAnswered) << got.status.message();
   EXPECT_EQ(r.exception, modbus::Exception::kServerDeviceFailure);
   EXPECT_EQ(r.abort_code, 0u);
 }
 
 TEST_F(GatewayLinkTest, BusyIsAnAnswer) {
   peer.answer(length, {adu({0xAB, 0x06})});
-  ASSERT_EQ(link.exchange(request, length, 2000, &r), GatewayChannel::Outcome::kAnswered);
+  ASSERT_EQ(exchange(2000), GatewayChannel::Outcome::kAnswered);
   EXPECT_EQ(r.exception, modbus::Exception::kServerDeviceBusy);
 }
 
@@ -137,15 +141,15 @@ TEST_F(GatewayLinkTest, CorruptAnswerIsNoAnswer) {
   std::vector<uint8_t> answer = upload_answer(request, length, {1, 2, 3, 4});
   answer.back() ^= 0x55;
   peer.answer(length, {answer});
-  EXPECT_EQ(link.exchange(request, length, 300, &r), GatewayChannel::Outcome::kBadAnswer);
-  EXPECT_NE(link.last_error().find("no valid answer from slave 7 on " + peer.path()), std::string::npos)
-      << link.last_error();
+  EXPECT_EQ(exchange(300), GatewayChannel::Outcome::kBadAnswer);
+  EXPECT_NE(got.status.message().find("no valid answer from slave 7 on " + peer.path()), std::string::npos)
+      << got.status.message();
 }
 
 TEST_F(GatewayLinkTest, SilenceEndsAtTheResponseTimeout) {
   peer.answer(length, {});
-  EXPECT_EQ(link.exchange(request, length, 150, &r), GatewayChannel::Outcome::kNoAnswer);
-  EXPECT_EQ(link.last_error(), "no answer from slave 7 on " + peer.path() + " within 150 ms");
+  EXPECT_EQ(exchange(150), GatewayChannel::Outcome::kNoAnswer);
+  EXPECT_EQ(got.status.message(), "no answer from slave 7 on " + peer.path() + " within 150 ms");
 }
 
 TEST_F(GatewayLinkTest, AnswerFromAnotherSlaveIsNotTaken) {
@@ -155,7 +159,7 @@ TEST_F(GatewayLinkTest, AnswerFromAnotherSlaveIsNotTaken) {
   answer[answer.size() - 2] = static_cast<uint8_t>(crc & 0xFF);
   answer[answer.size() - 1] = static_cast<uint8_t>(crc >> 8);
   peer.answer(length, {answer});
-  EXPECT_EQ(link.exchange(request, length, 300, &r), GatewayChannel::Outcome::kBadAnswer);
+  EXPECT_EQ(exchange(300), GatewayChannel::Outcome::kBadAnswer);
 }
 
 }  // namespace

@@ -52,8 +52,8 @@ class ScriptedGateway : public GatewayChannel {
     return (static_cast<uint32_t>(node) << 24) | (static_cast<uint32_t>(index) << 8) | sub;
   }
 
-  Outcome exchange(const uint8_t* request, uint16_t length, uint32_t timeout_ms,
-                   modbus::NetResponse* out) override {
+  Exchange exchange(const uint8_t* request, uint16_t length, uint32_t timeout_ms,
+                    modbus::NetResponse* out) override {
     timeouts_ms.push_back(timeout_ms);
     EXPECT_TRUE(crc_ok(request, length));
     EXPECT_EQ(request[0], kSlave);
@@ -68,11 +68,9 @@ class ScriptedGateway : public GatewayChannel {
     uint16_t n = 0;
     switch (reply) {
       case Reply::kSilence:
-        error_ = "no answer (scripted)";
-        return Outcome::kNoAnswer;
+        return Exchange::failed(Outcome::kNoAnswer, "no answer (scripted)");
       case Reply::kGarbage:
-        error_ = "garbage (scripted)";
-        return Outcome::kBadAnswer;
+        return Exchange::failed(Outcome::kBadAnswer, "garbage (scripted)");
       case Reply::kBusy:
         n = exception(pdu, 0x06);
         break;
@@ -91,10 +89,9 @@ class ScriptedGateway : public GatewayChannel {
     const modbus::ParseStatus st = modbus::parse_net_response(request, length, adu_, total, *out);
     EXPECT_TRUE(st == modbus::ParseStatus::kOk || st == modbus::ParseStatus::kException)
         << "the scripted answer does not parse: " << static_cast<int>(st);
-    return Outcome::kAnswered;
+    return Exchange::answered();
   }
   std::string where() const override { return "slave 7 on the script"; }
-  std::string last_error() const override { return error_; }
 
   /// What the last download left in the store.
   const std::vector<uint8_t>& object(uint8_t node, uint16_t index, uint8_t sub) {
@@ -141,7 +138,6 @@ class ScriptedGateway : public GatewayChannel {
 
   uint8_t adu_[modbus::kMaxAduBytes + 2];
   std::vector<uint8_t> part_;
-  std::string error_;
 };
 
 std::unique_ptr<Transfer> upload(uint8_t node, uint16_t index, uint8_t sub) {

@@ -105,12 +105,18 @@ class GatewayTcpLinkTest : public ::testing::Test {
   uint8_t request[64];
   uint16_t length = 0;
   modbus::NetResponse r{};
+  GatewayChannel::Exchange got;  ///< the last exchange's, for its failure line
+
+  /// One exchange of `request` with the link; what it came to.
+  GatewayChannel::Outcome exchange(uint32_t timeout_ms) {
+    got = link.exchange(request, length, timeout_ms, &r);
+    return got.outcome;
+  }
 };
 
 TEST_F(GatewayTcpLinkTest, TheRequestIsTheCodecsPduInAnMbapFrameAndTheAnswerIsChecked) {
   gw.answer({frame(1, upload_answer({0x2C, 0x0B, 0x00, 0x00}))});
-  ASSERT_EQ(link.exchange(request, length, 2000, &r), GatewayChannel::Outcome::kAnswered)
-      << link.last_error();
+  ASSERT_EQ(exchange(2000), GatewayChannel::Outcome::kAnswered) << got.status.message();
   ASSERT_EQ(r.message.data_length, 4u);
   EXPECT_EQ(r.message.data[0], 0x2C);
   const Bytes pdu(request + 1, request + length - 2);
@@ -121,39 +127,38 @@ TEST_F(GatewayTcpLinkTest, AnAnswerWithAnotherTransactionIdIsALateOneAndSkipped)
   // A first exchange given up (silence), then its late answer arrives just
   // before the second exchange's own.
   gw.answer({});
-  EXPECT_EQ(link.exchange(request, length, 100, &r), GatewayChannel::Outcome::kNoAnswer);
+  EXPECT_EQ(exchange(100), GatewayChannel::Outcome::kNoAnswer);
   gw.request();
   gw.answer({frame(1, {0xAB, 0x06}), frame(2, upload_answer({1, 2, 3, 4}))});
-  ASSERT_EQ(link.exchange(request, length, 2000, &r), GatewayChannel::Outcome::kAnswered)
-      << link.last_error();
+  ASSERT_EQ(exchange(2000), GatewayChannel::Outcome::kAnswered) << got.status.message();
   EXPECT_EQ(r.exception, modbus::Exception::kNone) << "not the late busy answer";
   EXPECT_EQ(r.message.data_length, 4u);
 }
 
 TEST_F(GatewayTcpLinkTest, AbortAndBusyAreAnswers) {
   gw.answer({frame(1, {0xAB, 0x04, 0x0D, 0x06, 0x02, 0x00, 0x00})});
-  ASSERT_EQ(link.exchange(request, length, 2000, &r), GatewayChannel::Outcome::kAnswered);
+  ASSERT_EQ(exchange(2000), GatewayChannel::Outcome::kAnswered);
   EXPECT_EQ(r.abort_code, 0x06020000u);
   gw.request();
   gw.answer({frame(2, {0xAB, 0x06})});
-  ASSERT_EQ(link.exchange(request, length, 2000, &r), GatewayChannel::Outcome::kAnswered);
+  ASSERT_EQ(exchange(2000), GatewayChannel::Outcome::kAnswered);
   EXPECT_EQ(r.exception, modbus::Exception::kServerDeviceBusy);
 }
 
 TEST_F(GatewayTcpLinkTest, SilenceABadLengthAndAHangUpAreToldApart) {
   gw.answer({});
-  EXPECT_EQ(link.exchange(request, length, 150, &r), GatewayChannel::Outcome::kNoAnswer);
-  EXPECT_EQ(link.last_error(), "no answer from unit 255 on tcp:" + gw.address.text() + " within 150 ms");
+  EXPECT_EQ(exchange(150), GatewayChannel::Outcome::kNoAnswer);
+  EXPECT_EQ(got.status.message(), "no answer from unit 255 on tcp:" + gw.address.text() + " within 150 ms");
   gw.request();
   gw.answer({{0x00, 0x02, 0x00, 0x00, 0xFF, 0xFF, 0xFF}});
-  EXPECT_EQ(link.exchange(request, length, 2000, &r), GatewayChannel::Outcome::kIoError);
-  EXPECT_NE(link.last_error().find("bad MBAP header"), std::string::npos) << link.last_error();
+  EXPECT_EQ(exchange(2000), GatewayChannel::Outcome::kIoError);
+  EXPECT_NE(got.status.message().find("bad MBAP header"), std::string::npos) << got.status.message();
 }
 
 TEST_F(GatewayTcpLinkTest, AGatewayThatHangsUpIsAnIoError) {
   gw.answer({}, true);
-  EXPECT_EQ(link.exchange(request, length, 2000, &r), GatewayChannel::Outcome::kIoError);
-  EXPECT_NE(link.last_error().find("closed by the gateway"), std::string::npos) << link.last_error();
+  EXPECT_EQ(exchange(2000), GatewayChannel::Outcome::kIoError);
+  EXPECT_NE(got.status.message().find("closed by the gateway"), std::string::npos) << got.status.message();
 }
 
 // --via-modbus tcp:HOST:PORT on the command line.

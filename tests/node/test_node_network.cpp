@@ -34,8 +34,8 @@ class NodeNetwork : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new TempDir;
     candump_ = new LineChild;
-    std::string candump_error;
-    ASSERT_TRUE(start_candump_listening(*candump_, kUmlDeadline, &candump_error)) << candump_error;
+    const Status listening = start_candump_listening(*candump_, kUmlDeadline);
+    ASSERT_TRUE(listening) << listening.message();
     for (int i = 0; i < 2; ++i) {
       const std::string id = std::to_string(i + 1);
       node_[i] = new NodeProcess;

@@ -94,8 +94,8 @@ TEST(Ring, Stop2StopsTwoStationsAndALostNodeShowsUnknown) {
   TempDir dir;
   // candump first, and known to listen before any node starts.
   LineChild candump;
-  std::string candump_error;
-  ASSERT_TRUE(start_candump_listening(candump, kUmlDeadline, &candump_error)) << candump_error;
+  const Status listening = start_candump_listening(candump, kUmlDeadline);
+  ASSERT_TRUE(listening) << listening.message();
 
   NodeProcess node[kNodes];
   ModbusMaster master[kNodes];
@@ -203,8 +203,8 @@ TEST(Ring, DamagedSavedParametersSendEmcy5530AfterTheBootUp) {
     f.write(reinterpret_cast<const char*>(image.data()), static_cast<std::streamsize>(image.size()));
   }
   LineChild candump;
-  std::string candump_error;
-  ASSERT_TRUE(start_candump_listening(candump, kUmlDeadline, &candump_error)) << candump_error;
+  const Status listening = start_candump_listening(candump, kUmlDeadline);
+  ASSERT_TRUE(listening) << listening.message();
   NodeProcess node;
   ASSERT_TRUE(node.start(
       {"--can", "vcan0", "--node-id", "5", "--pty", dir.path("5.pty"), "--eeprom", dir.path("eeprom")},

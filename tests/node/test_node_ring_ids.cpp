@@ -53,7 +53,7 @@ struct Bus {
   LineChild candump;
   std::set<int> seen;
 
-  bool start(std::string* error) { return start_candump_listening(candump, kUmlDeadline, error); }
+  Status start() { return start_candump_listening(candump, kUmlDeadline); }
   /// Reads lines (noting their ids) until one with `id`; its data in *data.
   bool wait_id(int id, std::string* data) {
     std::string line;
@@ -122,8 +122,8 @@ TEST(RingIds, IdsSetOverModbusAndBySdoAndSavedMakeAWorkingRing) {
   // Station 3 by SDO on the bus, alone on it (a fresh board: node 1).
   {
     Bus bus;
-    std::string bus_error;
-    ASSERT_TRUE(bus.start(&bus_error)) << bus_error;
+    const Status listening = bus.start();
+    ASSERT_TRUE(listening) << listening.message();
     NodeProcess node;
     ASSERT_TRUE(
         node.start({"--can", "vcan0", "--pty", dir.path("cfg.pty"), "--eeprom", eeprom(3)}, kUmlDeadline))
@@ -143,8 +143,8 @@ TEST(RingIds, IdsSetOverModbusAndBySdoAndSavedMakeAWorkingRing) {
 
   // Power cycle: the three start from their EEPROM files, no --node-id.
   Bus bus;
-  std::string bus_error;
-  ASSERT_TRUE(bus.start(&bus_error)) << bus_error;
+  const Status listening = bus.start();
+  ASSERT_TRUE(listening) << listening.message();
   NodeProcess node[kNodes];
   ModbusMaster master[kNodes];
   for (int i = 0; i < kNodes; ++i) {

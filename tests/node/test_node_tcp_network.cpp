@@ -70,8 +70,8 @@ class NodeTcpNetwork : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new TempDir;
     candump_ = new LineChild;
-    std::string error;
-    if (!start_candump_listening(*candump_, kUmlDeadline, &error)) failure_ = error;
+    const Status listening = start_candump_listening(*candump_, kUmlDeadline);
+    if (!listening) failure_ = listening.message();
     for (int i = 0; i < 2 && failure_.empty(); ++i) {
       const std::string id = std::to_string(i + 1);
       std::vector<std::string> args{"--can", "vcan0", "--node-id", id, "--pty", dir_->path(id + ".pty")};

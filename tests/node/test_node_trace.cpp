@@ -138,8 +138,8 @@ bool has(const std::vector<std::string>& frames, const std::string& prefix) {
 void run_traced_node(const std::string& trace_path, std::vector<Stamped>* bus, uint64_t* started_us) {
   TempDir dir;
   LineChild candump;
-  std::string error;
-  ASSERT_TRUE(start_candump_listening(candump, kUmlDeadline, &error)) << error;
+  const Status listening = start_candump_listening(candump, kUmlDeadline);
+  ASSERT_TRUE(listening) << listening.message();
   *started_us = realtime_us();
   // Every candump line from here on, whatever a wait was looking for.
   auto wait_candump = [&](const std::string& prefix) {

@@ -21,12 +21,12 @@ plant::PlantConfig app_config() {
 
 void started(FakeGateway& gw, StationCycle& station) {
   station.step(gw.in, gw.out);
-  gw.set(Field::inputs, gateway::kStart);
+  gw.set(Field::kInputs, gateway::kStart);
   station.step(gw.in, gw.out);
-  gw.set(Field::inputs, 0);
-  gw.set(Field::run_state, 1);
-  gw.set(Field::prev_status, gateway::kNeighbourAlive);
-  gw.set(Field::next_status, gateway::kNeighbourAlive);
+  gw.set(Field::kInputs, 0);
+  gw.set(Field::kRunState, 1);
+  gw.set(Field::kPrevStatus, gateway::kNeighbourAlive);
+  gw.set(Field::kNextStatus, gateway::kNeighbourAlive);
 }
 
 void BM_StationCycle(benchmark::State& state) {
@@ -60,7 +60,7 @@ void BM_StationCycleWithLog(benchmark::State& state) {
     row.push_back({4500, nullptr});
     station.columns(row);
     line.clear();
-    format_row(LogFormat::csv, names, row, line);
+    format_row(LogFormat::kCsv, names, row, line);
     benchmark::DoNotOptimize(line.data());
     benchmark::DoNotOptimize(e.data());
   }
@@ -83,8 +83,8 @@ void BM_LatencyCycle(benchmark::State& state) {
   LatencyCycle lab(gw.layout, false, gateway::kStart, 0);
   uint32_t t = 0;
   for (auto _ : state) {
-    gw.set(Field::inputs, (t / 1000) & 1 ? gateway::kStart : 0);
-    gw.set(Field::led_us, t);
+    gw.set(Field::kInputs, (t / 1000) & 1 ? gateway::kStart : 0);
+    gw.set(Field::kLedUs, t);
     ++t;
     lab.step(gw.in, gw.out);
     benchmark::DoNotOptimize(gw.out.regs[0][1]);

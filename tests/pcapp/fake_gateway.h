@@ -22,7 +22,7 @@ struct FakeGateway {
   }
   void set(Field f, uint32_t v) {
     const Location& l = layout[f];
-    std::vector<uint16_t>& r = in.regs[l.table == RegTable::holding ? 0 : 1];
+    std::vector<uint16_t>& r = in.regs[l.table == RegTable::kHolding ? 0 : 1];
     if (l.width == 2) {
       r[l.address] = static_cast<uint16_t>(v >> 16);
       r[l.address + 1u] = static_cast<uint16_t>(v);

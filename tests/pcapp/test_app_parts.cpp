@@ -16,17 +16,17 @@ using namespace mb2co::pcapp;
 
 namespace {
 // What the command line comes to: run, print `msg` and exit 0, or fail with `msg`.
-enum class ParseOutcome { run, exit_ok, error };
+enum class ParseOutcome { kRun, kExitOk, kError };
 
 ParseOutcome parse(QStringList args, AppOptions& o, QString& msg) {
   args.prepend("mb2co-plant");
   const Status status = parse_options(args, o);
   if (!status) {
     msg = QString::fromStdString(status.message());
-    return ParseOutcome::error;
+    return ParseOutcome::kError;
   }
   msg = o.exit_text;
-  return o.exit_text.isEmpty() ? ParseOutcome::run : ParseOutcome::exit_ok;
+  return o.exit_text.isEmpty() ? ParseOutcome::kRun : ParseOutcome::kExitOk;
 }
 
 // The picked port, or "" with the reason in `error`.
@@ -41,7 +41,7 @@ QString pick_arduino(const std::vector<PortInfo>& ports, QString& error) {
 TEST(Options, Defaults) {
   AppOptions o;
   QString msg;
-  ASSERT_EQ(parse({}, o, msg), ParseOutcome::run);
+  ASSERT_EQ(parse({}, o, msg), ParseOutcome::kRun);
   EXPECT_FALSE(o.latency);
   EXPECT_EQ(o.baud, 115200);
   EXPECT_EQ(mb2co::modbus::parity_letter(o.parity), 'N');
@@ -55,7 +55,7 @@ TEST(Options, LatencyMode) {
   AppOptions o;
   QString msg;
   ASSERT_EQ(parse({"latency", "--remote", "--button", "stop2", "--presses", "5", "--no-reset-wait"}, o, msg),
-            ParseOutcome::run);
+            ParseOutcome::kRun);
   EXPECT_TRUE(o.latency);
   EXPECT_TRUE(o.remote);
   EXPECT_EQ(o.button, 4);
@@ -72,7 +72,7 @@ TEST(Options, ParityLettersAndWords) {
   for (const auto& c : cases) {
     AppOptions o;
     QString msg;
-    ASSERT_EQ(parse({"--parity", c.given}, o, msg), ParseOutcome::run) << c.given;
+    ASSERT_EQ(parse({"--parity", c.given}, o, msg), ParseOutcome::kRun) << c.given;
     EXPECT_EQ(mb2co::modbus::parity_letter(o.parity), c.parity) << c.given;
   }
 }
@@ -103,7 +103,7 @@ TEST(Options, BadValuesGiveOneLine) {
   for (const auto& c : cases) {
     AppOptions o;
     QString msg;
-    EXPECT_EQ(parse(c.args, o, msg), ParseOutcome::error) << c.message;
+    EXPECT_EQ(parse(c.args, o, msg), ParseOutcome::kError) << c.message;
     EXPECT_EQ(msg.toStdString(), c.message);
     EXPECT_FALSE(msg.contains('\n'));
   }
@@ -156,10 +156,10 @@ TEST(CycleLog, CsvAndJsonlRows) {
   const std::vector<LogValue> row = {{12, nullptr}, {0, "moving"}, {-3, nullptr}};
   std::string s;
   format_csv_header(names, s);
-  format_row(LogFormat::csv, names, row, s);
+  format_row(LogFormat::kCsv, names, row, s);
   EXPECT_EQ(s, "cycle,state,level_ml\n12,moving,-3\n");
   s.clear();
-  format_row(LogFormat::jsonl, names, row, s);
+  format_row(LogFormat::kJsonl, names, row, s);
   EXPECT_EQ(s, "{\"cycle\":12,\"state\":\"moving\",\"level_ml\":-3}\n");
 }
 

@@ -383,7 +383,7 @@ TEST(PlantIdentification, AnswerLaterThanEveryAttemptIsHeard) {
   ASSERT_TRUE(link.open(settings));
   std::string identity;
   const mb2co::pcapp::LinkResult r = link.identify(identity);
-  EXPECT_EQ(r.outcome, mb2co::pcapp::LinkStatus::failed);
+  EXPECT_EQ(r.outcome, mb2co::pcapp::LinkStatus::kFailed);
   EXPECT_TRUE(r.heard);
   EXPECT_EQ(r.status.message(), "FC 2B/0E: answer later than 100 ms");
   // The late answer was dropped, not left for the next request.

@@ -15,21 +15,21 @@ struct LatencyTest : ::testing::Test {
   void cycle() { lab.step(gw.in, gw.out); }
   /// The firmware's side of a press: edge at `edge_us`, LED on at `led_us`.
   void press(uint32_t edge_us, uint32_t led_us) {
-    gw.set(Field::inputs, gateway::kStart);
-    gw.set(Field::edge_us, edge_us);
+    gw.set(Field::kInputs, gateway::kStart);
+    gw.set(Field::kEdgeUs, edge_us);
     cycle();
-    EXPECT_EQ(gw.written(Field::lab_led), 1u);
-    gw.set(Field::led_us, led_us);
-    gw.set(Field::leds, gateway::kLedLab);
+    EXPECT_EQ(gw.written(Field::kLabLed), 1u);
+    gw.set(Field::kLedUs, led_us);
+    gw.set(Field::kLeds, gateway::kLedLab);
     cycle();
   }
   void release(uint32_t at_us) {
-    gw.set(Field::inputs, 0);
-    gw.set(Field::edge_us, at_us);
+    gw.set(Field::kInputs, 0);
+    gw.set(Field::kEdgeUs, at_us);
     cycle();
-    EXPECT_EQ(gw.written(Field::lab_led), 0u);
-    gw.set(Field::led_us, at_us + 5000);
-    gw.set(Field::leds, 0);
+    EXPECT_EQ(gw.written(Field::kLabLed), 0u);
+    gw.set(Field::kLedUs, at_us + 5000);
+    gw.set(Field::kLeds, 0);
     cycle();
   }
 };
@@ -53,12 +53,12 @@ TEST_F(LatencyTest, DelayFromTheFirmwareStampsPerPress) {
 
 TEST_F(LatencyTest, PressGoneBeforeTheLedWasReadIsMissedNotMismeasured) {
   cycle();
-  gw.set(Field::inputs, gateway::kStart);
-  gw.set(Field::edge_us, 1000);
+  gw.set(Field::kInputs, gateway::kStart);
+  gw.set(Field::kEdgeUs, 1000);
   cycle();
-  gw.set(Field::led_us, 9000);  // the LED went on and off again in between
-  gw.set(Field::leds, 0);
-  gw.set(Field::inputs, 0);
+  gw.set(Field::kLedUs, 9000);  // the LED went on and off again in between
+  gw.set(Field::kLeds, 0);
+  gw.set(Field::kInputs, 0);
   cycle();
   EXPECT_EQ(lab.records().size(), 0u);
   EXPECT_EQ(lab.missed(), 1u);
@@ -66,14 +66,14 @@ TEST_F(LatencyTest, PressGoneBeforeTheLedWasReadIsMissedNotMismeasured) {
 
 TEST_F(LatencyTest, RemoteUsesThePdoArrival) {
   LatencyCycle remote(gw.layout, true, gateway::kStop2, 0);
-  EXPECT_EQ(remote.required_reads()[0], Field::remote_buttons);
+  EXPECT_EQ(remote.required_reads()[0], Field::kRemoteButtons);
   remote.step(gw.in, gw.out);
-  gw.set(Field::remote_buttons, gateway::kStop2);
-  gw.set(Field::remote_us, 500);
-  gw.set(Field::edge_us, 1);  // the local panel's stamp: not used
+  gw.set(Field::kRemoteButtons, gateway::kStop2);
+  gw.set(Field::kRemoteUs, 500);
+  gw.set(Field::kEdgeUs, 1);  // the local panel's stamp: not used
   remote.step(gw.in, gw.out);
-  gw.set(Field::led_us, 2500);
-  gw.set(Field::leds, gateway::kLedLab);
+  gw.set(Field::kLedUs, 2500);
+  gw.set(Field::kLeds, gateway::kLedLab);
   remote.step(gw.in, gw.out);
   ASSERT_EQ(remote.records().size(), 1u);
   EXPECT_EQ(remote.records()[0].delay_us, 2000u);

@@ -37,7 +37,7 @@ struct LinkTest : ::testing::Test {
     const Status opened = link.open(s);
     ASSERT_TRUE(opened) << opened.message();
     ASSERT_TRUE(
-        plan_transactions(layout, {Field::run_state, Field::nmt_state}, {}, {Field::run_command}, plan));
+        plan_transactions(layout, {Field::kRunState, Field::kNmtState}, {}, {Field::kRunCommand}, plan));
     in.resize(plan);
     out.resize(plan);
   }
@@ -46,50 +46,50 @@ struct LinkTest : ::testing::Test {
 
 TEST_F(LinkTest, IdentifiesTheGateway) {
   std::string id;
-  ASSERT_EQ(outcome(link.identify(id)), LinkStatus::ok) << error;
+  ASSERT_EQ(outcome(link.identify(id)), LinkStatus::kOk) << error;
   EXPECT_EQ(id, "mb2co mb2co gateway 0.1.0");
 }
 
 TEST_F(LinkTest, WriteThenReadTheFirmwareRunState) {
-  ASSERT_EQ(outcome(link.read(plan, out, in)), LinkStatus::ok) << error;
-  EXPECT_EQ(in.get(layout, Field::run_state), 0u);
-  const uint32_t nmt = in.get(layout, Field::nmt_state);
+  ASSERT_EQ(outcome(link.read(plan, out, in)), LinkStatus::kOk) << error;
+  EXPECT_EQ(in.get(layout, Field::kRunState), 0u);
+  const uint32_t nmt = in.get(layout, Field::kNmtState);
   EXPECT_TRUE(nmt == 127 || nmt == 5) << nmt;  // pre-operational, operational by itself soon (2000h/8)
-  out.put(layout, Field::run_command, 1);
-  ASSERT_EQ(outcome(link.write(plan, out)), LinkStatus::ok) << error;
-  ASSERT_EQ(outcome(link.read(plan, out, in)), LinkStatus::ok) << error;
-  EXPECT_EQ(in.get(layout, Field::run_state), 1u);
+  out.put(layout, Field::kRunCommand, 1);
+  ASSERT_EQ(outcome(link.write(plan, out)), LinkStatus::kOk) << error;
+  ASSERT_EQ(outcome(link.read(plan, out, in)), LinkStatus::kOk) << error;
+  EXPECT_EQ(in.get(layout, Field::kRunState), 1u);
 }
 
 TEST_F(LinkTest, ReadWriteInOneTransaction) {
   TransactionPlan rw = plan;
   rw.read_write = true;
-  rw.reads = {Block{RegTable::holding, 0, 2}};
-  rw.writes = {Block{RegTable::holding, 0, 1}};
-  out.put(layout, Field::run_command, 1);
-  ASSERT_EQ(outcome(link.read(rw, out, in)), LinkStatus::ok) << error;
+  rw.reads = {Block{RegTable::kHolding, 0, 2}};
+  rw.writes = {Block{RegTable::kHolding, 0, 1}};
+  out.put(layout, Field::kRunCommand, 1);
+  ASSERT_EQ(outcome(link.read(rw, out, in)), LinkStatus::kOk) << error;
   EXPECT_EQ(in.regs[0][0], 1);  // FC 17h writes before it reads
-  out.put(layout, Field::run_command, 0);
-  ASSERT_EQ(outcome(link.read(rw, out, in)), LinkStatus::ok) << error;
+  out.put(layout, Field::kRunCommand, 0);
+  ASSERT_EQ(outcome(link.read(rw, out, in)), LinkStatus::kOk) << error;
   EXPECT_EQ(in.regs[0][0], 0);
 }
 
 TEST_F(LinkTest, RefusedValueIsAnExceptionNotALostLink) {
-  out.put(layout, Field::run_command, 2);  // 2100h/1 accepts 0..1
-  EXPECT_EQ(outcome(link.write(plan, out)), LinkStatus::exception);
+  out.put(layout, Field::kRunCommand, 2);  // 2100h/1 accepts 0..1
+  EXPECT_EQ(outcome(link.write(plan, out)), LinkStatus::kException);
   EXPECT_NE(error.find("FC 06"), std::string::npos);
-  out.put(layout, Field::run_command, 0);
-  EXPECT_EQ(outcome(link.write(plan, out)), LinkStatus::ok) << error;
+  out.put(layout, Field::kRunCommand, 0);
+  EXPECT_EQ(outcome(link.write(plan, out)), LinkStatus::kOk) << error;
 }
 
 TEST_F(LinkTest, DeadGatewayIsALostLinkWithinTheRetries) {
   node.stop(SIGKILL);
   QElapsedTimer t;
   t.start();
-  EXPECT_EQ(outcome(link.read(plan, out, in)), LinkStatus::failed);
+  EXPECT_EQ(outcome(link.read(plan, out, in)), LinkStatus::kFailed);
   EXPECT_LE(t.elapsed(), 3 * 500 + 500);  // (retries + 1) x timeout, plus slack
   std::string id;
-  EXPECT_EQ(outcome(link.identify(id)), LinkStatus::failed);
+  EXPECT_EQ(outcome(link.identify(id)), LinkStatus::kFailed);
 }
 
 TEST(SignalPipe, SignalArrivesInTheEventLoop) {

@@ -25,20 +25,20 @@ std::map<std::string, DocRow> read_doc() {
   std::ifstream in(MB2CO_REGISTER_MAP_DOC);
   EXPECT_TRUE(in.good());
   std::map<std::string, DocRow> rows;
-  RegTable table = RegTable::none;
+  RegTable table = RegTable::kNone;
   const std::regex row(R"(^\| (\d+)(?:-(\d+))? \| ([0-9A-F]{4}h/[0-9A-F]{2}) \|)");
   for (std::string line; std::getline(in, line);) {
     if (line.rfind("## Holding registers", 0) == 0)
-      table = RegTable::holding;
+      table = RegTable::kHolding;
     else if (line.rfind("## Input registers", 0) == 0)
-      table = RegTable::input;
+      table = RegTable::kInput;
     else if (line.rfind("## ", 0) == 0)
-      table = RegTable::none;
+      table = RegTable::kNone;
     std::smatch m;
-    if (table == RegTable::none || !std::regex_search(line, m, row)) continue;
+    if (table == RegTable::kNone || !std::regex_search(line, m, row)) continue;
     const uint16_t first = static_cast<uint16_t>(std::stoi(m[1]));
     const uint8_t width = m[2].matched ? static_cast<uint8_t>(std::stoi(m[2]) - first + 1) : 1;
-    if (rows.count(m[3]) == 0 || table == RegTable::holding) rows[m[3]] = DocRow{table, first, width};
+    if (rows.count(m[3]) == 0 || table == RegTable::kHolding) rows[m[3]] = DocRow{table, first, width};
   }
   return rows;
 }
@@ -67,14 +67,14 @@ TEST(RegisterLayout, EveryFieldWhereTheRegisterMapDocSaysIt) {
 
 TEST(RegisterLayout, KnownAddressesOfTheDefaultMap) {
   const RegisterLayout l = default_layout();
-  EXPECT_EQ(l[Field::run_command].table, RegTable::holding);
-  EXPECT_EQ(l[Field::run_command].address, 0);
-  EXPECT_EQ(l[Field::lab_led].address, 1);
-  EXPECT_EQ(l[Field::inputs].table, RegTable::input);
-  EXPECT_EQ(l[Field::inputs].address, 0);
-  EXPECT_EQ(l[Field::edge_us].address, 12);
-  EXPECT_EQ(l[Field::edge_us].width, 2);
-  EXPECT_EQ(l[Field::nmt_state].address, 22);
+  EXPECT_EQ(l[Field::kRunCommand].table, RegTable::kHolding);
+  EXPECT_EQ(l[Field::kRunCommand].address, 0);
+  EXPECT_EQ(l[Field::kLabLed].address, 1);
+  EXPECT_EQ(l[Field::kInputs].table, RegTable::kInput);
+  EXPECT_EQ(l[Field::kInputs].address, 0);
+  EXPECT_EQ(l[Field::kEdgeUs].address, 12);
+  EXPECT_EQ(l[Field::kEdgeUs].width, 2);
+  EXPECT_EQ(l[Field::kNmtState].address, 22);
   EXPECT_EQ(l.mapped[1].size(), 24u);  // the last: 2003h, damaged saved sets found
   // 14 registers, and on the host the REAL32 (2) and UNSIGNED64 (4) of 2500h.
   const size_t holding = MB2CO_CONFIG_WIDE_TYPES ? 20u : 14u;
@@ -93,8 +93,8 @@ TEST(RegisterLayout, FollowsAChangedMap) {
   const uint16_t row = od.find(0x2401, 1);
   od.set(row, 0);
   const RegisterLayout l = layout_from_od(od);
-  EXPECT_EQ(l[Field::inputs].table, RegTable::none);
-  EXPECT_EQ(l[Field::run_state].address, 1);
+  EXPECT_EQ(l[Field::kInputs].table, RegTable::kNone);
+  EXPECT_EQ(l[Field::kRunState].address, 1);
   EXPECT_FALSE(l.mapped[1][0]);
   EXPECT_TRUE(l.mapped[1][1]);
 }

@@ -16,15 +16,15 @@ struct StationCycleTest : ::testing::Test {
 
   void cycle() { station.step(gw.in, gw.out); }
   void click(gateway::Button b) {
-    gw.set(Field::inputs, b);
+    gw.set(Field::kInputs, b);
     cycle();
-    gw.set(Field::inputs, 0);
+    gw.set(Field::kInputs, 0);
   }
   void start() {
     cycle();                                          // baseline of START
     EXPECT_EQ(station.take_event(), "buttons none");  // the first read shows the panel
     click(gateway::kStart);
-    ASSERT_EQ(station.controller().state(), State::moving);
+    ASSERT_EQ(station.controller().state(), State::kMoving);
     EXPECT_EQ(station.take_event(), "buttons START\nstate moving");
     cycle();
     EXPECT_EQ(station.take_event(), "buttons none");
@@ -40,7 +40,7 @@ struct StationCycleTest : ::testing::Test {
 
 TEST_F(StationCycleTest, StartWritesRunAndTheBeltMoves) {
   start();
-  EXPECT_EQ(gw.written(Field::run_command), 1u);
+  EXPECT_EQ(gw.written(Field::kRunCommand), 1u);
   const uint32_t before = station.plant().bottle(0).position_um;
   cycle();
   EXPECT_GT(station.plant().bottle(0).position_um, before);
@@ -48,23 +48,23 @@ TEST_F(StationCycleTest, StartWritesRunAndTheBeltMoves) {
 
 TEST_F(StationCycleTest, Stop2CounterStopsInTheSameCycle) {
   start();
-  gw.set(Field::stop2_count, 1);
+  gw.set(Field::kStop2Count, 1);
   cycle();
-  EXPECT_EQ(station.controller().state(), State::stopped);
-  EXPECT_EQ(gw.written(Field::run_command), 0u);
+  EXPECT_EQ(station.controller().state(), State::kStopped);
+  EXPECT_EQ(gw.written(Field::kRunCommand), 0u);
   EXPECT_EQ(state_event(), "state stopped cause=local_stop2");
   EXPECT_FALSE(station.controller().outputs().plant.motor_on);
 }
 
 TEST_F(StationCycleTest, PreviousStationStop2Stops) {
   start();
-  gw.set(Field::prev_stop2, 4);
+  gw.set(Field::kPrevStop2, 4);
   cycle();
   EXPECT_EQ(state_event(), "state stopped cause=prev_stop2");
 }
 
 TEST_F(StationCycleTest, OldStopCauseRightAfterStartIsNoNewStop) {
-  gw.set(Field::stop_cause, gateway::kCauseStopButton);  // from an earlier stop
+  gw.set(Field::kStopCause, gateway::kCauseStopButton);  // from an earlier stop
   cycle();
   click(gateway::kStart);  // RUN=1 written at the end of this cycle
   ASSERT_TRUE(station.controller().running());
@@ -72,13 +72,13 @@ TEST_F(StationCycleTest, OldStopCauseRightAfterStartIsNoNewStop) {
   EXPECT_TRUE(station.controller().running());
   // Once RUN=1 was written two cycles ago, the same picture is a latched STOP.
   cycle();
-  EXPECT_EQ(station.controller().state(), State::stopped);
+  EXPECT_EQ(station.controller().state(), State::kStopped);
   EXPECT_EQ(state_event(), "state stopped cause=stop_button");
 }
 
 TEST_F(StationCycleTest, LinkLossIsSafeAndNeedsAFreshStart) {
   start();
-  gw.set(Field::run_state, 1);
+  gw.set(Field::kRunState, 1);
   cycle();
   station.link_lost();
   EXPECT_EQ(state_event(), "state stopped cause=link_lost");
@@ -86,12 +86,12 @@ TEST_F(StationCycleTest, LinkLossIsSafeAndNeedsAFreshStart) {
   station.step_offline();
   EXPECT_EQ(station.plant().bottle(0).position_um, at);
   station.safe_outputs(gw.out);
-  EXPECT_EQ(gw.written(Field::run_command), 0u);
-  gw.set(Field::inputs, gateway::kStart);  // START held across the outage: no press
+  EXPECT_EQ(gw.written(Field::kRunCommand), 0u);
+  gw.set(Field::kInputs, gateway::kStart);  // START held across the outage: no press
   cycle();
   EXPECT_EQ(station.take_event(), "buttons START");  // the panel again after the outage
-  EXPECT_EQ(station.controller().state(), State::stopped);
-  gw.set(Field::inputs, 0);
+  EXPECT_EQ(station.controller().state(), State::kStopped);
+  gw.set(Field::kInputs, 0);
   cycle();
   click(gateway::kStart);
   EXPECT_TRUE(station.controller().running());
@@ -99,7 +99,7 @@ TEST_F(StationCycleTest, LinkLossIsSafeAndNeedsAFreshStart) {
 
 TEST_F(StationCycleTest, FillsBottlesInClosedLoop) {
   start();
-  gw.set(Field::run_state, 1);
+  gw.set(Field::kRunState, 1);
   // Default plant with a 10 ms step: 2 s to the valve, 5 s of filling.
   for (int i = 0; i < 1000; ++i) cycle();
   EXPECT_EQ(station.controller().counters().bottles_filled, 1u);

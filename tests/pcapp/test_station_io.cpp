@@ -8,11 +8,11 @@ using namespace mb2co::pcapp;
 using plant::NeighbourState;
 
 TEST(StationIo, NeighbourStatesNeverGuessRunning) {
-  EXPECT_EQ(neighbour_state(gateway::kNeighbourAlive, 1), NeighbourState::running);
-  EXPECT_EQ(neighbour_state(gateway::kNeighbourAlive, 0), NeighbourState::stopped);
-  EXPECT_EQ(neighbour_state(gateway::kNeighbourUnknown, 1), NeighbourState::unknown);
-  EXPECT_EQ(neighbour_state(gateway::kNeighbourNone, 1), NeighbourState::absent);
-  EXPECT_EQ(neighbour_state(7, 1), NeighbourState::unknown);
+  EXPECT_EQ(neighbour_state(gateway::kNeighbourAlive, 1), NeighbourState::kRunning);
+  EXPECT_EQ(neighbour_state(gateway::kNeighbourAlive, 0), NeighbourState::kStopped);
+  EXPECT_EQ(neighbour_state(gateway::kNeighbourUnknown, 1), NeighbourState::kUnknown);
+  EXPECT_EQ(neighbour_state(gateway::kNeighbourNone, 1), NeighbourState::kAbsent);
+  EXPECT_EQ(neighbour_state(7, 1), NeighbourState::kUnknown);
 }
 
 TEST(StationIo, DecodesTheDefaultMapIncluding32BitHighWordFirst) {
@@ -31,8 +31,8 @@ TEST(StationIo, DecodesTheDefaultMapIncluding32BitHighWordFirst) {
   EXPECT_EQ(panel.buttons, gateway::kStart | gateway::kStop2);
   EXPECT_EQ(panel.stop2_count, 65535);
   EXPECT_EQ(panel.prev_stop2, 3);
-  EXPECT_EQ(img.get(l, Field::edge_us), 0x12345678u);
-  img.put(l, Field::run_command, 1);
+  EXPECT_EQ(img.get(l, Field::kEdgeUs), 0x12345678u);
+  img.put(l, Field::kRunCommand, 1);
   EXPECT_EQ(img.regs[0][0], 1);
 }
 
@@ -61,12 +61,12 @@ TEST(StationIo, ANotYetHeardNeighbourIsUnknownAndItsCounterNotKnown) {
   p.next_status = gateway::kNeighbourUnknown | gateway::kNeighbourNotHeard;
   plant::ControllerInputs in = controller_inputs(p, false, plant::Sensors{});
   EXPECT_FALSE(in.prev_stop2_known);
-  EXPECT_EQ(in.prev_run, NeighbourState::unknown) << "alive, but its RUN state is not heard yet";
-  EXPECT_EQ(in.next_run, NeighbourState::unknown);
+  EXPECT_EQ(in.prev_run, NeighbourState::kUnknown) << "alive, but its RUN state is not heard yet";
+  EXPECT_EQ(in.next_run, NeighbourState::kUnknown);
   p.prev_status = gateway::kNeighbourAlive;
   in = controller_inputs(p, false, plant::Sensors{});
   EXPECT_TRUE(in.prev_stop2_known);
-  EXPECT_EQ(in.prev_run, NeighbourState::stopped);
+  EXPECT_EQ(in.prev_run, NeighbourState::kStopped);
   p.prev_status = gateway::kNeighbourUnknown;  // lost after it was heard: its last values
   EXPECT_TRUE(controller_inputs(p, false, plant::Sensors{}).prev_stop2_known);
 }
@@ -86,6 +86,6 @@ TEST(StationIo, ButtonsAndCountersReachTheController) {
   EXPECT_EQ(in.local_stop2_events, 7);
   EXPECT_EQ(in.prev_stop2_events, 9);
   EXPECT_TRUE(in.prev_stop2_known);
-  EXPECT_EQ(in.prev_run, NeighbourState::running);
-  EXPECT_EQ(in.next_run, NeighbourState::absent);
+  EXPECT_EQ(in.prev_run, NeighbourState::kRunning);
+  EXPECT_EQ(in.next_run, NeighbourState::kAbsent);
 }

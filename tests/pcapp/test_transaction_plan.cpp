@@ -9,9 +9,9 @@ using mb2co::Status;
 using namespace mb2co::pcapp;
 
 namespace {
-const std::vector<Field> kStationReads = {Field::inputs,      Field::run_state, Field::stop2_count,
-                                          Field::stop_cause,  Field::prev_run,  Field::prev_stop2,
-                                          Field::prev_status, Field::next_run,  Field::next_status};
+const std::vector<Field> kStationReads = {Field::kInputs,     Field::kRunState, Field::kStop2Count,
+                                          Field::kStopCause,  Field::kPrevRun,  Field::kPrevStop2,
+                                          Field::kPrevStatus, Field::kNextRun,  Field::kNextStatus};
 
 /// The gateway OD with the holding map replaced by `entries` (PDO mapping format).
 RegisterLayout layout_with_holding_map(const std::vector<uint32_t>& entries) {
@@ -32,7 +32,7 @@ uint32_t map(uint16_t index, uint8_t sub, uint8_t bits) {
 TEST(TransactionPlan, DefaultMapStationIsOneInputReadAndOneWrite) {
   TransactionPlan p;
   ASSERT_TRUE(
-      plan_transactions(default_layout(), kStationReads, {Field::nmt_state}, {Field::run_command}, p));
+      plan_transactions(default_layout(), kStationReads, {Field::kNmtState}, {Field::kRunCommand}, p));
   EXPECT_FALSE(p.read_write);  // the inputs are input registers: FC 17h cannot read them
   EXPECT_EQ(describe(p), "FC 04 IR 0-22 + FC 06 HR 0");
   EXPECT_EQ(transaction_count(p), 2u);
@@ -40,15 +40,16 @@ TEST(TransactionPlan, DefaultMapStationIsOneInputReadAndOneWrite) {
 
 TEST(TransactionPlan, LatencyReadsOnlyUpToTheLedStamp) {
   TransactionPlan p;
-  ASSERT_TRUE(plan_transactions(default_layout(), {Field::inputs, Field::edge_us, Field::led_us, Field::leds},
-                                {}, {Field::lab_led}, p));
+  ASSERT_TRUE(plan_transactions(default_layout(),
+                                {Field::kInputs, Field::kEdgeUs, Field::kLedUs, Field::kLeds}, {},
+                                {Field::kLabLed}, p));
   EXPECT_EQ(describe(p), "FC 04 IR 0-15 + FC 06 HR 1");
 }
 
 TEST(TransactionPlan, WireTimeIsTheSumOfTheFramesAndSilences) {
   TransactionPlan p;
   ASSERT_TRUE(
-      plan_transactions(default_layout(), kStationReads, {Field::nmt_state}, {Field::run_command}, p));
+      plan_transactions(default_layout(), kStationReads, {Field::kNmtState}, {Field::kRunCommand}, p));
   mb2co::timing::SerialFormat f;
   f.parity = mb2co::modbus::Parity::kNone;  // 8N1: 10 bits a character
   // FC 04 of 23 registers: 8 + 51 bytes; FC 06: 8 + 8 bytes; 75 characters.
@@ -65,7 +66,7 @@ TEST(TransactionPlan, WireTimeIsTheSumOfTheFramesAndSilences) {
 TEST(TransactionPlan, ResponseTimeoutIsDerivedFromTheBaudRateAndTheReplyTime) {
   TransactionPlan p;
   ASSERT_TRUE(
-      plan_transactions(default_layout(), kStationReads, {Field::nmt_state}, {Field::run_command}, p));
+      plan_transactions(default_layout(), kStationReads, {Field::kNmtState}, {Field::kRunCommand}, p));
   mb2co::timing::SerialFormat f;
   f.parity = mb2co::modbus::Parity::kNone;  // 8N1: 10 bits a character
   // 59 characters of 10 bits at 115200: 5,122 µs (each frame rounded up),
@@ -85,7 +86,7 @@ TEST(TransactionPlan, ResponseTimeoutIsDerivedFromTheBaudRateAndTheReplyTime) {
   // register (8 + 7, which alone would give 33 ms): 4,775 µs + 1,750 +
   // 4,000 + 25,000 = 35,525 µs.
   TransactionPlan one;
-  ASSERT_TRUE(plan_transactions(default_layout(), {Field::run_state}, {}, {}, one));
+  ASSERT_TRUE(plan_transactions(default_layout(), {Field::kRunState}, {}, {}, one));
   f.baud = 115200;
   f.parity = mb2co::modbus::Parity::kNone;
   EXPECT_EQ(derived_timeout_ms(one, &f), 36);
@@ -98,7 +99,7 @@ TEST(TransactionPlan, ReadWriteWhenTheHoldingMapHoldsEverything) {
       map(0x2110, 1, 8), map(0x2110, 2, 16), map(0x2110, 3, 8), map(0x2120, 1, 8),  map(0x2120, 3, 8)};
   const RegisterLayout l = layout_with_holding_map(entries);
   TransactionPlan p;
-  const Status status = plan_transactions(l, kStationReads, {}, {Field::run_command}, p);
+  const Status status = plan_transactions(l, kStationReads, {}, {Field::kRunCommand}, p);
   ASSERT_TRUE(status) << status.message();
   EXPECT_TRUE(p.read_write);
   EXPECT_EQ(describe(p), "FC 17 write HR 0 read HR 1-9");
@@ -109,7 +110,7 @@ TEST(TransactionPlan, UnmappedHoleSplitsTheRead) {
   std::vector<uint32_t> entries = {map(0x2100, 1, 8), map(0x6000, 1, 8), 0, map(0x2100, 2, 8)};
   const RegisterLayout l = layout_with_holding_map(entries);
   TransactionPlan p;
-  ASSERT_TRUE(plan_transactions(l, {Field::inputs, Field::run_state}, {}, {Field::run_command}, p));
+  ASSERT_TRUE(plan_transactions(l, {Field::kInputs, Field::kRunState}, {}, {Field::kRunCommand}, p));
   EXPECT_FALSE(p.read_write);
   EXPECT_EQ(describe(p), "FC 03 HR 1 + FC 03 HR 3 + FC 06 HR 0");
 }
@@ -117,16 +118,16 @@ TEST(TransactionPlan, UnmappedHoleSplitsTheRead) {
 TEST(TransactionPlan, MissingRequiredFieldIsAnError) {
   std::vector<uint32_t> entries = {map(0x2100, 1, 8)};
   RegisterLayout l = layout_with_holding_map(entries);
-  l.at[static_cast<int>(Field::inputs)] = Location{};
+  l.at[static_cast<int>(Field::kInputs)] = Location{};
   TransactionPlan p;
-  const Status status = plan_transactions(l, {Field::inputs}, {}, {Field::run_command}, p);
+  const Status status = plan_transactions(l, {Field::kInputs}, {}, {Field::kRunCommand}, p);
   EXPECT_FALSE(status);
   EXPECT_EQ(status.message(), "the gateway's register map has no inputs (6000h/01)");
 }
 
 TEST(TransactionPlan, WriteToAnInputRegisterIsRefused) {
   TransactionPlan p;
-  const Status status = plan_transactions(default_layout(), {Field::inputs}, {}, {Field::run_state}, p);
+  const Status status = plan_transactions(default_layout(), {Field::kInputs}, {}, {Field::kRunState}, p);
   EXPECT_FALSE(status);
   EXPECT_NE(status.message().find("no writable holding register for run_state"), std::string::npos);
 }

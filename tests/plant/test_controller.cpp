@@ -19,7 +19,7 @@ ControllerConfig test_config(uint32_t approach = 3, uint32_t timeout = 50, bool 
 }
 
 bool safe(const ControllerOutputs& out) {
-  return out.run == RunState::stopped && !out.plant.motor_on && !out.plant.valve_open;
+  return out.run == RunState::kStopped && !out.plant.motor_on && !out.plant.valve_open;
 }
 
 // A controller plus the inputs it is fed; helpers move it to each state.
@@ -44,23 +44,23 @@ struct Rig {
   void to_moving() {
     cycle();  // baselines
     start();
-    ASSERT_EQ(ctl.state(), State::moving);
+    ASSERT_EQ(ctl.state(), State::kMoving);
   }
   void to_approach() {
     to_moving();
     in.plant.bottle_present = true;
     cycle();
-    ASSERT_EQ(ctl.state(), State::approach);
+    ASSERT_EQ(ctl.state(), State::kApproach);
   }
   void to_filling() {
     to_approach();
-    while (ctl.state() == State::approach) cycle();
-    ASSERT_EQ(ctl.state(), State::filling);
+    while (ctl.state() == State::kApproach) cycle();
+    ASSERT_EQ(ctl.state(), State::kFilling);
   }
   void to_state(State s) {
-    if (s == State::moving) to_moving();
-    if (s == State::approach) to_approach();
-    if (s == State::filling) to_filling();
+    if (s == State::kMoving) to_moving();
+    if (s == State::kApproach) to_approach();
+    if (s == State::kFilling) to_filling();
   }
 
   Controller ctl;
@@ -70,33 +70,33 @@ struct Rig {
 class ControllerTest : public ::testing::Test, public Rig {};
 
 TEST_F(ControllerTest, StartsStoppedAndSafe) {
-  EXPECT_EQ(ctl.state(), State::stopped);
+  EXPECT_EQ(ctl.state(), State::kStopped);
   EXPECT_TRUE(safe(ctl.outputs()));
   EXPECT_TRUE(safe(cycle()));
   EXPECT_FALSE(ctl.outputs().lamp_fault);
-  EXPECT_EQ(ctl.fault(), Fault::none);
+  EXPECT_EQ(ctl.fault(), Fault::kNone);
 }
 
 TEST_F(ControllerTest, StartPressRunsTheBelt) {
   cycle();
   in.start_pressed = true;
   const ControllerOutputs& out = cycle();
-  EXPECT_EQ(ctl.state(), State::moving);
-  EXPECT_EQ(out.run, RunState::running);
+  EXPECT_EQ(ctl.state(), State::kMoving);
+  EXPECT_EQ(out.run, RunState::kRunning);
   EXPECT_TRUE(out.plant.motor_on);
   EXPECT_FALSE(out.plant.valve_open);
   EXPECT_EQ(ctl.counters().starts, 1u);
   in.start_pressed = false;
-  EXPECT_EQ(cycle().run, RunState::running);  // START is a press, not a hold
+  EXPECT_EQ(cycle().run, RunState::kRunning);  // START is a press, not a hold
 }
 
 TEST_F(ControllerTest, StartHeldAtTheFirstSampleIsNoPress) {
   in.start_pressed = true;
   cycle();
   cycle();
-  EXPECT_EQ(ctl.state(), State::stopped);
+  EXPECT_EQ(ctl.state(), State::kStopped);
   release_and_press_start();
-  EXPECT_EQ(ctl.state(), State::moving);
+  EXPECT_EQ(ctl.state(), State::kMoving);
 }
 
 TEST_F(ControllerTest, StartStillHeldAfterAStopDoesNotRestart) {
@@ -108,7 +108,7 @@ TEST_F(ControllerTest, StartStillHeldAfterAStopDoesNotRestart) {
   in.stop_pressed = false;
   cycle();
   cycle();
-  EXPECT_EQ(ctl.state(), State::stopped);
+  EXPECT_EQ(ctl.state(), State::kStopped);
   EXPECT_EQ(ctl.counters().starts, 1u);
 }
 
@@ -130,7 +130,7 @@ TEST_F(ControllerTest, StopInputsBeatAStartPressInTheSameCycle) {
     i.start_pressed = true;
     c.apply(i);
     EXPECT_TRUE(safe(fresh.step(i))) << c.name;
-    EXPECT_EQ(fresh.state(), State::stopped) << c.name;
+    EXPECT_EQ(fresh.state(), State::kStopped) << c.name;
     EXPECT_EQ(fresh.counters().starts, 0u) << c.name;
   }
 }
@@ -138,10 +138,10 @@ TEST_F(ControllerTest, StopInputsBeatAStartPressInTheSameCycle) {
 TEST_F(ControllerTest, MovingToApproachOnTheSensorsRisingEdge) {
   to_moving();
   cycle();
-  EXPECT_EQ(ctl.state(), State::moving);
+  EXPECT_EQ(ctl.state(), State::kMoving);
   in.plant.bottle_present = true;
   const ControllerOutputs& out = cycle();
-  EXPECT_EQ(ctl.state(), State::approach);
+  EXPECT_EQ(ctl.state(), State::kApproach);
   EXPECT_TRUE(out.plant.motor_on);  // first of the 3 approach steps
   EXPECT_FALSE(out.plant.valve_open);
 }
@@ -151,12 +151,12 @@ TEST_F(ControllerTest, ABottleAlreadyAtTheSensorWhenStartingIsNotFilled) {
   cycle();
   start();
   cycle();
-  EXPECT_EQ(ctl.state(), State::moving);
+  EXPECT_EQ(ctl.state(), State::kMoving);
   in.plant.bottle_present = false;
   cycle();
   in.plant.bottle_present = true;  // the next one is ours
   cycle();
-  EXPECT_EQ(ctl.state(), State::approach);
+  EXPECT_EQ(ctl.state(), State::kApproach);
 }
 
 TEST_F(ControllerTest, ApproachRunsExactlyApproachStepsThenFills) {
@@ -170,9 +170,9 @@ TEST_F(ControllerTest, ApproachRunsExactlyApproachStepsThenFills) {
     ASSERT_LT(motor_cycles, 100);
   }
   EXPECT_EQ(motor_cycles, 3);
-  EXPECT_EQ(ctl.state(), State::filling);
+  EXPECT_EQ(ctl.state(), State::kFilling);
   EXPECT_TRUE(ctl.outputs().plant.valve_open);
-  EXPECT_EQ(ctl.outputs().run, RunState::running);
+  EXPECT_EQ(ctl.outputs().run, RunState::kRunning);
 }
 
 TEST(ControllerNoApproach, MovingToFillingInTheSameCycle) {
@@ -183,7 +183,7 @@ TEST(ControllerNoApproach, MovingToFillingInTheSameCycle) {
   ctl.step(in);
   in.plant.bottle_present = true;
   const ControllerOutputs& out = ctl.step(in);
-  EXPECT_EQ(ctl.state(), State::filling);
+  EXPECT_EQ(ctl.state(), State::kFilling);
   EXPECT_FALSE(out.plant.motor_on);
   EXPECT_TRUE(out.plant.valve_open);
 }
@@ -194,25 +194,25 @@ TEST_F(ControllerTest, FillingToMovingWhenFull) {
   EXPECT_TRUE(ctl.outputs().plant.valve_open);
   in.plant.level_full = true;
   const ControllerOutputs& out = cycle();
-  EXPECT_EQ(ctl.state(), State::moving);
+  EXPECT_EQ(ctl.state(), State::kMoving);
   EXPECT_FALSE(out.plant.valve_open);  // closed in the cycle "full" is seen
   EXPECT_TRUE(out.plant.motor_on);
   EXPECT_EQ(ctl.counters().bottles_filled, 1u);
   // The filled bottle still at the sensor is no new edge.
   in.plant.level_full = false;
   cycle();
-  EXPECT_EQ(ctl.state(), State::moving);
+  EXPECT_EQ(ctl.state(), State::kMoving);
 }
 
 TEST_F(ControllerTest, FillingToFaultWhenTheBottleIsLost) {
   to_filling();
   in.plant.bottle_present = false;
   const ControllerOutputs& out = cycle();
-  EXPECT_EQ(ctl.state(), State::fault);
-  EXPECT_EQ(ctl.fault(), Fault::bottle_lost);
+  EXPECT_EQ(ctl.state(), State::kFault);
+  EXPECT_EQ(ctl.fault(), Fault::kBottleLost);
   EXPECT_TRUE(safe(out));
   EXPECT_TRUE(out.lamp_fault);
-  EXPECT_EQ(ctl.counters().stops[static_cast<uint8_t>(StopCause::fault)], 1u);
+  EXPECT_EQ(ctl.counters().stops[static_cast<uint8_t>(StopCause::kFault)], 1u);
 }
 
 TEST(ControllerSensorUpstream, LosingTheSensorWhileFillingIsNormal) {
@@ -223,10 +223,10 @@ TEST(ControllerSensorUpstream, LosingTheSensorWhileFillingIsNormal) {
   ctl.step(in);
   in.plant.bottle_present = true;
   for (int i = 0; i < 4; ++i) ctl.step(in);
-  ASSERT_EQ(ctl.state(), State::filling);
+  ASSERT_EQ(ctl.state(), State::kFilling);
   in.plant.bottle_present = false;  // the bottle left the upstream sensor
   ctl.step(in);
-  EXPECT_EQ(ctl.state(), State::filling);
+  EXPECT_EQ(ctl.state(), State::kFilling);
   EXPECT_TRUE(ctl.outputs().plant.valve_open);
 }
 
@@ -236,19 +236,19 @@ TEST_F(ControllerTest, FillingToFaultAfterExactlyTheTimeout) {
     ASSERT_TRUE(cycle().plant.valve_open) << i;
   }
   const ControllerOutputs& out = cycle();  // 51st: 50 open cycles were allowed
-  EXPECT_EQ(ctl.state(), State::fault);
-  EXPECT_EQ(ctl.fault(), Fault::fill_timeout);
+  EXPECT_EQ(ctl.state(), State::kFault);
+  EXPECT_EQ(ctl.fault(), Fault::kFillTimeout);
   EXPECT_TRUE(safe(out));
 }
 
 TEST(ControllerOverfill, SwitchWhileRunningIsAFault) {
-  for (State s : {State::moving, State::approach, State::filling}) {
+  for (State s : {State::kMoving, State::kApproach, State::kFilling}) {
     Rig r;
     r.to_state(s);
     r.in.plant.overfill = true;
     EXPECT_TRUE(safe(r.cycle()));
-    EXPECT_EQ(r.ctl.state(), State::fault);
-    EXPECT_EQ(r.ctl.fault(), Fault::overfill);
+    EXPECT_EQ(r.ctl.state(), State::kFault);
+    EXPECT_EQ(r.ctl.fault(), Fault::kOverfill);
     EXPECT_EQ(r.ctl.counters().overfills, 1u);
     r.cycle();  // still high: one overfill, not two
     EXPECT_EQ(r.ctl.counters().overfills, 1u);
@@ -259,11 +259,11 @@ TEST_F(ControllerTest, FaultWaitsForStartThenResumesMoving) {
   to_filling();
   in.plant.bottle_present = false;
   cycle();
-  ASSERT_EQ(ctl.state(), State::fault);
+  ASSERT_EQ(ctl.state(), State::kFault);
   for (int i = 0; i < 10; ++i) EXPECT_TRUE(safe(cycle()));
   start();
-  EXPECT_EQ(ctl.state(), State::moving);  // not refilling the faulty bottle
-  EXPECT_EQ(ctl.fault(), Fault::none);
+  EXPECT_EQ(ctl.state(), State::kMoving);  // not refilling the faulty bottle
+  EXPECT_EQ(ctl.fault(), Fault::kNone);
   EXPECT_FALSE(ctl.outputs().lamp_fault);
   EXPECT_EQ(ctl.counters().starts, 2u);
 }
@@ -288,24 +288,24 @@ TEST_P(ControllerStopTest, SafeInTheCycleTheStopIsSeenAndResumesExactly) {
   const StopCase p = GetParam();
   to_state(p.state);
   switch (p.cause) {
-    case StopCause::stop_button:
+    case StopCause::kStopButton:
       in.stop_pressed = true;
       break;
-    case StopCause::local_stop2:
+    case StopCause::kLocalStop2:
       in.stop2_pressed = true;
       ++in.local_stop2_events;
       break;
-    case StopCause::prev_stop2:
+    case StopCause::kPrevStop2:
       in.prev_stop2_events = static_cast<uint16_t>(in.prev_stop2_events + 1u);
       break;
-    case StopCause::link_lost:
+    case StopCause::kLinkLost:
       break;
-    case StopCause::fault:
+    case StopCause::kFault:
       FAIL();
   }
-  const ControllerOutputs& out = p.cause == StopCause::link_lost ? ctl.force_safe() : cycle();
+  const ControllerOutputs& out = p.cause == StopCause::kLinkLost ? ctl.force_safe() : cycle();
   EXPECT_TRUE(safe(out));
-  EXPECT_EQ(ctl.state(), State::stopped);
+  EXPECT_EQ(ctl.state(), State::kStopped);
   for (uint8_t c = 0; c < kStopCauseCount; ++c) {
     EXPECT_EQ(ctl.counters().stops[c], c == static_cast<uint8_t>(p.cause) ? 1u : 0u) << int(c);
   }
@@ -317,16 +317,20 @@ TEST_P(ControllerStopTest, SafeInTheCycleTheStopIsSeenAndResumesExactly) {
   EXPECT_EQ(ctl.state(), p.state);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    EveryRunningState, ControllerStopTest,
-    ::testing::Values(
-        StopCase{State::moving, StopCause::stop_button}, StopCase{State::moving, StopCause::local_stop2},
-        StopCase{State::moving, StopCause::prev_stop2}, StopCase{State::moving, StopCause::link_lost},
-        StopCase{State::approach, StopCause::stop_button}, StopCase{State::approach, StopCause::local_stop2},
-        StopCase{State::approach, StopCause::prev_stop2}, StopCase{State::approach, StopCause::link_lost},
-        StopCase{State::filling, StopCause::stop_button}, StopCase{State::filling, StopCause::local_stop2},
-        StopCase{State::filling, StopCause::prev_stop2}, StopCase{State::filling, StopCause::link_lost}),
-    stop_case_name);
+INSTANTIATE_TEST_SUITE_P(EveryRunningState, ControllerStopTest,
+                         ::testing::Values(StopCase{State::kMoving, StopCause::kStopButton},
+                                           StopCase{State::kMoving, StopCause::kLocalStop2},
+                                           StopCase{State::kMoving, StopCause::kPrevStop2},
+                                           StopCase{State::kMoving, StopCause::kLinkLost},
+                                           StopCase{State::kApproach, StopCause::kStopButton},
+                                           StopCase{State::kApproach, StopCause::kLocalStop2},
+                                           StopCase{State::kApproach, StopCause::kPrevStop2},
+                                           StopCase{State::kApproach, StopCause::kLinkLost},
+                                           StopCase{State::kFilling, StopCause::kStopButton},
+                                           StopCase{State::kFilling, StopCause::kLocalStop2},
+                                           StopCase{State::kFilling, StopCause::kPrevStop2},
+                                           StopCase{State::kFilling, StopCause::kLinkLost}),
+                         stop_case_name);
 
 TEST_F(ControllerTest, ABottleReachingTheSensorInTheStopCycleIsNotLost) {
   to_moving();
@@ -337,12 +341,12 @@ TEST_F(ControllerTest, ABottleReachingTheSensorInTheStopCycleIsNotLost) {
   cycle();
   in.start_pressed = true;  // the sensor stays high: no new edge will come
   cycle();
-  EXPECT_EQ(ctl.state(), State::approach);
+  EXPECT_EQ(ctl.state(), State::kApproach);
   in.start_pressed = false;
   int motor_cycles = 1;
   while (cycle().plant.motor_on) ++motor_cycles;
   EXPECT_EQ(motor_cycles, 3);  // the whole approach, none taken while stopped
-  EXPECT_EQ(ctl.state(), State::filling);
+  EXPECT_EQ(ctl.state(), State::kFilling);
 }
 
 TEST_F(ControllerTest, ABottleSeenFirstAfterALinkOutageIsNotLost) {
@@ -350,9 +354,9 @@ TEST_F(ControllerTest, ABottleSeenFirstAfterALinkOutageIsNotLost) {
   ctl.force_safe();  // the belt's last step brought a bottle to the sensor...
   in.plant.bottle_present = true;
   cycle();  // ...seen at the first poll after the outage
-  EXPECT_EQ(ctl.state(), State::stopped);
+  EXPECT_EQ(ctl.state(), State::kStopped);
   start();
-  EXPECT_EQ(ctl.state(), State::approach);
+  EXPECT_EQ(ctl.state(), State::kApproach);
 }
 
 TEST_F(ControllerTest, ResumedApproachKeepsTheStepsLeft) {
@@ -361,10 +365,10 @@ TEST_F(ControllerTest, ResumedApproachKeepsTheStepsLeft) {
   cycle();
   in.stop_pressed = false;
   start();  // the START cycle runs approach step 2, the release cycle step 3
-  EXPECT_EQ(ctl.state(), State::approach);
+  EXPECT_EQ(ctl.state(), State::kApproach);
   EXPECT_TRUE(ctl.outputs().plant.motor_on);
   cycle();
-  EXPECT_EQ(ctl.state(), State::filling);
+  EXPECT_EQ(ctl.state(), State::kFilling);
 }
 
 TEST_F(ControllerTest, ResumedFillingKeepsTheTimeUsed) {
@@ -377,7 +381,7 @@ TEST_F(ControllerTest, ResumedFillingKeepsTheTimeUsed) {
   start();                                // 32 open cycles
   for (int i = 0; i < 18; ++i) ASSERT_EQ(cycle().plant.valve_open, true);
   cycle();
-  EXPECT_EQ(ctl.fault(), Fault::fill_timeout);
+  EXPECT_EQ(ctl.fault(), Fault::kFillTimeout);
 }
 
 TEST_F(ControllerTest, StopWhileStoppedIsNotCounted) {
@@ -390,7 +394,7 @@ TEST_F(ControllerTest, StopWhileStoppedIsNotCounted) {
   for (uint8_t c = 0; c < kStopCauseCount; ++c) EXPECT_EQ(ctl.counters().stops[c], 0u);
   EXPECT_EQ(ctl.counters().prev_stop2_events, 1u);  // the event itself is seen
   ctl.force_safe();
-  EXPECT_EQ(ctl.counters().stops[static_cast<uint8_t>(StopCause::link_lost)], 0u);
+  EXPECT_EQ(ctl.counters().stops[static_cast<uint8_t>(StopCause::kLinkLost)], 0u);
 }
 
 TEST_F(ControllerTest, OwnStopBeatsStop2InTheCount) {
@@ -399,9 +403,9 @@ TEST_F(ControllerTest, OwnStopBeatsStop2InTheCount) {
   ++in.local_stop2_events;
   ++in.prev_stop2_events;
   cycle();
-  EXPECT_EQ(ctl.counters().stops[static_cast<uint8_t>(StopCause::stop_button)], 1u);
-  EXPECT_EQ(ctl.counters().stops[static_cast<uint8_t>(StopCause::local_stop2)], 0u);
-  EXPECT_EQ(ctl.counters().stops[static_cast<uint8_t>(StopCause::prev_stop2)], 0u);
+  EXPECT_EQ(ctl.counters().stops[static_cast<uint8_t>(StopCause::kStopButton)], 1u);
+  EXPECT_EQ(ctl.counters().stops[static_cast<uint8_t>(StopCause::kLocalStop2)], 0u);
+  EXPECT_EQ(ctl.counters().stops[static_cast<uint8_t>(StopCause::kPrevStop2)], 0u);
   EXPECT_EQ(ctl.counters().local_stop2_events, 1u);
   EXPECT_EQ(ctl.counters().prev_stop2_events, 1u);
 }
@@ -410,7 +414,7 @@ TEST_F(ControllerTest, ShortLocalStop2BetweenPollsStopsThroughTheCounter) {
   to_moving();
   in.local_stop2_events = 1;  // press and release both happened between two polls
   EXPECT_TRUE(safe(cycle()));
-  EXPECT_EQ(ctl.counters().stops[static_cast<uint8_t>(StopCause::local_stop2)], 1u);
+  EXPECT_EQ(ctl.counters().stops[static_cast<uint8_t>(StopCause::kLocalStop2)], 1u);
 }
 
 TEST_F(ControllerTest, Stop2HeldKeepsTheStationStopped) {
@@ -419,7 +423,7 @@ TEST_F(ControllerTest, Stop2HeldKeepsTheStationStopped) {
   cycle();
   in.start_pressed = true;
   cycle();
-  EXPECT_EQ(ctl.state(), State::stopped);
+  EXPECT_EQ(ctl.state(), State::kStopped);
 }
 
 TEST_F(ControllerTest, PreviousStop2CounterWrapsAndNeverLosesEvents) {
@@ -428,16 +432,16 @@ TEST_F(ControllerTest, PreviousStop2CounterWrapsAndNeverLosesEvents) {
   EXPECT_EQ(ctl.counters().prev_stop2_events, 0u);
   in.prev_stop2_events = 65535;
   cycle();
-  EXPECT_EQ(ctl.state(), State::stopped);
+  EXPECT_EQ(ctl.state(), State::kStopped);
   start();
   in.prev_stop2_events = 0;  // wrapped: one more event
   cycle();
-  EXPECT_EQ(ctl.state(), State::stopped);
+  EXPECT_EQ(ctl.state(), State::kStopped);
   start();
   in.prev_stop2_events = 3;  // three presses between two polls
   cycle();
   EXPECT_EQ(ctl.counters().prev_stop2_events, 5u);
-  EXPECT_EQ(ctl.counters().stops[static_cast<uint8_t>(StopCause::prev_stop2)], 3u);
+  EXPECT_EQ(ctl.counters().stops[static_cast<uint8_t>(StopCause::kPrevStop2)], 3u);
   start();
   for (int i = 0; i < 10; ++i) cycle();  // unchanged counter: keeps running
   EXPECT_TRUE(ctl.running());
@@ -452,7 +456,7 @@ TEST_F(ControllerTest, ARestartedStop2CounterIsANewBaselineNotThousandsOfEvents)
   EXPECT_EQ(ctl.counters().prev_stop2_events, 0u);
   in.prev_stop2_events = 1;  // and the next real event still counts
   cycle();
-  EXPECT_EQ(ctl.state(), State::stopped);
+  EXPECT_EQ(ctl.state(), State::kStopped);
   EXPECT_EQ(ctl.counters().prev_stop2_events, 1u);
 }
 
@@ -478,7 +482,7 @@ TEST_F(ControllerTest, ACounterNotYetHeardCountsNothingAndTheNextKnownValueCount
   in.prev_stop2_known = true;
   cycle();
   EXPECT_EQ(ctl.counters().prev_stop2_events, 1u) << "the press during the gap counts once";
-  EXPECT_EQ(ctl.state(), State::stopped);
+  EXPECT_EQ(ctl.state(), State::kStopped);
 }
 
 TEST_F(ControllerTest, TheFirstKnownValueIsTheBaseline) {
@@ -491,7 +495,7 @@ TEST_F(ControllerTest, TheFirstKnownValueIsTheBaseline) {
   in.prev_stop2_events = 13;
   cycle();
   EXPECT_EQ(ctl.counters().prev_stop2_events, 1u);
-  EXPECT_EQ(ctl.state(), State::stopped);
+  EXPECT_EQ(ctl.state(), State::kStopped);
 }
 
 TEST_F(ControllerTest, ForceSafeNeedsAFreshStartPress) {
@@ -500,9 +504,9 @@ TEST_F(ControllerTest, ForceSafeNeedsAFreshStartPress) {
   cycle();
   ctl.force_safe();
   cycle();  // link back, START still held: no press
-  EXPECT_EQ(ctl.state(), State::stopped);
+  EXPECT_EQ(ctl.state(), State::kStopped);
   release_and_press_start();
-  EXPECT_EQ(ctl.state(), State::moving);
+  EXPECT_EQ(ctl.state(), State::kMoving);
 }
 
 TEST_F(ControllerTest, Stop2EventsDuringALinkOutageAreNotLost) {
@@ -511,7 +515,7 @@ TEST_F(ControllerTest, Stop2EventsDuringALinkOutageAreNotLost) {
   ctl.force_safe();  // link lost; meanwhile the previous station's STOP2 was pressed
   cycle();           // first poll after the outage sees it
   EXPECT_EQ(ctl.counters().prev_stop2_events, 10u);
-  EXPECT_EQ(ctl.counters().stops[static_cast<uint8_t>(StopCause::link_lost)], 1u);
+  EXPECT_EQ(ctl.counters().stops[static_cast<uint8_t>(StopCause::kLinkLost)], 1u);
 }
 
 TEST_F(ControllerTest, ForceSafeKeepsAFault) {
@@ -519,22 +523,22 @@ TEST_F(ControllerTest, ForceSafeKeepsAFault) {
   in.plant.bottle_present = false;
   cycle();
   EXPECT_TRUE(safe(ctl.force_safe()));
-  EXPECT_EQ(ctl.state(), State::fault);
+  EXPECT_EQ(ctl.state(), State::kFault);
   EXPECT_TRUE(ctl.outputs().lamp_fault);
 }
 
 TEST_F(ControllerTest, NeighbourUnknownLamp) {
-  for (NeighbourState prev :
-       {NeighbourState::absent, NeighbourState::unknown, NeighbourState::stopped, NeighbourState::running}) {
-    for (NeighbourState next : {NeighbourState::absent, NeighbourState::unknown, NeighbourState::stopped,
-                                NeighbourState::running}) {
+  for (NeighbourState prev : {NeighbourState::kAbsent, NeighbourState::kUnknown, NeighbourState::kStopped,
+                              NeighbourState::kRunning}) {
+    for (NeighbourState next : {NeighbourState::kAbsent, NeighbourState::kUnknown, NeighbourState::kStopped,
+                                NeighbourState::kRunning}) {
       in.prev_run = prev;
       in.next_run = next;
       EXPECT_EQ(cycle().lamp_neighbour_unknown,
-                prev == NeighbourState::unknown || next == NeighbourState::unknown);
+                prev == NeighbourState::kUnknown || next == NeighbourState::kUnknown);
     }
   }
-  EXPECT_EQ(ctl.state(), State::stopped);  // neighbours never start or stop us
+  EXPECT_EQ(ctl.state(), State::kStopped);  // neighbours never start or stop us
 }
 
 TEST(ControllerConfigFor, FollowsThePlant) {

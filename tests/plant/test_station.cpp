@@ -43,7 +43,7 @@ TEST(Station, LongRunFillsEveryBottleItHandsOn) {
   EXPECT_EQ(p.spilled_ul, 0u);
   EXPECT_GE(s.controller.counters().bottles_filled, p.handed_off);
   EXPECT_EQ(s.controller.counters().overfills, 0u);
-  EXPECT_EQ(s.controller.fault(), Fault::none);
+  EXPECT_EQ(s.controller.fault(), Fault::kNone);
   EXPECT_TRUE(s.controller.running());
 }
 
@@ -66,7 +66,8 @@ TEST(Station, StopFreezesThePlantFromTheNextStepOn) {
   const struct {
     uint32_t cycles;
     State state;
-  } cases[] = {{100, State::moving}, {495, State::approach}, {700, State::filling}, {990, State::filling}};
+  } cases[] = {
+      {100, State::kMoving}, {495, State::kApproach}, {700, State::kFilling}, {990, State::kFilling}};
   for (const auto& c : cases) {
     Station s;
     s.press_start();
@@ -100,9 +101,9 @@ TEST(Station, Stop2StopsThisStationAndTheNextOneNotThePrevious) {
   EXPECT_TRUE(line[0].controller.running());
   EXPECT_FALSE(line[1].controller.running());
   EXPECT_FALSE(line[2].controller.running());
-  EXPECT_EQ(line[1].controller.counters().stops[static_cast<uint8_t>(StopCause::local_stop2)], 1u);
-  EXPECT_EQ(line[2].controller.counters().stops[static_cast<uint8_t>(StopCause::prev_stop2)], 1u);
-  EXPECT_EQ(line[2].controller.outputs().run, RunState::stopped);
+  EXPECT_EQ(line[1].controller.counters().stops[static_cast<uint8_t>(StopCause::kLocalStop2)], 1u);
+  EXPECT_EQ(line[2].controller.counters().stops[static_cast<uint8_t>(StopCause::kPrevStop2)], 1u);
+  EXPECT_EQ(line[2].controller.outputs().run, RunState::kStopped);
 }
 
 // A small deterministic generator (no <random>: the sequence must be the same
@@ -170,10 +171,10 @@ TEST(Station, NoOverfillNorSpillInNormalRunningForAnyAcceptedConfig) {
     EXPECT_EQ(p.handed_off_underfilled, 0u);
     EXPECT_EQ(p.handed_off_filled, p.handed_off);
     EXPECT_EQ(k.overfills, 0u);
-    EXPECT_EQ(k.stops[static_cast<uint8_t>(StopCause::fault)], 0u);
+    EXPECT_EQ(k.stops[static_cast<uint8_t>(StopCause::kFault)], 0u);
     EXPECT_GT(k.starts, 1u);
-    EXPECT_GT(k.stops[static_cast<uint8_t>(StopCause::stop_button)] +
-                  k.stops[static_cast<uint8_t>(StopCause::link_lost)],
+    EXPECT_GT(k.stops[static_cast<uint8_t>(StopCause::kStopButton)] +
+                  k.stops[static_cast<uint8_t>(StopCause::kLinkLost)],
               0u);
     EXPECT_GT(k.bottles_filled, 0u);
   }

@@ -9,11 +9,11 @@ namespace plant {
 namespace {
 
 TEST(StopCause, EveryControllerCauseIsOneTheFirmwareReports) {
-  EXPECT_EQ(reported_cause(StopCause::stop_button), gateway::kCauseStopButton);
-  EXPECT_EQ(reported_cause(StopCause::local_stop2), gateway::kCauseStop2Here);
-  EXPECT_EQ(reported_cause(StopCause::prev_stop2), gateway::kCauseStop2Previous);
-  EXPECT_EQ(reported_cause(StopCause::link_lost), gateway::kCausePcSilent);
-  EXPECT_EQ(reported_cause(StopCause::fault), gateway::kCauseNone);  // the PC's own decision
+  EXPECT_EQ(reported_cause(StopCause::kStopButton), gateway::kCauseStopButton);
+  EXPECT_EQ(reported_cause(StopCause::kLocalStop2), gateway::kCauseStop2Here);
+  EXPECT_EQ(reported_cause(StopCause::kPrevStop2), gateway::kCauseStop2Previous);
+  EXPECT_EQ(reported_cause(StopCause::kLinkLost), gateway::kCausePcSilent);
+  EXPECT_EQ(reported_cause(StopCause::kFault), gateway::kCauseNone);  // the PC's own decision
 }
 
 TEST(StopCause, EachFirmwareStopIsCountedUnderExactlyOneControllerCause) {

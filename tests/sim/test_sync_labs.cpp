@@ -123,8 +123,8 @@ TEST(SyncLab, TheAnalysedSetHasTheSyncAndTheSynchronousPdo) {
   line.power_on_all();  // the set is read from the running gateways' dictionaries
   line.run_until(kNsPerS);
   std::vector<timing::MessageSpec> set;
-  std::string error;
-  ASSERT_TRUE(line_can_messages(line, 0, &set, &error)) << error;
+  const Status listed = line_can_messages(line, 0, &set);
+  ASSERT_TRUE(listed) << listed.message();
   const timing::MessageSpec* sync = find(set, 0x80);
   const timing::MessageSpec* pdo = find(set, 0x282);
   ASSERT_NE(sync, nullptr);

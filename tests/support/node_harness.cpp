@@ -167,24 +167,18 @@ uint16_t ModbusMaster::diag_counter(uint8_t sub) {
   return rsp.size() == 6u ? static_cast<uint16_t>(rsp[4] << 8 | rsp[5]) : 0xFFFF;
 }
 
-bool start_candump_listening(LineChild& candump, std::chrono::milliseconds timeout, std::string* error) {
-  if (!candump.start({"candump", "-L", "vcan0"})) {
-    *error = candump.error();
-    return false;
-  }
+Status start_candump_listening(LineChild& candump, std::chrono::milliseconds timeout) {
+  if (!candump.start({"candump", "-L", "vcan0"})) return Status::failure(candump.error());
   for (const auto deadline = std::chrono::steady_clock::now() + timeout;
        std::chrono::steady_clock::now() < deadline;) {
     LineChild probe;
-    if (!probe.start({"cansend", "vcan0", "1FFFFFFF#"}) || probe.wait_exit(timeout) != 0) {
-      *error = "cansend failed";
-      return false;
-    }
+    if (!probe.start({"cansend", "vcan0", "1FFFFFFF#"}) || probe.wait_exit(timeout) != 0)
+      return Status::failure("cansend failed");
     if (candump.wait_line([](const std::string& l) { return l.find(" 1FFFFFFF#") != std::string::npos; },
                           500ms))
-      return true;
+      return Status::ok();
   }
-  *error = "candump never saw the probe";
-  return false;
+  return Status::failure("candump never saw the probe");
 }
 
 }  // namespace test

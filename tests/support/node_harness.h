@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "host/status.h"
 #include "line_child.h"
 #include "rtu_frames.h"
 
@@ -83,8 +84,8 @@ class NodeProcess {
 /// Starts `candump -L vcan0` in `candump` and makes sure it listens: it must
 /// see a probe (an extended id no CANopen node uses) before any node starts;
 /// a probe sent before candump has bound its socket is lost, so probes are
-/// sent until one is seen. False with the reason in *error.
-bool start_candump_listening(LineChild& candump, std::chrono::milliseconds timeout, std::string* error);
+/// sent until one is seen. Fails with the reason.
+Status start_candump_listening(LineChild& candump, std::chrono::milliseconds timeout);
 
 /// A libmodbus RTU master (115200 8N1, slave 1) on `device`.
 class ModbusMaster {

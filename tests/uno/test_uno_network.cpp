@@ -108,7 +108,8 @@ class UnoNetwork : public ::testing::Test {
     dir_ = new TempDir;
     candump_ = new LineChild;
     std::string error;
-    if (!start_candump_listening(*candump_, kDeadline, &error)) failure_ += "candump: " + error + "; ";
+    const Status listening = start_candump_listening(*candump_, kDeadline);
+    if (!listening) failure_ += "candump: " + listening.message() + "; ";
     gateway_ = start_network_gateway(dir_->path("gw.pty"), kDeadline, &error).release();
     if (gateway_ == nullptr) failure_ += error + "; ";
     remote_ = new NodeProcess;

@@ -101,8 +101,8 @@ TEST(StudentLine, ThreeUnosSetUpAsTheGuideSaysMakeAWorkingChain) {
 
   // Powered on together on the bus.
   LineChild candump;
-  std::string candump_error;
-  ASSERT_TRUE(start_candump_listening(candump, kDeadline, &candump_error)) << candump_error;
+  const Status listening = start_candump_listening(candump, kDeadline);
+  ASSERT_TRUE(listening) << listening.message();
   UnoProcess uno[kStations];
   ModbusMaster pc[kStations];
   for (int i = 0; i < kStations; ++i) {

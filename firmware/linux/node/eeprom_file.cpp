@@ -50,27 +50,20 @@ bool EepromFile::write(void* ctx, uint16_t offset, const uint8_t* data, uint16_t
   return ok;
 }
 
-bool EepromFile::usable(std::string* reason) const {
+Status EepromFile::usable() const {
   struct stat st;
   if (stat(path_.c_str(), &st) == 0) {
     // Checked by its mode, not by access(): as root a read-only file would
     // pass access(W_OK), and a node must not overwrite what was set read-only.
-    if (!S_ISREG(st.st_mode)) {
-      *reason = path_ + ": not a regular file";
-      return false;
-    }
-    if ((st.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)) == 0) {
-      *reason = path_ + ": read-only file, saves would fail";
-      return false;
-    }
+    if (!S_ISREG(st.st_mode)) return Status::failure(path_ + ": not a regular file");
+    if ((st.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)) == 0)
+      return Status::failure(path_ + ": read-only file, saves would fail");
   }
   const int fd = open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (fd < 0) {
-    *reason = path_ + ": cannot open for reading and writing: " + std::strerror(errno);
-    return false;
-  }
+  if (fd < 0)
+    return Status::failure(path_ + ": cannot open for reading and writing: " + std::strerror(errno));
   close(fd);
-  return true;
+  return Status::ok();
 }
 
 bool EepromFile::barrier(void* ctx) {

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "canopen/param_storage.h"
+#include "host/status.h"
 
 namespace mb2co {
 namespace node {
@@ -35,11 +36,11 @@ class EepromFile {
   static bool barrier(void* ctx);
 
  public:
-  /// False, with a one-line reason, when the file cannot be read and
+  /// Fails, with a one-line reason, when the file cannot be read and
   /// written (a directory or another non-regular file, a file without write
   /// permission, a missing directory): a node must not run with parameters
   /// it could never save. Creates an empty file (nothing saved) if none.
-  bool usable(std::string* reason) const;
+  Status usable() const;
 
  private:
   std::string path_;

@@ -17,7 +17,8 @@ for name in vcan.socketcan_port node.ring node.network node.wide_types load.bus_
             serialnet.avr_compile.serial_link cli.table_up_to_date cli.error_shapes docs.cli cli.install_tree \
             bridge.vcan_poll bridge.vcan_token bridge.vcan_echo bridge.uno_vcan peers.npm_client_vs_ionode docs.serial-canopen docs.mb2co-master docs.mb2co-node docs.examples \
             sim.image.SyncProcessing.RealImageAnswersEverySyncWithinTheBound sim.lab_plots_svg \
-            canopen.time.Time.ConsumerSetsTheClockTo1013hAtTheFramesArrival; do
+            canopen.time.Time.ConsumerSetsTheClockTo1013hAtTheFramesArrival \
+            uno.UnoQuietLine.NoReceiveOverflowWhenNode2sTpdo1AndHeartbeatComeTogether; do
   if ! grep -qE "Test +#[0-9]+: ${name//./\\.}\$" <<<"$list"; then
     echo "not registered: $name" >&2
     missing=$((missing + 1))

@@ -51,8 +51,10 @@ void CanWire::advance(uint64_t now) {
       chip_.bus.clear();
       if (chip_.transmit(1) == 1 && !chip_.bus.empty()) sent_.push_back(Sent{start, chip_.bus.back()});
       chip_.bus.clear();
-    } else if (chip_.receive_from_bus(on_wire_) < 0) {
-      ++rx_dropped_;
+    } else {
+      const int buffer = chip_.receive_from_bus(on_wire_);
+      if (buffer < 0) ++rx_dropped_;
+      if (buffer == -2) ++rx_overflowed_;
     }
   }
   CanFrame out{};

@@ -62,6 +62,9 @@ class CanWire {
   std::vector<Sent> take_sent();
   /// Frames from outside that the chip's filters or full buffers dropped.
   uint64_t rx_dropped() const { return rx_dropped_; }
+  /// Of those, the frames lost because the buffers they could go to were
+  /// full (the chip set RX0OVR/RX1OVR): what the image reports as EMCY 8110h.
+  uint64_t rx_overflowed() const { return rx_overflowed_; }
   /// Frames from outside the wire has carried (put on it; the chip receives
   /// or drops each at its last bit), and the cycles the wire has been or is
   /// busy with any frame: the bus load the image sees is their growth over
@@ -84,6 +87,7 @@ class CanWire {
   bool on_wire_outbound_ = false;  ///< the frame on the wire is the chip's
   CanFrame on_wire_{};
   uint64_t rx_dropped_ = 0;
+  uint64_t rx_overflowed_ = 0;
   uint64_t carried_in_ = 0;
   uint64_t busy_cycles_ = 0;
 };

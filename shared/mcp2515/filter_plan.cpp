@@ -64,12 +64,14 @@ bool plan_accepts(const FilterPlan& plan, uint16_t id) {
   return false;
 }
 
-// The search, as the one-shot version did it (its results are kept exactly):
-// RXB0 takes a run ids_[a, b) of the sorted ids, RXB1 the ids before and after
-// it; every run is tried, in the order (0,1), (0,2) .. (0,n), (1,2) .. (n-1,n).
-// The split letting the fewest ids through wins; on a tie the longer run,
-// since RXB0's ids roll over into RXB1 (two buffers of depth, RXB1's own one),
-// and then the first. For each buffer a greedy mask search: start exact and,
+// The search: RXB0 takes a run ids_[a, b) of the sorted ids, RXB1 the ids
+// before and after it. Every run is tried, longer runs of a start first:
+// (0,n), (0,n-1) .. (0,1), (1,n) .. (n-1,n); a split whose RXB1 would take
+// both ids of a back-to-back pair (kBackToBackBits) is out (the run of all ids leaves
+// RXB1 none, so a plan is always found). The split letting the fewest ids
+// through wins, on a tie the first: of its start, the longest run, since
+// RXB0's ids roll over into RXB1 (two buffers of depth, RXB1's own one).
+// For each buffer a greedy mask search: start exact and,
 // while more distinct values remain than the buffer has filters, merge the
 // pair of values whose merge (clearing the bits they differ in) lets the
 // fewest ids through (the first such pair, in the order (1,0), (2,0), (2,1),
@@ -80,7 +82,7 @@ void FilterPlanner::start(const uint16_t* ids, uint8_t count) {
   ids_ = ids;
   n_ = count;
   a_ = 0;
-  b_ = 0;
+  b_ = static_cast<uint8_t>(count + 1);
   best_cost_ = kNoCost;
   next_split();
 }
@@ -110,9 +112,8 @@ __attribute__((noinline)) void FilterPlanner::begin_round(uint16_t mask) {
   round_cost_ = kNoCost;
 }
 
-__attribute__((noinline)) bool FilterPlanner::loses(uint16_t cost) const {
-  return cost > best_cost_ ||
-         (cost == best_cost_ && static_cast<uint8_t>(b_ - a_) <= static_cast<uint8_t>(best_b_ - best_a_));
+bool FilterPlanner::loses(uint16_t cost) const {
+  return cost >= best_cost_;
 }
 
 void FilterPlanner::consider(uint16_t cost, uint16_t mask1) {
@@ -125,15 +126,15 @@ void FilterPlanner::consider(uint16_t cost, uint16_t mask1) {
 }
 
 void FilterPlanner::next_split() {
-  if (++b_ > n_) {
+  if (--b_ == a_) {
     ++a_;
-    b_ = static_cast<uint8_t>(a_ + 1);
+    b_ = n_;
   }
   phase_ = a_ < n_ ? kRun : kDone;
   begin_round(kMaxStandardId);
 }
 
-void FilterPlanner::finish_group(uint8_t values) {
+void FilterPlanner::finish_group(uint8_t values, uint16_t* scratch) {
   const uint16_t cost = accepted_by(values, mask_);
   if (phase_ == kRest) {
     consider(static_cast<uint16_t>(cost0_ + cost), mask_);
@@ -141,7 +142,10 @@ void FilterPlanner::finish_group(uint8_t values) {
     m0_ = mask_;
     cost0_ = cost;
     const uint8_t rest = static_cast<uint8_t>(n_ - (b_ - a_));
-    if (!loses(static_cast<uint16_t>(cost + rest))) {
+    // The split is out when RXB1's ids are fewer distinct under
+    // kBackToBackBits than ids (both of a back-to-back pair).
+    if (!loses(static_cast<uint16_t>(cost + rest)) &&
+        distinct(a_, b_, false, kBackToBackBits, scratch, 0) == rest) {
       // RXB1 lets at least its own ids through: its (costly) search only
       // when even that could beat the best split so far. Without ids it
       // ends at once, exact and letting none through.
@@ -163,11 +167,13 @@ __attribute__((noinline)) bool FilterPlanner::step() {
   uint16_t work = 0;
   while (busy() && work < kStepWork) {
     if (d == 0) {
+      // Charged twice: a group's end (finish_group) looks for back-to-back
+      // pairs in RXB1 with another distinct().
       d = distinct(a_, b_, phase_ == kRun, mask_, values, 0);
-      work = static_cast<uint16_t>(work + n_ + kPairWork);
+      work = static_cast<uint16_t>(work + 2u * n_ + kPairWork);
     }
     if (d <= static_cast<uint8_t>(phase_ * kFiltersRxB0)) {
-      finish_group(d);
+      finish_group(d, values);  // values are loaded again: d = 0
       d = 0;
       continue;
     }

@@ -5,10 +5,13 @@
 //
 // The chip has RXB0 with mask RXM0 and filters RXF0..RXF1, and RXB1 with mask
 // RXM1 and filters RXF2..RXF5. A frame is accepted when, for some filter F of
-// a buffer with mask M, (id & M) == (F & M). With at most 6 ids every id gets
-// its own filter and the masks stay exact; with more, ids sharing a buffer are
-// merged by clearing mask bits, which also lets some unsubscribed ids through
-// (FilterPlan::exact is false then and accepted_ids says how many pass).
+// a buffer with mask M, (id & M) == (F & M). RXB0 rolls over into RXB1, so
+// RXB1's own filters never get both ids of a pair that may arrive back to
+// back (kBackToBackBits). With at most 6 ids, no two of them such a pair,
+// every id gets its own filter and the masks stay exact; otherwise ids
+// sharing a buffer are merged by clearing mask bits, which also lets some
+// unsubscribed ids through (FilterPlan::exact is false then and
+// accepted_ids says how many pass).
 #pragma once
 #include <stdint.h>
 
@@ -21,16 +24,30 @@ namespace mcp2515 {
 /// and a greedy mask search for each buffer: time grows steeply with the
 /// count. Measured on the ATmega328P at 16 MHz (simavr, cycle count; lines
 /// filter_plan_* of firmware/avr/measure-pass-time.sh), the whole plan:
-/// 6 ids 4.0 ms, 9 ids (a gateway in a ring) 51 ms, 12 ids 195 ms. In a loop
-/// that must keep going, plan with FilterPlanner (at most ~1.1 ms a step).
+/// 6 ids 3.9 ms, 9 ids (a gateway in a ring) 23 ms, 12 ids 80 ms. In a loop
+/// that must keep going, plan with FilterPlanner (at most ~1 ms a step).
 constexpr uint8_t kMaxSubscribedIds = 12;
 constexpr uint16_t kMaxStandardId = 0x7FF;
+/// Ids equal in these bits may reach the bus back to back: the node id
+/// (bits 6..0 in CANopen's pre-defined connection set) and bit 8, in which a
+/// node's TPDO1 (180h + n) and heartbeat (700h + n) agree, the two frames
+/// its timers send in one pass every period (station defaults: both
+/// 100 ms); so do NMT (000h) and SYNC (080h), a master's. The chip holds two
+/// such frames only if the first lands in RXB0, which rolls over into RXB1,
+/// or they land in different buffers: a plan never leaves both to RXB1's own
+/// filters. A node's other PDOs (280h, 380h, 480h + n, sent on events) and
+/// an SDO request (600h + n) differ in bit 8 from its heartbeat: RXB1 may
+/// take one of them beside it, which keeps the plans as tight as before
+/// (node 1 of the station's default ring of 4: 24 ids pass, not 16; with
+/// the node id alone as the pair's bits, 35).
+constexpr uint16_t kBackToBackBits = 0x17F;
 
 struct FilterPlan {
   uint16_t mask[2];       ///< RXM0 (RXB0), RXM1 (RXB1): 11-bit standard-id masks
   uint16_t filter[6];     ///< RXF0..RXF5: RXF0-1 use mask[0], RXF2-5 mask[1]
   bool exact;             ///< true when exactly the subscribed ids pass
   uint16_t accepted_ids;  ///< how many of the 2048 standard ids pass (>= distinct ids given)
+  // Invariant: the given ids RXB0's filters miss differ in kBackToBackBits.
 };
 
 /// The plan search in bounded steps, so that a main loop keeps serving its
@@ -43,9 +60,9 @@ class FilterPlanner {
  public:
   /// Comparisons of masked ids one step() does before it stops (it finishes
   /// the candidate merge in progress: at most 66 more). The longest step,
-  /// the last one (it also builds the plan) included, takes 0.78 ms for 9
-  /// ids, 0.88 ms for 12 on the ATmega328P at 16 MHz (77 and 289 steps).
-  static const uint16_t kStepWork = 320;
+  /// the last one (it also builds the plan) included, takes 0.70 ms for 9
+  /// ids, 0.88 ms for 12 on the ATmega328P at 16 MHz (44 and 149 steps).
+  static const uint16_t kStepWork = 270;
 
   /// Begins a plan for ids[0..count) as admitted_ids gives them: strictly
   /// ascending (sorted, no duplicates), each <= kMaxStandardId, 1 <= count
@@ -72,7 +89,7 @@ class FilterPlanner {
   };
   uint8_t distinct(uint8_t a, uint8_t b, bool run, uint16_t mask, uint16_t* out, uint8_t filters) const;
   void begin_round(uint16_t mask);
-  void finish_group(uint8_t values);
+  void finish_group(uint8_t values, uint16_t* scratch);  ///< scratch: room for kMaxSubscribedIds
   void consider(uint16_t cost, uint16_t mask1);
   bool loses(uint16_t cost) const;
   void next_split();

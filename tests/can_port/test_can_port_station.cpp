@@ -68,7 +68,8 @@ Ids plan_admits(const Ids& ids, mcp2515::FilterPlan* plan) {
 
 TEST(StationImagePort, TheGatewaysRangesReachThePlannerAndTheChip) {
   UnoCanRig uno;
-  uno.power_on(1);
+  uno.gw.start(uno.now_us, 1);
+  uno.pass();  // the node hands its ranges over, the planner takes a first step
   EXPECT_EQ(chip_admits(uno).size(), 2048u) << "open while the plan is computed";
   uno.run_us(kPlanUs);
   const Ids ids = wanted(uno.gw);

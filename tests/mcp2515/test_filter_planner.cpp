@@ -1,7 +1,9 @@
 // FilterPlanner: the plan search in bounded steps gives, byte for byte, the
 // plans of the one-shot search it replaced (kept below as the reference,
-// verbatim but for names and the sorting), stops and restarts cleanly, and rejects lists it
-// cannot take.
+// verbatim but for names, the sorting and, since issue 25, the splits it
+// leaves out (RXB1 with both ids of a back-to-back pair) and their order (longer runs
+// first, so that the first of equal plans has the longest run of its start),
+// stops and restarts cleanly, and rejects lists it cannot take.
 #include <gtest/gtest.h>
 #include <string.h>
 
@@ -86,6 +88,16 @@ std::vector<uint16_t> sorted_unique(std::vector<uint16_t> ids) {
   return ids;
 }
 
+/// True when no two of ids[0..n) are a back-to-back pair: RXB1 may take them.
+bool ref_pairs_apart(const uint16_t* ids, uint8_t n) {
+  for (uint8_t i = 0; i < n; ++i) {
+    for (uint8_t j = 0; j < i; ++j) {
+      if (((ids[i] ^ ids[j]) & kBackToBackBits) == 0) return false;
+    }
+  }
+  return true;
+}
+
 /// The reference for valid lists (1..kMaxSubscribedIds ids, each <= kMaxStandardId).
 void ref_plan_filters(const uint16_t* ids, uint8_t count, FilterPlan& plan) {
   const std::vector<uint16_t> unique = sorted_unique(std::vector<uint16_t>(ids, ids + count));
@@ -93,24 +105,23 @@ void ref_plan_filters(const uint16_t* ids, uint8_t count, FilterPlan& plan) {
   const auto n = static_cast<uint8_t>(unique.size());
   uint16_t rest[kMaxSubscribedIds];
   uint16_t best_cost = 0xFFFF;
-  uint8_t best_len = 0;
   for (uint8_t a = 0; a < n; ++a) {
-    for (uint8_t b = static_cast<uint8_t>(a + 1); b <= n; ++b) {
+    for (uint8_t b = n; b > a; --b) {
       const uint8_t len = static_cast<uint8_t>(b - a);
       uint8_t r = 0;
       for (uint8_t i = 0; i < n; ++i) {
         if (i < a || i >= b) rest[r++] = sorted[i];
       }
+      if (!ref_pairs_apart(rest, r)) continue;
       const uint16_t m0 = ref_group_mask(sorted + a, len, 2);
       const uint16_t cost0 = ref_accepted_by(ref_distinct_values(sorted + a, len, m0), m0);
       const uint16_t bound = static_cast<uint16_t>(cost0 + r);
-      if (bound > best_cost || (bound == best_cost && len <= best_len)) continue;
+      if (bound >= best_cost) continue;
       const uint16_t m1 = r ? ref_group_mask(rest, r, 4) : kMaxStandardId;
       const uint16_t cost =
           static_cast<uint16_t>(cost0 + (r ? ref_accepted_by(ref_distinct_values(rest, r, m1), m1) : 0u));
-      if (cost > best_cost || (cost == best_cost && len <= best_len)) continue;
+      if (cost >= best_cost) continue;
       best_cost = cost;
-      best_len = len;
       plan.mask[0] = m0;
       plan.mask[1] = m1;
       ref_group_filters(sorted + a, len, m0, plan.filter, 2);

@@ -67,12 +67,12 @@ TEST(LatencyWorst, EveryCaseReachesItsShareOfTheBound) {
     double reached;
   };
   const Case cases[] = {
-      {false, 125, false, 0.944},  {false, 125, true, 0.813},  {false, 250, false, 0.935},
-      {false, 250, true, 0.824},   {false, 500, false, 0.936}, {false, 500, true, 0.822},
-      {false, 1000, false, 0.936}, {false, 1000, true, 0.83},  {true, 125, false, 0.97},
+      {false, 125, false, 0.940},  {false, 125, true, 0.811},  {false, 250, false, 0.935},
+      {false, 250, true, 0.824},   {false, 500, false, 0.935}, {false, 500, true, 0.822},
+      {false, 1000, false, 0.935}, {false, 1000, true, 0.827}, {true, 125, false, 0.97},
       {true, 125, true, 0.898},    {true, 250, false, 0.97},   {true, 250, true, 0.904},
       {true, 500, false, 0.97},    {true, 500, true, 0.905},   {true, 1000, false, 0.97},
-      {true, 1000, true, 0.921},
+      {true, 1000, true, 0.919},
   };
   for (const Case& k : cases) {
     SCOPED_TRACE(testing::Message() << (k.fast ? "fast " : "uno ") << k.kbit << "k "

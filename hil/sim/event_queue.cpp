@@ -32,14 +32,82 @@ void EventQueue::sift_down_root(Heap& heap) {
 
 void EventQueue::at(SimNs t_ns, Handler* h, uint32_t code, uint64_t arg) {
   const SimNs t = t_ns < now_ ? now_ : t_ns;
-  push(t - now_ < kNearNs ? near_ : far_, Ev{t, seq_++, h, code, arg});
+  push(t - now_ < kNearNs ? near_ : far_, Ev{t, next_seq(), h, code, arg});
+}
+
+void EventQueue::sleep(Sleeper* s, SimNs t_ns, uint32_t code, uint64_t arg) {
+  s->sleep_t_ = t_ns < now_ ? now_ : t_ns;
+  s->sleep_seq_ = next_seq();
+  s->sleep_code_ = code;
+  s->sleep_arg_ = arg;
+  if (!s->asleep_) {
+    s->asleep_ = true;
+    sleepers_.push_back(s);
+  }
+  if (s->sleep_t_ < sleepers_min_t_) sleepers_min_t_ = s->sleep_t_;
+}
+
+void EventQueue::wake(Sleeper* s) {
+  if (!s->asleep_) return;
+  s->asleep_ = false;
+  sleepers_.erase(std::find(sleepers_.begin(), sleepers_.end(), s));
+  const SimNs t = s->sleep_t_;
+  push(t - now_ < kNearNs ? near_ : far_, Ev{t, s->sleep_seq_, s, s->sleep_code_, s->sleep_arg_});
+  sleepers_min_t_ = ~SimNs{0};
+  for (const Sleeper* o : sleepers_) sleepers_min_t_ = std::min(sleepers_min_t_, o->sleep_t_);
+}
+
+bool EventQueue::run_sleepers(SimNs t, uint64_t seq) {
+  const auto before = [t, seq](const Sleeper* s) {
+    return s->sleep_t_ < t || (s->sleep_t_ == t && s->sleep_seq_ < seq);
+  };
+  // Occurrences run in place are scheduled in the stretch before the next
+  // ordinary event: the odd number below it.
+  const uint64_t stretch_seq = seq_ - 1;
+  for (;;) {
+    // Every occurrence before the earliest wake floor of the sleepers due
+    // is idle: run them, up to the next event.
+    SimNs floor = ~SimNs{0};
+    for (Sleeper* s : sleepers_) {
+      s->floor_ = before(s) ? s->wake_floor() : ~SimNs{0};
+      floor = std::min(floor, s->floor_);
+    }
+    SimNs min_t = ~SimNs{0};
+    for (Sleeper* s : sleepers_) {
+      while (s->sleep_t_ < floor && before(s)) {
+        ++handled_;
+        s->sleep_t_ = std::max(s->idle_pass(s->sleep_t_), s->sleep_t_);
+        s->sleep_seq_ = stretch_seq;
+      }
+      min_t = std::min(min_t, s->sleep_t_);
+    }
+    sleepers_min_t_ = min_t;
+    if (floor > t) return false;  // none woke before the next event: all ran up to it
+    // The sleepers whose next occurrence is due and not idle wake; when
+    // none does, the one whose floor stopped the others has nothing due.
+    bool woke = false;
+    for (size_t k = 0; k < sleepers_.size();) {
+      Sleeper* s = sleepers_[k];
+      if (before(s) && s->sleep_t_ >= s->floor_) {
+        wake(s);
+        woke = true;
+      } else {
+        ++k;
+      }
+    }
+    if (woke) return true;
+  }
 }
 
 void EventQueue::run_until(SimNs t_end_ns) {
   for (;;) {
     Heap* heap = &near_;
     if (near_.empty() || (!far_.empty() && later(near_.front(), far_.front()))) heap = &far_;
-    if (heap->empty() || heap->front().t > t_end_ns) break;
+    const bool ends = heap->empty() || heap->front().t > t_end_ns;
+    // The sleepers' occurrences before the next event (or up to the end).
+    const SimNs until = ends ? t_end_ns : heap->front().t;
+    if (sleepers_min_t_ <= until && run_sleepers(until, ends ? ~uint64_t{0} : heap->front().seq)) continue;
+    if (ends) break;
     // The root stays in place while its handler runs (see the class comment).
     const Ev e = heap->front();
     now_ = e.t;

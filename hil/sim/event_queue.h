@@ -28,6 +28,32 @@ class Handler {
   ~Handler() = default;
 };
 
+/// A handler whose recurring event (a station's firmware pass) may be
+/// jumped while it provably does nothing: the queue runs such an occurrence
+/// in place (idle_pass()) instead of through its heaps, at the same place in
+/// the order (EventQueue, "Sleeping").
+class Sleeper : public Handler {
+ public:
+  /// The earliest time from which an occurrence is not idle (0: the next
+  /// one is not: an input came).
+  virtual SimNs wake_floor() const = 0;
+  /// Runs the idle occurrence at `t_ns` (its own bookkeeping and random
+  /// draws, in the order the event would make them); returns the next one's time.
+  virtual SimNs idle_pass(SimNs t_ns) = 0;
+
+ protected:
+  ~Sleeper() = default;
+
+ private:
+  friend class EventQueue;
+  SimNs sleep_t_ = 0;  ///< the next occurrence's key while asleep
+  uint64_t sleep_seq_ = 0;
+  uint32_t sleep_code_ = 0;
+  uint64_t sleep_arg_ = 0;
+  bool asleep_ = false;
+  SimNs floor_ = 0;  ///< wake_floor() as run_sleepers() last asked (~0: not due)
+};
+
 /// Events in (time, sequence) order. Not thread-safe; handlers may schedule
 /// new events (at or after now()) from inside on_event.
 ///
@@ -36,6 +62,21 @@ class Handler {
 /// timeouts: most of the stale ones). The next event is the earlier of the
 /// two roots, so the order is the same as one heap's; the near one stays
 /// shallow, which is where the frequent events are.
+///
+/// Sleeping (a station's idle passes): the handler of the event being
+/// handled may call sleep() instead of again_at(). Its next occurrence then
+/// waits outside the heaps, keyed as again_at() would have keyed it. Before
+/// each event from the heaps, every sleeper's occurrences ordered before it
+/// run in place by idle_pass(), each counted in handled(); the first that
+/// is not idle (at or after wake_floor()) goes into a heap with its key and
+/// runs as an ordinary event. Sequence numbers of scheduled events are
+/// even; an occurrence scheduled by an idle one gets the odd number between
+/// those scheduled before it and after it (the same for all of one stretch
+/// between two ordinary events), so its place among events of the same
+/// nanosecond is the one it had with every pass in a heap. Sleepers are
+/// moved forward only up to the next ordinary event and the earliest
+/// wake_floor(), so a sleeper never runs past an occurrence of another
+/// that wakes first.
 ///
 /// The event being handled stays at the root of its heap until its handler
 /// returns (every event scheduled meanwhile has a later key, so it never
@@ -59,8 +100,15 @@ class EventQueue {
   void again_at(SimNs t_ns) {
     again_ = true;
     again_t_ = t_ns < now_ ? now_ : t_ns;
-    again_seq_ = seq_++;
+    again_seq_ = next_seq();
   }
+  /// Only from inside `s`'s on_event, instead of again_at(): the event
+  /// happens again at `t_ns` (same key as again_at()), run in place while
+  /// idle (see "Sleeping").
+  void sleep(Sleeper* s, SimNs t_ns, uint32_t code, uint64_t arg);
+  /// A sleeper's next occurrence goes into a heap now (an input came, or
+  /// it is powered off: the occurrence then runs as the stale event it is).
+  void wake(Sleeper* s);
   /// Runs every event due at or before `t_end_ns`, then sets now() to it.
   void run_until(SimNs t_end_ns);
   /// Events handled so far (for the speed figure).
@@ -82,6 +130,14 @@ class EventQueue {
   static unsigned __int128 key(const Ev& e) { return (static_cast<unsigned __int128>(e.t) << 64) | e.seq; }
   static bool later(const Ev& a, const Ev& b) { return key(a) > key(b); }
   using Heap = std::vector<Ev>;
+  uint64_t next_seq() {
+    const uint64_t n = seq_;
+    seq_ += 2;
+    return n;
+  }
+  /// Runs the sleepers' occurrences ordered before (t, seq) in place;
+  /// true when one woke into a heap (the next event may be it).
+  bool run_sleepers(SimNs t, uint64_t seq);
   static void push(Heap& heap, const Ev& e);
   static void pop(Heap& heap);
   /// Restores the heap order after the root's key grew.
@@ -89,8 +145,10 @@ class EventQueue {
 
   Heap near_;
   Heap far_;
+  std::vector<Sleeper*> sleepers_;
+  SimNs sleepers_min_t_ = ~SimNs{0};  ///< the earliest sleeper's next occurrence
   SimNs now_ = 0;
-  uint64_t seq_ = 0;
+  uint64_t seq_ = 2;  ///< even: see "Sleeping"
   uint64_t handled_ = 0;
   bool again_ = false;  ///< again_at() was called by the handler running
   SimNs again_t_ = 0;

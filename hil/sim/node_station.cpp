@@ -40,6 +40,7 @@ void NodeStation::power_on() {
 
 void NodeStation::power_off() {
   if (!gw_) return;
+  q_.wake(this);  // its next pass runs as the stale event it now is
   ++generation_;
   gw_.reset();
   can_.set_powered(false);
@@ -68,7 +69,7 @@ void NodeStation::pass() {
   const bool idle = timing_.skip_idle && t < wake_ns_ && buttons_ == last_buttons_ && can_.rx_waiting() == 0;
   const bool serial = rx_ != nullptr && rx_->ready(t);
   if (idle && !serial) {
-    q_.again_at(finish_pass(leds_out_, proc));  // same as running it
+    next_pass(finish_pass(leds_out_, proc));  // same as running it
     return;
   }
   const uint32_t now_us = micros_at(t);
@@ -80,7 +81,7 @@ void NodeStation::pass() {
     if (idle && serial_pending_.empty() && tx_pending_.empty()) {
       ask_deadline_after_chars(t, now_us);
       if (t < wake_ns_) {
-        q_.again_at(finish_pass(leds_out_, proc));
+        next_pass(finish_pass(leds_out_, proc));
         return;
       }
     }
@@ -104,7 +105,31 @@ void NodeStation::pass() {
     if (on_state) on_state(index_, before, s);
   }
   if (timing_.skip_idle) ask_deadline(t, now_us);
-  q_.again_at(finish_pass(leds, proc));
+  next_pass(finish_pass(leds, proc));
+}
+
+void NodeStation::next_pass(SimNs t_ns) {
+  if (timing_.skip_idle)
+    q_.sleep(this, t_ns, kPass, generation_);
+  else
+    q_.again_at(t_ns);
+}
+
+SimNs NodeStation::wake_floor() const {
+  // What makes pass() call the firmware, or schedule a release (never after
+  // a release has run: kept here so that such a pass runs as pass()).
+  if (buttons_ != last_buttons_ || can_.rx_waiting() != 0 || !tx_pending_.empty() ||
+      !serial_pending_.empty() || leds_out_ != leds_ || booting_) {
+    return 0;
+  }
+  return rx_ != nullptr ? std::min(wake_ns_, rx_->first_end()) : wake_ns_;
+}
+
+SimNs NodeStation::idle_pass(SimNs t) {
+  // pass() and finish_pass() for an idle pass.
+  ++passes_;
+  const SimNs proc = timing_.pass_ns + rng_.range(0, timing_.jitter_ns);
+  return t + (timing_.loop_ns > proc ? timing_.loop_ns : proc);
 }
 
 SimNs NodeStation::take_serial(SimNs t, uint32_t now_us) {

@@ -65,7 +65,7 @@ struct NodeState {
 /// earlier than it changes nothing observable) makes the run the same as
 /// with every pass calling the firmware; Determinism.SkippingIdlePasses*
 /// (tests/sim) compare whole runs with skipping on and off.
-class NodeStation final : public Handler {
+class NodeStation final : public Sleeper {
  public:
   NodeStation(EventQueue& queue, CanBus& bus, int index, uint32_t baud, const NodeTiming& timing,
               uint64_t seed);
@@ -105,6 +105,12 @@ class NodeStation final : public Handler {
   uint32_t micros_at(SimNs t) const { return static_cast<uint32_t>((t - boot_ns_) / kNsPerUs); }
 
   void on_event(uint32_t code, uint64_t arg) override;
+  /// Sleeper: the next pass is idle before this time (0: not idle, an input
+  /// came). The rule of "Idle passes": before wake_ns_, no CAN frame, no
+  /// button change, no serial character complete.
+  SimNs wake_floor() const override;
+  /// Sleeper: an idle pass at `t` (its jitter drawn as pass() draws it).
+  SimNs idle_pass(SimNs t) override;
   /// CanControl::set_filters: the controller admits what the gateway's
   /// acceptance ranges admit (planned as the Uno plans them).
   static void set_filters(void* ctx, const CanIdRange* ranges, uint8_t count);
@@ -118,6 +124,9 @@ class NodeStation final : public Handler {
   void release();
   /// Schedules the release of the pass's outputs; returns the next pass's time.
   SimNs finish_pass(uint8_t leds, SimNs proc);
+  /// The next pass at `t_ns`: asleep (run in place while idle) when idle
+  /// passes may be skipped, else through the queue.
+  void next_pass(SimNs t_ns);
   /// Hands the characters complete by `t` to the firmware; returns their cost.
   SimNs take_serial(SimNs t, uint32_t now_us);
   /// wake_ns_ = when the firmware clock reaches Gateway::next_deadline, asked

@@ -42,6 +42,8 @@ class UartChannel final : public Handler {
 
   /// True when a character complete at or before `until_ns` waits.
   bool ready(SimNs until_ns) const { return !line_.empty() && line_.front().end_ns <= until_ns; }
+  /// When the oldest character waiting is complete (~0: none waits).
+  SimNs first_end() const { return line_.empty() ? ~SimNs{0} : line_.front().end_ns; }
   /// Takes the oldest character complete at or before `until_ns`.
   bool take(SimNs until_ns, SerialChar* out);
   /// Called when the last character of a send() is complete (now()).

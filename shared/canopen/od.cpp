@@ -29,12 +29,12 @@ static const uint8_t kOdTypeInfo[kOdTypeCount] MB2CO_FLASH = {
 
 ObjectDictionary::ObjectDictionary(const OdDefinition& def, uint8_t* values)
     : def_(def), values_(values), revision_(0), node_id_(0), owners_() {
-#ifndef __AVR__
+#if MB2CO_CONFIG_OD_DIRECT_GET
   resolve_direct();
 #endif
 }
 
-#ifndef __AVR__
+#if MB2CO_CONFIG_OD_DIRECT_GET
 void ObjectDictionary::resolve_direct() {
   for (uint16_t row = 0; row < kDirectRows; ++row) {
     direct_[row] = Direct{0, 0};
@@ -217,7 +217,7 @@ uint32_t ObjectDictionary::constant_at(Place p) const {
 // three fields they need straight from the row and move the value with one
 // memcpy (values are little-endian, like both targets).
 uint32_t ObjectDictionary::get(uint16_t row) const {
-#ifndef __AVR__
+#if MB2CO_CONFIG_OD_DIRECT_GET
   if (row < kDirectRows && direct_[row].size != 0) {
     uint32_t v = 0;
     memcpy(&v, values_ + direct_[row].offset, direct_[row].size);  // little-endian (checked above)

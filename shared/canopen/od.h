@@ -306,10 +306,11 @@ class ObjectDictionary {
   uint16_t revision_;
   uint8_t node_id_;
   void* owners_[kOdOwners];  ///< set_owner(); null: not bound
-#ifndef __AVR__
-  // Hosts only (the simulator runs every station's core on every pass; the
-  // Uno keeps its RAM and flash as they are): where get() finds a numeric
-  // RAM row's value, resolved once at construction from the constant rows,
+#if MB2CO_CONFIG_OD_DIRECT_GET
+  // Profiles with MB2CO_CONFIG_OD_DIRECT_GET (the hosts': the simulator
+  // runs every station's core on every pass; the Uno's keep their RAM and
+  // flash as they are, profiles/profile.h refuses it there): where get()
+  // finds a numeric RAM row's value, resolved once at construction from the constant rows,
   // so get() skips place() and the type decoding. Offsets into values_ and
   // sizes never change after construction (rows, types and the value
   // layout are constant; the node id changes constants, not RAM rows).

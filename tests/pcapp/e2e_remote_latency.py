@@ -22,6 +22,7 @@ usage: e2e_remote_latency.py --plant BIN --node BIN --master BIN
 import argparse
 import os
 import re
+import signal
 import subprocess
 import sys
 import tempfile
@@ -185,7 +186,8 @@ def main():
         line.nodes[1].send("quit")
         line.nodes[1].expect(r"^bye", "node 1 gone")
         expect_refusal(line.plant(2), "station 1 unreachable", "remote gone")
-        producer.p.terminate()
+        for proc in PROCS:
+            proc.kill(signal.SIGTERM)
     print("PASS")
 
 

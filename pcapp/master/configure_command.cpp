@@ -11,9 +11,10 @@
 //      was written is written back with the value read in this step, in
 //      the reverse order (a PDO's entries again in the CiA 301 order), one
 //      line per entry restored;
-//      (1003h error history, 1010h and 1011h store/restore commands are
-//      never written from a DCF: what a dump reads there is a record or a
-//      capability, not a setting);
+//      (1003h error history, 1010h and 1011h store/restore commands and
+//      1013h, the node's clock (TIME), are never written from a DCF: what a
+//      dump reads there is a record, a capability or an instant, not a
+//      setting);
 //   3. --save: 1010h/1 = "save", then 1010h/1 polled every 100 ms until it
 //      reads 1 again (the save is done; at most 10 s); then, unless
 //      --no-start, NMT start.
@@ -201,8 +202,12 @@ class NodeJob {
         // 1010h/1011h are commands (a signature starts them), not values:
         // a DCF's ParameterValue there is what the node said it can do.
         // 1003h is the error history: a record of the node's, which only
-        // takes 0 (clear); a dumped count is no setting either.
-        if (!s.parameter_value || p.first == 0x1003 || p.first == 0x1010 || p.first == 0x1011) continue;
+        // takes 0 (clear); a dumped count is no setting either. 1013h is the
+        // node's clock: a dumped value is the instant of the dump, and
+        // writing it would set the clock back.
+        if (!s.parameter_value || p.first == 0x1003 || p.first == 0x1010 || p.first == 0x1011 ||
+            p.first == 0x1013)
+          continue;
         if (s.access == eds::AccessType::kRo || s.access == eds::AccessType::kConst) {
           ++read_only_;
           continue;

@@ -4,8 +4,10 @@
 // timestamp of the LED change (2300h/2): both on the gateway's own clock,
 // so the PC's clock and the USB latency of the read do not enter.
 // Remote mode: the button sits on another node and reaches this gateway by
-// PDO (2130h/1); the start is then the PDO's arrival (2300h/3), because the
-// remote node's edge time is on another clock.
+// PDO (2130h/1). The start is the remote node's own edge stamp (its
+// 2300h/1, read by the app through the gateway: set_remote_edge()), on the
+// clock TIME made common (remote_clock.h): the whole path, debounce and CAN
+// hop included, with the clock offset's uncertainty per press.
 #pragma once
 #include <stdint.h>
 
@@ -15,6 +17,7 @@
 #include "cycle_mode.h"
 #include "latency_stats.h"
 #include "plant/latency_lab.h"
+#include "remote_clock.h"
 
 namespace mb2co {
 namespace pcapp {
@@ -22,15 +25,28 @@ namespace pcapp {
 struct PressRecord {
   uint32_t press = 0;     ///< 1, 2, ...
   uint64_t cycle = 0;     ///< cycle in which the LED change was seen
-  uint32_t edge_us = 0;   ///< button edge (remote: PDO arrival), firmware clock
+  uint32_t edge_us = 0;   ///< button edge (remote: the remote station's stamp), firmware clock
   uint32_t led_us = 0;    ///< LED change, firmware clock
   uint32_t delay_us = 0;  ///< led_us - edge_us, wrap-safe
+  /// Remote only (common clock): the PDO's arrival here minus the edge
+  /// (debounce, TPDO, CAN hop), and the clock offset's uncertainty (±).
+  uint32_t hop_us = 0;
+  uint32_t uncertainty_us = 0;
 };
 
 class LatencyCycle : public CycleMode {
  public:
   /// `button`: a gateway::Button bit. `max_presses` 0 = no limit.
-  LatencyCycle(const RegisterLayout& layout, bool remote, uint8_t button, uint32_t max_presses);
+  LatencyCycle(const RegisterLayout& layout, bool remote, uint8_t button, uint32_t max_presses,
+               ClockBound bound = ClockBound());
+
+  /// Remote mode: a press was seen whose edge stamp is still to be read
+  /// from the remote station (before its LED change is taken).
+  bool wants_remote_edge() const { return remote_ && pending_ && !edge_known_; }
+  /// The remote edge of the pending press and both clocks' last set.
+  void set_remote_edge(const RemoteEdge& e);
+  /// The remote edge could not be read: the pending press is missed.
+  void remote_edge_lost();
 
   std::vector<Field> required_reads() const override;
   std::vector<Field> optional_reads() const override { return {}; }
@@ -64,6 +80,11 @@ class LatencyCycle : public CycleMode {
   plant::ButtonToLed lab_;
   bool pending_ = false;  ///< a press whose LED change we wait for
   uint32_t pending_edge_us_ = 0;
+  ClockBound bound_;
+  bool edge_known_ = false;  ///< remote: pending_edge_us_ and edge_ read
+  RemoteEdge edge_;          ///< remote: of the pending press
+  uint32_t arrival_us_ = 0;  ///< remote: 2300h/3 when the press was seen
+  uint32_t max_uncertainty_us_ = 0;
   uint32_t led_us_before_ = 0;  ///< LED timestamp when the press was seen
   uint64_t cycle_ = 0;
   bool level_ = false;

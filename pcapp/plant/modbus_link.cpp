@@ -8,6 +8,7 @@
 
 #include <cstring>
 
+#include "gateway/network_service.h"
 #include "modbus/master_codec.h"
 #include "modbus/network_pdu.h"
 #include "platform/mbap_client.h"
@@ -277,6 +278,41 @@ LinkResult ModbusLink::network_view(std::vector<modbus::NetViewEntry>& view, boo
     first = static_cast<uint8_t>(view.back().node_id + 1);
   }
   return LinkResult::done();
+}
+
+LinkResult ModbusLink::upload(uint8_t node_id, uint16_t index, uint8_t sub, uint32_t& value,
+                              uint32_t& abort_code) {
+  value = 0;
+  abort_code = 0;
+  if (ctx_ == nullptr) return LinkResult::failure(LinkStatus::kFailed, "FC 2B/0D: port closed");
+  uint8_t request[32];
+  uint8_t response[modbus::kMaxAduBytes];
+  const uint16_t n = modbus::build_net_upload(request, sizeof request, static_cast<uint8_t>(settings_.slave),
+                                              node_id, index, sub, 0, 4);
+  uint16_t got = 0;
+  // The gateway answers when its SDO client is done: a node that does not
+  // answer ends it with abort 05040000h after kNetSdoTimeoutUs, later than
+  // the cycle's timeout. Waited for once (a repeat would only be refused
+  // with exception 06 while the first runs), not taken for a lost link.
+  const LinkSettings cycle = settings_;
+  settings_.timeout_ms += static_cast<int>(gateway::kNetSdoTimeoutUs / 1000u);
+  settings_.retries = 0;
+  LinkResult s = raw(request, n, response, sizeof response, got);
+  settings_ = cycle;
+  modbus::NetResponse r{};
+  modbus::parse_net_response(request, n, response, got, r);
+  if (s.outcome == LinkStatus::kException) abort_code = r.abort_code;
+  if (!s.ok()) return s;
+  if (r.message.data_length > 4)
+    return LinkResult::failure(LinkStatus::kFailed, "FC 2B/0D upload: more than 4 bytes");
+  for (uint16_t i = 0; i < r.message.data_length; ++i)
+    value |= static_cast<uint32_t>(r.message.data[i]) << (8 * i);
+  return LinkResult::done();
+}
+
+LinkResult ModbusLink::holding_register(uint16_t address, uint16_t& value) {
+  if (ctx_ == nullptr) return LinkResult::failure(LinkStatus::kFailed, "FC 03: port closed");
+  return attempt("FC 03", [&] { return modbus_read_registers(ctx_, address, 1, &value); });
 }
 
 LinkResult ModbusLink::identify(std::string& identity) {

@@ -107,6 +107,14 @@ class ModbusLink {
   /// exception 01 (a gateway without the service, or with it switched off).
   LinkResult network_view(std::vector<modbus::NetViewEntry>& view, bool& unsupported);
 
+  /// An entry of up to 32 bits of node `node_id` (the gateway's own id: its
+  /// own OD) by FC 2Bh/MEI 0Dh SDO upload (CiA 309-2), little-endian as SDO
+  /// carries it. An SDO abort comes back as LinkStatus::kException with
+  /// `abort_code` set (0: a plain exception).
+  LinkResult upload(uint8_t node_id, uint16_t index, uint8_t sub, uint32_t& value, uint32_t& abort_code);
+  /// One holding register (FC 03).
+  LinkResult holding_register(uint16_t address, uint16_t& value);
+
   /// Attempts that timed out or were corrupt and were repeated (only grows).
   uint64_t retries_used() const { return retries_used_; }
   /// Bytes that were waiting before a request was sent and were dropped:

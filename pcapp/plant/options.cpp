@@ -89,7 +89,13 @@ Status parse_options(const QStringList& args, AppOptions& o) {
   const QCommandLineOption log("log", "Every cycle's I/O to FILE.csv or FILE.jsonl.", "FILE");
   const QCommandLineOption plain("plain", "Log lines even on a terminal (no live status line).");
   const QCommandLineOption cycles("cycles", "Stop after N cycles (default: run until SIGINT/SIGTERM).", "N");
-  const QCommandLineOption remote("remote", "latency: the button is on the watched remote station (by PDO).");
+  const QCommandLineOption remote("remote",
+                                  "latency: the button is on the watched remote station (by PDO), measured "
+                                  "from its own edge stamp on the TIME-synchronised clock.");
+  const QCommandLineOption drift("drift-ppm",
+                                 "latency --remote: most two station clocks run apart, 0..100000 ppm "
+                                 "(default 100), for the clock offset's uncertainty.",
+                                 "PPM", "100");
   const QCommandLineOption button("button", "latency: START, STOP or STOP2 (default START).", "NAME",
                                   "START");
   const QCommandLineOption presses("presses", "latency: stop after N measured presses.", "N");
@@ -97,9 +103,9 @@ Status parse_options(const QStringList& args, AppOptions& o) {
   // Bash completion asks for the words (docs/cli.md); not in --help.
   QCommandLineOption list_options("list-options", "Words for bash completion.");
   list_options.setFlags(QCommandLineOption::HiddenFromHelp);
-  const QList<QCommandLineOption> all = {port,   tcp,     list,    baud,   parity,   slave,     cycle,
-                                         config, timeout, retries, boot,   no_reset, reconnect, log,
-                                         plain,  cycles,  remote,  button, presses,  csv};
+  const QList<QCommandLineOption> all = {port,   tcp,     list,    baud,  parity,   slave,     cycle,
+                                         config, timeout, retries, boot,  no_reset, reconnect, log,
+                                         plain,  cycles,  remote,  drift, button,   presses,   csv};
   p.addOptions(all);
   p.addOption(list_options);
 
@@ -157,7 +163,7 @@ Status parse_options(const QStringList& args, AppOptions& o) {
       !number(cycle, 1, 1000, o.cycle_ms) || !number(timeout, 1, 10000, o.timeout_ms) ||
       !number(retries, 0, 10, o.retries) || !number(boot, 0, 60000, o.boot_wait_ms) ||
       !number(reconnect, 100, 600000, o.reconnect_max_ms) || !number(cycles, 1, 4000000000L, o.cycles) ||
-      !number(presses, 1, 1000000, o.presses)) {
+      !number(presses, 1, 1000000, o.presses) || !number(drift, 0, 100000, o.drift_ppm)) {
     return bad;
   }
   if (!standard_baud(o.baud)) {
@@ -182,6 +188,7 @@ Status parse_options(const QStringList& args, AppOptions& o) {
     return Status::failure(
         "--remote, --button, --presses and --csv belong to the latency mode (mb2co-plant latency ...)");
   }
+  if (p.isSet(drift) && !o.remote) return Status::failure("--drift-ppm belongs to latency --remote");
   if (o.latency && p.isSet(config)) {
     return Status::failure("--config belongs to the station mode");
   }

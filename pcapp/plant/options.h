@@ -29,14 +29,15 @@ struct AppOptions {
   int retries = 2;
   int boot_wait_ms = -1;  ///< -1: 2000 for an Arduino port, 0 otherwise
   int reconnect_max_ms = 5000;
-  QString log;           ///< FILE.csv or FILE.jsonl
-  bool plain = false;    ///< log lines even on a terminal
-  uint64_t cycles = 0;   ///< stop after this many cycles (0: run until a signal)
-  bool remote = false;   ///< latency: the button is on the watched remote station
-  uint8_t button = 1;    ///< latency: gateway::Button bit (default START)
-  uint32_t presses = 0;  ///< latency: stop after this many measured presses
-  QString csv;           ///< latency: CSV of every press
-  QString exit_text;     ///< --help / --version: print this and exit 0 ("" to run)
+  QString log;               ///< FILE.csv or FILE.jsonl
+  bool plain = false;        ///< log lines even on a terminal
+  uint64_t cycles = 0;       ///< stop after this many cycles (0: run until a signal)
+  bool remote = false;       ///< latency: the button is on the watched remote station
+  uint32_t drift_ppm = 100;  ///< latency --remote: most two station clocks run apart
+  uint8_t button = 1;        ///< latency: gateway::Button bit (default START)
+  uint32_t presses = 0;      ///< latency: stop after this many measured presses
+  QString csv;               ///< latency: CSV of every press
+  QString exit_text;         ///< --help / --version: print this and exit 0 ("" to run)
 };
 
 /// `args` includes the program name (QCoreApplication::arguments()). Fails

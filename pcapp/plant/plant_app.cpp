@@ -8,6 +8,7 @@
 #include "latency_cycle.h"
 #include "plant/config_parser.h"
 #include "station_cycle.h"
+#include "timing/latency.h"
 
 namespace mb2co {
 namespace pcapp {
@@ -71,7 +72,10 @@ int PlantApp::prepare() {
   layout_ = default_layout();
   if (options_.latency) {
     cycle_ms_ = options_.cycle_ms > 0 ? options_.cycle_ms : kDefaultCycleMs;
-    latency_ = new LatencyCycle(layout_, options_.remote, options_.button, options_.presses);
+    ClockBound bound;
+    bound.spread_us = timing::LatencyParams().fw_loop_us;
+    bound.drift_ppm = options_.drift_ppm;
+    latency_ = new LatencyCycle(layout_, options_.remote, options_.button, options_.presses, bound);
     mode_.reset(latency_);
   } else {
     plant::PlantConfig config;
@@ -162,6 +166,7 @@ void PlantApp::tick() {
   bool stepped = false;
   bool exchanged = false;
   uint32_t modbus_us = 0;
+  if (supervisor_->up() && !remote_ready()) return;
   if (supervisor_->up()) {
     ModbusLink& link = supervisor_->link();
     QElapsedTimer t;
@@ -196,6 +201,8 @@ void PlantApp::tick() {
     }
   }
   if (!stepped) mode_->step_offline();
+  // After the cycle's write: the LED of this press is already on its way.
+  if (latency_ != nullptr && latency_->wants_remote_edge() && supervisor_->up()) read_remote_edge();
   poll_neighbours(now_ns);
   for (const QString& line : QString::fromStdString(mode_->take_event()).split('\n', Qt::SkipEmptyParts)) {
     log_event(line);
@@ -214,6 +221,32 @@ void PlantApp::tick() {
     shutdown(0, "done");
   else if (options_.cycles != 0 && cycles_ >= options_.cycles)
     shutdown(0, "cycles done");
+}
+
+bool PlantApp::remote_ready() {
+  if (!options_.remote || remote_probed_) return true;
+  const Status s = remote_clock_.probe(supervisor_->link());
+  if (!s) {
+    say_error("latency --remote: nothing to measure: " + QString::fromStdString(s.message()));
+    shutdown(kExitNothingToMeasure, "nothing to measure");
+    return false;
+  }
+  remote_probed_ = true;
+  log_event(QStringLiteral("remote button on station %1, LED here on station %2: common clock (TIME)")
+                .arg(remote_clock_.remote_id())
+                .arg(remote_clock_.here_id()));
+  return true;
+}
+
+void PlantApp::read_remote_edge() {
+  RemoteEdge e;
+  const Status s = remote_clock_.read_edge(supervisor_->link(), e);
+  if (s) {
+    latency_->set_remote_edge(e);
+  } else {
+    latency_->remote_edge_lost();
+    log_event(QString::fromStdString("press missed: " + s.message()));
+  }
 }
 
 void PlantApp::poll_neighbours(int64_t now_ns) {

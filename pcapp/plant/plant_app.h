@@ -16,6 +16,7 @@
 #include "latency_stats.h"
 #include "link_supervisor.h"
 #include "options.h"
+#include "remote_clock.h"
 #include "status_view.h"
 #include "transaction_plan.h"
 
@@ -30,6 +31,9 @@ class PlantApp : public QObject {
   /// Stopped, but the gateway did not confirm RUN=0 / lab LED 0: its Modbus
   /// watchdog (2000h/9) stops the station instead.
   static constexpr int kExitNotConfirmed = 3;
+  /// latency --remote with nothing to measure: no common clock (TIME), no
+  /// previous station, or the remote station unreachable (one line why).
+  static constexpr int kExitNothingToMeasure = 4;
 
   explicit PlantApp(const AppOptions& options, QObject* parent = nullptr);
   ~PlantApp() override;
@@ -56,12 +60,18 @@ class PlantApp : public QObject {
   /// neighbours_ (changes as events). Stops for good at exception 01.
   void poll_neighbours(int64_t now_ns);
   std::string cycle_summary() const;
+  /// latency --remote: the probe before the first cycle (false: refused,
+  /// shutting down), then the remote edge of a press just seen.
+  bool remote_ready();
+  void read_remote_edge();
 
   AppOptions options_;
   int cycle_ms_ = 20;
   RegisterLayout layout_;
   std::unique_ptr<CycleMode> mode_;
   LatencyCycle* latency_ = nullptr;  ///< mode_ in the latency mode (for its CSV)
+  RemoteClock remote_clock_;         ///< latency --remote
+  bool remote_probed_ = false;
   TransactionPlan plan_;
   RegisterImage in_;
   RegisterImage out_;

@@ -146,7 +146,7 @@ const uint32_t kLoadSignature = 0x64616F6Cu;  ///< "load" (1011h)
   N(0x1011, 0, x1011_0_highestSubIndex, U8, CONST, 0, kHookNone, 1, "Restore default parameters: highest sub-index") \
   N(0x1011, 1, x1011_1_restoreAllDefaults, U32, RW, 0, kHookStore, 1, "Restore all default parameters"))             \
   MB2CO_WITH_TIME(                                                                                                   \
-  N(0x1012, 0, x1012_0_cobIdTime, U32, RW, 0, kHookTimeCobId, 0x80000100, "COB-ID TIME (bit 31 consumer, 30 producer)")   \
+  N(0x1012, 0, x1012_0_cobIdTime, U32, RW, 0, kHookTimeCobId, 0x00000100, "COB-ID TIME (bit 31 consumer, 30 producer)")   \
   N(0x1013, 0, x1013_0_highResolutionTimeStamp, U32, RW, kAttrPdo | kAttrCommand, kHookTimeStamp, 0, "High resolution time stamp (us since 1984-01-01, mod 2^32)")) \
   N(0x1014, 0, x1014_0_cobIdEmcy, U32, RW, kAttrNodeId, kHookEmcy, 0x80, "COB-ID EMCY")                              \
   N(0x1015, 0, x1015_0_inhibitTimeEmcy, U16, RW, 0, kHookEmcy, 0, "Inhibit time EMCY (100 us)")                      \

@@ -54,6 +54,7 @@ bool TimeStamp::on_frame(const CanFrame& f, uint32_t now_us, bool allowed) {
   const TimeOfDay t = decode_time_of_day(f.data);
   set_stamp(network_us_of(t));
   at_us_ = now_us;
+  set_at_us_ = stamp();
   set_ = true;
 #if MB2CO_CONFIG_TIME >= 2
   day_ = t;
@@ -69,6 +70,7 @@ SdoAbort TimeStamp::on_write(uint16_t index, const uint8_t* data, bool apply) {
     // request (refresh() ran at its arrival, at_us_).
     if (!apply) return kSdoOk;
     set_ = true;
+    set_at_us_ = v;
 #if MB2CO_CONFIG_TIME >= 2
     // 1013h cannot say the day (mod 2^32): the producer's TIME_OF_DAY runs on
     // unchanged, its base moves with the µs clock.
@@ -110,6 +112,7 @@ void TimeStamp::set_time_of_day(const TimeOfDay& t, uint32_t now_us) {
   day_ = t;
   day_base_us_ = network_us_of(t);
   set_stamp(day_base_us_);
+  set_at_us_ = day_base_us_;
   set_ = true;
 }
 

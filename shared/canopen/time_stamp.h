@@ -72,6 +72,11 @@ class TimeStamp {
   uint32_t offset_us() const;
   /// A TIME frame or a 1013h write set the clock since the last reset.
   bool clock_set() const { return set_; }
+  /// The network time at which the clock was last set (a TIME frame's
+  /// time, or the value a 1013h write gave); meaningful while clock_set().
+  /// How long ago: network_us(now) - set_at_us(), the time the local clock
+  /// has run on its own (its drift against the producer's grows with it).
+  uint32_t set_at_us() const { return set_at_us_; }
   /// 1012h: consumer bit set and a valid standard id (what to receive).
   bool consuming() const { return (cob() & kTimeConsumer) != 0; }
   uint16_t can_id() const { return static_cast<uint16_t>(cob() & 0x7FFu); }
@@ -111,6 +116,7 @@ class TimeStamp {
   /// Local time at which 1013h's value was the network time: network(t) =
   /// 1013h + (t - at_us_), exact across the 2^32 wrap (both are mod 2^32).
   uint32_t at_us_;
+  uint32_t set_at_us_;  ///< network µs of the last set (set_at_us())
   bool set_;
 #if MB2CO_CONFIG_TIME >= 2
   /// The producer's day: `day_` at network µs `day_base_us_` (the TIME_OF_DAY
@@ -136,6 +142,7 @@ class TimeStamp {
   uint32_t network_us(uint32_t now_us) const { return now_us; }
   uint32_t offset_us() const { return 0; }
   bool clock_set() const { return false; }
+  uint32_t set_at_us() const { return 0; }
   bool consuming() const { return false; }
   uint16_t can_id() const { return 0; }
 };

@@ -56,6 +56,7 @@ void Gateway::on_heartbeat(void* ctx, uint8_t node_id, HbEvent event, uint8_t) {
 
 void Gateway::on_rpdo(void* ctx, uint8_t n) {
   Gateway& g = *static_cast<Gateway*>(ctx);
+  g.follow_common_clock();
   g.line_.on_rpdo(n, g.now_us_);
 }
 
@@ -75,6 +76,7 @@ uint8_t Gateway::process(uint32_t now_us, uint8_t raw_buttons) {
   values_.x2003_0_storageDamageCount = node_.storage_damage_count();
   slave_.process(now_us);
   net_.process(now_us);
+  follow_common_clock();
   const uint8_t leds =
       line_.process(now_us, raw_buttons, node_.nmt_state(), slave_.counters().server_messages);
   node_.process(now_us);

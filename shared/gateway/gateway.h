@@ -101,6 +101,9 @@ class Gateway : private GatewayState {
   static void on_reset(void* ctx, canopen::NmtReset kind);
   static void on_heartbeat(void* ctx, uint8_t node_id, canopen::HbEvent event, uint8_t nmt);
   static void on_rpdo(void* ctx, uint8_t n);
+  /// The line application's stamps on the node's common clock once TIME
+  /// set it, and 2300h/4 (profile::kTime; no code without it).
+  void follow_common_clock();
   static void receive(void* ctx, const CanFrame& f, uint32_t now_us) {
     static_cast<Gateway*>(ctx)->on_can_frame(f, now_us);
   }
@@ -120,6 +123,14 @@ class Gateway : private GatewayState {
  public:
   const NetworkSlot& network() const { return net_; }
 };
+
+inline void Gateway::follow_common_clock() {
+#if MB2CO_CONFIG_TIME
+  const canopen::TimeStamp& t = node_.time();
+  line_.set_stamp_offset(t.clock_set() ? t.offset_us() : 0);
+  values_.x2300_4_commonClockSetUs = t.clock_set() ? t.set_at_us() : 0;
+#endif
+}
 
 inline void Gateway::on_can_frame(const CanFrame& f, uint32_t now_us) {
   // The time an RPDO callback stamps (2300h/3) is the frame's, not that of

@@ -18,6 +18,9 @@ const uint8_t kHoldingMapSize = profile::kWideTypes ? 14 : 12;
 const uint8_t kInputMapSize = 21;
 const uint8_t kCoilMapSize = 2;
 const uint8_t kDiscreteMapSize = 8;
+/// 2300h's subs: with TIME (profile::kTime) also when the common clock was
+/// last set (2300h/4); the stamps 2300h/1-3 are on that clock from then on.
+const uint8_t kLatencyLabSubs = profile::kTime ? 4 : 3;
 
 /// The gateway's own handler slots and owners (od.h): the RUN command is
 /// the gateway's (its line application), the Modbus maps the register
@@ -105,10 +108,12 @@ struct GatewayHandlers {
   N(0x2140, 2, x2140_2_stopPressed, BOOL, RO, kAttrPdo, kHookNone, 0, "Buttons: STOP pressed")                                        \
   N(0x2140, 3, x2140_3_stop2Pressed, BOOL, RO, kAttrPdo, kHookNone, 0, "Buttons: STOP2 pressed")                                      \
   N(0x2200, 0, x2200_0_leds, U8, RO, kAttrPdo, kHookNone, 0, "LEDs as driven: RUN-self, RUN-prev, RUN-next, lab")                     \
-  N(0x2300, 0, x2300_0_highestSubIndex, U8, CONST, 0, kHookNone, 3, "Latency lab: highest sub-index")                                 \
+  N(0x2300, 0, x2300_0_highestSubIndex, U8, CONST, 0, kHookNone, kLatencyLabSubs, "Latency lab: highest sub-index")                 \
   N(0x2300, 1, x2300_1_buttonEdgeUs, U32, RO, 0, kHookNone, 0, "Latency lab: last button edge (us)")                                  \
   N(0x2300, 2, x2300_2_labLedUs, U32, RO, 0, kHookNone, 0, "Latency lab: last lab LED change (us)")                                   \
   N(0x2300, 3, x2300_3_remoteButtonsUs, U32, RO, 0, kHookNone, 0, "Latency lab: last remote buttons arrival (us)")                    \
+  MB2CO_WITH_TIME(                                                                                                                      \
+  N(0x2300, 4, x2300_4_commonClockSetUs, U32, RO, 0, kHookNone, 0, "Latency lab: common clock last set (us, 0 never)"))                  \
   N(0x2400, 0, x2400_0_holdingMapCount, U8, RW, 0, ::mb2co::gateway::kHookRegisterMap, kHoldingMapSize, "Modbus holding registers: mapped entries")             \
   MB2CO_GW_MAP_ENTRY(N, 0x2400, 1, x2400_1_holdingMap1, ::mb2co::gateway::kHookRegisterMap, MB2CO_MAP(0x2100, 1, 8), "HR map 1")                                \
   MB2CO_GW_MAP_ENTRY(N, 0x2400, 2, x2400_2_holdingMap2, ::mb2co::gateway::kHookRegisterMap, MB2CO_MAP(0x6200, 1, 8), "HR map 2")                                \

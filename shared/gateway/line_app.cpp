@@ -98,7 +98,7 @@ void LineApp::on_rpdo(uint8_t n, uint32_t now_us) {
     prev_stop2_seen_ = count;
     prev_stop2_known_ = true;
   } else if (n == 2) {
-    v_->x2300_3_remoteButtonsUs = now_us;
+    v_->x2300_3_remoteButtonsUs = stamp(now_us);
   }
 }
 
@@ -141,8 +141,8 @@ uint8_t LineApp::process(uint32_t now_us, uint8_t raw, uint8_t nmt_state, uint16
     if ((raw ^ raw_) & bit) raw_since_us_[i] = now_us;
     if (!((raw ^ stable_) & bit) || now_us - raw_since_us_[i] < debounce_us) continue;
     stable_ ^= bit;
-    v.x2300_1_buttonEdgeUs = raw_since_us_[i];  // when the contact really moved
-    if (!(stable_ & bit)) continue;             // a release: nothing else to do
+    v.x2300_1_buttonEdgeUs = stamp(raw_since_us_[i]);  // when the contact really moved
+    if (!(stable_ & bit)) continue;                    // a release: nothing else to do
     if (bit == kStart) ++v.x2100_5_startCount;
     if (bit == kStop) {
       ++v.x2100_6_stopCount;
@@ -164,7 +164,7 @@ uint8_t LineApp::process(uint32_t now_us, uint8_t raw, uint8_t nmt_state, uint16
   od_->put(v.x2100_2_runState, run ? 1u : 0u);
 
   const uint8_t leds = leds_at(v, now_us, run);
-  if ((leds ^ leds_) & kLedLab) v.x2300_2_labLedUs = now_us;
+  if ((leds ^ leds_) & kLedLab) v.x2300_2_labLedUs = stamp(now_us);
   leds_ = leds;
   od_->put(v.x2200_0_leds, leds);
   v.x2002_0_nmtState = nmt_state;

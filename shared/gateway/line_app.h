@@ -70,8 +70,27 @@ class LineApp {
   /// turned); else a debounce running out (2000h/6), the Modbus watchdog
   /// (2000h/9) and the next blink phase while a neighbour is unknown.
   void next_deadline(NextDeadline& d, uint8_t nmt_state, uint16_t modbus_requests) const;
+#if MB2CO_CONFIG_TIME
+  /// The station's clock is common (TIME set it): network time minus local
+  /// time (TimeStamp::offset_us), else 0. The 2300h stamps are the local
+  /// time plus this: on the common clock (1013h's scale) once it is set, so
+  /// that another station's stamp can be subtracted from them.
+  void set_stamp_offset(uint32_t offset_us) {
+    stamp_offset_us_ = offset_us;
+  }
+#endif
 
  private:
+#if MB2CO_CONFIG_TIME
+  uint32_t stamp(uint32_t local_us) const {
+    return local_us + stamp_offset_us_;
+  }
+  uint32_t stamp_offset_us_;
+#else
+  static uint32_t stamp(uint32_t local_us) {
+    return local_us;
+  }
+#endif
   /// Out of line: four call sites.
   __attribute__((noinline)) void latch_stop(StopCause cause);
   void neighbour_config(uint8_t node_id, uint8_t* prev, uint8_t* next) const;

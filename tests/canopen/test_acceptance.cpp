@@ -73,11 +73,9 @@ class Acceptance : public ::testing::Test {
     CanIdRange ranges[kMaxAcceptanceRanges];
     return wanted(ranges, io.node().acceptance(ranges));
   }
-  /// `ids` and TIME's 100h where the profile has it (1012h's default consumes it).
-  Wanted node_ids(Ids ids) {
-    if (profile::kTime) ids.insert(0x100);
-    return Wanted{std::move(ids), remote_policy()};
-  }
+  /// `ids`; never TIME's 100h by default: 1012h's default (100h) has the
+  /// consumer bit clear (canopen.time: AcceptanceHasTheTimeIdWhileConsuming).
+  Wanted node_ids(Ids ids) { return Wanted{std::move(ids), remote_policy()}; }
 
   FrameLog bus;
   ionode::IoNode io{bus.sink()};

@@ -37,5 +37,17 @@ bool start_candump(LineChild* candump);
 /// A candump -L line as id and data bytes; false for other lines.
 bool parse_candump(const std::string& line, unsigned* id, std::vector<unsigned>* data);
 
+/// A DCF's text without 1013h's ParameterValue: the node's clock (TIME)
+/// reads the instant of each read, so two dumps of one node differ there by
+/// the time between them and nowhere else.
+inline std::string without_clock(std::string dcf) {
+  const size_t section = dcf.find("\n[1013]\n");
+  if (section == std::string::npos) return dcf;
+  const size_t value = dcf.find("\nParameterValue=", section);
+  if (value != std::string::npos && value < dcf.find("\n[", section + 1))
+    dcf.erase(value, dcf.find('\n', value + 1) - value);
+  return dcf;
+}
+
 }  // namespace test
 }  // namespace mb2co

@@ -51,7 +51,7 @@ TEST_F(ViaModbus, DumpOfARemoteNodeEqualsTheDumpOverSocketCan) {
   ASSERT_EQ(gw.exit_code, 0) << gw.err;
   EXPECT_EQ(gw.text(), can.text());
   EXPECT_FALSE(file_text(over_can).empty());
-  EXPECT_EQ(file_text(through_gw), file_text(over_can));
+  EXPECT_EQ(without_clock(file_text(through_gw)), without_clock(file_text(over_can)));
 }
 
 TEST_F(ViaModbus, ReadAndWriteAgreeWithSocketCan) {

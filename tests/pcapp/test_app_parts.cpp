@@ -61,6 +61,18 @@ TEST(Options, LatencyMode) {
   EXPECT_EQ(o.button, 4);
   EXPECT_EQ(o.presses, 5u);
   EXPECT_EQ(o.boot_wait_ms, 0);
+  EXPECT_EQ(o.drift_ppm, 100u) << "the clock offset's drift term by default";
+}
+
+TEST(Options, DriftPpmBelongsToLatencyRemote) {
+  AppOptions o;
+  QString msg;
+  ASSERT_EQ(parse({"latency", "--remote", "--drift-ppm", "0"}, o, msg), ParseOutcome::kRun)
+      << msg.toStdString();
+  EXPECT_EQ(o.drift_ppm, 0u);
+  EXPECT_EQ(parse({"latency", "--drift-ppm", "50"}, o, msg), ParseOutcome::kError);
+  EXPECT_EQ(msg.toStdString(), "--drift-ppm belongs to latency --remote");
+  EXPECT_EQ(parse({"latency", "--remote", "--drift-ppm", "100001"}, o, msg), ParseOutcome::kError);
 }
 
 // docs/cli.md: the letters and the words, in any letter case, as every program takes them.

@@ -64,19 +64,73 @@ TEST_F(LatencyTest, PressGoneBeforeTheLedWasReadIsMissedNotMismeasured) {
   EXPECT_EQ(lab.missed(), 1u);
 }
 
-TEST_F(LatencyTest, RemoteUsesThePdoArrival) {
-  LatencyCycle remote(gw.layout, true, gateway::kStop2, 0);
+TEST_F(LatencyTest, RemoteMeasuresFromTheRemoteEdgeOnTheCommonClock) {
+  // 100 ppm, 1 ms spread; both clocks set 400 ms before the LED.
+  ClockBound bound;
+  bound.spread_us = 1000;
+  bound.drift_ppm = 100;
+  LatencyCycle remote(gw.layout, true, gateway::kStop2, 0, bound);
   EXPECT_EQ(remote.required_reads()[0], Field::kRemoteButtons);
   remote.step(gw.in, gw.out);
   gw.set(Field::kRemoteButtons, gateway::kStop2);
-  gw.set(Field::kRemoteUs, 500);
-  gw.set(Field::kEdgeUs, 1);  // the local panel's stamp: not used
+  gw.set(Field::kRemoteUs, 1030000);  // the PDO's arrival here
+  gw.set(Field::kEdgeUs, 1);          // the local panel's stamp: not used
   remote.step(gw.in, gw.out);
-  gw.set(Field::kLedUs, 2500);
+  ASSERT_TRUE(remote.wants_remote_edge()) << "the press is seen, its remote edge not yet read";
+  RemoteEdge e;
+  e.edge_us = 1000000;  // the remote station's own stamp, common clock
+  e.set_here_us = 1040000 - 400000;
+  e.set_remote_us = 1040000 - 400000;
+  remote.set_remote_edge(e);
+  EXPECT_FALSE(remote.wants_remote_edge());
+  gw.set(Field::kLedUs, 1040000);
   gw.set(Field::kLeds, gateway::kLedLab);
   remote.step(gw.in, gw.out);
   ASSERT_EQ(remote.records().size(), 1u);
-  EXPECT_EQ(remote.records()[0].delay_us, 2000u);
+  const PressRecord& r = remote.records()[0];
+  EXPECT_EQ(r.delay_us, 40000u) << "from the remote edge, not from the PDO's arrival";
+  EXPECT_EQ(r.hop_us, 30000u) << "edge to the PDO's arrival: debounce, TPDO, CAN";
+  EXPECT_EQ(r.uncertainty_us, 1000u + 76u)
+      << "spread + 100 ppm of 400 ms here and 360 ms there (at its edge)";
+  EXPECT_EQ(remote.take_event(), "press 1 delay_us=40000 +-1076 hop_us=30000");
+  EXPECT_NE(remote.summary().find("clock=common(TIME) uncertainty_us<=1076"), std::string::npos);
+}
+
+TEST_F(LatencyTest, RemotePressWhoseEdgeWasNotReadIsMissedNotMismeasured) {
+  LatencyCycle remote(gw.layout, true, gateway::kStart, 0);
+  remote.step(gw.in, gw.out);
+  gw.set(Field::kRemoteButtons, gateway::kStart);
+  gw.set(Field::kRemoteUs, 500);
+  remote.step(gw.in, gw.out);
+  gw.set(Field::kLedUs, 2500);
+  gw.set(Field::kLeds, gateway::kLedLab);
+  remote.step(gw.in, gw.out);  // the LED came before the edge was read
+  EXPECT_TRUE(remote.records().empty());
+  EXPECT_EQ(remote.missed(), 1u);
+  gw.set(Field::kRemoteButtons, 0);
+  remote.step(gw.in, gw.out);
+  gw.set(Field::kRemoteButtons, gateway::kStart);
+  remote.step(gw.in, gw.out);
+  remote.remote_edge_lost();  // the remote station did not answer
+  EXPECT_FALSE(remote.wants_remote_edge());
+  EXPECT_EQ(remote.missed(), 2u);
+}
+
+TEST(ClockUncertainty, AStampsAgeIsFromTheLastSetBeforeIt) {
+  EXPECT_EQ(clock_age_us(5000, 1000, 800), 4000u);
+  EXPECT_EQ(clock_age_us(5000, 6000, 4800), 200u) << "a TIME frame after the stamp, read with it";
+  EXPECT_EQ(clock_age_us(10, 0xFFFFFF00u, 0xFFFFFE00u), 266u) << "across the 2^32 wrap";
+}
+
+TEST(ClockUncertainty, SpreadPlusDriftOfBothAgesRoundedUp) {
+  ClockBound b;
+  b.spread_us = 1000;
+  b.drift_ppm = 100;
+  EXPECT_EQ(clock_uncertainty_us(b, 0, 0), 1000u);
+  EXPECT_EQ(clock_uncertainty_us(b, 1000000, 1000000), 1200u) << "100 ppm of 2 s";
+  EXPECT_EQ(clock_uncertainty_us(b, 1, 0), 1001u) << "rounded up";
+  b.drift_ppm = 0;
+  EXPECT_EQ(clock_uncertainty_us(b, 4000000000u, 4000000000u), 1000u) << "clocks of one host";
 }
 
 TEST(LatencyStats, FiguresAndPercentile) {

@@ -354,7 +354,7 @@ TEST_F(UnoNetwork, MasterViaModbusDumpOfEachRemoteNodeEqualsTheDumpOverSocketCan
     ASSERT_EQ(gw.exit_code, 0) << gw.err;
     EXPECT_EQ(gw.text(), can.text());
     EXPECT_GT(file_text(over_can).size(), 1000u) << "a dump of the whole EDS";
-    EXPECT_EQ(file_text(through), file_text(over_can)) << "node " << n.node;
+    EXPECT_EQ(without_clock(file_text(through)), without_clock(file_text(over_can))) << "node " << n.node;
   }
 }
 

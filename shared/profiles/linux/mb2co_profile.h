@@ -17,4 +17,4 @@
 #define MB2CO_CONFIG_MODBUS_TCP 1          // Modbus/TCP channels into the slave
 #define MB2CO_CONFIG_ACCEPTANCE_FILTERS 1  // CAN filters set from the acceptance ranges
 #define MB2CO_CONFIG_OD_DIRECT_GET 1       // get() of a numeric RAM row without decoding (4 KB RAM per OD)
-#define MB2CO_CONFIG_TIME 0  // TIME (CiA 301), 1012h/1013h: 2 once its ripple is done (profiles/linux-time)
+#define MB2CO_CONFIG_TIME 2                // TIME (CiA 301), 1012h/1013h: consumer + producer

@@ -12,7 +12,18 @@ namespace test {
 namespace {
 
 using namespace canopen;
-using Time = IoNodeTest;
+/// 1012h's default is 100h with neither bit (as CANopenNode's example OD):
+/// a node consumes TIME once a tool sets the consumer bit, as this fixture
+/// does first (the default itself: DefaultIs100hWithNeitherBit).
+class Time : public IoNodeTest {
+ protected:
+  void SetUp() override {
+    IoNodeTest::SetUp();
+    ASSERT_EQ(h.write_u32(0x1012, 0, 0x80000100u), 0u);
+    bus.frames.clear();
+  }
+};
+using TimeDefault = IoNodeTest;
 
 /// A TIME frame on 100h: `ms` after midnight of day `days`.
 CanFrame time_frame(uint32_t ms, uint16_t days, uint8_t dlc = 6) {
@@ -49,9 +60,11 @@ TEST(TimeOfDayCodec, NetworkMicrosecondsAreSinceTheEpochModuloTwoToThe32) {
   EXPECT_EQ(network_us_of(TimeOfDay{0, kDay + 1}) - network_us_of(TimeOfDay{kMsPerDay - 1, kDay}), 1000u);
 }
 
-TEST_F(Time, DefaultIsConsumerOn100hAsCanopenNodesExampleOd) {
-  EXPECT_EQ(h.read(0x1012, 0), 0x80000100u);
+TEST_F(TimeDefault, DefaultIs100hWithNeitherBitAsCanopenNodesExampleOd) {
+  EXPECT_EQ(h.read(0x1012, 0), 0x00000100u);
   EXPECT_FALSE(io.node().time().clock_set());
+  h.rx(time_frame(kNoonMs, kDay));
+  EXPECT_FALSE(io.node().time().clock_set()) << "not a consumer until 1012h bit 31 is set";
 }
 
 TEST_F(Time, ConsumerSetsTheClockTo1013hAtTheFramesArrival) {
@@ -149,6 +162,7 @@ TEST_F(Time, ResetCommunicationUnsetsTheClock) {
   h.nmt(0x82, kId);
   EXPECT_FALSE(io.node().time().clock_set());
   EXPECT_EQ(io.node().time().offset_us(), 0u);
+  EXPECT_EQ(h.read(0x1012, 0), 0x00000100u) << "the default again (unless saved)";
 }
 
 }  // namespace

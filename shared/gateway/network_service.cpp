@@ -53,6 +53,7 @@ uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, ui
   if (next_part) {
     // The client reads the part's first segment now, from the request.
     s.phase_ = kDownload;
+    s.sent_ = 0;
     s.send_segment(true);
     return 0;
   }

@@ -65,7 +65,13 @@ struct NetworkServiceState {
   // and segmented, upload and download, to node server_ (requests on
   // 600h + server_, responses on 580h + server_).
   uint32_t size_;  ///< the object's size: ours (download), the server's (upload; 0xFFFFFFFF while open)
-  uint32_t pos_;   ///< object bytes moved: stored, or acknowledged by the server
+  union {
+    uint32_t pos_;  ///< an upload's object bytes stored
+    /// A download's bytes of the part in hand acknowledged by the server
+    /// (a part is at most a request's data: 8 bits; the object's offset is
+    /// start_ + sent_).
+    uint8_t sent_;
+  };
   union {
     uint32_t deadline_us_;      ///< while it runs: the server's answer is due (kNetSdoTimeoutUs from the last
                                 ///< progress)
@@ -79,7 +85,6 @@ struct NetworkServiceState {
   /// upload segment); kStepNone (no such bits) while nothing is asked.
   uint8_t step_;
   uint8_t toggle_;   ///< 00h or 10h: the next segment's toggle bit
-  uint8_t seg_n_;    ///< data bytes of the download segment awaiting its answer
   bool size_known_;  ///< an upload's size was indicated
 };
 
@@ -148,6 +153,12 @@ class NetworkService : private NetworkServiceState {
   void send_segment(bool in_request);
   /// True when the download goes in its initiate (1..4 bytes).
   bool expedited() const;
+  /// True when the download part in hand is the object's last.
+  bool last_part() const { return request_end() == size_; }
+  /// The bytes of the download segment after the part's first sent_:
+  /// 7, or fewer at the part's end (a part before the last ends at a
+  /// segment boundary).
+  uint8_t segment_bytes() const;
   /// A frame from the server: the next step, kSdoOk, or the code to abort with.
   canopen::SdoAbort on_response(const CanFrame& f);
   /// Sends the abort frame `code` and ends the transfer with it.

@@ -23,7 +23,7 @@ using modbus::NetService;
 void NetworkService::send_mux(uint8_t cmd, uint32_t value) {
   uint8_t bytes[7];
   sdo_mux_bytes(bytes, index_, sub_, value);
-  send_sdo(sink_, cmd, bytes, 7, static_cast<uint16_t>(0x600u + server_));
+  send_sdo(node_.sink(), cmd, bytes, 7, static_cast<uint16_t>(0x600u + server_));
 }
 
 void NetworkService::abort(SdoAbort code) {
@@ -78,7 +78,7 @@ void NetworkService::send_segment(bool in_request) {
   // another frame over it.
   if (!in_request && !slave_.answer_pending()) return abort(kAbortGeneral);
   step_ = 0x20;
-  send_sdo(sink_, segment_command(toggle_, n, last && sent_ + n == count_),
+  send_sdo(node_.sink(), segment_command(toggle_, n, last && sent_ + n == count_),
            slave_.response_pdu() + modbus::net::kSizedHeaderBytes + sent_, n,
            static_cast<uint16_t>(0x600u + server_));
 }
@@ -158,7 +158,8 @@ SdoAbort NetworkService::on_response(const CanFrame& f) {
   }
   // An upload asks for its next segment.
   step_ = 0x00;
-  send_sdo(sink_, static_cast<uint8_t>(0x60u | toggle_), nullptr, 0, static_cast<uint16_t>(0x600u + server_));
+  send_sdo(node_.sink(), static_cast<uint8_t>(0x60u | toggle_), nullptr, 0,
+           static_cast<uint16_t>(0x600u + server_));
   return kSdoOk;
 }
 

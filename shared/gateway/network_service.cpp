@@ -26,12 +26,12 @@ uint32_t min32(uint32_t a, uint32_t b) {
 }  // namespace
 
 NetworkService::NetworkService(Node& node, ObjectDictionary& od, modbus::SlaveCore& slave,
-                               const CanSink& sink, const uint8_t* enabled)
+                               const uint32_t& now_us, const uint8_t* enabled)
     : NetworkServiceState(),
       node_(node),
       od_(od),
       slave_(slave),
-      sink_(sink),
+      now_us_(now_us),
       enabled_(enabled),
       handler_{&NetworkService::handle, this} {}
 
@@ -95,7 +95,7 @@ uint16_t NetworkService::nmt(uint8_t* pdu, const NetMessage& m) {
   if (target != node_.node_id()) {
     // CiA 301 NMT node control: COB-ID 000h, command, node id (0: all).
     const uint8_t frame[2] = {static_cast<uint8_t>(command), target};
-    send_frame(sink_, 0x000, 2, frame);
+    send_frame(node_.sink(), 0x000, 2, frame);
   }
   if (target == 0u || target == node_.node_id()) node_.local_nmt(command, now_us_);
   return length;
@@ -198,7 +198,6 @@ uint16_t NetworkService::answer_window(uint8_t* pdu, uint32_t size) {
 // ---- driving ------------------------------------------------------------------
 
 void NetworkService::on_can_frame(const CanFrame& f, uint32_t now_us) {
-  now_us_ = now_us;
   view_.on_frame(f, now_us);
   if (phase_ < kUpload || f.id != 0x580u + server_ || f.rtr() || f.extended() || f.dlc != 8u) return;
   // 80h is the server's abort in every step.
@@ -208,7 +207,6 @@ void NetworkService::on_can_frame(const CanFrame& f, uint32_t now_us) {
 }
 
 void NetworkService::process(uint32_t now_us) {
-  now_us_ = now_us;
   if (phase_ >= kUpload && time_reached(now_us, deadline_us_)) abort(kAbortTimeout);
 }
 

@@ -58,7 +58,6 @@ struct NetworkServiceState {
   /// bytes [start_, start_ + count_) of the object.
   uint16_t start_;
   uint8_t count_;  ///< at most a response's data (net::kMaxSdoData)
-  uint32_t now_us_;
   Phase phase_;
 
   // The SDO client end of a remote transfer (network_sdo.cpp): expedited
@@ -90,18 +89,18 @@ struct NetworkServiceState {
 
 class NetworkService : private NetworkServiceState {
  public:
-  /// All borrowed, outliving the service. `enabled` is the OD switch
+  /// All borrowed, outliving the service; frames go out through the
+  /// node's sink. `now_us` is the owner's time of the frame or call being
+  /// handled (the slave runs requests from inside its process() and
+  /// on_char(): the owner sets it before them). `enabled` is the OD switch
   /// (2000h/10): 0 answers every request with exception 01.
   NetworkService(canopen::Node& node, canopen::ObjectDictionary& od, modbus::SlaveCore& slave,
-                 const CanSink& sink, const uint8_t* enabled);
+                 const uint32_t& now_us, const uint8_t* enabled);
 
   /// Connects the service to the slave (the slave answers exception 01
   /// before). Call once, after construction.
   void attach() { slave_.set_net_handler(&handler_); }
 
-  /// The time of the call that may run a request next (the slave runs
-  /// requests from inside its process() and on_char()).
-  void set_now(uint32_t now_us) { now_us_ = now_us; }
   /// Every frame the node receives (heartbeats for the view, SDO responses).
   void on_can_frame(const CanFrame& f, uint32_t now_us);
   /// Timeouts and answers due: call with every Gateway::process().
@@ -171,7 +170,7 @@ class NetworkService : private NetworkServiceState {
   canopen::Node& node_;
   canopen::ObjectDictionary& od_;
   modbus::SlaveCore& slave_;
-  CanSink sink_;
+  const uint32_t& now_us_;  ///< the owner's clock (one clock for the device)
   const uint8_t* enabled_;
   modbus::NetRequestHandler handler_;
 };

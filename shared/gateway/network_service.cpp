@@ -62,7 +62,7 @@ uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, ui
 }
 
 uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, const NetMessage& m, SdoAbort ended) {
-  if (m.service == NetService::kNmt) return nmt(pdu, m);
+  if (m.service == NetService::kNmt) return nmt(m);
   if (m.service == NetService::kNetworkView) return list_view(pdu, capacity, m.node_id);
   const bool download = m.service == NetService::kSdoDownload;
   SdoAbort code = kSdoOk;
@@ -80,23 +80,22 @@ uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, const NetMe
     return local_upload(pdu, capacity, m);
   }
   if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
-  return modbus::answer_net_request(pdu, false, 0, 0);  // a download's: the request's header and size
+  return modbus::net::kDownloadAnswerBytes;
 }
 
 // ---- immediate services ----------------------------------------------------
 
-uint16_t NetworkService::nmt(uint8_t* pdu, const NetMessage& m) {
+uint16_t NetworkService::nmt(const NetMessage& m) {
   const NmtCommand command = static_cast<NmtCommand>(modbus::net_nmt_command(m));
   const uint8_t target = m.node_id;
-  // The response is the request, in place before a reset of our own node.
-  const uint16_t length = modbus::answer_net_request(pdu, false, 0, 0);
+  // The response is the request, as it stands.
   if (target != node_.node_id()) {
     // CiA 301 NMT node control: COB-ID 000h, command, node id (0: all).
     const uint8_t frame[2] = {static_cast<uint8_t>(command), target};
     send_frame(node_.sink(), 0x000, 2, frame);
   }
   if (target == 0u || target == node_.node_id()) node_.local_nmt(command, now_us_);
-  return length;
+  return modbus::net::kNmtAnswerBytes;
 }
 
 uint16_t NetworkService::list_view(uint8_t* pdu, uint16_t capacity, uint8_t first) {
@@ -163,8 +162,7 @@ void NetworkService::hold_part() {
   phase_ = kDownloadHeld;
   step_ = kStepNone;  // any frame of the server's now is out of place
   // The part's answer: the request's header and size, still in the buffer.
-  if (slave_.answer_pending())
-    slave_.send_deferred(modbus::answer_net_request(slave_.response_pdu(), false, 0, 0));
+  slave_.send_deferred(modbus::net::kDownloadAnswerBytes);
 }
 
 // An open download that ended between parts leaves its code for the next
@@ -182,7 +180,7 @@ void NetworkService::end(SdoAbort code) {
   // The request is still in the buffer: the answer is built on it.
   slave_.send_deferred(code != kSdoOk ? modbus::build_net_abort(pdu, code)
                        : upload       ? answer_window(pdu, size_)
-                                      : modbus::answer_net_request(pdu, false, 0, 0));
+                                      : modbus::net::kDownloadAnswerBytes);
 }
 
 void NetworkService::set_window(uint16_t capacity, uint16_t wanted) {

@@ -121,7 +121,7 @@ class NetworkService : private NetworkServiceState {
   static uint16_t handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, uint16_t capacity);
   /// `ended`: how the download open before this request ended (kSdoOk: none).
   uint16_t on_request(uint8_t* pdu, uint16_t capacity, const modbus::NetMessage& m, canopen::SdoAbort ended);
-  uint16_t nmt(uint8_t* pdu, const modbus::NetMessage& m);
+  uint16_t nmt(const modbus::NetMessage& m);
   /// The network view's entries from node `first` on into the response.
   uint16_t list_view(uint8_t* pdu, uint16_t capacity, uint8_t first);
   /// The gateway's own node: the response (or the abort) in `pdu`.

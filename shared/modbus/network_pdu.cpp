@@ -102,7 +102,7 @@ bool parse_sdo_download(const uint8_t* p, uint16_t length, NetMessage& m) {
 
 bool parse_net_request(const uint8_t* pdu, uint16_t pdu_length, NetMessage& out) {
   out = NetMessage{};
-  if (pdu_length < net::kHeaderBytes || !is_net_pdu(pdu, pdu_length)) return false;
+  if (pdu_length < net::kHeaderBytes) return false;
   if ((pdu[2] & net::kReservedControlBits) != 0u || pdu[3] != 0u) return false;
   if (!service_of(pdu[2], out.service)) return false;
   decode_header(pdu, out);

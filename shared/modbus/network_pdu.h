@@ -113,7 +113,9 @@ inline bool is_net_nmt_pdu(const uint8_t* pdu, uint16_t pdu_length) {
 
 // ---- Slave side ---------------------------------------------------------
 
-/// Parses a request PDU (FC first, `pdu_length` bytes). False: malformed,
+/// Parses a request PDU (FC first, `pdu_length` bytes) that is a 2Bh/0Dh
+/// one (the slave hands the handler no other: its FC and MEI type are not
+/// checked again). False: malformed,
 /// answer exception 03 (wrong length for the service, reserved bits or bytes
 /// not 0, a node id out of range, an NMT command CiA 301 does not define,
 /// fields a service does not use not 0, a download part longer than its

@@ -35,12 +35,14 @@ NetworkService::NetworkService(Node& node, ObjectDictionary& od, modbus::SlaveCo
 
 uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, uint16_t capacity) {
   NetworkService& s = *static_cast<NetworkService*>(ctx);
-  if (s.enabled_ != nullptr && *s.enabled_ == 0u)
-    return modbus::build_net_exception(pdu, Exception::kIllegalFunction);
+  // A request refused is refused at one place: switched off (2000h/10),
+  // malformed, or while a remote transfer runs.
   NetMessage m{};
-  if (!modbus::parse_net_request(pdu, pdu_length, m))
-    return modbus::build_net_exception(pdu, Exception::kIllegalDataValue);
-  if (s.transfer_running()) return modbus::build_net_exception(pdu, Exception::kServerDeviceBusy);
+  const Exception refused = s.enabled_ != nullptr && *s.enabled_ == 0u       ? Exception::kIllegalFunction
+                            : !modbus::parse_net_request(pdu, pdu_length, m) ? Exception::kIllegalDataValue
+                            : s.transfer_running()                           ? Exception::kServerDeviceBusy
+                                                                             : Exception::kNone;
+  if (refused != Exception::kNone) return modbus::build_net_exception(pdu, refused);
   const bool next_part = s.phase_ == kDownloadHeld && s.continues_download(m);
   if (s.phase_ == kDownloadHeld && !next_part) {
     s.abort(kAbortGeneral);  // the master moved on
@@ -86,7 +88,7 @@ uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, const NetMe
 // ---- immediate services ----------------------------------------------------
 
 uint16_t NetworkService::nmt(const NetMessage& m) {
-  const NmtCommand command = static_cast<NmtCommand>(modbus::net_nmt_command(m));
+  const NmtCommand command = static_cast<NmtCommand>(m.data[0]);  // parsed: one byte, a CiA 301 command
   const uint8_t target = m.node_id;
   // The response is the request, as it stands.
   if (target != node_.node_id()) {

@@ -199,8 +199,11 @@ uint16_t NetworkService::answer_window(uint8_t* pdu, uint32_t size) {
 // ---- driving ------------------------------------------------------------------
 
 void NetworkService::on_can_frame(const CanFrame& f, uint32_t now_us) {
+  // Heartbeats and SDO responses are standard data frames: an RTR (a
+  // guarding request on 700h + n) or an extended frame is neither.
+  if (f.flags != 0u) return;
   view_.on_frame(f, now_us);
-  if (phase_ < kUpload || f.id != 0x580u + server_ || f.rtr() || f.extended() || f.dlc != 8u) return;
+  if (phase_ < kUpload || f.id != 0x580u + server_ || f.dlc != 8u) return;
   // 80h is the server's abort in every step.
   if (f.data[0] == 0x80u) return end(static_cast<SdoAbort>(le32(&f.data[4])));
   const SdoAbort code = on_response(f);

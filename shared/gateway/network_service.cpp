@@ -101,9 +101,9 @@ uint16_t NetworkService::nmt(const NetMessage& m) {
 }
 
 uint16_t NetworkService::list_view(uint8_t* pdu, uint16_t capacity, uint8_t first) {
-  const uint16_t offset = modbus::net::kHeaderBytes;
-  const uint16_t room = static_cast<uint16_t>((capacity - offset) / modbus::net::kViewEntryBytes);
-  uint16_t count = 0;
+  // Entries are written from the header on while a whole one fits.
+  uint8_t* entry = pdu + modbus::net::kHeaderBytes;
+  const uint8_t* const last = pdu + capacity - modbus::net::kViewEntryBytes;
   bool more = false;
   for (uint8_t id = first == 0u ? 1u : first; id <= 127u; ++id) {
     modbus::NetViewEntry e = {id, 0, 0};
@@ -117,14 +117,14 @@ uint16_t NetworkService::list_view(uint8_t* pdu, uint16_t capacity, uint8_t firs
       e.age_ms =
           age_ms > modbus::net::kAgeSaturated ? modbus::net::kAgeSaturated : static_cast<uint16_t>(age_ms);
     }
-    if (count == room) {
+    if (entry > last) {
       more = true;
       break;
     }
-    modbus::put_net_view_entry(pdu + offset + modbus::net::kViewEntryBytes * count, e);
-    ++count;
+    modbus::put_net_view_entry(entry, e);
+    entry += modbus::net::kViewEntryBytes;
   }
-  return modbus::answer_net_request(pdu, more, static_cast<uint16_t>(count * modbus::net::kViewEntryBytes),
+  return modbus::answer_net_request(pdu, more, static_cast<uint16_t>(entry - pdu - modbus::net::kHeaderBytes),
                                     0);
 }
 

@@ -2,7 +2,7 @@
 # Flash and static RAM of the Uno's two gateway images side by side: the
 # station (profile "station", mb2co-gateway.elf) and the network gateway
 # (profile "network": the station plus FC 2Bh / MEI 0Dh, without node/life
-# guarding, FC 08 and 0020h-0023h; mb2co-gateway-network.elf), and what the
+# guarding, FC 08, 0020h-0023h and 1011h; mb2co-gateway-network.elf), and what the
 # part has left next to Optiboot. Budgets: size-budgets.txt; which image for
 # what: docs/gateway-network.md.
 # Usage: firmware/avr/size-with-network.sh   (build dir: build/avr, or MB2CO_AVR_BUILD_DIR)

@@ -116,7 +116,8 @@ class Node : private NodeState {
     service_ranges_ = ranges;
     service_range_count_ = count;
   }
-  CanSink sink() const { return sink_; }
+  /// The frame sink of the node's port, for the device's other services.
+  const CanSink& sink() const { return sink_; }
   /// Node id used from the next reset communication on (1..127). Called
   /// from the reset callback, it names the id of the reset under way
   /// instead (the communication area is restored once more for it, before

@@ -15,7 +15,7 @@ Gateway::Gateway(const GatewayPorts& ports)
       bank_(od_),
       identity_(od_),
       slave_(bank_, &identity_, ports.serial, 1, modbus::rtu_timing(ports.serial_baud)),
-      net_(node_, od_, slave_, ports.can, &values_.x2000_10_networkAccess) {
+      net_(node_, od_, slave_, now_us_, &values_.x2000_10_networkAccess) {
   net_.attach();
   constexpr uint8_t kRanges = sizeof kNetworkServiceRanges / sizeof kNetworkServiceRanges[0];
   static_assert(kRanges <= kMaxServiceRanges, "the node has room for the network service's ranges");
@@ -69,8 +69,7 @@ HookResult GatewayHandlers::run_command(void* gateway, uint16_t, uint8_t, const 
 }
 
 uint8_t Gateway::process(uint32_t now_us, uint8_t raw_buttons) {
-  now_us_ = now_us;
-  net_.set_now(now_us);
+  now_us_ = now_us;  // also the network service's: a request may run from the slave's process()
   // 2003h for Modbus and SDO: the node counts at its resets (start(), an NMT
   // command, a pending reset), each followed by a pass that runs at once.
   values_.x2003_0_storageDamageCount = node_.storage_damage_count();

@@ -141,7 +141,7 @@ inline void Gateway::on_can_frame(const CanFrame& f, uint32_t now_us) {
 }
 
 inline void Gateway::on_serial_byte(uint8_t byte, uint32_t byte_us) {
-  net_.set_now(byte_us);  // a late frame end runs a request from in here
+  now_us_ = byte_us;  // a late frame end runs a network request from in here
   slave_.on_byte(byte, byte_us);
 }
 

@@ -23,7 +23,7 @@ using modbus::NetService;
 void NetworkService::send_mux(uint8_t cmd, uint32_t value) {
   uint8_t bytes[7];
   sdo_mux_bytes(bytes, index_, sub_, value);
-  send_sdo(sink_, cmd, bytes, 7, static_cast<uint16_t>(0x600u + server_));
+  send_sdo(node_.sink(), cmd, bytes, 7, static_cast<uint16_t>(0x600u + server_));
 }
 
 void NetworkService::abort(SdoAbort code) {
@@ -60,19 +60,26 @@ void NetworkService::start_remote(const NetMessage& m) {
   send_mux(expedited_command(0x20, size_), le32(bytes));
 }
 
+uint8_t NetworkService::segment_bytes() const {
+  const uint8_t left = static_cast<uint8_t>(count_ - sent_);
+  return left < kSegmentBytes ? left : kSegmentBytes;
+}
+
 // A segment is sent once; if it is lost the server's silence times out.
+// Counted in the part in hand (8 bits): its bytes are the request's.
 void NetworkService::send_segment(bool in_request) {
-  const uint32_t left = size_ - pos_;
-  seg_n_ = left < kSegmentBytes ? static_cast<uint8_t>(left) : kSegmentBytes;
-  if (pos_ + seg_n_ > request_end()) return hold_part();  // its bytes are in the next part
+  const uint8_t n = segment_bytes();
+  const bool last = last_part();
+  // A part before the last all sent: its successor brings the next bytes
+  // (an empty last part is an empty object's one segment).
+  if (n == 0u && !last) return hold_part();
   // The part's bytes are in the request, in the frame buffer while the
   // request is in hand or its answer pending; gone when the master sent
-  // another frame over it. The part starts at start_ <= pos_ (the open
-  // download's end, continues_download()).
+  // another frame over it.
   if (!in_request && !slave_.answer_pending()) return abort(kAbortGeneral);
   step_ = 0x20;
-  send_sdo(sink_, segment_command(toggle_, seg_n_, left <= kSegmentBytes),
-           slave_.response_pdu() + modbus::net::kSizedHeaderBytes + (pos_ - start_), seg_n_,
+  send_sdo(node_.sink(), segment_command(toggle_, n, last && sent_ + n == count_),
+           slave_.response_pdu() + modbus::net::kSizedHeaderBytes + sent_, n,
            static_cast<uint16_t>(0x600u + server_));
 }
 
@@ -106,15 +113,14 @@ SdoAbort NetworkService::on_response(const CanFrame& f) {
   switch (scs) {
     case 0x60:  // download initiated
       if (expedited()) {
-        pos_ = size_;
         end(kSdoOk);
       } else {
         send_segment(false);
       }
       return kSdoOk;
     case 0x20:  // download segment taken
-      pos_ += seg_n_;
-      if (pos_ == size_) {
+      sent_ = static_cast<uint8_t>(sent_ + segment_bytes());
+      if (sent_ == count_ && last_part()) {
         end(kSdoOk);
         return kSdoOk;
       }
@@ -126,7 +132,6 @@ SdoAbort NetworkService::on_response(const CanFrame& f) {
         const uint8_t n = expedited_size(cmd);
         store(0, &f.data[4], n);
         size_ = n;
-        pos_ = n;
         end(kSdoOk);
         return kSdoOk;
       }
@@ -153,7 +158,8 @@ SdoAbort NetworkService::on_response(const CanFrame& f) {
   }
   // An upload asks for its next segment.
   step_ = 0x00;
-  send_sdo(sink_, static_cast<uint8_t>(0x60u | toggle_), nullptr, 0, static_cast<uint16_t>(0x600u + server_));
+  send_sdo(node_.sink(), static_cast<uint8_t>(0x60u | toggle_), nullptr, 0,
+           static_cast<uint16_t>(0x600u + server_));
   return kSdoOk;
 }
 

@@ -4,8 +4,6 @@
 // waits at the part's end, a segment boundary, until the next part).
 #include "profiles/profile.h"
 #if MB2CO_CONFIG_NETWORK  // else the image leaves the service out (network_slot.h)
-#include <string.h>
-
 #include "canopen/frame_out.h"
 #include "gateway/network_service.h"
 
@@ -26,23 +24,25 @@ uint32_t min32(uint32_t a, uint32_t b) {
 }  // namespace
 
 NetworkService::NetworkService(Node& node, ObjectDictionary& od, modbus::SlaveCore& slave,
-                               const CanSink& sink, const uint8_t* enabled)
+                               const uint32_t& now_us, const uint8_t* enabled)
     : NetworkServiceState(),
       node_(node),
       od_(od),
       slave_(slave),
-      sink_(sink),
+      now_us_(now_us),
       enabled_(enabled),
       handler_{&NetworkService::handle, this} {}
 
 uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, uint16_t capacity) {
   NetworkService& s = *static_cast<NetworkService*>(ctx);
-  if (s.enabled_ != nullptr && *s.enabled_ == 0u)
-    return modbus::build_net_exception(pdu, Exception::kIllegalFunction);
+  // A request refused is refused at one place: switched off (2000h/10),
+  // malformed, or while a remote transfer runs.
   NetMessage m{};
-  if (!modbus::parse_net_request(pdu, pdu_length, m))
-    return modbus::build_net_exception(pdu, Exception::kIllegalDataValue);
-  if (s.transfer_running()) return modbus::build_net_exception(pdu, Exception::kServerDeviceBusy);
+  const Exception refused = s.enabled_ != nullptr && *s.enabled_ == 0u       ? Exception::kIllegalFunction
+                            : !modbus::parse_net_request(pdu, pdu_length, m) ? Exception::kIllegalDataValue
+                            : s.transfer_running()                           ? Exception::kServerDeviceBusy
+                                                                             : Exception::kNone;
+  if (refused != Exception::kNone) return modbus::build_net_exception(pdu, refused);
   const bool next_part = s.phase_ == kDownloadHeld && s.continues_download(m);
   if (s.phase_ == kDownloadHeld && !next_part) {
     s.abort(kAbortGeneral);  // the master moved on
@@ -53,6 +53,7 @@ uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, ui
   if (next_part) {
     // The client reads the part's first segment now, from the request.
     s.phase_ = kDownload;
+    s.sent_ = 0;
     s.send_segment(true);
     return 0;
   }
@@ -63,7 +64,7 @@ uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, ui
 }
 
 uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, const NetMessage& m, SdoAbort ended) {
-  if (m.service == NetService::kNmt) return nmt(pdu, m);
+  if (m.service == NetService::kNmt) return nmt(m);
   if (m.service == NetService::kNetworkView) return list_view(pdu, capacity, m.node_id);
   const bool download = m.service == NetService::kSdoDownload;
   SdoAbort code = kSdoOk;
@@ -81,29 +82,28 @@ uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, const NetMe
     return local_upload(pdu, capacity, m);
   }
   if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
-  return modbus::answer_net_request(pdu, false, 0, 0);  // a download's: the request's header and size
+  return modbus::net::kDownloadAnswerBytes;
 }
 
 // ---- immediate services ----------------------------------------------------
 
-uint16_t NetworkService::nmt(uint8_t* pdu, const NetMessage& m) {
-  const NmtCommand command = static_cast<NmtCommand>(modbus::net_nmt_command(m));
+uint16_t NetworkService::nmt(const NetMessage& m) {
+  const NmtCommand command = static_cast<NmtCommand>(m.data[0]);  // parsed: one byte, a CiA 301 command
   const uint8_t target = m.node_id;
-  // The response is the request, in place before a reset of our own node.
-  const uint16_t length = modbus::answer_net_request(pdu, false, 0, 0);
+  // The response is the request, as it stands.
   if (target != node_.node_id()) {
     // CiA 301 NMT node control: COB-ID 000h, command, node id (0: all).
     const uint8_t frame[2] = {static_cast<uint8_t>(command), target};
-    send_frame(sink_, 0x000, 2, frame);
+    send_frame(node_.sink(), 0x000, 2, frame);
   }
   if (target == 0u || target == node_.node_id()) node_.local_nmt(command, now_us_);
-  return length;
+  return modbus::net::kNmtAnswerBytes;
 }
 
 uint16_t NetworkService::list_view(uint8_t* pdu, uint16_t capacity, uint8_t first) {
-  const uint16_t offset = modbus::net::kHeaderBytes;
-  const uint16_t room = static_cast<uint16_t>((capacity - offset) / modbus::net::kViewEntryBytes);
-  uint16_t count = 0;
+  // Entries are written from the header on while a whole one fits.
+  uint8_t* entry = pdu + modbus::net::kHeaderBytes;
+  const uint8_t* const last = pdu + capacity - modbus::net::kViewEntryBytes;
   bool more = false;
   for (uint8_t id = first == 0u ? 1u : first; id <= 127u; ++id) {
     modbus::NetViewEntry e = {id, 0, 0};
@@ -117,14 +117,14 @@ uint16_t NetworkService::list_view(uint8_t* pdu, uint16_t capacity, uint8_t firs
       e.age_ms =
           age_ms > modbus::net::kAgeSaturated ? modbus::net::kAgeSaturated : static_cast<uint16_t>(age_ms);
     }
-    if (count == room) {
+    if (entry > last) {
       more = true;
       break;
     }
-    modbus::put_net_view_entry(pdu + offset + modbus::net::kViewEntryBytes * count, e);
-    ++count;
+    modbus::put_net_view_entry(entry, e);
+    entry += modbus::net::kViewEntryBytes;
   }
-  return modbus::answer_net_request(pdu, more, static_cast<uint16_t>(count * modbus::net::kViewEntryBytes),
+  return modbus::answer_net_request(pdu, more, static_cast<uint16_t>(entry - pdu - modbus::net::kHeaderBytes),
                                     0);
 }
 
@@ -137,7 +137,10 @@ uint16_t NetworkService::local_upload(uint8_t* pdu, uint16_t capacity, const Net
   const SdoAbort code =
       od_.read(m.index, m.sub, pdu + offset, static_cast<uint16_t>(capacity - offset), &size);
   if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
-  if (start_ < size) memmove(pdu + offset, pdu + offset + start_, size - start_);
+  // Forward, byte by byte (no copy routine only this would link): a byte
+  // never lands after its source.
+  uint8_t* window = pdu + offset;
+  for (uint16_t i = start_; i < size; ++i) window[i - start_] = window[i];
   set_window(capacity, m.count);
   return answer_window(pdu, size);
 }
@@ -161,8 +164,7 @@ void NetworkService::hold_part() {
   phase_ = kDownloadHeld;
   step_ = kStepNone;  // any frame of the server's now is out of place
   // The part's answer: the request's header and size, still in the buffer.
-  if (slave_.answer_pending())
-    slave_.send_deferred(modbus::answer_net_request(slave_.response_pdu(), false, 0, 0));
+  slave_.send_deferred(modbus::net::kDownloadAnswerBytes);
 }
 
 // An open download that ended between parts leaves its code for the next
@@ -180,7 +182,7 @@ void NetworkService::end(SdoAbort code) {
   // The request is still in the buffer: the answer is built on it.
   slave_.send_deferred(code != kSdoOk ? modbus::build_net_abort(pdu, code)
                        : upload       ? answer_window(pdu, size_)
-                                      : modbus::answer_net_request(pdu, false, 0, 0));
+                                      : modbus::net::kDownloadAnswerBytes);
 }
 
 void NetworkService::set_window(uint16_t capacity, uint16_t wanted) {
@@ -197,9 +199,11 @@ uint16_t NetworkService::answer_window(uint8_t* pdu, uint32_t size) {
 // ---- driving ------------------------------------------------------------------
 
 void NetworkService::on_can_frame(const CanFrame& f, uint32_t now_us) {
-  now_us_ = now_us;
+  // Heartbeats and SDO responses are standard data frames: an RTR (a
+  // guarding request on 700h + n) or an extended frame is neither.
+  if (f.flags != 0u) return;
   view_.on_frame(f, now_us);
-  if (phase_ < kUpload || f.id != 0x580u + server_ || f.rtr() || f.extended() || f.dlc != 8u) return;
+  if (phase_ < kUpload || f.id != 0x580u + server_ || f.dlc != 8u) return;
   // 80h is the server's abort in every step.
   if (f.data[0] == 0x80u) return end(static_cast<SdoAbort>(le32(&f.data[4])));
   const SdoAbort code = on_response(f);
@@ -207,7 +211,6 @@ void NetworkService::on_can_frame(const CanFrame& f, uint32_t now_us) {
 }
 
 void NetworkService::process(uint32_t now_us) {
-  now_us_ = now_us;
   if (phase_ >= kUpload && time_reached(now_us, deadline_us_)) abort(kAbortTimeout);
 }
 

@@ -58,14 +58,19 @@ struct NetworkServiceState {
   /// bytes [start_, start_ + count_) of the object.
   uint16_t start_;
   uint8_t count_;  ///< at most a response's data (net::kMaxSdoData)
-  uint32_t now_us_;
   Phase phase_;
 
   // The SDO client end of a remote transfer (network_sdo.cpp): expedited
   // and segmented, upload and download, to node server_ (requests on
   // 600h + server_, responses on 580h + server_).
   uint32_t size_;  ///< the object's size: ours (download), the server's (upload; 0xFFFFFFFF while open)
-  uint32_t pos_;   ///< object bytes moved: stored, or acknowledged by the server
+  union {
+    uint32_t pos_;  ///< an upload's object bytes stored
+    /// A download's bytes of the part in hand acknowledged by the server
+    /// (a part is at most a request's data: 8 bits; the object's offset is
+    /// start_ + sent_).
+    uint8_t sent_;
+  };
   union {
     uint32_t deadline_us_;      ///< while it runs: the server's answer is due (kNetSdoTimeoutUs from the last
                                 ///< progress)
@@ -79,24 +84,23 @@ struct NetworkServiceState {
   /// upload segment); kStepNone (no such bits) while nothing is asked.
   uint8_t step_;
   uint8_t toggle_;   ///< 00h or 10h: the next segment's toggle bit
-  uint8_t seg_n_;    ///< data bytes of the download segment awaiting its answer
   bool size_known_;  ///< an upload's size was indicated
 };
 
 class NetworkService : private NetworkServiceState {
  public:
-  /// All borrowed, outliving the service. `enabled` is the OD switch
+  /// All borrowed, outliving the service; frames go out through the
+  /// node's sink. `now_us` is the owner's time of the frame or call being
+  /// handled (the slave runs requests from inside its process() and
+  /// on_char(): the owner sets it before them). `enabled` is the OD switch
   /// (2000h/10): 0 answers every request with exception 01.
   NetworkService(canopen::Node& node, canopen::ObjectDictionary& od, modbus::SlaveCore& slave,
-                 const CanSink& sink, const uint8_t* enabled);
+                 const uint32_t& now_us, const uint8_t* enabled);
 
   /// Connects the service to the slave (the slave answers exception 01
   /// before). Call once, after construction.
   void attach() { slave_.set_net_handler(&handler_); }
 
-  /// The time of the call that may run a request next (the slave runs
-  /// requests from inside its process() and on_char()).
-  void set_now(uint32_t now_us) { now_us_ = now_us; }
   /// Every frame the node receives (heartbeats for the view, SDO responses).
   void on_can_frame(const CanFrame& f, uint32_t now_us);
   /// Timeouts and answers due: call with every Gateway::process().
@@ -117,7 +121,7 @@ class NetworkService : private NetworkServiceState {
   static uint16_t handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, uint16_t capacity);
   /// `ended`: how the download open before this request ended (kSdoOk: none).
   uint16_t on_request(uint8_t* pdu, uint16_t capacity, const modbus::NetMessage& m, canopen::SdoAbort ended);
-  uint16_t nmt(uint8_t* pdu, const modbus::NetMessage& m);
+  uint16_t nmt(const modbus::NetMessage& m);
   /// The network view's entries from node `first` on into the response.
   uint16_t list_view(uint8_t* pdu, uint16_t capacity, uint8_t first);
   /// The gateway's own node: the response (or the abort) in `pdu`.
@@ -148,6 +152,12 @@ class NetworkService : private NetworkServiceState {
   void send_segment(bool in_request);
   /// True when the download goes in its initiate (1..4 bytes).
   bool expedited() const;
+  /// True when the download part in hand is the object's last.
+  bool last_part() const { return request_end() == size_; }
+  /// The bytes of the download segment after the part's first sent_:
+  /// 7, or fewer at the part's end (a part before the last ends at a
+  /// segment boundary).
+  uint8_t segment_bytes() const;
   /// A frame from the server: the next step, kSdoOk, or the code to abort with.
   canopen::SdoAbort on_response(const CanFrame& f);
   /// Sends the abort frame `code` and ends the transfer with it.
@@ -160,7 +170,7 @@ class NetworkService : private NetworkServiceState {
   canopen::Node& node_;
   canopen::ObjectDictionary& od_;
   modbus::SlaveCore& slave_;
-  CanSink sink_;
+  const uint32_t& now_us_;  ///< the owner's clock (one clock for the device)
   const uint8_t* enabled_;
   modbus::NetRequestHandler handler_;
 };

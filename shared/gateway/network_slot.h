@@ -32,10 +32,9 @@ namespace gateway {
 /// (no handler is attached); NetworkService's calls, doing nothing.
 class NetworkSlot {
  public:
-  NetworkSlot(canopen::Node&, canopen::ObjectDictionary&, modbus::SlaveCore&, const CanSink&,
+  NetworkSlot(canopen::Node&, canopen::ObjectDictionary&, modbus::SlaveCore&, const uint32_t&,
               const uint8_t*) {}
   void attach() {}
-  void set_now(uint32_t) {}
   void on_can_frame(const CanFrame&, uint32_t) {}
   void process(uint32_t) {}
   void next_deadline(NextDeadline&) const {}

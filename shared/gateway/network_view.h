@@ -27,11 +27,12 @@ class NetworkView {
     uint8_t state;      ///< its NMT state byte (00h boot-up, 04h, 05h, 7Fh)
   };
 
-  /// A received frame: heartbeats and boot-ups (701h..77Fh, 1 byte, no RTR)
-  /// are recorded, others ignored. A node that does not find room (the
-  /// table is full) is counted in overflows().
+  /// A received standard data frame (the owner drops RTR and extended
+  /// frames: NetworkService::on_can_frame): heartbeats and boot-ups
+  /// (701h..77Fh, 1 byte) are recorded, others ignored. A node that does
+  /// not find room (the table is full) is counted in overflows().
   void on_frame(const CanFrame& f, uint32_t now_us) {
-    if (f.extended() || f.rtr() || f.dlc < 1u || f.id < 0x701u || f.id > 0x77Fu) return;
+    if (f.dlc < 1u || f.id < 0x701u || f.id > 0x77Fu) return;
     const uint8_t id = static_cast<uint8_t>(f.id - 0x700u);
     Entry* slot = nullptr;
     for (Entry& e : entries_) {

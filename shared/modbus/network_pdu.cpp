@@ -102,7 +102,7 @@ bool parse_sdo_download(const uint8_t* p, uint16_t length, NetMessage& m) {
 
 bool parse_net_request(const uint8_t* pdu, uint16_t pdu_length, NetMessage& out) {
   out = NetMessage{};
-  if (pdu_length < net::kHeaderBytes || !is_net_pdu(pdu, pdu_length)) return false;
+  if (pdu_length < net::kHeaderBytes) return false;
   if ((pdu[2] & net::kReservedControlBits) != 0u || pdu[3] != 0u) return false;
   if (!service_of(pdu[2], out.service)) return false;
   decode_header(pdu, out);
@@ -136,13 +136,11 @@ uint16_t net_response_data_offset(NetService service) {
 }
 
 uint16_t answer_net_request(uint8_t* pdu, bool more, uint16_t count, uint32_t size) {
-  NetService service;
-  service_of(pdu[2], service);  // parsed: one of the four
-  if (service == NetService::kNmt) return net::kHeaderBytes + 1u;
-  if (service == NetService::kSdoDownload) return net::kSizedHeaderBytes;
-  pdu[2] = static_cast<uint8_t>(service_bits(service) | (more ? net::kMoreFollows : 0u));
+  // Parsed: an upload (bits 7-5 000) or a view request, more follows 0.
+  if (more) pdu[2] = static_cast<uint8_t>(pdu[2] | net::kMoreFollows);
   put_be16(pdu + 10, count);
-  if (service == NetService::kNetworkView) return static_cast<uint16_t>(net::kHeaderBytes + count);
+  if (pdu[2] >= service_bits(NetService::kNetworkView))
+    return static_cast<uint16_t>(net::kHeaderBytes + count);
   put_be32(pdu + 12, size);
   return static_cast<uint16_t>(net::kSizedHeaderBytes + count);
 }

@@ -54,6 +54,11 @@ constexpr uint16_t kMaxPartBytes = kMaxSdoData / kPartMultiple * kPartMultiple; 
 constexpr uint16_t kViewEntryBytes = 4;
 /// Most view entries in one response.
 constexpr uint16_t kMaxViewEntries = (kMaxPduBytes - kHeaderBytes) / kViewEntryBytes;  // 60
+/// The normal response to a download part: the request's header and object
+/// size as they stand (the data dropped).
+constexpr uint16_t kDownloadAnswerBytes = kSizedHeaderBytes;
+/// The normal response to an NMT request: the request itself.
+constexpr uint16_t kNmtAnswerBytes = kHeaderBytes + 1u;
 /// The exception response carrying an SDO abort: AB 04 0D + 4 bytes.
 constexpr uint16_t kAbortExceptionBytes = 7;
 /// Heartbeat age when it does not fit 16 bits (65.535 s or more).
@@ -108,7 +113,9 @@ inline bool is_net_nmt_pdu(const uint8_t* pdu, uint16_t pdu_length) {
 
 // ---- Slave side ---------------------------------------------------------
 
-/// Parses a request PDU (FC first, `pdu_length` bytes). False: malformed,
+/// Parses a request PDU (FC first, `pdu_length` bytes) that is a 2Bh/0Dh
+/// one (the slave hands the handler no other: its FC and MEI type are not
+/// checked again). False: malformed,
 /// answer exception 03 (wrong length for the service, reserved bits or bytes
 /// not 0, a node id out of range, an NMT command CiA 301 does not define,
 /// fields a service does not use not 0, a download part longer than its
@@ -122,13 +129,13 @@ bool parse_net_request(const uint8_t* pdu, uint16_t pdu_length, NetMessage& out)
 uint16_t build_net_response(uint8_t* pdu, uint16_t capacity, const NetMessage& m);
 /// Where the data of a response of `service` starts in the PDU.
 uint16_t net_response_data_offset(NetService service);
-/// Turns the request parsed from `pdu` into its normal response in place
-/// and returns its length: the request's header stays as it is (service,
-/// node id, index, subindex, starting address echoed). An upload or view
-/// response gets `more` and `count`, an upload's also the object `size`;
-/// their `count` data bytes must already be at net_response_data_offset().
-/// A download's and an NMT response are the request's header (and size,
-/// command) unchanged: the arguments are not used.
+/// Turns the upload or network view request parsed from `pdu` into its
+/// normal response in place and returns its length: the request's header
+/// stays as it is (service, node id, index, subindex, starting address
+/// echoed), with `more` and `count`, an upload's also the object `size`;
+/// the `count` data bytes must already be at net_response_data_offset().
+/// (A download's and an NMT response are the request as it stands:
+/// net::kDownloadAnswerBytes, net::kNmtAnswerBytes.)
 uint16_t answer_net_request(uint8_t* pdu, bool more, uint16_t count, uint32_t size);
 /// Writes the exception response `code` (2 bytes).
 uint16_t build_net_exception(uint8_t* pdu, Exception code);

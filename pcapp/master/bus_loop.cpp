@@ -10,7 +10,7 @@ namespace master {
 
 Status BusLoop::open(const char* ifname) {
   port::catch_stop_signals();
-  return port_.open(ifname);
+  return port_.open(ifname, linux_port::SocketCanPort::kDefaultRcvbufBytes, linux_port::IoPath::kRing);
 }
 
 bool BusLoop::add(BusService* service) {
@@ -70,6 +70,7 @@ void BusLoop::pass(uint32_t end) {
     // rest of the wait, if no frame came, is a precise poll() next pass.
     got = port_.receive_within(frames, batch, wait_us == 0 ? 0 : wait_us - kTimerSlackUs);
   } else {
+    port_.flush();  // what the last pass staged goes before the poll, not after it
     got = wait_polling(wait_us) ? port_.receive(frames, batch) : 0;
   }
   // A signal that came between two waits only set the flag: read it here,
@@ -97,7 +98,9 @@ void BusLoop::pass(uint32_t end) {
     from += counts_[i];
   }
   for (int i = 0; i < count_; ++i) services_[i]->process(now, out);
-  port_.flush();  // what the pass queued, in order, kBatch frames per call
+  // What the pass queued, in order: sent with the next pass's wait (one
+  // io_uring_enter), or now (sendmmsg, kBatch frames per call).
+  port_.flush_at_next_receive();
 }
 
 bool BusLoop::wait_polling(uint32_t wait_us) {

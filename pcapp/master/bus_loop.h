@@ -4,7 +4,8 @@
 // wake-up: an idle master costs nothing). Frames come in batches
 // (recvmmsg) with their kernel receive times, which are also the pass's
 // time when there are any (no clock read); what the services send is
-// queued and goes out in batches (sendmmsg) at the end of the pass.
+// queued and goes out in batches (sendmmsg) at the end of the pass, or,
+// where the port has io_uring, in the next pass's wait: one system call.
 #pragma once
 #include <poll.h>
 #include <stdint.h>
@@ -74,8 +75,9 @@ class BusLoop {
     const uint32_t end = now_ + limit_us;
     for (;;) {
       pass(end);
-      if (done()) return true;
-      if (interrupted_ || time_reached(now_, end)) return false;
+      // What the last pass left for the next wait goes now: there is none.
+      if (done()) return port_.flush(), true;
+      if (interrupted_ || time_reached(now_, end)) return port_.flush(), false;
     }
   }
   /// Sends one frame now (NMT, SYNC by hand), after what a pass left

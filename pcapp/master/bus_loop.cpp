@@ -65,7 +65,8 @@ void BusLoop::pass(uint32_t end) {
   size_t got = 0;
   if (watcher_count_ == 0 && (wait_us == 0 || wait_us > 2 * kTimerSlackUs)) {
     // Wait and read in one system call (a segmented transfer's round trip:
-    // this receive and the request's send, nothing else). The socket's
+    // this receive and the request's send, nothing else; on io_uring the
+    // send that the last pass staged is in this call too). The socket's
     // timeout counts in jiffies: it is set kTimerSlackUs short, and the
     // rest of the wait, if no frame came, is a precise poll() next pass.
     got = port_.receive_within(frames, batch, wait_us == 0 ? 0 : wait_us - kTimerSlackUs);

@@ -98,7 +98,8 @@ class BusLoop {
   /// One wait until the earliest deadline (or `end`) that reads the frames
   /// too, then frames in, every service's process(), and what they queued
   /// out. System calls of a pass that hears one frame and answers it: the
-  /// wait-and-receive and one send; with watchers, a poll() more.
+  /// wait-and-receive and one send, or on the port's io_uring path both in
+  /// one (the send goes with the next pass's wait); with watchers, a poll() more.
   void pass(uint32_t end);
   /// poll() of the CAN socket and the watchers' descriptors (counts_ says
   /// how many each added), precise to the µs timer; true when frames wait.

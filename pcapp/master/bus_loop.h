@@ -75,9 +75,11 @@ class BusLoop {
     const uint32_t end = now_ + limit_us;
     for (;;) {
       pass(end);
-      // What the last pass left for the next wait goes now: there is none.
-      if (done()) return port_.flush(), true;
-      if (interrupted_ || time_reached(now_, end)) return port_.flush(), false;
+      const bool finished = done();
+      if (finished || interrupted_ || time_reached(now_, end)) {
+        port_.flush();  // what the last pass left for the next wait: there is none
+        return finished;
+      }
     }
   }
   /// Sends one frame now (NMT, SYNC by hand), after what a pass left

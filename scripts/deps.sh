@@ -9,7 +9,7 @@ MB2CO_PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev valgrind
   gcc-avr avr-libc binutils-avr arduino-core-avr avrdude arduino-builder
   simavr libsimavr-dev libelf-dev clang-tidy clang-tools clang clang-format libclang-rt-14-dev
-  libmodbus-dev mbpoll python3-pymodbus python3-serial-asyncio
+  libmodbus-dev mbpoll python3-pymodbus python3-serial-asyncio liburing-dev
   qt6-base-dev qt6-serialport-dev
   user-mode-linux can-utils python3-can iproute2 kmod
   make g++ python3  # node-gyp, for the npm peer's native modules

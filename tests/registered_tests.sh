@@ -10,7 +10,7 @@ for name in vcan.socketcan_port node.ring node.network node.wide_types load.bus_
             master.via_modbus uno.network \
             node.tcp_network master.via_modbus_tcp node.pymodbus_tcp pcapp.e2e.tcp_station pcapp.e2e.remote_latency_common_clock \
             master.serve master.serve_npm \
-            node.trace_can node.ring_ids node.sdo_flood uno.student_line live.uno_chain3 master.bounds master.bursts \
+            node.trace_can node.ring_ids node.sdo_flood uno.student_line live.uno_chain3 master.bounds master.bursts master.bursts_calls \
             peers.npm_client_vs_node peers.npm_client_vs_npm_server peers.npm_listen_nmt_sync \
             timing.avr_compile.serial_segment \
             peers.master_vs_npm_server peers.block_by_hand labs.doc vcan.interactive_shell live.serial_operator \

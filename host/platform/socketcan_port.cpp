@@ -6,11 +6,14 @@
 #include <linux/can/raw.h>
 #include <net/if.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
 #include <sys/uio.h>
 #include <time.h>
 #include <unistd.h>
+
+#include "platform/socketcan_ring.h"
 
 namespace mb2co {
 namespace linux_port {
@@ -84,8 +87,10 @@ SocketCanPort::SocketCanPort()
       tx_iov_{},
       tx_msgs_{},
       counters_{},
+      ring_{},
       ifname_{},
-      error_{} {
+      error_{},
+      io_note_{} {
   for (size_t i = 0; i < kBatch; ++i) {
     rx_iov_[i] = iovec{&rx_kernel_[i], sizeof rx_kernel_[i]};
     rx_msgs_[i].msg_hdr.msg_iov = &rx_iov_[i];
@@ -103,6 +108,9 @@ SocketCanPort::~SocketCanPort() {
 }
 
 void SocketCanPort::close() {
+  if (ring_ && ring_->staged() != 0) ring_->submit(0);
+  ring_.reset();  // before the socket: its receive is cancelled first
+  io_note_[0] = '\0';
   if (fd_ >= 0) ::close(fd_);
   fd_ = -1;
   rcvbuf_bytes_ = 0;
@@ -128,7 +136,11 @@ void SocketCanPort::note(const char* what, int err) {
   describe(error_, sizeof error_, what, err);
 }
 
-Status SocketCanPort::open(const char* ifname, int rcvbuf_bytes) {
+int SocketCanPort::fd() const {
+  return ring_ ? ring_->fd() : fd_;
+}
+
+Status SocketCanPort::open(const char* ifname, int rcvbuf_bytes, IoPath wanted) {
   close();
   error_[0] = '\0';
   if (ifname == nullptr || ifname[0] == '\0' || strlen(ifname) >= sizeof ifname_) {
@@ -175,6 +187,20 @@ Status SocketCanPort::open(const char* ifname, int rcvbuf_bytes) {
   setsockopt(fd, SOL_SOCKET, SO_TIMESTAMP, &on, sizeof on);
   setsockopt(fd, SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof on);
   fd_ = fd;
+  const char* off = getenv("MB2CO_IO_URING");
+  if (wanted != IoPath::kRing) {
+    describe(io_note_, sizeof io_note_, "recvmmsg/sendmmsg", 0);
+  } else if (off != nullptr && strcmp(off, "0") == 0) {
+    describe(io_note_, sizeof io_note_, "recvmmsg/sendmmsg, io_uring off (MB2CO_IO_URING=0)", 0);
+  } else {
+    const char* what = "";
+    int err = 0;
+    ring_ = SocketCanRing::create(fd_, kRxControlBytes, &what, &err);
+    char why[96];
+    snprintf(why, sizeof why, "recvmmsg/sendmmsg, no io_uring: %s", what);
+    describe(io_note_, sizeof io_note_,
+             ring_ ? "io_uring (a pass's sends and its wait in one system call)" : why, ring_ ? 0 : err);
+  }
   return Status::ok();
 }
 
@@ -234,11 +260,13 @@ void SocketCanPort::set_filters_of(void* ctx, const CanIdRange* ranges, uint8_t 
 }
 
 size_t SocketCanPort::receive(TimedCanFrame* out, size_t capacity) {
+  if (ring_) return ring_receive(out, capacity, 0);
   return receive_with(out, capacity, MSG_DONTWAIT);
 }
 
 size_t SocketCanPort::receive_within(TimedCanFrame* out, size_t capacity, uint32_t wait_us) {
   if (fd_ < 0 || capacity == 0) return 0;
+  if (ring_) return ring_receive(out, capacity, wait_us);
   if (wait_us == 0) return receive_with(out, capacity, MSG_DONTWAIT);
   // Waking early costs a pass, waking late misses a deadline: a timeout
   // already set is kept while it is no longer than the wait and at least
@@ -292,37 +320,127 @@ size_t SocketCanPort::receive_with(TimedCanFrame* out, size_t capacity, int flag
   size_t stored = 0;
   for (size_t i = 0; i < static_cast<size_t>(got); ++i) {
     msghdr& hdr = rx_msgs_[i].msg_hdr;
-    TimedCanFrame& slot = out[stored];
-    const bool whole = rx_msgs_[i].msg_len == sizeof(can_frame) && (hdr.msg_flags & MSG_TRUNC) == 0 &&
-                       from_kernel_frame(rx_kernel_[i], slot.frame);
-    if (!whole) {
-      ++counters_.io_errors;
-      hdr.msg_controllen = kRxControlBytes;  // the kernel shortened it to what it wrote
-      continue;
+    if (take(&rx_kernel_[i], rx_msgs_[i].msg_len, (hdr.msg_flags & MSG_TRUNC) != 0, hdr, out[stored],
+             &clocks_read_now)) {
+      ++stored;
     }
-    bool stamped = false;
-    for (cmsghdr* c = CMSG_FIRSTHDR(&hdr); c != nullptr; c = CMSG_NXTHDR(&hdr, c)) {
-      if (c->cmsg_level != SOL_SOCKET) continue;
-      if (c->cmsg_type == SCM_TIMESTAMP) {
-        timeval tv{};
-        memcpy(&tv, CMSG_DATA(c), sizeof tv);
-        slot.rx_time_us =
-            monotonic_of(static_cast<uint64_t>(tv.tv_sec) * 1000000u + static_cast<uint64_t>(tv.tv_usec),
-                         &clocks_read_now);
-        stamped = true;
-      } else if (c->cmsg_type == SO_RXQ_OVFL) {
-        uint32_t overflows = 0;  // the kernel's wrapping drop count for this socket
-        memcpy(&overflows, CMSG_DATA(c), sizeof overflows);
-        counters_.rx_dropped += static_cast<uint32_t>(overflows - last_rx_overflows_);
-        last_rx_overflows_ = overflows;
-      }
-    }
-    if (!stamped) slot.rx_time_us = clock_us(CLOCK_MONOTONIC);  // no SO_TIMESTAMP: the read's time
-    hdr.msg_controllen = kRxControlBytes;
-    ++stored;
+    hdr.msg_controllen = kRxControlBytes;  // the kernel shortened it to what it wrote
   }
   counters_.rx_frames += stored;
   return stored;
+}
+
+bool SocketCanPort::take(const void* payload, size_t len, bool truncated, msghdr& hdr, TimedCanFrame& slot,
+                         bool* clocks_read_now) {
+  can_frame kernel;
+  const bool whole = len == sizeof kernel && !truncated;
+  if (whole) memcpy(&kernel, payload, sizeof kernel);
+  if (!whole || !from_kernel_frame(kernel, slot.frame)) {
+    ++counters_.io_errors;
+    return false;
+  }
+  bool stamped = false;
+  for (cmsghdr* c = CMSG_FIRSTHDR(&hdr); c != nullptr; c = CMSG_NXTHDR(&hdr, c)) {
+    if (c->cmsg_level != SOL_SOCKET) continue;
+    if (c->cmsg_type == SCM_TIMESTAMP) {
+      timeval tv{};
+      memcpy(&tv, CMSG_DATA(c), sizeof tv);
+      slot.rx_time_us = monotonic_of(
+          static_cast<uint64_t>(tv.tv_sec) * 1000000u + static_cast<uint64_t>(tv.tv_usec), clocks_read_now);
+      stamped = true;
+    } else if (c->cmsg_type == SO_RXQ_OVFL) {
+      uint32_t overflows = 0;  // the kernel's wrapping drop count for this socket
+      memcpy(&overflows, CMSG_DATA(c), sizeof overflows);
+      counters_.rx_dropped += static_cast<uint32_t>(overflows - last_rx_overflows_);
+      last_rx_overflows_ = overflows;
+    }
+  }
+  if (!stamped) slot.rx_time_us = clock_us(CLOCK_MONOTONIC);  // no SO_TIMESTAMP: the read's time
+  return true;
+}
+
+/// The ring's completions into a receive's `out`, refused sends collected
+/// (in order) for requeue().
+class SocketCanPort::RingTaker : public RingCompletions {
+ public:
+  RingTaker(SocketCanPort& port, TimedCanFrame* out, size_t capacity)
+      : port_(port), out_(out), capacity_(capacity) {}
+
+  bool on_record(const void* payload, size_t len, bool truncated, msghdr& control) override {
+    if (stored_ == capacity_) return false;
+    if (port_.take(payload, len, truncated, control, out_[stored_], &clocks_read_now_)) ++stored_;
+    return true;
+  }
+  void on_refused(const struct ::can_frame& frame, int err) override {
+    // The first refusal decides for the sends it cancelled after it.
+    if (err != ECANCELED || refusal_ == 0) refusal_ = err;
+    if (refused_ < SocketCanRing::kTxSlots && from_kernel_frame(frame, refused_frames_[refused_])) ++refused_;
+  }
+  void on_receive_error(int err) override {
+    ++port_.counters_.io_errors;
+    port_.note("receive", err);
+  }
+
+  size_t stored() const { return stored_; }
+  /// Hands the refused sends back to the port.
+  void requeue() const {
+    if (refused_ != 0) port_.requeue(refused_frames_, refused_, refusal_);
+  }
+
+ private:
+  SocketCanPort& port_;
+  TimedCanFrame* out_;
+  size_t capacity_;
+  size_t stored_ = 0;
+  bool clocks_read_now_ = false;
+  int refusal_ = 0;
+  size_t refused_ = 0;
+  CanFrame refused_frames_[SocketCanRing::kTxSlots];
+};
+
+size_t SocketCanPort::ring_receive(TimedCanFrame* out, size_t capacity, uint32_t wait_us) {
+  if (capacity == 0) return 0;
+  // Frames already waiting are taken without a system call, unless sends
+  // are staged: they go now, with no wait.
+  if (ring_->staged() != 0 || !ring_->ready()) {
+    const int err = ring_->submit(ring_->ready() ? 0 : wait_us);
+    if (err != 0 && err != EINTR) {
+      ++counters_.io_errors;
+      note("io_uring_enter", err);
+    }
+  }
+  RingTaker taker(*this, out, capacity);
+  ring_->reap(taker);
+  taker.requeue();
+  counters_.rx_frames += taker.stored();
+  return taker.stored();
+}
+
+void SocketCanPort::stage_queued() {
+  // A new submission's sends could overtake the refused ones of the last.
+  if (ring_->in_flight() != 0) return;
+  size_t n = 0;
+  can_frame kernel;
+  while (n < tx_count_ && to_kernel_frame(tx_[n], kernel) && ring_->stage(kernel)) ++n;
+  counters_.tx_frames += n;  // taken back by requeue() for those the kernel refuses
+  memmove(tx_, tx_ + n, (tx_count_ - n) * sizeof tx_[0]);
+  tx_count_ -= n;
+}
+
+void SocketCanPort::requeue(const CanFrame* frames, size_t count, int err) {
+  counters_.tx_frames -= count;
+  if (!queue_full(err)) {
+    count_refused(err, count);  // refused for good (interface down), as flush() drops them
+    return;
+  }
+  // Older than what tx_ holds: in front, in order (they all fit: at most
+  // kTxSlots); the newest that no longer fit are dropped.
+  static_assert(SocketCanRing::kTxSlots <= kQueueFrames, "a submission's refused sends fit the queue");
+  const size_t kept = count + tx_count_ <= kQueueFrames ? tx_count_ : kQueueFrames - count;
+  if (kept < tx_count_) count_refused(err, tx_count_ - kept);
+  memmove(tx_ + count, tx_, kept * sizeof tx_[0]);
+  memcpy(tx_, frames, count * sizeof tx_[0]);
+  tx_count_ = count + kept;
 }
 
 void SocketCanPort::count_refused(int err, uint64_t frames) {
@@ -339,6 +457,9 @@ bool SocketCanPort::send(const CanFrame& frame) {
 }
 
 size_t SocketCanPort::send(const CanFrame* frames, size_t count) {
+  // What flush_at_next_receive() staged goes first (the kernel has taken it
+  // when submit() returns).
+  if (ring_ && ring_->staged() != 0) flush();
   size_t sent = 0;
   while (sent < count) {
     if (fd_ < 0) {
@@ -398,7 +519,28 @@ bool SocketCanPort::queue(const CanFrame& frame) {
   return true;
 }
 
+void SocketCanPort::flush_at_next_receive() {
+  if (ring_) {
+    stage_queued();
+  } else {
+    flush();
+  }
+}
+
 size_t SocketCanPort::flush() {
+  if (ring_) {
+    // The kernel takes the staged frames inside submit(); its refusals are
+    // reaped by the next receive (requeue()).
+    stage_queued();
+    const size_t staged = ring_->staged();
+    if (staged == 0) return 0;
+    const int err = ring_->submit(0);
+    if (err != 0 && err != EINTR) {
+      ++counters_.io_errors;
+      note("io_uring_enter", err);
+    }
+    return staged;
+  }
   if (tx_count_ == 0) return 0;
   if (fd_ < 0) {
     note("not open", 0);

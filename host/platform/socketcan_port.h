@@ -4,6 +4,10 @@
 // which waits for the first frame; the owner polls fd() for POLLIN or waits
 // in receive_within(). Frames go out one call each (send) or queued and
 // sent together (queue/flush: one sendmmsg per kBatch frames).
+// Opened with IoPath::kRing, the same calls go through io_uring instead
+// (socketcan_ring.h): what flush_at_next_receive() left and the wait of
+// the next receive are one system call. recvmmsg/sendmmsg stay the path
+// where the kernel or the build has no io_uring, or MB2CO_IO_URING=0.
 //
 // Kernels without AF_CAN (no vcan) get interfaces from hil/uml/run-with-vcan.sh.
 #pragma once
@@ -13,6 +17,8 @@
 #include <sys/socket.h>
 #include <sys/time.h>
 #include <sys/uio.h>
+
+#include <memory>
 
 #include "canopen/can_frame.h"
 #include "host/status.h"
@@ -63,6 +69,14 @@ bool to_kernel_frame(const CanFrame& in, struct ::can_frame& out);
 /// The kernel's frame as ours. False for error frames and lengths > 8.
 bool from_kernel_frame(const struct ::can_frame& in, CanFrame& out);
 
+class SocketCanRing;
+
+/// How frames move between the port and the kernel.
+enum class IoPath : uint8_t {
+  kCalls,  ///< recvmmsg/sendmmsg (and SO_RCVTIMEO for receive_within's wait)
+  kRing,   ///< io_uring: sends and the wait for a frame in one io_uring_enter
+};
+
 /// Owns one socket. Not copyable; not thread-safe (one owner thread).
 class SocketCanPort {
  public:
@@ -88,13 +102,21 @@ class SocketCanPort {
 
   /// Opens and binds a socket to interface `ifname`, receiving every frame of
   /// others (not our own). Fails when the kernel has no AF_CAN, the interface
-  /// does not exist or is not CAN. Closes a previous one.
-  Status open(const char* ifname, int rcvbuf_bytes = kDefaultRcvbufBytes);
+  /// does not exist or is not CAN. Closes a previous one. `wanted`
+  /// kRing: io_uring when this kernel and build have it and the
+  /// environment does not say MB2CO_IO_URING=0, else kCalls (io_note()
+  /// tells which and why).
+  Status open(const char* ifname, int rcvbuf_bytes = kDefaultRcvbufBytes, IoPath wanted = IoPath::kCalls);
+  /// On kRing, what flush_at_next_receive() staged goes out first.
   void close();
   bool is_open() const { return fd_ >= 0; }
+  IoPath io_path() const { return ring_ ? IoPath::kRing : IoPath::kCalls; }
+  /// One line without newline: the path open() chose and why ("" when closed).
+  const char* io_note() const { return io_note_; }
 
-  /// For poll()/epoll (POLLIN: frames are waiting). -1 when closed.
-  int fd() const { return fd_; }
+  /// For poll()/epoll before a receive() (POLLIN: frames are waiting): the
+  /// socket, or on kRing the ring's descriptor. -1 when closed.
+  int fd() const;
 
   /// The last failure of a call that has no caller to answer: send(),
   /// receive() (each counted in counters()) and the core's filter callback
@@ -141,7 +163,12 @@ class SocketCanPort {
   /// next flush; frames it refuses otherwise (interface down) are dropped
   /// and counted in tx_errors. Returns how many went out.
   size_t flush();
-  /// Frames waiting for flush().
+  /// flush() for an owner that calls receive() or receive_within() next
+  /// (or flush() or close()): on kRing the frames are staged and go out in
+  /// that call's own system call, in order before its wait; a refusal is
+  /// known and handled as flush() would after it. On kCalls: flush().
+  void flush_at_next_receive();
+  /// Frames waiting for flush() (not those staged for the next receive).
   size_t queued() const { return tx_count_; }
 
   /// The port as the core's frame sink; valid while this object lives.
@@ -160,10 +187,25 @@ class SocketCanPort {
   int rcvbuf_bytes() const { return rcvbuf_bytes_; }
 
  private:
+  class RingTaker;
+  friend class RingTaker;
   static bool send_to(void* ctx, const CanFrame& frame);
   static bool queue_to(void* ctx, const CanFrame& frame);
   /// recvmmsg with `flags` into `out`; see receive().
   size_t receive_with(TimedCanFrame* out, size_t capacity, int flags);
+  /// One received record as `slot`: false (counted in io_errors) when it
+  /// is not a whole classic frame. Reads the control messages of `hdr`.
+  bool take(const void* payload, size_t len, bool truncated, msghdr& hdr, TimedCanFrame& slot,
+            bool* clocks_read_now);
+  /// kRing's receive: submits what is staged, waits up to `wait_us` when no
+  /// frame waits, takes what came.
+  size_t ring_receive(TimedCanFrame* out, size_t capacity, uint32_t wait_us);
+  /// Moves tx_'s frames to the ring's next submission, in order, while no
+  /// earlier submission's sends are in flight.
+  void stage_queued();
+  /// Frames the ring had refused, back in front of tx_ in order (the
+  /// queue was full) or dropped and counted (any other refusal).
+  void requeue(const CanFrame* frames, size_t count, int err);
   /// The kernel's receive time (wall clock, µs) on the monotonic clock
   /// (see rx_time_us); `*read_now`: the clocks were read during this
   /// receive call (they are read at most once per call).
@@ -206,8 +248,10 @@ class SocketCanPort {
   iovec tx_iov_[kBatch];
   mmsghdr tx_msgs_[kBatch];
   SocketCanCounters counters_;
+  std::unique_ptr<SocketCanRing> ring_;  ///< kRing: set by open(); the calls above are unused then
   char ifname_[16];
   char error_[160];
+  char io_note_[160];
 };
 
 }  // namespace linux_port

@@ -10,7 +10,7 @@ namespace master {
 
 Status BusLoop::open(const char* ifname) {
   port::catch_stop_signals();
-  return port_.open(ifname);
+  return port_.open(ifname, linux_port::SocketCanPort::kDefaultRcvbufBytes, linux_port::IoPath::kRing);
 }
 
 bool BusLoop::add(BusService* service) {
@@ -65,11 +65,13 @@ void BusLoop::pass(uint32_t end) {
   size_t got = 0;
   if (watcher_count_ == 0 && (wait_us == 0 || wait_us > 2 * kTimerSlackUs)) {
     // Wait and read in one system call (a segmented transfer's round trip:
-    // this receive and the request's send, nothing else). The socket's
+    // this receive and the request's send, nothing else; on io_uring the
+    // send that the last pass staged is in this call too). The socket's
     // timeout counts in jiffies: it is set kTimerSlackUs short, and the
     // rest of the wait, if no frame came, is a precise poll() next pass.
     got = port_.receive_within(frames, batch, wait_us == 0 ? 0 : wait_us - kTimerSlackUs);
   } else {
+    port_.flush();  // what the last pass staged goes before the poll, not after it
     got = wait_polling(wait_us) ? port_.receive(frames, batch) : 0;
   }
   // A signal that came between two waits only set the flag: read it here,
@@ -97,7 +99,9 @@ void BusLoop::pass(uint32_t end) {
     from += counts_[i];
   }
   for (int i = 0; i < count_; ++i) services_[i]->process(now, out);
-  port_.flush();  // what the pass queued, in order, kBatch frames per call
+  // What the pass queued, in order: sent with the next pass's wait (one
+  // io_uring_enter), or now (sendmmsg, kBatch frames per call).
+  port_.flush_at_next_receive();
 }
 
 bool BusLoop::wait_polling(uint32_t wait_us) {

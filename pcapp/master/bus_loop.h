@@ -4,7 +4,8 @@
 // wake-up: an idle master costs nothing). Frames come in batches
 // (recvmmsg) with their kernel receive times, which are also the pass's
 // time when there are any (no clock read); what the services send is
-// queued and goes out in batches (sendmmsg) at the end of the pass.
+// queued and goes out in batches (sendmmsg) at the end of the pass, or,
+// where the port has io_uring, in the next pass's wait: one system call.
 #pragma once
 #include <poll.h>
 #include <stdint.h>
@@ -74,8 +75,11 @@ class BusLoop {
     const uint32_t end = now_ + limit_us;
     for (;;) {
       pass(end);
-      if (done()) return true;
-      if (interrupted_ || time_reached(now_, end)) return false;
+      const bool finished = done();
+      if (finished || interrupted_ || time_reached(now_, end)) {
+        port_.flush();  // what the last pass left for the next wait: there is none
+        return finished;
+      }
     }
   }
   /// Sends one frame now (NMT, SYNC by hand), after what a pass left
@@ -96,7 +100,8 @@ class BusLoop {
   /// One wait until the earliest deadline (or `end`) that reads the frames
   /// too, then frames in, every service's process(), and what they queued
   /// out. System calls of a pass that hears one frame and answers it: the
-  /// wait-and-receive and one send; with watchers, a poll() more.
+  /// wait-and-receive and one send, or on the port's io_uring path both in
+  /// one (the send goes with the next pass's wait); with watchers, a poll() more.
   void pass(uint32_t end);
   /// poll() of the CAN socket and the watchers' descriptors (counts_ says
   /// how many each added), precise to the µs timer; true when frames wait.

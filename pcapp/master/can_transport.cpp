@@ -1,10 +1,18 @@
 #include "can_transport.h"
 
+#include <cstdio>
+
 #include "canopen/master/nmt_master.h"
 #include "sdo_network.h"
 
 namespace mb2co {
 namespace master {
+
+Status CanTransport::open(const Options& o) {
+  Status opened = bus_.open(o.iface.c_str());
+  if (opened && o.verbose) std::fprintf(stderr, "mb2co-master: %s\n", bus_.port().io_note());
+  return opened;
+}
 
 namespace {
 

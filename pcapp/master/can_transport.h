@@ -10,8 +10,8 @@ namespace master {
 
 class CanTransport : public Transport {
  public:
-  /// Opens o.iface (see BusLoop::open).
-  Status open(const Options& o) override { return bus_.open(o.iface.c_str()); }
+  /// Opens o.iface (see BusLoop::open); with -v, tells how its frames move.
+  Status open(const Options& o) override;
 
   std::unique_ptr<TransferNetwork> transfers(const Options& o) override;
   Status nmt(canopen::NmtCommand command, uint8_t node) override;

@@ -116,6 +116,10 @@ cli::Program make_program() {
                       "end the SDO transfers of a node whose heartbeats stop for MS\n"
                       "(05040000h sent at once, not after -t); default 0: off"),
       cli::flag("--json", "one JSON object per line instead of text"),
+      cli::flag("--verbose",
+                "one line on stderr: how the CAN socket moves frames\n"
+                "(io_uring, or recvmmsg/sendmmsg and why)")
+          .with_short('v'),
       cli::file("--eds", "FILE", "the node's EDS: data types for read/write, the entries of dump"),
       cli::file("--via-modbus", "PORT[:SLAVE]|tcp:HOST:PORT",
                 "no CAN interface: SDO and NMT through an mb2co gateway on the\n"
@@ -179,6 +183,7 @@ Status apply_options(const cli::Args& a, Options* o) {
   o->timeout_ms = static_cast<uint32_t>(a.uint("--timeout", o->timeout_ms));
   o->watchdog_ms = static_cast<uint16_t>(a.uint("--watchdog", o->watchdog_ms));
   o->json = a.has("--json");
+  o->verbose = a.has("--verbose");
   o->eds = a.get("--eds", o->eds);
   if (a.has("--via-modbus")) {
     Status s = parse_gateway(a.get("--via-modbus"), o);

@@ -35,6 +35,7 @@ struct Options {
   std::string iface = "can0";  ///< -i IFACE
   uint32_t timeout_ms = 1000;  ///< -t MS: SDO client timeout (CiA 301 leaves it to us)
   bool json = false;           ///< --json: one JSON object per line
+  bool verbose = false;        ///< -v: how the CAN socket moves frames, one line on stderr
   /// --watchdog MS: end the transfers of a node whose heartbeats stop for MS
   /// (heartbeat consumer time for SDO commands; 0: none). Not `watch
   /// --heartbeat`, which is watch's own consumer time.

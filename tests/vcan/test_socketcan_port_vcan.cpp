@@ -11,6 +11,7 @@
 #include <chrono>
 #include <iostream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "can_text.h"
@@ -26,6 +27,7 @@ using mb2co::kCanRangeExact;
 using mb2co::kCanRangeRemote;
 using mb2co::Status;
 using mb2co::linux_port::CanAcceptance;
+using mb2co::linux_port::IoPath;
 using mb2co::linux_port::SocketCanPort;
 using mb2co::linux_port::TimedCanFrame;
 using mb2co::test::candump_frame_field;
@@ -375,14 +377,18 @@ TEST_F(SocketCanVcan, BadFiltersAreRefused) {
   EXPECT_FALSE(port_.set_filters(many.data(), many.size()));
 }
 
-TEST_F(SocketCanVcan, ReceiveOverflowIsCounted) {
+// A flood on a reader that does not read: what its buffers cannot hold is
+// dropped and counted, nothing grows; on kRing the ring's own buffers take
+// their share first.
+void expect_overflow_counted(SocketCanPort& sender, IoPath path) {
   SocketCanPort slow;  // smallest buffer the kernel allows: holds a few frames
-  ASSERT_TRUE(done(slow.open(kBus, 1)));
+  ASSERT_TRUE(done(slow.open(kBus, 1, path)));
+  ASSERT_EQ(slow.io_path(), path) << slow.io_note();
   SocketCanPort witness;  // big buffer: tells when the kernel has delivered the flood
   ASSERT_TRUE(done(witness.open(kBus)));
   std::vector<CanFrame> flood;
   for (uint32_t i = 0; i < 500; ++i) flood.push_back(make_frame(0x100 + (i & 0xFF), 0, 2, "0000"));
-  ASSERT_EQ(port_.send(flood.data(), flood.size()), flood.size()) << port_.last_io_error();
+  ASSERT_EQ(sender.send(flood.data(), flood.size()), flood.size()) << sender.last_io_error();
   // More frames than one softirq run delivers: some are still in flight when
   // send returns. Once the witness has them all, `slow` has had its chance.
   ASSERT_EQ(receive_frames(witness, flood.size()).size(), flood.size());
@@ -390,7 +396,7 @@ TEST_F(SocketCanVcan, ReceiveOverflowIsCounted) {
   // Drain what `slow` kept, then a marker: it carries the kernel's drop count.
   size_t kept = receive_frames(slow, flood.size(), milliseconds(0)).size();
   const CanFrame marker = make_frame(0x7FD, 0, 0);
-  ASSERT_TRUE(port_.send(marker));
+  ASSERT_TRUE(sender.send(marker));
   for (;;) {
     const std::vector<TimedCanFrame> next = receive_frames(slow, 1);
     ASSERT_EQ(next.size(), 1u) << "marker lost";
@@ -400,6 +406,61 @@ TEST_F(SocketCanVcan, ReceiveOverflowIsCounted) {
   EXPECT_GT(slow.counters().rx_dropped, 0u);
   EXPECT_EQ(kept + slow.counters().rx_dropped, flood.size());
   EXPECT_EQ(slow.counters().rx_frames, kept + 1);
+}
+
+TEST_F(SocketCanVcan, ReceiveOverflowIsCounted) {
+  expect_overflow_counted(port_, IoPath::kCalls);
+}
+
+TEST_F(SocketCanVcan, ReceiveOverflowIsCountedOnTheRing) {
+  expect_overflow_counted(port_, IoPath::kRing);
+}
+
+TEST_F(SocketCanVcan, RingTakesAFloodInOrderWhenItReadsAgain) {
+  SocketCanPort ring;
+  ASSERT_TRUE(done(ring.open(kBus, SocketCanPort::kDefaultRcvbufBytes, IoPath::kRing)));
+  ASSERT_EQ(ring.io_path(), IoPath::kRing) << ring.io_note();
+  // Far more than the ring's buffers while it does not read: the socket's
+  // buffer keeps the rest until the receive is armed again.
+  std::vector<CanFrame> flood;
+  char hex[5];
+  for (uint32_t i = 0; i < 1000; ++i) {
+    snprintf(hex, sizeof hex, "%04X", i);
+    flood.push_back(make_frame(0x200 + (i & 0xFF), 0, 2, hex));
+  }
+  ASSERT_EQ(port_.send(flood.data(), flood.size()), flood.size()) << port_.last_io_error();
+  const std::vector<TimedCanFrame> got = receive_frames(ring, flood.size());
+  EXPECT_EQ(texts(got), texts(flood));
+  EXPECT_EQ(ring.counters().rx_dropped, 0u);
+  EXPECT_EQ(ring.counters().io_errors, 0u) << ring.last_io_error();
+}
+
+TEST_F(SocketCanVcan, RingSendsWhatThePassLeftBeforeItsWait) {
+  SocketCanPort ring;
+  ASSERT_TRUE(done(ring.open(kBus, SocketCanPort::kDefaultRcvbufBytes, IoPath::kRing)));
+  ASSERT_EQ(ring.io_path(), IoPath::kRing) << ring.io_note();
+  const std::vector<CanFrame> requests = assorted_frames();
+  const CanFrame answer = make_frame(0x585, 0, 8, "4300100000000000");
+  // The peer answers once it has every request: the ring's wait must have
+  // sent them itself (nothing else of the ring's runs meanwhile).
+  std::vector<TimedCanFrame> heard;
+  std::thread peer([&] {
+    heard = receive_frames(port_, requests.size());
+    port_.send(answer);
+  });
+  for (const CanFrame& f : requests) ASSERT_TRUE(ring.queue(f));
+  ring.flush_at_next_receive();
+  EXPECT_EQ(ring.queued(), 0u);
+  TimedCanFrame reply[SocketCanPort::kBatch];
+  size_t got = 0;
+  const uint64_t deadline = monotonic_us() + 30000000u;
+  while (got == 0 && monotonic_us() < deadline)
+    got = ring.receive_within(reply, SocketCanPort::kBatch, 1000000u);
+  peer.join();
+  EXPECT_EQ(texts(heard), texts(requests));
+  ASSERT_EQ(got, 1u);
+  EXPECT_TRUE(same_frame(reply[0].frame, answer));
+  EXPECT_EQ(ring.counters().tx_frames, requests.size());
 }
 
 TEST(SocketCanTransmit, FullQueueRefusesAndCountsDrops) {
@@ -419,6 +480,31 @@ TEST(SocketCanTransmit, FullQueueRefusesAndCountsDrops) {
   EXPECT_EQ(port.counters().tx_frames, 2u);
   EXPECT_EQ(port.counters().tx_dropped, 5u);
   EXPECT_EQ(port.counters().tx_errors, 0u);
+}
+
+TEST(SocketCanTransmit, RingKeepsWhatAFullQueueRefusedInOrder) {
+  ASSERT_EQ(run_command({"tc", "qdisc", "add", "dev", kSpare, "root", "plug", "limit", "32"}), 0);
+  Cleanup unplug{{"tc", "qdisc", "del", "dev", kSpare, "root"}};
+  SocketCanPort port;
+  ASSERT_TRUE(done(port.open(kSpare, SocketCanPort::kDefaultRcvbufBytes, IoPath::kRing)));
+  ASSERT_EQ(port.io_path(), IoPath::kRing) << port.io_note();
+  const CanFrame frames[] = {make_frame(0x321, 0, 1, "01"), make_frame(0x321, 0, 1, "02"),
+                             make_frame(0x321, 0, 1, "03"), make_frame(0x321, 0, 1, "04"),
+                             make_frame(0x321, 0, 1, "05")};
+  for (const CanFrame& f : frames) ASSERT_TRUE(port.queue(f));
+  port.flush();
+  // The refusals are known once the ring's completions are reaped.
+  TimedCanFrame none[1];
+  EXPECT_EQ(port.receive(none, 1), 0u);
+  // The plug holds two; the third was refused and cancelled the rest: all
+  // three are queued again, oldest first, none dropped.
+  EXPECT_EQ(port.counters().tx_frames, 2u);
+  EXPECT_EQ(port.counters().tx_dropped, 0u);
+  EXPECT_EQ(port.counters().tx_errors, 0u);
+  ASSERT_EQ(port.queued(), 3u);
+  // A send of its own (sendmmsg at once) finds the queue full as well.
+  EXPECT_FALSE(port.send(frames[0]));
+  EXPECT_EQ(port.counters().tx_dropped, 1u);
 }
 
 TEST(SocketCanTransmit, DownInterfaceAndInvalidFramesAreErrors) {

@@ -172,8 +172,9 @@ TEST(UnoCli, NetworkImageIsTheStationBoardWithItsOwnFile) {
     ASSERT_TRUE(m.open(uno.device(), 2000ms)) << m.error();
     // Network view (docs/gateway-network.md): the gateway itself, node 1.
     const Bytes view = m.raw_transaction({0x2B, 0x0D, 0x80, 0, 0, 0, 0, 0, 0, 0, 0, 0});
-    ASSERT_GE(view.size(), 16u) << "no FC 2Bh/0Dh answer";
-    EXPECT_EQ(view[12], 1);
+    // The answer as read: slave address, the 12-byte header, then 4 bytes a node.
+    ASSERT_GE(view.size(), 17u) << "no FC 2Bh/0Dh answer";
+    EXPECT_EQ(view[13], 1) << "the first node listed is the gateway's own";
     EXPECT_EQ(uno.stop(), 0);
   }
   // The station's wiring, whatever the file: the panel's buttons and LEDs.

@@ -5,6 +5,7 @@
 #include "canopen/master/sync_producer.h"
 #include "commands.h"
 #include "exit_codes.h"
+#include "periodic_command.h"
 
 namespace mb2co {
 namespace master {
@@ -90,27 +91,19 @@ int nmt_command(const Options& o, Transport& transport, std::ostream& out, std::
 int sync_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
   if (!transport.bus()) return fail(err, kExitUsage, "sync: " + needs_can_frames("sync"));
   BusLoop& bus = *transport.bus();
-  // Ranges checked by the parser (the table in cli_options.cpp).
-  const uint64_t period_ms = o.args.uint("--period", 0);
-  const uint64_t count = o.args.uint("--count", 1);
-  const uint64_t overflow = o.args.uint("--overflow", 0);
-  uint64_t cob_id = 0x80;
-  if (o.args.has("--cob-id")) {
-    const Status s = parse_number(o.args.get("--cob-id"), 0x7FF, "--cob-id", &cob_id);
-    if (!s) return fail(err, kExitUsage, "sync: " + s.message());
-  }
-  if (count > 1 && period_ms == 0) return fail(err, kExitUsage, "sync: --count above 1 needs --period MS");
+  PeriodicOptions p;
+  if (const int code = read_periodic_options("sync", o, 0x80, &p, err)) return code;
+  const uint64_t overflow = o.args.uint("--overflow", 0);  // range checked by the parser
   if (overflow == 1) return fail(err, kExitUsage, "sync: --overflow 1 is not allowed (CiA 301: 0 or 2..240)");
   if (const int code = open_transport(o, transport, err)) return code;
   canopen::SyncProducer producer;
   // One SYNC alone needs a period too: the producer sends at its start.
-  producer.configure(static_cast<uint32_t>(cob_id), static_cast<uint32_t>(period_ms ? period_ms : 1) * 1000u,
+  producer.configure(static_cast<uint32_t>(p.cob_id),
+                     static_cast<uint32_t>(p.period_ms ? p.period_ms : 1) * 1000u,
                      static_cast<uint8_t>(overflow));
   SyncService service(&producer, &out, o.json);
   bus.add(&service);
-  const auto done = [&] { return service.sent() >= count; };
-  while (!done() && !bus.interrupted()) bus.run_until(done, BusLoop::kLongestRunUs);
-  if (bus.interrupted()) return kExitInterrupted;
+  if (const int code = run_until_done(bus, [&] { return service.sent() >= p.count; })) return code;
   if (producer.send_failures())
     return fail(err, kExitBus,
                 "sync: the CAN interface refused a SYNC: " + std::string(bus.port().last_io_error()));

@@ -9,7 +9,7 @@
 #include "canopen/time_of_day.h"
 #include "commands.h"
 #include "exit_codes.h"
-#include "number_words.h"
+#include "periodic_command.h"
 #include "wall_time.h"
 
 namespace mb2co {
@@ -74,21 +74,14 @@ class TimeService : public BusService {
 int time_command(const Options& o, Transport& transport, std::ostream& out, std::ostream& err) {
   if (!transport.bus()) return fail(err, kExitUsage, "time: " + needs_can_frames("time"));
   BusLoop& bus = *transport.bus();
-  // Ranges checked by the parser (the table in cli_options.cpp).
-  const uint64_t period_ms = o.args.uint("--period", 0);
-  const uint64_t count = o.args.uint("--count", 1);
-  uint64_t cob_id = canopen::kTimeCobIdDefault;
-  if (o.args.has("--cob-id")) {
-    const Status s = parse_number(o.args.get("--cob-id"), 0x7FF, "--cob-id", &cob_id);
-    if (!s) return fail(err, kExitUsage, "time: " + s.message());
-  }
-  if (count > 1 && period_ms == 0) return fail(err, kExitUsage, "time: --count above 1 needs --period MS");
+  PeriodicOptions p;
+  if (const int code = read_periodic_options("time", o, canopen::kTimeCobIdDefault, &p, err)) return code;
   if (const int code = open_transport(o, transport, err)) return code;
-  TimeService service(static_cast<uint16_t>(cob_id), static_cast<uint32_t>(period_ms) * 1000u, &out, o.json);
+  TimeService service(static_cast<uint16_t>(p.cob_id), static_cast<uint32_t>(p.period_ms) * 1000u, &out,
+                      o.json);
   bus.add(&service);
-  const auto done = [&] { return service.sent() >= count || service.stopped(); };
-  while (!done() && !bus.interrupted()) bus.run_until(done, BusLoop::kLongestRunUs);
-  if (bus.interrupted()) return kExitInterrupted;
+  if (const int code = run_until_done(bus, [&] { return service.sent() >= p.count || service.stopped(); }))
+    return code;
   if (service.clock_out_of_range())
     return fail(err, kExitRefused,
                 "time: the host clock is outside what TIME can carry (1984-01-01 to 2163)");

@@ -5,13 +5,46 @@
 namespace mb2co {
 namespace sim {
 
+// push() and pop() are std::push_heap and std::pop_heap as libstdc++
+// writes them (sift up; pop: the hole to a leaf by the earlier child, then
+// the last element up from there), with the key compared inline instead of
+// through a function pointer. The same steps leave the same layout, which
+// matters where two keys are equal (see "Sleeping").
 void EventQueue::push(Heap& heap, const Ev& e) {
   heap.push_back(e);
-  std::push_heap(heap.begin(), heap.end(), later);
+  sift_up(heap, heap.size() - 1, 0, e);
+}
+
+void EventQueue::sift_up(Heap& heap, size_t hole, size_t top, const Ev& e) {
+  const unsigned __int128 k = key(e);
+  while (hole > top) {
+    const size_t parent = (hole - 1) / 2;
+    if (!(key(heap[parent]) > k)) break;
+    heap[hole] = heap[parent];
+    hole = parent;
+  }
+  heap[hole] = e;
 }
 
 void EventQueue::pop(Heap& heap) {
-  std::pop_heap(heap.begin(), heap.end(), later);
+  const size_t n = heap.size() - 1;  // the heap after the root left
+  if (n > 0) {
+    const Ev e = heap[n];
+    size_t hole = 0;
+    size_t child = 0;
+    while (child < (n - 1) / 2) {
+      child = 2 * (child + 1);
+      if (later(heap[child], heap[child - 1])) --child;
+      heap[hole] = heap[child];
+      hole = child;
+    }
+    if ((n & 1) == 0 && child == (n - 2) / 2) {
+      child = 2 * (child + 1);
+      heap[hole] = heap[child - 1];
+      hole = child - 1;
+    }
+    sift_up(heap, hole, 0, e);
+  }
   heap.pop_back();
 }
 

@@ -140,6 +140,8 @@ class EventQueue {
   bool run_sleepers(SimNs t, uint64_t seq);
   static void push(Heap& heap, const Ev& e);
   static void pop(Heap& heap);
+  /// Moves `e` from `hole` up towards `top` to its place by key.
+  static void sift_up(Heap& heap, size_t hole, size_t top, const Ev& e);
   /// Restores the heap order after the root's key grew.
   static void sift_down_root(Heap& heap);
 

@@ -10,6 +10,7 @@ set -uo pipefail
 base=${1:?usage: lab_compare.sh BASE_LAB NEW_LAB [WORK_DIR]}
 new=${2:?usage: lab_compare.sh BASE_LAB NEW_LAB [WORK_DIR]}
 work=${3:-$(mktemp -d)}
+mkdir -p "$work"
 runs=(
   "--scenario run" "--scenario run --firmware fast" "--scenario run --ring --stations 5"
   "--scenario stop2" "--scenario latency --presses 300" "--scenario latency --worst"

@@ -24,7 +24,7 @@ uint32_t min32(uint32_t a, uint32_t b) {
 }  // namespace
 
 NetworkService::NetworkService(Node& node, ObjectDictionary& od, modbus::SlaveCore& slave,
-                               const uint32_t& now_us, const uint8_t* enabled)
+                               const uint32_t& now_us, const uint8_t& enabled)
     : NetworkServiceState(),
       node_(node),
       od_(od),
@@ -38,7 +38,7 @@ uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, ui
   // A request refused is refused at one place: switched off (2000h/10),
   // malformed, or while a remote transfer runs.
   NetMessage m{};
-  const Exception refused = s.enabled_ != nullptr && *s.enabled_ == 0u       ? Exception::kIllegalFunction
+  const Exception refused = s.enabled_ == 0u                                 ? Exception::kIllegalFunction
                             : !modbus::parse_net_request(pdu, pdu_length, m) ? Exception::kIllegalDataValue
                             : s.transfer_running()                           ? Exception::kServerDeviceBusy
                                                                              : Exception::kNone;
@@ -50,6 +50,7 @@ uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, ui
   }
   s.start_ = m.start;
   s.count_ = static_cast<uint8_t>(m.count);  // a download's, in this frame; an upload's: set_window()
+  s.last_part_ = !m.more_follows;
   if (next_part) {
     // The client reads the part's first segment now, from the request.
     s.phase_ = kDownload;
@@ -138,9 +139,13 @@ uint16_t NetworkService::local_upload(uint8_t* pdu, uint16_t capacity, const Net
       od_.read(m.index, m.sub, pdu + offset, static_cast<uint16_t>(capacity - offset), &size);
   if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
   // Forward, byte by byte (no copy routine only this would link): a byte
-  // never lands after its source.
-  uint8_t* window = pdu + offset;
-  for (uint16_t i = start_; i < size; ++i) window[i - start_] = window[i];
+  // never lands after its source; none when the window starts beyond the
+  // object (a pointer that far would wrap on the Uno).
+  uint8_t* to = pdu + offset;
+  const uint8_t* const end = to + size;
+  if (start_ < size) {
+    for (const uint8_t* from = to + start_; from != end; ++from, ++to) *to = *from;
+  }
   set_window(capacity, m.count);
   return answer_window(pdu, size);
 }

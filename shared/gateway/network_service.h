@@ -83,8 +83,14 @@ struct NetworkServiceState {
   /// (60h download initiate, 20h download segment, 40h upload initiate, 00h
   /// upload segment); kStepNone (no such bits) while nothing is asked.
   uint8_t step_;
-  uint8_t toggle_;   ///< 00h or 10h: the next segment's toggle bit
-  bool size_known_;  ///< an upload's size was indicated
+  uint8_t toggle_;  ///< 00h or 10h: the next segment's toggle bit
+  union {
+    bool size_known_;  ///< an upload's size was indicated
+    /// The download part in hand is the object's last: its request's
+    /// more-follows bit is clear (the parse checked that it then ends the
+    /// object, and that a part before the last ends before it).
+    bool last_part_;
+  };
 };
 
 class NetworkService : private NetworkServiceState {
@@ -95,7 +101,7 @@ class NetworkService : private NetworkServiceState {
   /// on_char(): the owner sets it before them). `enabled` is the OD switch
   /// (2000h/10): 0 answers every request with exception 01.
   NetworkService(canopen::Node& node, canopen::ObjectDictionary& od, modbus::SlaveCore& slave,
-                 const uint32_t& now_us, const uint8_t* enabled);
+                 const uint32_t& now_us, const uint8_t& enabled);
 
   /// Connects the service to the slave (the slave answers exception 01
   /// before). Call once, after construction.
@@ -152,14 +158,15 @@ class NetworkService : private NetworkServiceState {
   void send_segment(bool in_request);
   /// True when the download goes in its initiate (1..4 bytes).
   bool expedited() const;
-  /// True when the download part in hand is the object's last.
-  bool last_part() const { return request_end() == size_; }
   /// The bytes of the download segment after the part's first sent_:
   /// 7, or fewer at the part's end (a part before the last ends at a
   /// segment boundary).
   uint8_t segment_bytes() const;
   /// A frame from the server: the next step, kSdoOk, or the code to abort with.
   canopen::SdoAbort on_response(const CanFrame& f);
+  /// The server's next answer is due kNetSdoTimeoutUs from now (the
+  /// request, or progress).
+  void restart_timeout();
   /// Sends the abort frame `code` and ends the transfer with it.
   void abort(canopen::SdoAbort code);
   /// Sends an initiate (or abort) frame: `cmd`, the object, `value`.
@@ -171,7 +178,7 @@ class NetworkService : private NetworkServiceState {
   canopen::ObjectDictionary& od_;
   modbus::SlaveCore& slave_;
   const uint32_t& now_us_;  ///< the owner's clock (one clock for the device)
-  const uint8_t* enabled_;
+  const uint8_t& enabled_;  ///< the OD switch 2000h/10
   modbus::NetRequestHandler handler_;
 };
 

@@ -68,13 +68,13 @@ uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, const NetMe
   if (m.service == NetService::kNmt) return nmt(m);
   if (m.service == NetService::kNetworkView) return list_view(pdu, capacity, m.node_id);
   const bool download = m.service == NetService::kSdoDownload;
+  if (!download) set_window(capacity, m.count);
   SdoAbort code = kSdoOk;
   if (download && m.start != 0u) {
     // A later part with no download open: it continues nothing.
     if (ended == kSdoOk) return modbus::build_net_exception(pdu, Exception::kIllegalDataValue);
     code = ended;
   } else if (m.node_id != node_.node_id()) {
-    if (m.service == NetService::kSdoUpload) set_window(capacity, m.count);
     start_remote(m);
     return 0;  // answered when the transfer ends (end())
   } else if (download) {
@@ -146,8 +146,8 @@ uint16_t NetworkService::local_upload(uint8_t* pdu, uint16_t capacity, const Net
   if (start_ < size) {
     for (const uint8_t* from = to + start_; from != end; ++from, ++to) *to = *from;
   }
-  set_window(capacity, m.count);
-  return answer_window(pdu, size);
+  size_ = size;  // no transfer runs: the answer's object size
+  return answer_window(pdu);
 }
 
 SdoAbort NetworkService::local_download(const NetMessage& m) {
@@ -186,7 +186,7 @@ void NetworkService::end(SdoAbort code) {
   uint8_t* pdu = slave_.response_pdu();
   // The request is still in the buffer: the answer is built on it.
   slave_.send_deferred(code != kSdoOk ? modbus::build_net_abort(pdu, code)
-                       : upload       ? answer_window(pdu, size_)
+                       : upload       ? answer_window(pdu)
                                       : modbus::net::kDownloadAnswerBytes);
 }
 
@@ -195,7 +195,8 @@ void NetworkService::set_window(uint16_t capacity, uint16_t wanted) {
   count_ = static_cast<uint8_t>(wanted == 0u || wanted > room ? room : wanted);  // room <= kMaxSdoData
 }
 
-uint16_t NetworkService::answer_window(uint8_t* pdu, uint32_t size) {
+uint16_t NetworkService::answer_window(uint8_t* pdu) {
+  const uint32_t size = size_;
   const uint32_t end = min32(request_end(), size);
   const uint16_t count = static_cast<uint16_t>(end > start_ ? end - start_ : 0u);
   return modbus::answer_net_request(pdu, static_cast<uint32_t>(start_) + count < size, count, size);

@@ -130,17 +130,19 @@ class NetworkService : private NetworkServiceState {
   uint16_t nmt(const modbus::NetMessage& m);
   /// The network view's entries from node `first` on into the response.
   uint16_t list_view(uint8_t* pdu, uint16_t capacity, uint8_t first);
-  /// The gateway's own node: the response (or the abort) in `pdu`.
+  /// The gateway's own node: the response (or the abort) in `pdu`; the
+  /// window set, size_ becomes the object's (no transfer runs).
   uint16_t local_upload(uint8_t* pdu, uint16_t capacity, const modbus::NetMessage& m);
   canopen::SdoAbort local_download(const modbus::NetMessage& m);
-  /// An upload's window: count_ becomes the bytes wanted from start_ on, as
+  /// An upload's window, set once for every upload request, the own
+  /// node's or a remote one's: count_ becomes the bytes wanted from start_ on, as
   /// many as the request asks for (`wanted`; 0: as many as a response of
   /// `capacity` bytes carries).
   void set_window(uint16_t capacity, uint16_t wanted);
-  /// The upload response in `pdu` for an object of `size` bytes whose
+  /// The upload response in `pdu` for an object of size_ bytes whose
   /// window's bytes are in place after the header and size (at most the
   /// window; fewer at the object's end, none beyond it); its length.
-  uint16_t answer_window(uint8_t* pdu, uint32_t size);
+  uint16_t answer_window(uint8_t* pdu);
   /// True when `m` is the next part of the open download.
   bool continues_download(const modbus::NetMessage& m) const;
   /// The transfer ended with `code` (kSdoOk: done): answered, or between

@@ -92,12 +92,13 @@ uint16_t NetworkService::nmt(const NetMessage& m) {
   const NmtCommand command = static_cast<NmtCommand>(m.data[0]);  // parsed: one byte, a CiA 301 command
   const uint8_t target = m.node_id;
   // The response is the request, as it stands.
-  if (target != node_.node_id()) {
+  const bool own = target == node_.node_id();
+  if (!own) {
     // CiA 301 NMT node control: COB-ID 000h, command, node id (0: all).
     const uint8_t frame[2] = {static_cast<uint8_t>(command), target};
     send_frame(node_.sink(), 0x000, 2, frame);
   }
-  if (target == 0u || target == node_.node_id()) node_.local_nmt(command, now_us_);
+  if (target == 0u || own) node_.local_nmt(command, now_us_);
   return modbus::net::kNmtAnswerBytes;
 }
 

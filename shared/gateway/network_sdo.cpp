@@ -149,12 +149,13 @@ SdoAbort NetworkService::on_response(const CanFrame& f) {
       const uint8_t n = segment_size(cmd);
       // More than announced is the server's error (06070012h); without a
       // size, 32 bits of count are the limit (05040005h).
+      const uint32_t pos = pos_ + n;  // what pos_ becomes
       if (n > size_ - pos_) return size_known_ ? kAbortTooLong : kAbortOutOfMemory;
       store(pos_, &f.data[1], n);
-      pos_ += n;
+      pos_ = pos;
       if (segment_last(cmd)) {
-        if (size_known_ && pos_ != size_) return kAbortTooShort;  // less than announced
-        size_ = pos_;
+        if (size_known_ && pos != size_) return kAbortTooShort;  // less than announced
+        size_ = pos;
         end(kSdoOk);
         return kSdoOk;
       }

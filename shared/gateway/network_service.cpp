@@ -107,6 +107,7 @@ uint16_t NetworkService::list_view(uint8_t* pdu, uint16_t capacity, uint8_t firs
   uint8_t* entry = pdu + modbus::net::kHeaderBytes;
   const uint8_t* const last = pdu + capacity - modbus::net::kViewEntryBytes;
   bool more = false;
+  const uint32_t now_us = now_us_;  // read once: the entries written may alias it
   for (uint8_t id = first == 0u ? 1u : first; id <= 127u; ++id) {
     modbus::NetViewEntry e = {id, 0, 0};
     if (id == node_.node_id()) {
@@ -115,7 +116,7 @@ uint16_t NetworkService::list_view(uint8_t* pdu, uint16_t capacity, uint8_t firs
       const NetworkView::Entry* heard = view_.find(id);
       if (heard == nullptr) continue;
       e.nmt_state = heard->state;
-      const uint32_t age_ms = (now_us_ - heard->heard_us) / 1000u;
+      const uint32_t age_ms = (now_us - heard->heard_us) / 1000u;
       e.age_ms =
           age_ms > modbus::net::kAgeSaturated ? modbus::net::kAgeSaturated : static_cast<uint16_t>(age_ms);
     }
@@ -209,8 +210,9 @@ void NetworkService::on_can_frame(const CanFrame& f, uint32_t now_us) {
   // Heartbeats and SDO responses are standard data frames: an RTR (a
   // guarding request on 700h + n) or an extended frame is neither.
   if (f.flags != 0u) return;
-  view_.on_frame(f, now_us);
-  if (phase_ < kUpload || f.id != 0x580u + server_ || f.dlc != 8u) return;
+  // The server's response (580h + n) is no heartbeat (700h + n): one or
+  // the other.
+  if (phase_ < kUpload || f.id != 0x580u + server_ || f.dlc != 8u) return view_.on_frame(f, now_us);
   // 80h is the server's abort in every step.
   if (f.data[0] == 0x80u) return end(static_cast<SdoAbort>(le32(&f.data[4])));
   const SdoAbort code = on_response(f);

@@ -15,7 +15,7 @@ Gateway::Gateway(const GatewayPorts& ports)
       bank_(od_),
       identity_(od_),
       slave_(bank_, &identity_, ports.serial, 1, modbus::rtu_timing(ports.serial_baud)),
-      net_(node_, od_, slave_, now_us_, &values_.x2000_10_networkAccess) {
+      net_(node_, od_, slave_, now_us_, values_.x2000_10_networkAccess) {
   net_.attach();
   constexpr uint8_t kRanges = sizeof kNetworkServiceRanges / sizeof kNetworkServiceRanges[0];
   static_assert(kRanges <= kMaxServiceRanges, "the node has room for the network service's ranges");

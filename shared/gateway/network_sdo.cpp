@@ -26,15 +26,21 @@ void NetworkService::send_mux(uint8_t cmd, uint32_t value) {
   send_sdo(node_.sink(), cmd, bytes, 7, static_cast<uint16_t>(0x600u + server_));
 }
 
+void NetworkService::restart_timeout() {
+  deadline_us_ = now_us_ + kNetSdoTimeoutUs;
+}
+
 void NetworkService::abort(SdoAbort code) {
   send_mux(0x80, code);
   end(code);
 }
 
 // A download of 1..4 bytes is one part (a part before the last carries 7
-// bytes or more, network_pdu.h): it goes in the initiate.
+// bytes or more, network_pdu.h): it goes in the initiate. Asked while the
+// first part is in hand (start_ 0), whose count tells: the whole object's
+// when it is 1..4 bytes.
 bool NetworkService::expedited() const {
-  return size_ - 1u < 4u;
+  return static_cast<uint8_t>(count_ - 1u) < 4u;
 }
 
 void NetworkService::start_remote(const NetMessage& m) {
@@ -43,7 +49,7 @@ void NetworkService::start_remote(const NetMessage& m) {
   sub_ = m.sub;
   pos_ = 0;
   toggle_ = 0;
-  deadline_us_ = now_us_ + kNetSdoTimeoutUs;
+  restart_timeout();
   if (m.service == NetService::kSdoUpload) {
     phase_ = kUpload;
     step_ = 0x40;
@@ -56,8 +62,8 @@ void NetworkService::start_remote(const NetMessage& m) {
   size_ = m.object_size;
   if (!expedited()) return send_mux(0x21, size_);
   uint8_t bytes[4] = {0, 0, 0, 0};
-  memcpy(bytes, m.data, static_cast<uint8_t>(size_));
-  send_mux(expedited_command(0x20, size_), le32(bytes));
+  memcpy(bytes, m.data, count_);
+  send_mux(expedited_command(0x20, count_), le32(bytes));
 }
 
 uint8_t NetworkService::segment_bytes() const {
@@ -69,7 +75,7 @@ uint8_t NetworkService::segment_bytes() const {
 // Counted in the part in hand (8 bits): its bytes are the request's.
 void NetworkService::send_segment(bool in_request) {
   const uint8_t n = segment_bytes();
-  const bool last = last_part();
+  const bool last = last_part_;
   // A part before the last all sent: its successor brings the next bytes
   // (an empty last part is an empty object's one segment).
   if (n == 0u && !last) return hold_part();
@@ -109,7 +115,7 @@ SdoAbort NetworkService::on_response(const CanFrame& f) {
   // the protocol on but an empty upload segment that is not the last
   // (00h/10h with n = 7 unused, c = 0), so a server that answers forever
   // with those ends like a silent one (05040000h).
-  if ((cmd & 0xEFu) != 0x0Eu) deadline_us_ = now_us_ + kNetSdoTimeoutUs;
+  if ((cmd & 0xEFu) != 0x0Eu) restart_timeout();
   switch (scs) {
     case 0x60:  // download initiated
       if (expedited()) {
@@ -120,7 +126,7 @@ SdoAbort NetworkService::on_response(const CanFrame& f) {
       return kSdoOk;
     case 0x20:  // download segment taken
       sent_ = static_cast<uint8_t>(sent_ + segment_bytes());
-      if (sent_ == count_ && last_part()) {
+      if (sent_ == count_ && last_part_) {
         end(kSdoOk);
         return kSdoOk;
       }
@@ -143,12 +149,13 @@ SdoAbort NetworkService::on_response(const CanFrame& f) {
       const uint8_t n = segment_size(cmd);
       // More than announced is the server's error (06070012h); without a
       // size, 32 bits of count are the limit (05040005h).
+      const uint32_t pos = pos_ + n;  // what pos_ becomes
       if (n > size_ - pos_) return size_known_ ? kAbortTooLong : kAbortOutOfMemory;
       store(pos_, &f.data[1], n);
-      pos_ += n;
+      pos_ = pos;
       if (segment_last(cmd)) {
-        if (size_known_ && pos_ != size_) return kAbortTooShort;  // less than announced
-        size_ = pos_;
+        if (size_known_ && pos != size_) return kAbortTooShort;  // less than announced
+        size_ = pos;
         end(kSdoOk);
         return kSdoOk;
       }

@@ -24,7 +24,7 @@ uint32_t min32(uint32_t a, uint32_t b) {
 }  // namespace
 
 NetworkService::NetworkService(Node& node, ObjectDictionary& od, modbus::SlaveCore& slave,
-                               const uint32_t& now_us, const uint8_t* enabled)
+                               const uint32_t& now_us, const uint8_t& enabled)
     : NetworkServiceState(),
       node_(node),
       od_(od),
@@ -38,7 +38,7 @@ uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, ui
   // A request refused is refused at one place: switched off (2000h/10),
   // malformed, or while a remote transfer runs.
   NetMessage m{};
-  const Exception refused = s.enabled_ != nullptr && *s.enabled_ == 0u       ? Exception::kIllegalFunction
+  const Exception refused = s.enabled_ == 0u                                 ? Exception::kIllegalFunction
                             : !modbus::parse_net_request(pdu, pdu_length, m) ? Exception::kIllegalDataValue
                             : s.transfer_running()                           ? Exception::kServerDeviceBusy
                                                                              : Exception::kNone;
@@ -50,6 +50,7 @@ uint16_t NetworkService::handle(void* ctx, uint8_t* pdu, uint16_t pdu_length, ui
   }
   s.start_ = m.start;
   s.count_ = static_cast<uint8_t>(m.count);  // a download's, in this frame; an upload's: set_window()
+  s.last_part_ = !m.more_follows;
   if (next_part) {
     // The client reads the part's first segment now, from the request.
     s.phase_ = kDownload;
@@ -67,13 +68,13 @@ uint16_t NetworkService::on_request(uint8_t* pdu, uint16_t capacity, const NetMe
   if (m.service == NetService::kNmt) return nmt(m);
   if (m.service == NetService::kNetworkView) return list_view(pdu, capacity, m.node_id);
   const bool download = m.service == NetService::kSdoDownload;
+  if (!download) set_window(capacity, m.count);
   SdoAbort code = kSdoOk;
   if (download && m.start != 0u) {
     // A later part with no download open: it continues nothing.
     if (ended == kSdoOk) return modbus::build_net_exception(pdu, Exception::kIllegalDataValue);
     code = ended;
   } else if (m.node_id != node_.node_id()) {
-    if (m.service == NetService::kSdoUpload) set_window(capacity, m.count);
     start_remote(m);
     return 0;  // answered when the transfer ends (end())
   } else if (download) {
@@ -91,12 +92,13 @@ uint16_t NetworkService::nmt(const NetMessage& m) {
   const NmtCommand command = static_cast<NmtCommand>(m.data[0]);  // parsed: one byte, a CiA 301 command
   const uint8_t target = m.node_id;
   // The response is the request, as it stands.
-  if (target != node_.node_id()) {
+  const bool own = target == node_.node_id();
+  if (!own) {
     // CiA 301 NMT node control: COB-ID 000h, command, node id (0: all).
     const uint8_t frame[2] = {static_cast<uint8_t>(command), target};
     send_frame(node_.sink(), 0x000, 2, frame);
   }
-  if (target == 0u || target == node_.node_id()) node_.local_nmt(command, now_us_);
+  if (target == 0u || own) node_.local_nmt(command, now_us_);
   return modbus::net::kNmtAnswerBytes;
 }
 
@@ -105,6 +107,7 @@ uint16_t NetworkService::list_view(uint8_t* pdu, uint16_t capacity, uint8_t firs
   uint8_t* entry = pdu + modbus::net::kHeaderBytes;
   const uint8_t* const last = pdu + capacity - modbus::net::kViewEntryBytes;
   bool more = false;
+  const uint32_t now_us = now_us_;  // read once: the entries written may alias it
   for (uint8_t id = first == 0u ? 1u : first; id <= 127u; ++id) {
     modbus::NetViewEntry e = {id, 0, 0};
     if (id == node_.node_id()) {
@@ -113,7 +116,7 @@ uint16_t NetworkService::list_view(uint8_t* pdu, uint16_t capacity, uint8_t firs
       const NetworkView::Entry* heard = view_.find(id);
       if (heard == nullptr) continue;
       e.nmt_state = heard->state;
-      const uint32_t age_ms = (now_us_ - heard->heard_us) / 1000u;
+      const uint32_t age_ms = (now_us - heard->heard_us) / 1000u;
       e.age_ms =
           age_ms > modbus::net::kAgeSaturated ? modbus::net::kAgeSaturated : static_cast<uint16_t>(age_ms);
     }
@@ -138,11 +141,15 @@ uint16_t NetworkService::local_upload(uint8_t* pdu, uint16_t capacity, const Net
       od_.read(m.index, m.sub, pdu + offset, static_cast<uint16_t>(capacity - offset), &size);
   if (code != kSdoOk) return modbus::build_net_abort(pdu, code);
   // Forward, byte by byte (no copy routine only this would link): a byte
-  // never lands after its source.
-  uint8_t* window = pdu + offset;
-  for (uint16_t i = start_; i < size; ++i) window[i - start_] = window[i];
-  set_window(capacity, m.count);
-  return answer_window(pdu, size);
+  // never lands after its source; none when the window starts beyond the
+  // object (a pointer that far would wrap on the Uno).
+  uint8_t* to = pdu + offset;
+  const uint8_t* const end = to + size;
+  if (start_ < size) {
+    for (const uint8_t* from = to + start_; from != end; ++from, ++to) *to = *from;
+  }
+  size_ = size;  // no transfer runs: the answer's object size
+  return answer_window(pdu);
 }
 
 SdoAbort NetworkService::local_download(const NetMessage& m) {
@@ -181,7 +188,7 @@ void NetworkService::end(SdoAbort code) {
   uint8_t* pdu = slave_.response_pdu();
   // The request is still in the buffer: the answer is built on it.
   slave_.send_deferred(code != kSdoOk ? modbus::build_net_abort(pdu, code)
-                       : upload       ? answer_window(pdu, size_)
+                       : upload       ? answer_window(pdu)
                                       : modbus::net::kDownloadAnswerBytes);
 }
 
@@ -190,7 +197,8 @@ void NetworkService::set_window(uint16_t capacity, uint16_t wanted) {
   count_ = static_cast<uint8_t>(wanted == 0u || wanted > room ? room : wanted);  // room <= kMaxSdoData
 }
 
-uint16_t NetworkService::answer_window(uint8_t* pdu, uint32_t size) {
+uint16_t NetworkService::answer_window(uint8_t* pdu) {
+  const uint32_t size = size_;
   const uint32_t end = min32(request_end(), size);
   const uint16_t count = static_cast<uint16_t>(end > start_ ? end - start_ : 0u);
   return modbus::answer_net_request(pdu, static_cast<uint32_t>(start_) + count < size, count, size);
@@ -202,8 +210,9 @@ void NetworkService::on_can_frame(const CanFrame& f, uint32_t now_us) {
   // Heartbeats and SDO responses are standard data frames: an RTR (a
   // guarding request on 700h + n) or an extended frame is neither.
   if (f.flags != 0u) return;
-  view_.on_frame(f, now_us);
-  if (phase_ < kUpload || f.id != 0x580u + server_ || f.dlc != 8u) return;
+  // The server's response (580h + n) is no heartbeat (700h + n): one or
+  // the other.
+  if (phase_ < kUpload || f.id != 0x580u + server_ || f.dlc != 8u) return view_.on_frame(f, now_us);
   // 80h is the server's abort in every step.
   if (f.data[0] == 0x80u) return end(static_cast<SdoAbort>(le32(&f.data[4])));
   const SdoAbort code = on_response(f);

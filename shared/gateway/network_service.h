@@ -83,8 +83,14 @@ struct NetworkServiceState {
   /// (60h download initiate, 20h download segment, 40h upload initiate, 00h
   /// upload segment); kStepNone (no such bits) while nothing is asked.
   uint8_t step_;
-  uint8_t toggle_;   ///< 00h or 10h: the next segment's toggle bit
-  bool size_known_;  ///< an upload's size was indicated
+  uint8_t toggle_;  ///< 00h or 10h: the next segment's toggle bit
+  union {
+    bool size_known_;  ///< an upload's size was indicated
+    /// The download part in hand is the object's last: its request's
+    /// more-follows bit is clear (the parse checked that it then ends the
+    /// object, and that a part before the last ends before it).
+    bool last_part_;
+  };
 };
 
 class NetworkService : private NetworkServiceState {
@@ -95,7 +101,7 @@ class NetworkService : private NetworkServiceState {
   /// on_char(): the owner sets it before them). `enabled` is the OD switch
   /// (2000h/10): 0 answers every request with exception 01.
   NetworkService(canopen::Node& node, canopen::ObjectDictionary& od, modbus::SlaveCore& slave,
-                 const uint32_t& now_us, const uint8_t* enabled);
+                 const uint32_t& now_us, const uint8_t& enabled);
 
   /// Connects the service to the slave (the slave answers exception 01
   /// before). Call once, after construction.
@@ -124,17 +130,19 @@ class NetworkService : private NetworkServiceState {
   uint16_t nmt(const modbus::NetMessage& m);
   /// The network view's entries from node `first` on into the response.
   uint16_t list_view(uint8_t* pdu, uint16_t capacity, uint8_t first);
-  /// The gateway's own node: the response (or the abort) in `pdu`.
+  /// The gateway's own node: the response (or the abort) in `pdu`; the
+  /// window set, size_ becomes the object's (no transfer runs).
   uint16_t local_upload(uint8_t* pdu, uint16_t capacity, const modbus::NetMessage& m);
   canopen::SdoAbort local_download(const modbus::NetMessage& m);
-  /// An upload's window: count_ becomes the bytes wanted from start_ on, as
+  /// An upload's window, set once for every upload request, the own
+  /// node's or a remote one's: count_ becomes the bytes wanted from start_ on, as
   /// many as the request asks for (`wanted`; 0: as many as a response of
   /// `capacity` bytes carries).
   void set_window(uint16_t capacity, uint16_t wanted);
-  /// The upload response in `pdu` for an object of `size` bytes whose
+  /// The upload response in `pdu` for an object of size_ bytes whose
   /// window's bytes are in place after the header and size (at most the
   /// window; fewer at the object's end, none beyond it); its length.
-  uint16_t answer_window(uint8_t* pdu, uint32_t size);
+  uint16_t answer_window(uint8_t* pdu);
   /// True when `m` is the next part of the open download.
   bool continues_download(const modbus::NetMessage& m) const;
   /// The transfer ended with `code` (kSdoOk: done): answered, or between
@@ -152,14 +160,15 @@ class NetworkService : private NetworkServiceState {
   void send_segment(bool in_request);
   /// True when the download goes in its initiate (1..4 bytes).
   bool expedited() const;
-  /// True when the download part in hand is the object's last.
-  bool last_part() const { return request_end() == size_; }
   /// The bytes of the download segment after the part's first sent_:
   /// 7, or fewer at the part's end (a part before the last ends at a
   /// segment boundary).
   uint8_t segment_bytes() const;
   /// A frame from the server: the next step, kSdoOk, or the code to abort with.
   canopen::SdoAbort on_response(const CanFrame& f);
+  /// The server's next answer is due kNetSdoTimeoutUs from now (the
+  /// request, or progress).
+  void restart_timeout();
   /// Sends the abort frame `code` and ends the transfer with it.
   void abort(canopen::SdoAbort code);
   /// Sends an initiate (or abort) frame: `cmd`, the object, `value`.
@@ -171,7 +180,7 @@ class NetworkService : private NetworkServiceState {
   canopen::ObjectDictionary& od_;
   modbus::SlaveCore& slave_;
   const uint32_t& now_us_;  ///< the owner's clock (one clock for the device)
-  const uint8_t* enabled_;
+  const uint8_t& enabled_;  ///< the OD switch 2000h/10
   modbus::NetRequestHandler handler_;
 };
 

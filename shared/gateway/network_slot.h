@@ -33,7 +33,7 @@ namespace gateway {
 class NetworkSlot {
  public:
   NetworkSlot(canopen::Node&, canopen::ObjectDictionary&, modbus::SlaveCore&, const uint32_t&,
-              const uint8_t*) {}
+              const uint8_t&) {}
   void attach() {}
   void on_can_frame(const CanFrame&, uint32_t) {}
   void process(uint32_t) {}

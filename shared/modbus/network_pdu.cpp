@@ -93,9 +93,10 @@ bool parse_sdo_download(const uint8_t* p, uint16_t length, NetMessage& m) {
   if (m.count != m.data_length) return false;
   const uint32_t end = static_cast<uint32_t>(m.start) + m.count;
   if (end > m.object_size) return false;
-  // The last part ends the object; a part before it carries whole segments.
-  return m.more_follows ? (m.count != 0u && m.count % net::kPartMultiple == 0u && end < m.object_size)
-                        : end == m.object_size;
+  // The last part ends the object; a part before it ends before the object
+  // and carries whole segments.
+  if ((end == m.object_size) == m.more_follows) return false;
+  return !m.more_follows || (m.count != 0u && m.count % net::kPartMultiple == 0u);
 }
 
 }  // namespace
@@ -117,7 +118,7 @@ bool parse_net_request(const uint8_t* pdu, uint16_t pdu_length, NetMessage& out)
   // The rest have a fixed length: the header, and NMT's command byte.
   const uint8_t body = out.service == NetService::kNmt ? 1u : 0u;
   if (pdu_length != net::kHeaderBytes + body) return false;
-  if (sdo) return static_cast<uint32_t>(out.start) + out.count <= 0xFFFFu;  // an upload's window
+  if (sdo) return out.count <= 0xFFFFu - out.start;  // an upload's window ends within 16 bits
   // NMT and the network view use no index, subindex or starting address,
   // and count their data: NMT one byte, a command CiA 301 defines.
   if ((out.index | out.sub | out.start) != 0u || out.count != body) return false;

@@ -209,17 +209,25 @@ TEST_F(UnoNetwork, UploadsEqualTheSameReadsOverSocketCan) {
 }
 
 TEST_F(UnoNetwork, DownloadsReachBothNodes) {
-  RawSdo sdo;
-  ASSERT_TRUE(sdo.ok());
+  // Checked on the wire (candump), not by a second SDO client: a client of
+  // the test on the same server channel (600h+n/580h+n) would race the
+  // gateway's (CiA 301 allows one client per channel; a late answer to the
+  // test's read, still in the image's receive buffer, ends the gateway's next
+  // transfer with 06040043h, as CANopenNode's client would).
   for (unsigned node : {kRemote, kIoNode}) {
-    const std::string before = sdo.upload(node, 0x1017, 0);
-    ASSERT_EQ(before.size(), 4u) << "1017h is 16 bits";
     const std::string n = std::to_string(node);
+    char request[32];
+    char answer[32];
+    std::snprintf(request, sizeof request, " %03X#2B1710002C010000", 0x600 + node);
+    std::snprintf(answer, sizeof answer, " %03X#6017100000000000", 0x580 + node);
+    const std::string before = field_of(client("upload " + n + " 1017 0"), "data");
+    ASSERT_EQ(before.size(), 4u) << "1017h is 16 bits";
     EXPECT_EQ(client("write " + n + " 1017 0 2c01").rfind("write size=2 parts=1 ", 0), 0u);  // 300 ms
-    EXPECT_EQ(sdo.upload(node, 0x1017, 0), "2c01") << "node " << n << " has it (read over SocketCAN)";
+    EXPECT_TRUE(on_bus(request)) << "the gateway's expedited download to node " << n;
+    EXPECT_TRUE(on_bus(answer)) << "node " << n << " confirmed it";
     EXPECT_EQ(field_of(client("upload " + n + " 1017 0"), "data"), "2c01");
     EXPECT_EQ(client("write " + n + " 1017 0 " + before).rfind("write size=2 parts=1 ", 0), 0u);
-    EXPECT_EQ(sdo.upload(node, 0x1017, 0), before);
+    EXPECT_EQ(field_of(client("upload " + n + " 1017 0"), "data"), before);
   }
   // A refusal comes back with the node's own abort code: 1000h is read-only.
   EXPECT_EQ(client("write 2 1000 0 00000000").rfind("exception 04 abort=06010002 ", 0), 0u);
@@ -335,14 +343,42 @@ TEST_F(UnoNetwork, OwnRegistersAnsweredWhileARemoteTransferRuns) {
 }
 
 TEST_F(UnoNetwork, MasterViaModbusScansTheLine) {
-  const MasterRun can = run_master({"scan", "1", "32"});
   const MasterRun gw = run_master(via({"scan", "1", "32"}), 120s);
+  // The reference: the same scan straight over SocketCAN. The network image
+  // keeps its acceptance filters open (issue 23), so a burst of the scan's
+  // requests and answers to other nodes can overrun the Uno's two receive
+  // buffers and lose a request to it ("vendor -"): that is the reference
+  // being incomplete, not the gateway answering wrong. The reference is
+  // taken again, at most three times, until every field of the line is in it;
+  // the scan under test is never repeated.
+  const auto incomplete = [](const std::string& t) {
+    return t.find(" -,") != std::string::npos || t.find(" -\n") != std::string::npos;
+  };
+  MasterRun can = run_master({"scan", "1", "32"});
+  for (int again = 0; again < 2 && incomplete(can.text()); ++again) can = run_master({"scan", "1", "32"});
   EXPECT_EQ(gw.exit_code, 0) << gw.err;
   EXPECT_EQ(gw.text(), can.text());
   EXPECT_EQ(gw.err, can.err);
   for (int id : {1, 2, 32})
     EXPECT_NE(gw.text().find("node " + std::to_string(id) + ": device type"), std::string::npos) << gw.text();
   EXPECT_NE(gw.text().find("scan: 3 of 32 node ids answered"), std::string::npos) << gw.text();
+}
+
+// A DCF without the error register (1001h) and error history (1003h)
+// values: live state like the clock. A remote node's consumer of the Uno's
+// heartbeat can time out between the two dumps when simavr runs below real
+// time on a loaded host (EMCY 8130h enters 1003h), which says nothing of the
+// gateway's transfers being right.
+std::string without_live_errors(std::string dcf) {
+  for (const char* head : {"\n[1001]\n", "\n[1003sub"}) {
+    for (size_t section = dcf.find(head); section != std::string::npos;
+         section = dcf.find(head, section + 1)) {
+      const size_t value = dcf.find("\nParameterValue=", section);
+      if (value != std::string::npos && value < dcf.find("\n[", section + 1))
+        dcf.erase(value, dcf.find('\n', value + 1) - value);
+    }
+  }
+  return dcf;
 }
 
 TEST_F(UnoNetwork, MasterViaModbusDumpOfEachRemoteNodeEqualsTheDumpOverSocketCan) {
@@ -359,7 +395,9 @@ TEST_F(UnoNetwork, MasterViaModbusDumpOfEachRemoteNodeEqualsTheDumpOverSocketCan
     ASSERT_EQ(gw.exit_code, 0) << gw.err;
     EXPECT_EQ(gw.text(), can.text());
     EXPECT_GT(file_text(over_can).size(), 1000u) << "a dump of the whole EDS";
-    EXPECT_EQ(without_clock(file_text(through)), without_clock(file_text(over_can))) << "node " << n.node;
+    EXPECT_EQ(without_live_errors(without_clock(file_text(through))),
+              without_live_errors(without_clock(file_text(over_can))))
+        << "node " << n.node;
   }
 }
 

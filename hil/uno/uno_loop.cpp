@@ -263,6 +263,7 @@ std::string UnoLoop::answer(const std::string& line) {
   if (line == "bus?")
     return "bus in=" + std::to_string(rig_.wire().carried_in()) +
            " dropped=" + std::to_string(rig_.wire().rx_dropped()) +
+           " overflowed=" + std::to_string(rig_.wire().rx_overflowed()) +
            " busy_us=" + std::to_string(rig_.wire().busy_cycles() / (UnoBoard::kCpuHz / 1000000u)) + times;
   return rig_.panel().handle(line, rig_.now_us(), at_us(rig_.now_us()));
 }

@@ -36,7 +36,8 @@ cli::Program make_program() {
   p.footer =
       "\nControl (stdin, one command per line): press B | release B | click B [ms] (B: START,\n"
       "STOP, STOP2; --image ionode: UP, DOWN, LEFT, RIGHT, CLICK) | leds? | stack? | bus? | help |\n"
-      "quit. bus?: frames from the bus the wire carried, those the chip dropped, its busy time.\n"
+      "quit. bus?: frames from the bus the wire carried, those the chip dropped (its filters or\n"
+      "full receive buffers), those lost to full buffers alone (overflowed), the wire's busy time.\n"
       "exit status: 0 on SIGINT/SIGTERM/quit, 1 runtime error, 2 usage error\n";
   return p;
 }

@@ -58,6 +58,7 @@ void SdoNetwork::start_next(uint8_t id, uint32_t now_us, const CanSink& sink) {
     t->started = true;
     t->started_us = now_us;
     n.client.set_timeout_us(t->timeout_us ? t->timeout_us : timeout_us_);
+    n.client.set_timeout_abort_sent(!t->probe);
     bool started;
     if (t->upload) {
       t->data.clear();

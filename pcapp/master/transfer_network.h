@@ -48,6 +48,10 @@ struct Transfer {
   /// SDO client timeout of this transfer in µs; 0: the network's (-t).
   /// A gateway applies its own.
   uint32_t timeout_us = 0;
+  /// A probe of a node id that may have no node (scan): a timeout ends it
+  /// without the abort frame (SdoClient::set_timeout_abort_sent). A
+  /// gateway's SDO client decides that itself.
+  bool probe = false;
 
   bool finished = false;
   canopen::SdoAbort result = canopen::kSdoOk;

@@ -169,7 +169,9 @@ void SdoClient::process(uint32_t now_us, const CanSink& sink) {
     return;
   }
 #endif
-  if (time_reached(now_us, deadline_us_)) abort(kAbortTimeout, sink);
+  if (!time_reached(now_us, deadline_us_)) return;
+  if (timeout_abort_sent_) return abort(kAbortTimeout, sink);
+  finish(kAbortTimeout, false);
 }
 
 void SdoClient::next_deadline(NextDeadline& d) const {

@@ -135,6 +135,11 @@ class SdoClient : private SdoClientState {
   /// The server's answer must come within `us` of our last frame, and the
   /// transfer must make progress within `us` of its last progress.
   void set_timeout_us(uint32_t us) { timeout_us_ = us; }
+  /// Whether a timeout sends its abort (05040000h) to the server; default
+  /// true. False for a probe of a node id that may have no node (a scan):
+  /// an abort there reaches nobody and, for every silent id at once, is a
+  /// burst on the bus (python-canopen's scanner sends none either).
+  void set_timeout_abort_sent(bool sent) { timeout_abort_sent_ = sent; }
 #if MB2CO_CONFIG_SDO_BLOCK
   /// Sub-blocks in a row that may be repeated (the receiver took less than
   /// was sent); one more ends the transfer with 05040003h. A lost frame
@@ -262,6 +267,7 @@ class SdoClient : private SdoClientState {
   static SdoAbort buffer_read(void* ctx, uint32_t offset, uint8_t* buf, uint16_t n);
 
   uint32_t timeout_us_ = kDefaultTimeoutUs;
+  bool timeout_abort_sent_ = true;
 };
 
 }  // namespace canopen

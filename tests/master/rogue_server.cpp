@@ -112,9 +112,8 @@ void RogueServer::receive(const CanFrame& f) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (abort_code_ != 0) {
       ++frames_after_abort_;
-      return;
-    }
-    if (f.dlc == 8 && f.data[0] == 0x80) {
+      if (!keep_answering_) return;
+    } else if (f.dlc == 8 && f.data[0] == 0x80) {
       abort_code_ = static_cast<uint32_t>(f.data[4]) | static_cast<uint32_t>(f.data[5]) << 8 |
                     static_cast<uint32_t>(f.data[6]) << 16 | static_cast<uint32_t>(f.data[7]) << 24;
       abort_at_ = Clock::now();

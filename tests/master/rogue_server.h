@@ -44,6 +44,10 @@ class RogueServer {
   /// Opens vcan0 (receiving 605h only) and starts answering. False with
   /// error() when the socket cannot be set up.
   bool start(Handler handler);
+  /// From now on the handler also gets the master's requests after its
+  /// abort (a scan asks a lost read again); still counted in
+  /// frames_after_abort(). Call before start().
+  void keep_answering_after_abort() { keep_answering_ = true; }
   /// Stops the thread after it has taken every request already queued
   /// (what it noted stays readable).
   void stop();
@@ -93,6 +97,7 @@ class RogueServer {
   Clock::time_point progress_at_{};
   uint64_t frames_sent_ = 0;
   uint64_t frames_after_abort_ = 0;
+  bool keep_answering_ = false;
 };
 
 }  // namespace test

@@ -9,7 +9,9 @@
 // Each case: the documented abort code reaches the server, the documented
 // exit status, the end within -t (plus slack) of the server's last progress
 // on the monotonic clock, no file left behind, and the master's peak RSS
-// within 512 KiB of a plain read's.
+// within 512 KiB of a plain read's. Then a scan against a node that loses
+// a request (asked once more) and a node id that never answers (no abort:
+// a probe).
 // ctest runs this binary inside hil/uml/run-with-vcan.sh.
 #include <gtest/gtest.h>
 #include <stdlib.h>
@@ -127,6 +129,16 @@ class MasterBounds : public ::testing::Test {
         "%s: abort %ld ms, exit %ld ms after the last progress; RSS %ld KiB (read: %ld); %llu frames sent\n",
         hex, abort_ms, exit_ms, r.max_rss_kib, baseline_rss_kib_,
         static_cast<unsigned long long>(server_.frames_sent()));
+  }
+
+  /// `scan 5 5` (-t kT) against the server with `handler`; the server is
+  /// stopped after every frame the master sent.
+  MeasuredRun scan_node_5(RogueServer::Handler handler) {
+    EXPECT_TRUE(server_.start(std::move(handler))) << server_.error();
+    const MeasuredRun r =
+        run_measured({"-t", std::to_string(kT.count()), "scan", "5", "5"}, dir_, kT * 4 + kSlack);
+    server_.stop();
+    return r;
   }
 
   static long baseline_rss_kib_;
@@ -354,6 +366,53 @@ TEST_F(MasterBounds, EmptySegmentsForeverTimeOutAfterT) {
       {"-t", kTArg, "upload", "5", "2000", "0", file}, kT);
   expect_end(r, 0x05040000u, 4, kT, file);
   EXPECT_GT(segments_sent, 1);
+}
+
+/// A scan's answers from node 5: 1000h, 1018h/n = n, 1008h "abc"; the
+/// first `lost` requests for `lost_index`/`lost_sub` are dropped (each
+/// request for it counted in *asked).
+RogueServer::Handler loses_requests(uint16_t lost_index, uint8_t lost_sub, int lost, int* asked) {
+  return [=](RogueServer& s, const CanFrame& q) {
+    if (q.data[0] != 0x40) return;
+    const uint16_t index = static_cast<uint16_t>(q.data[1] | q.data[2] << 8);
+    const uint8_t sub = q.data[3];
+    if (index == lost_index && sub == lost_sub && ++*asked <= lost) return;  // lost in a burst
+    if (index == 0x1000) return s.send(mux(q, 0x43, 0x00030191));
+    if (index == 0x1018) return s.send(mux(q, 0x43, sub));
+    s.send(mux(q, 0x47, 0x00636261));  // 3 bytes: "abc"
+  };
+}
+
+/// Node 5's line in a scan up to its name.
+const char kNode5[] =
+    "node 5: device type 0x00030191, vendor 0x00000001, product 0x00000002, revision 0x00000003, "
+    "serial 0x00000004, name ";
+
+TEST_F(MasterBounds, AScanAsksOnceMoreForWhatANodeThatAnsweredLost) {
+  int asked = 0;
+  server_.keep_answering_after_abort();
+  const MeasuredRun r = scan_node_5(loses_requests(0x1018, 1, 1, &asked));
+  EXPECT_EQ(r.exit_code, 0) << r.err << r.error;
+  EXPECT_EQ(r.out, std::string(kNode5) + "\"abc\"\nscan: 1 of 1 node ids answered\n");
+  EXPECT_EQ(asked, 2);
+  EXPECT_EQ(server_.abort_code(), 0x05040000u) << "the lost read's timeout is sent before it is asked again";
+}
+
+TEST_F(MasterBounds, AScanAsksOnlyOnceMoreAndShowsWhatStaysMissing) {
+  int asked = 0;
+  server_.keep_answering_after_abort();
+  const MeasuredRun r = scan_node_5(loses_requests(0x1008, 0, 3, &asked));
+  EXPECT_EQ(r.exit_code, 0) << r.err << r.error;
+  EXPECT_EQ(r.out, std::string(kNode5) + "\"\"\nscan: 1 of 1 node ids answered\n");
+  EXPECT_EQ(asked, 2) << "1008h asked twice, then shown empty";
+}
+
+TEST_F(MasterBounds, AScanSendsNoAbortToANodeIdThatNeverAnswered) {
+  int asked = 0;
+  const MeasuredRun r = scan_node_5(loses_requests(0x1000, 0, 3, &asked));
+  EXPECT_EQ(r.exit_code, 4) << r.err << r.error;
+  EXPECT_EQ(asked, 1) << "a silent node id is asked once";
+  EXPECT_EQ(server_.abort_code(), 0u) << "a probe that nobody answered sent an abort";
 }
 
 }  // namespace

@@ -344,18 +344,18 @@ TEST_F(UnoNetwork, OwnRegistersAnsweredWhileARemoteTransferRuns) {
 
 TEST_F(UnoNetwork, MasterViaModbusScansTheLine) {
   const MasterRun gw = run_master(via({"scan", "1", "32"}), 120s);
-  // The reference: the same scan straight over SocketCAN, for the remote
-  // nodes. The network image keeps its acceptance filters open (issue 23), so
-  // the direct scan's burst of requests and answers to other nodes overruns
-  // the Uno's two receive buffers and loses requests to node 1 itself
-  // ("vendor -"): node 1's line is checked complete instead.
-  const MasterRun can = run_master({"scan", "2", "32"});
+  // The reference: the same scan straight over SocketCAN. The network image
+  // keeps its acceptance filters open (issue 23), so the direct scan's burst
+  // of requests to other nodes can overrun the Uno's two receive buffers; the
+  // scan asks a read that got no answer once more (docs/mb2co-master.md),
+  // so node 1's line comes whole as well.
+  const MasterRun can = run_master({"scan", "1", "32"});
   const auto line_of = [](const std::string& t, int id) {
     const std::string head = "node " + std::to_string(id) + ":";
     const size_t at = t.find(head);
     return at == std::string::npos ? std::string() : t.substr(at, t.find('\n', at) - at);
   };
-  for (int id : {2, 32}) EXPECT_EQ(line_of(gw.text(), id), line_of(can.text(), id)) << can.err;
+  for (int id : {1, 2, 32}) EXPECT_EQ(line_of(gw.text(), id), line_of(can.text(), id)) << can.err;
   EXPECT_EQ(line_of(gw.text(), 1).find(" -"), std::string::npos) << gw.text();
   EXPECT_EQ(gw.exit_code, 0) << gw.err;
   for (int id : {1, 2, 32})

@@ -122,6 +122,36 @@ class GatewayNetworkWithPymodbus(unittest.TestCase):
         refusal = self.refused(fc2b.NetworkRequest(fc2b.SDO | fc2b.WRITE, REMOTE, 0x1000, 0, size=4, data=bytes(4)))
         self.assertEqual((refusal.code, refusal.abort), (4, 0x06010002))
 
+    def view_states(self):
+        """Node id -> NMT state of every node the gateway's network view lists."""
+        states, first = {}, 1
+        while True:
+            view = self.transact(fc2b.NetworkRequest(fc2b.VIEW, first))
+            entries = [view.data[i:i + 4] for i in range(0, len(view.data), 4)]
+            states.update((entry[0], entry[1]) for entry in entries)
+            if not view.more:
+                return states
+            first = entries[-1][0] + 1
+
+    def wait_view_state(self, node, state):
+        """Polls the view until `node` shows `state` (its next heartbeat); the last states seen."""
+        deadline = time.monotonic() + ANSWER_DEADLINE_S
+        while True:
+            states = self.view_states()
+            if states.get(node) == state or time.monotonic() > deadline:
+                return states
+            time.sleep(0.05)
+
+    def test_nmt_commands_seen_in_the_network_view(self):
+        # The view lists a node by its heartbeat: 04h stopped, 05h operational.
+        self.addCleanup(fc2b.nmt, self.client, REMOTE, 0x01)  # SDO needs node 2 out of stopped
+        stop = fc2b.nmt(self.client, REMOTE, 0x02)
+        self.assertEqual((stop.control, stop.node, stop.data), (fc2b.NMT | fc2b.WRITE, REMOTE, b"\x02"), "the echo")
+        self.assertEqual(self.wait_view_state(REMOTE, 0x04).get(REMOTE), 0x04, "node 2 stopped")
+        fc2b.nmt(self.client, REMOTE, 0x01)
+        self.assertEqual(self.wait_view_state(REMOTE, 0x05).get(REMOTE), 0x05, "node 2 operational again")
+        self.assertEqual(self.view_states().get(1), 0x05, "the gateway itself, operational")
+
     def test_missing_node_answers_05040000_after_the_sdo_timeout(self):
         start = time.monotonic()
         refusal = self.refused(fc2b.NetworkRequest(fc2b.SDO, MISSING, 0x1000, 0))

@@ -482,13 +482,15 @@ class TightBound {
 
   /// The pass in progress when the button is pressed (Modbus only, where
   /// the PC's Arduino has the button). A read pass or one without a
-  /// request: its own length. A write pass of cycle k: the next read ends
+  /// request: its own length (a pass answering a request takes no
+  /// characters where no pass without one is longer than t3.5, the
+  /// read_pass_ns / write_pass_ns of the constructor). A write pass of cycle k: the next read ends
   /// at most two poll periods after cycle k's read ended, which was ρ
   /// before that write pass began, whenever cycle k+2's read cannot end
   /// before the press is debounced (docs/timing.md §9).
   SimNs press_seen(SimNs poll, SimNs seen, SimNs debounce_seen, SimNs split) const {
     const timing::LatencyParams& p = out_.params;
-    const SimNs read_or_plain = wait(plain_ + chars_ + read_);
+    const SimNs read_or_plain = wait(std::max(out_.read_pass_ns, plain_ + chars_));
     const SimNs rho = t_.pass_ns + read_ + timing::serial_frame_ns_floor(p.serial, p.read.response_bytes) +
                       SimNs{p.master_end_us + p.pc_compute_us} * kNsPerUs +
                       timing::serial_frame_ns_floor(p.serial, p.write.request_bytes) + t35_;
@@ -499,7 +501,7 @@ class TightBound {
     const SimNs min_cycle = c_.pc.cycle_ns - c_.pc.jitter_ns - split;
     const bool two_cycles = 2 * min_cycle >= sigma + out_.write_pass_ns + frames_per_pass_ + debounce_ns_ +
                                                  debounce_seen + kClockNs;
-    if (!two_cycles) return wait(plain_ + chars_ + std::max(read_, write_));
+    if (!two_cycles) return wait(std::max({out_.read_pass_ns, out_.write_pass_ns, plain_ + chars_}));
     // Press to the read that samples it: 2·poll + seen − ρ against the
     // terms press_seen + debounce + debounce_seen + poll_wait.
     const SimNs write_case = 2 * poll + seen + kClockNs;

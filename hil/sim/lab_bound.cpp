@@ -281,8 +281,8 @@ constexpr SimNs kClockNs = kNsPerUs;
 
 /// The bound per kind of pass (docs/timing.md §9). Passes are counted
 /// without the CAN frames they take in: those are a term of their own, the
-/// frames each Arduino can take in during the latency window, at most
-/// can_rx_buffers per pass on the path.
+/// frames each Arduino's passes on the path can take in (at most
+/// can_rx_buffers per pass; "Frames on the path").
 class TightBound {
  public:
   TightBound(const LineConfig& c, bool remote, LabBound& out) : c_(c), t_(c.node), out_(out) {
@@ -555,9 +555,9 @@ LabBound lab_bound(Line& line, bool remote, const LabOperator& op) {
   TightBound tight(c, remote, out);
   tight.set_rpdo_at_reception(remote && rpdo_applied_at_reception(line, c.lab_pc, up_id));
   // First with a full receive buffer in every pass of the path (sound on
-  // its own), then with the frames that window can hold: the press's
-  // window reaches back over the pass in progress and the one before it,
-  // whose frames that pass took in.
+  // its own), then with the frames the path's passes can take in during
+  // that window: the press's window reaches back over the pass in progress
+  // and the one before it, whose frames that pass took in.
   const uint32_t cap = ~uint32_t{0};
   if (!tight.build(remote, up, down, up_inhibit_us, down_inhibit_us, cap, cap)) {
     out.error = "too many terms";

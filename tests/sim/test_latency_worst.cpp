@@ -85,7 +85,7 @@ TEST(LatencyWorst, EveryCaseReachesItsShareOfTheBound) {
 }
 
 // The bound per kind of pass: each step is the longest pass of its kind,
-// the frames the PC's Arduino can take in during the window are counted
+// the frames the PC's Arduino can take into the path's passes are counted
 // once (Modbus only: the neighbour's heartbeat and its TPDO1 event timer),
 // and the sum lies below the library's one-loop-per-step form.
 TEST(LatencyWorst, BoundChargesEachStepItsOwnKindOfPass) {

@@ -214,9 +214,9 @@ std::string latency_section(const std::vector<sim::LatencyResult>& results) {
               r.outside == 0 ? "all" : strf("%u out", r.outside).c_str(), ratio * 100.0);
   }
   s += "  bound: hil/sim/lab_bound.cpp for the simulated configuration (docs/timing.md §9): every firmware\n"
-       "  step the longest pass of its kind, the CAN frames each Arduino can take in during the window "
-       "counted\n"
-       "  once, CAN hops by the revised response-time analysis of the commissioned message set (Davis\n"
+       "  step the longest pass of its kind, the CAN frames counted where they reach a pass the path "
+       "waits\n"
+       "  for, CAN hops by the revised response-time analysis of the commissioned message set (Davis\n"
        "  stuffing), PC cycle = period + jitter.\n";
   for (const sim::LatencyResult& r : results) {
     if (!r.bound.ok) continue;

@@ -237,10 +237,12 @@ LabBound bound_with(Line& line, bool remote, size_t bytes, SimNs request) {
   return out;
 }
 
-/// Longest response time (ns) of any message of `set` at `bitrate_bps`;
-/// false when one is unbounded.
-bool longest_response_ns(const std::vector<timing::MessageSpec>& set, uint32_t bitrate_bps, SimNs* out) {
-  *out = 0;
+/// Response time (ns) of every message of `set` at `bitrate_bps` (the
+/// longest in `longest`); false when one is unbounded.
+bool response_times(const std::vector<timing::MessageSpec>& set, uint32_t bitrate_bps,
+                    std::vector<MessageLateness>* out, SimNs* longest) {
+  out->clear();
+  *longest = 0;
   if (set.empty()) return true;
   std::vector<timing::RtaMessage> rta(set.size());
   std::vector<timing::RtaResult> res(set.size());
@@ -249,11 +251,28 @@ bool longest_response_ns(const std::vector<timing::MessageSpec>& set, uint32_t b
                           res.data(), &bad) != timing::RtaStatus::kOk) {
     return false;
   }
-  for (const timing::RtaResult& r : res) {
-    if (r.revised != timing::Bound::kBounded) return false;
-    *out = std::max<SimNs>(*out, timing::ticks_to_ns_ceil(r.r, bitrate_bps));
+  for (size_t i = 0; i < set.size(); ++i) {
+    if (res[i].revised != timing::Bound::kBounded) return false;
+    const SimNs r = timing::ticks_to_ns_ceil(res[i].r, bitrate_bps);
+    out->push_back(MessageLateness{set[i].id, r});
+    *longest = std::max(*longest, r);
   }
   return true;
+}
+
+/// True when station `s` maps `cob_id` by an event-driven RPDO (types
+/// 241..255 apply the data as the frame is taken in, CiA 301; 0..240 wait
+/// for the next SYNC) and by no synchronous one.
+bool rpdo_applied_at_reception(Line& line, int s, uint32_t cob_id) {
+  canopen::ObjectDictionary& od = line.node(s).gateway().od();
+  bool found = false;
+  for (uint16_t n = 0; n < 4; ++n) {
+    const uint32_t cob = od_get(od, static_cast<uint16_t>(0x1400 + n), 1);
+    if ((cob & 0x80000000u) || (cob & 0x7FFu) != cob_id) continue;
+    if (od_get(od, static_cast<uint16_t>(0x1400 + n), 2) <= 240) return false;
+    found = true;
+  }
+  return found;
 }
 
 /// micros() resolution: a comparison of two µs stamps (debounce, t3.5,
@@ -262,8 +281,8 @@ constexpr SimNs kClockNs = kNsPerUs;
 
 /// The bound per kind of pass (docs/timing.md §9). Passes are counted
 /// without the CAN frames they take in: those are a term of their own, the
-/// frames each Arduino can take in during the latency window, at most
-/// can_rx_buffers per pass on the path.
+/// frames each Arduino's passes on the path can take in (at most
+/// can_rx_buffers per pass; "Frames on the path").
 class TightBound {
  public:
   TightBound(const LineConfig& c, bool remote, LabBound& out) : c_(c), t_(c.node), out_(out) {
@@ -285,7 +304,8 @@ class TightBound {
     // press: the debounce then ends at a pass start.
     const SimNs any = plain_ + chars_ + std::max(read_, write_) + frames_per_pass_;
     debounce_ns_ = SimNs{c_.debounce_ms} * kNsPerMs;
-    periodic_ = t_.loop_ns != 0 && any <= t_.loop_ns && debounce_ns_ % t_.loop_ns == 0;
+    grid_ = t_.loop_ns != 0 && any <= t_.loop_ns;
+    periodic_ = grid_ && debounce_ns_ % t_.loop_ns == 0;
     longest_wait_ = wait(any);
   }
 
@@ -327,7 +347,10 @@ class TightBound {
       if (up_inhibit_us != 0)
         add("inhibit_up", 0, SimNs{up_inhibit_us} * kNsPerUs + kClockNs + seen_led + plain_);
       add("can_up", up.best_ns, up.worst_ns);
-      add("rpdo_seen", 0, seen);
+      // With an RPDO applied at reception the read that samples it starts
+      // at most poll_wait after the frame arrived, whatever pass was in
+      // progress (docs/timing.md §9, "The PDO's handover").
+      if (!rpdo_at_reception_) add("rpdo_seen", 0, seen);
     }
     add("poll_wait", 0, poll + seen + kClockNs);
     add("read_pass", 0, read_pass);
@@ -336,9 +359,10 @@ class TightBound {
     if (compute != 0) add("pc_compute", compute, compute);
     add("write_request", wreq_best, cycle.write.request_ns + split);
     add("slave_end", t35_, t35_);
-    add("write_seen", 0, seen + kClockNs);
+    add("write_seen", 0, write_seen(read_pass, master_end + compute + split, seen));
     add("write_pass", 0, write_pass);
-    uint32_t passes_pc = remote ? 5 : 6;  // the terms above that are passes of the PC's Arduino
+    // The terms above that are passes of the PC's Arduino.
+    uint32_t passes_pc = remote ? (rpdo_at_reception_ ? 4 : 5) : 6;
     uint32_t passes_led = 5;
     if (remote) {
       if (down_inhibit_us != 0) {
@@ -346,17 +370,57 @@ class TightBound {
         passes_pc += 2;
       }
       if (up_inhibit_us != 0) passes_led += 2;
-      add("can_down", down.best_ns, down.worst_ns);
-      add("led_pass", 0, wait(plain_) + plain_);  // the pass in progress, the one that sets the LED
     }
     const uint64_t pc = std::min<uint64_t>(frames_pc, uint64_t{passes_pc} * t_.can_rx_buffers);
     const uint64_t led =
         remote ? std::min<uint64_t>(frames_led, uint64_t{passes_led} * t_.can_rx_buffers) : 0;
+    if (remote) {
+      add("can_down", down.best_ns, down.worst_ns);
+      // The pass in progress, the one that sets the LED.
+      add("led_pass", 0, led_seen((pc + led) * t_.frame_ns) + plain_);
+    }
     out_.frames_pc = static_cast<uint32_t>(pc);
     out_.frames_led = static_cast<uint32_t>(led);
     add("frames", 0, (pc + led) * t_.frame_ns);
     return !full_;
   }
+
+  /// The path's passes on the PC's Arduino (`pc`) or on the button's and
+  /// LED's (Modbus + CANopen), grouped into runs of passes that follow one
+  /// another, each with the interval its frames arrived in (docs/timing.md
+  /// §9, "Frames on the path"). The same passes as build() counts; after
+  /// build(), whose terms bound the intervals.
+  std::vector<PathCluster> clusters(bool remote, bool pc, uint32_t up_inhibit_us,
+                                    uint32_t down_inhibit_us) const {
+    const SimNs w = longest_wait_;  // pass start to pass start, frames included
+    std::vector<PathCluster> out;
+    if (pc) {
+      if (!remote) {
+        out.push_back(PathCluster{1, w});  // press_seen
+        out.push_back(PathCluster{1, w});  // debounce_seen
+      } else if (!rpdo_at_reception_) {
+        out.push_back(PathCluster{1, w});  // rpdo_seen
+      }
+      // The pass in progress when the read's t3.5 ends, the read pass,
+      // write_seen's and the write pass: from the start of the pass before
+      // the first to the start of the last.
+      SimNs exchange = 0;
+      for (const char* name : {"read_response", "master_end", "pc_compute", "write_request", "slave_end"})
+        exchange += term_ns(name);
+      out.push_back(PathCluster{4, 4 * w + out_.read_pass_ns + frames_per_pass_ + exchange + kClockNs});
+      if (remote && down_inhibit_us != 0) out.push_back(PathCluster{2, 2 * w});  // inhibit_down
+      return out;
+    }
+    out.push_back(PathCluster{1, w});                              // press_seen
+    out.push_back(PathCluster{2, 2 * w});                          // debounce_seen, tpdo_pass
+    if (up_inhibit_us != 0) out.push_back(PathCluster{2, 2 * w});  // inhibit_up
+    out.push_back(PathCluster{2, 2 * w});                          // led_pass
+    return out;
+  }
+
+  /// The PC's Arduino applies the button PDO when it receives it (an
+  /// event-driven RPDO), before the pass answers a request.
+  void set_rpdo_at_reception(bool yes) { rpdo_at_reception_ = yes; }
 
   const timing::LatencyBound& bound() const { return b_; }
   /// Longest pass start to pass start on the PC's Arduino, frames included.
@@ -365,6 +429,52 @@ class TightBound {
  private:
   SimNs wait(SimNs pass) const { return std::max(t_.loop_ns, pass); }
 
+  /// The pass in progress when the write's t3.5 ends. With strictly
+  /// periodic passes the read pass and the write pass both start on the
+  /// loop's grid, so the write pass starts a whole number of periods after
+  /// the read pass: the rest of the pass in progress is what is left to the
+  /// next grid point after read pass + exchange (`pc_ns`: the PC's own part
+  /// and the request's gap) + t3.5 (docs/timing.md §9, "On the loop's grid").
+  SimNs write_seen(SimNs read_pass, SimNs pc_ns, SimNs seen) const {
+    const SimNs any_pass = seen + kClockNs;
+    if (!grid_) return any_pass;
+    const timing::PollCycle cycle = timing::poll_cycle(out_.params);
+    const SimNs to_t35 =
+        read_pass + cycle.read.response_ns + pc_ns + cycle.write.request_ns + t35_ + kClockNs;
+    // The read pass may be longer by the frames it took in.
+    const SimNs longest = to_t35 + frames_per_pass_;
+    const SimNs next = (longest + t_.loop_ns - 1) / t_.loop_ns * t_.loop_ns;
+    return std::min(any_pass, next - to_t35);
+  }
+
+  /// The pass in progress at the LED's Arduino when the LED's PDO arrives
+  /// (Modbus + CANopen), after can_down; `frames_ns`: the frames term. With
+  /// strictly periodic passes and a debounce of whole periods the pass that
+  /// counts the press and the one that sets the LED both start on that
+  /// Arduino's grid, a whole number of periods apart: the wait is what is
+  /// left to the next grid point after the terms between them
+  /// (docs/timing.md §9, "On the loop's grid").
+  SimNs led_seen(SimNs frames_ns) const {
+    const SimNs any_pass = wait(plain_);
+    if (!periodic_) return any_pass;
+    SimNs chain = frames_ns;  // the frames may lengthen any pass between them
+    bool in = false;
+    for (size_t i = 0; i < b_.count; ++i) {
+      if (std::string(b_.terms[i].name) == "tpdo_pass") in = true;
+      if (in) chain += b_.terms[i].worst_ns;
+    }
+    const SimNs next = (chain + t_.loop_ns - 1) / t_.loop_ns * t_.loop_ns;
+    return std::min(any_pass, next - chain + frames_ns);
+  }
+
+  /// Worst case of the term `name` of the last build(); 0 when absent.
+  SimNs term_ns(const char* name) const {
+    for (size_t i = 0; i < b_.count; ++i) {
+      if (std::string(b_.terms[i].name) == name) return b_.terms[i].worst_ns;
+    }
+    return 0;
+  }
+
   void add(const char* name, uint64_t best, uint64_t worst) {
     if (b_.count == timing::kMaxLatencyTerms) full_ = true;
     timing::add_latency_term(b_, name, best, worst);
@@ -372,13 +482,15 @@ class TightBound {
 
   /// The pass in progress when the button is pressed (Modbus only, where
   /// the PC's Arduino has the button). A read pass or one without a
-  /// request: its own length. A write pass of cycle k: the next read ends
+  /// request: its own length (a pass answering a request takes no
+  /// characters where no pass without one is longer than t3.5, the
+  /// read_pass_ns / write_pass_ns of the constructor). A write pass of cycle k: the next read ends
   /// at most two poll periods after cycle k's read ended, which was ρ
   /// before that write pass began, whenever cycle k+2's read cannot end
   /// before the press is debounced (docs/timing.md §9).
   SimNs press_seen(SimNs poll, SimNs seen, SimNs debounce_seen, SimNs split) const {
     const timing::LatencyParams& p = out_.params;
-    const SimNs read_or_plain = wait(plain_ + chars_ + read_);
+    const SimNs read_or_plain = wait(std::max(out_.read_pass_ns, plain_ + chars_));
     const SimNs rho = t_.pass_ns + read_ + timing::serial_frame_ns_floor(p.serial, p.read.response_bytes) +
                       SimNs{p.master_end_us + p.pc_compute_us} * kNsPerUs +
                       timing::serial_frame_ns_floor(p.serial, p.write.request_bytes) + t35_;
@@ -389,7 +501,7 @@ class TightBound {
     const SimNs min_cycle = c_.pc.cycle_ns - c_.pc.jitter_ns - split;
     const bool two_cycles = 2 * min_cycle >= sigma + out_.write_pass_ns + frames_per_pass_ + debounce_ns_ +
                                                  debounce_seen + kClockNs;
-    if (!two_cycles) return wait(plain_ + chars_ + std::max(read_, write_));
+    if (!two_cycles) return wait(std::max({out_.read_pass_ns, out_.write_pass_ns, plain_ + chars_}));
     // Press to the read that samples it: 2·poll + seen − ρ against the
     // terms press_seen + debounce + debounce_seen + poll_wait.
     const SimNs write_case = 2 * poll + seen + kClockNs;
@@ -404,7 +516,9 @@ class TightBound {
   bool full_ = false;
   SimNs plain_ = 0, chars_ = 0, read_ = 0, write_ = 0, frames_per_pass_ = 0, t35_ = 0;
   SimNs debounce_ns_ = 0, longest_wait_ = 0;
+  bool grid_ = false;  ///< every pass starts a whole number of loop periods after the one before
   bool periodic_ = false;
+  bool rpdo_at_reception_ = false;
 };
 
 }  // namespace
@@ -431,29 +545,35 @@ LabBound lab_bound(Line& line, bool remote, const LabOperator& op) {
     out.error = strf("no bounded CAN response time for the lab PDOs at %u kbit/s", c.bitrate_kbit);
     return out;
   }
-  if (!longest_response_ns(out.messages, bitrate, &longest_r)) {
+  std::vector<MessageLateness> late;
+  if (!response_times(out.messages, bitrate, &late, &longest_r)) {
     out.error = strf("a message of the line has no bounded response time at %u kbit/s", c.bitrate_kbit);
     return out;
   }
   const uint32_t up_inhibit_us = remote ? tpdo_inhibit_us(line, up_id) : 0;
   const uint32_t down_inhibit_us = remote ? tpdo_inhibit_us(line, down_id) : 0;
   TightBound tight(c, remote, out);
+  tight.set_rpdo_at_reception(remote && rpdo_applied_at_reception(line, c.lab_pc, up_id));
   // First with a full receive buffer in every pass of the path (sound on
-  // its own), then with the frames that window can hold: the press's
-  // window reaches back over the pass in progress and the one before it,
-  // whose frames that pass took in.
+  // its own), then with the frames the path's passes can take in during
+  // that window: the press's window reaches back over the pass in progress
+  // and the one before it, whose frames that pass took in.
   const uint32_t cap = ~uint32_t{0};
   if (!tight.build(remote, up, down, up_inhibit_us, down_inhibit_us, cap, cap)) {
     out.error = "too many terms";
     return out;
   }
   out.window_ns = tight.bound().worst_ns + 2 * tight.longest_wait();
-  const SimNs jitter = out.step_ns + longest_r;  // a send's lateness and its time on the bus
+  const SimNs jitter = out.step_ns + longest_r;              // a send's lateness and its time on the bus
+  for (MessageLateness& l : late) l.late_ns += out.step_ns;  // the same, message by message
   const int button = remote ? c.lab_remote : c.lab_pc;
   uint32_t frames_pc = 0, frames_led = 0;
-  Status counted = frames_in_window(line, c.lab_pc, button, out.window_ns, jitter, op, &frames_pc);
-  if (counted && remote)
-    counted = frames_in_window(line, c.lab_remote, button, out.window_ns, jitter, op, &frames_led);
+  Status counted = frames_on_path(line, c.lab_pc, button, out.window_ns, jitter, late, op,
+                                  tight.clusters(remote, true, up_inhibit_us, down_inhibit_us), &frames_pc);
+  if (counted && remote) {
+    counted = frames_on_path(line, c.lab_remote, button, out.window_ns, jitter, late, op,
+                             tight.clusters(remote, false, up_inhibit_us, down_inhibit_us), &frames_led);
+  }
   if (!counted) {
     out.error = counted.message();
     return out;

@@ -43,7 +43,8 @@ SimNs firmware_step_ns(const NodeTiming& t, SimNs pass_max_ns);
 /// Modbus only (button and LED on lab_pc); `op`: what the operator presses
 /// besides the lab button. Each firmware step is the longest pass of its
 /// kind (docs/timing.md §9, "The bound per kind of pass"), the frames each
-/// Arduino can take in during the latency window are counted once. Only the
+/// Arduino takes into the passes the path waits for are counted once
+/// ("Frames on the path", frames_on_path). Only the
 /// lab PC talks Modbus (the other stations' passes have no characters).
 LabBound lab_bound(Line& line, bool remote, const LabOperator& op = LabOperator());
 

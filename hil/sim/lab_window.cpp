@@ -1,5 +1,8 @@
 #include "sim/lab_window.h"
 
+#include <algorithm>
+#include <vector>
+
 #include "sim/lab_bound.h"
 #include "sim/lab_hops.h"
 
@@ -34,14 +37,34 @@ int operator_sends(Line& line, int s, uint16_t n, int button_station, const LabO
   return -1;
 }
 
-}  // namespace
+/// One message station x receives: how often its sends can come.
+struct Sender {
+  uint32_t id = 0;      ///< COB-ID
+  SimNs period_ns = 0;  ///< what the message set allows between two releases
+  int caused = -1;      ///< sends the operator causes in a window; -1: not the operator's
+  SimNs event_ns = 0;   ///< its event timer (restarts at every send); 0: none
+};
 
-Status frames_in_window(Line& line, int x, int button_station, SimNs window_ns, SimNs jitter_ns,
-                        const LabOperator& op, uint32_t* frames) {
+/// Sends of `m` whose reception can fall in a closed interval of `span_ns`
+/// (the interval plus how late one may be received).
+uint32_t sends_in(const Sender& m, SimNs span_ns) {
+  uint32_t n = releases(span_ns, m.period_ns);
+  if (m.caused >= 0) {
+    // Plus the event timer's: it restarts at every send (CiA 301), so
+    // its sends are an event time apart at least.
+    const uint32_t timer = m.event_ns != 0 ? releases(span_ns, m.event_ns) : 0;
+    const uint32_t operated = static_cast<uint32_t>(m.caused) + timer;
+    if (operated < n) n = operated;
+  }
+  return n;
+}
+
+/// Every message station `x` takes in (its filters admit it, another
+/// station sends it) with its rate; fails when a message has no known rate.
+Status senders_of(Line& line, int x, int button_station, const LabOperator& op, std::vector<Sender>* out) {
   const LineConfig& c = line.config();
   const CanController& rx = line.node(x).can();
-  const SimNs span = window_ns + jitter_ns;
-  uint32_t total = 0;
+  out->clear();
   uint32_t sync_period_us = 0;
   for (int s = 0; s < line.size(); ++s) {
     canopen::ObjectDictionary& od = line.node(s).gateway().od();
@@ -49,7 +72,7 @@ Status frames_in_window(Line& line, int x, int button_station, SimNs window_ns, 
     if ((sync_cob & 0x40000000u) && od_get(od, 0x1006, 0) != 0) {
       sync_period_us = od_get(od, 0x1006, 0);
       if (s != x && rx.accepts(static_cast<uint16_t>(sync_cob & 0x7FFu)))
-        total += releases(span, SimNs{sync_period_us} * kNsPerUs);
+        out->push_back(Sender{sync_cob & 0x7FFu, SimNs{sync_period_us} * kNsPerUs});
     }
   }
   for (int s = 0; s < line.size(); ++s) {
@@ -75,23 +98,92 @@ Status frames_in_window(Line& line, int x, int button_station, SimNs window_ns, 
         return Status::failure(
             strf("TPDO%u of node %d has neither an inhibit time nor a known event rate", n + 1, s + 1));
       }
-      uint32_t sends = releases(span, SimNs{period_us} * kNsPerUs);
-      const int caused = type >= 254 ? operator_sends(line, s, n, button_station, op) : -1;
-      if (caused >= 0) {
-        // Plus the event timer's: it restarts at every send (CiA 301), so
-        // its sends are an event time apart at least.
-        const uint32_t event_ms = od_get(od, comm, 5);
-        const uint32_t timer = event_ms != 0 ? releases(span, SimNs{event_ms} * kNsPerMs) : 0;
-        const uint32_t operated = static_cast<uint32_t>(caused) + timer;
-        if (operated < sends) sends = operated;
-      }
-      total += sends;
+      Sender m{cob & 0x7FFu, SimNs{period_us} * kNsPerUs};
+      m.caused = type >= 254 ? operator_sends(line, s, n, button_station, op) : -1;
+      m.event_ns = SimNs{od_get(od, comm, 5)} * kNsPerMs;
+      out->push_back(m);
     }
     const uint32_t hb_ms = od_get(od, 0x1017, 0);
     if (hb_ms != 0 && rx.accepts(static_cast<uint16_t>(0x700 + s + 1)))
-      total += releases(span, SimNs{hb_ms} * kNsPerMs);
+      out->push_back(Sender{0x700u + static_cast<uint32_t>(s + 1), SimNs{hb_ms} * kNsPerMs});
   }
-  *frames = total;
+  return Status::ok();
+}
+
+/// Maximum flow from the senders (capacity: their sends in the window)
+/// through the clusters they can reach (capacity per pair: their sends in
+/// the cluster's reception interval) to the path (capacity per cluster: a
+/// full receive buffer per pass), by augmenting paths. Small graphs: tens
+/// of senders, a handful of clusters.
+class FrameFlow {
+ public:
+  FrameFlow(const std::vector<uint32_t>& sender_cap, const std::vector<std::vector<uint32_t>>& pair_cap,
+            const std::vector<uint32_t>& cluster_cap)
+      : m_(sender_cap.size()), k_(cluster_cap.size()), n_(m_ + k_ + 2), cap_(n_ * n_, 0) {
+    for (size_t i = 0; i < m_; ++i) {
+      at(source(), 1 + i) = sender_cap[i];
+      for (size_t j = 0; j < k_; ++j) at(1 + i, 1 + m_ + j) = pair_cap[i][j];
+    }
+    for (size_t j = 0; j < k_; ++j) at(1 + m_ + j, sink()) = cluster_cap[j];
+  }
+
+  uint32_t run() {
+    uint32_t total = 0;
+    for (;;) {
+      std::vector<size_t> from(n_, n_);
+      std::vector<size_t> queue{source()};
+      from[source()] = source();
+      for (size_t q = 0; q < queue.size() && from[sink()] == n_; ++q) {
+        for (size_t v = 0; v < n_; ++v) {
+          if (from[v] == n_ && at(queue[q], v) > 0) {
+            from[v] = queue[q];
+            queue.push_back(v);
+          }
+        }
+      }
+      if (from[sink()] == n_) return total;
+      uint32_t push = ~uint32_t{0};
+      for (size_t v = sink(); v != source(); v = from[v]) push = std::min(push, at(from[v], v));
+      for (size_t v = sink(); v != source(); v = from[v]) {
+        at(from[v], v) -= push;
+        at(v, from[v]) += push;
+      }
+      total += push;
+    }
+  }
+
+ private:
+  size_t source() const { return 0; }
+  size_t sink() const { return n_ - 1; }
+  uint32_t& at(size_t a, size_t b) { return cap_[a * n_ + b]; }
+
+  size_t m_, k_, n_;
+  std::vector<uint32_t> cap_;
+};
+
+}  // namespace
+
+Status frames_on_path(Line& line, int x, int button_station, SimNs window_ns, SimNs jitter_ns,
+                      const std::vector<MessageLateness>& late, const LabOperator& op,
+                      const std::vector<PathCluster>& clusters, uint32_t* frames) {
+  std::vector<Sender> senders;
+  Status listed = senders_of(line, x, button_station, op, &senders);
+  if (!listed) return listed;
+  const size_t buffers = line.config().node.can_rx_buffers;
+  std::vector<uint32_t> sender_cap, cluster_cap;
+  std::vector<std::vector<uint32_t>> pair_cap;
+  for (const Sender& m : senders) {
+    sender_cap.push_back(sends_in(m, window_ns + jitter_ns));
+    pair_cap.emplace_back();
+    // In a short interval each message's own lateness, not the longest.
+    SimNs lateness = jitter_ns;
+    for (const MessageLateness& l : late) {
+      if (l.id == m.id) lateness = std::min(lateness, l.late_ns);
+    }
+    for (const PathCluster& k : clusters) pair_cap.back().push_back(sends_in(m, k.span_ns + lateness));
+  }
+  for (const PathCluster& k : clusters) cluster_cap.push_back(static_cast<uint32_t>(k.passes * buffers));
+  *frames = FrameFlow(sender_cap, pair_cap, cluster_cap).run();
   return Status::ok();
 }
 

@@ -57,8 +57,8 @@ TEST(LatencyWorst, EveryMeasurementInsideTheBound) {
 // model reaches it; where it does not, the figure reached, for the reasons
 // that section gives per case (uno Modbus only: two frames of the neighbour
 // the bound must count, placed by its power-on phase only at 125 kbit/s;
-// Modbus + CANopen: the frames of the STOP2 interference and the CAN hops,
-// the line-state TPDO1s split between the hops).
+// Modbus + CANopen: the frames the path's passes can take in and the CAN
+// hops, the line-state TPDO1s split between the hops).
 TEST(LatencyWorst, EveryCaseReachesItsShareOfTheBound) {
   struct Case {
     bool fast;
@@ -67,12 +67,12 @@ TEST(LatencyWorst, EveryCaseReachesItsShareOfTheBound) {
     double reached;
   };
   const Case cases[] = {
-      {false, 125, false, 0.940},  {false, 125, true, 0.811},  {false, 250, false, 0.935},
-      {false, 250, true, 0.824},   {false, 500, false, 0.935}, {false, 500, true, 0.822},
-      {false, 1000, false, 0.935}, {false, 1000, true, 0.827}, {true, 125, false, 0.97},
-      {true, 125, true, 0.898},    {true, 250, false, 0.97},   {true, 250, true, 0.904},
-      {true, 500, false, 0.97},    {true, 500, true, 0.905},   {true, 1000, false, 0.97},
-      {true, 1000, true, 0.919},
+      {false, 125, false, 0.943},  {false, 125, true, 0.824},  {false, 250, false, 0.95},
+      {false, 250, true, 0.839},   {false, 500, false, 0.938}, {false, 500, true, 0.838},
+      {false, 1000, false, 0.938}, {false, 1000, true, 0.841}, {true, 125, false, 0.978},
+      {true, 125, true, 0.938},    {true, 250, false, 0.978},  {true, 250, true, 0.938},
+      {true, 500, false, 0.978},   {true, 500, true, 0.940},   {true, 1000, false, 0.978},
+      {true, 1000, true, 0.956},
   };
   for (const Case& k : cases) {
     SCOPED_TRACE(testing::Message() << (k.fast ? "fast " : "uno ") << k.kbit << "k "
@@ -85,7 +85,7 @@ TEST(LatencyWorst, EveryCaseReachesItsShareOfTheBound) {
 }
 
 // The bound per kind of pass: each step is the longest pass of its kind,
-// the frames the PC's Arduino can take in during the window are counted
+// the frames the PC's Arduino can take into the path's passes are counted
 // once (Modbus only: the neighbour's heartbeat and its TPDO1 event timer),
 // and the sum lies below the library's one-loop-per-step form.
 TEST(LatencyWorst, BoundChargesEachStepItsOwnKindOfPass) {
@@ -109,6 +109,56 @@ TEST(LatencyWorst, BoundChargesEachStepItsOwnKindOfPass) {
   ASSERT_TRUE(quiet.ok && loud.ok);
   EXPECT_GT(loud.frames_pc + loud.frames_led, quiet.frames_pc + quiet.frames_led);
   EXPECT_LT(loud.bound.worst_ns, timing::modbus_canopen_latency(loud.params).worst_ns);
+}
+
+// Frames on the path (docs/timing.md §9): the PC's Arduino on the CANopen
+// path takes in at most 2 of the 3 sends of the button TPDO2 in its run of
+// four passes (5 frames, not the window's 6); the button's and LED's
+// Arduino 10 of the window's 11 (two per pass of its five). With an
+// event-driven RPDO the pass in progress when the button PDO arrives is no
+// term of the path (the PDO's handover), and the terms still sum to the bound.
+TEST(LatencyWorst, FramesCountOnlyInThePassesOfThePath) {
+  const LatencyResult r =
+      latency_scenario(lab_line(false), LatencyCase{125, true, true}, 1, nullptr, nullptr);
+  ASSERT_TRUE(r.bound.ok) << r.bound.error;
+  EXPECT_EQ(r.bound.frames_pc, 5u);
+  EXPECT_EQ(r.bound.frames_led, 10u);
+  uint64_t sum = 0, frames = 0;
+  for (size_t i = 0; i < r.bound.bound.count; ++i) {
+    const std::string name = r.bound.bound.terms[i].name;
+    EXPECT_NE(name, "rpdo_seen");
+    if (name == "frames") frames = r.bound.bound.terms[i].worst_ns;
+    sum += r.bound.bound.terms[i].worst_ns;
+  }
+  EXPECT_EQ(frames, 15u * lab_line(false).node.frame_ns);
+  EXPECT_EQ(sum, r.bound.bound.worst_ns);
+}
+
+// On the loop's grid (docs/timing.md §9): with passes every 1 ms the write
+// pass and the LED's pass start on their Arduinos' grids, so the pass
+// counting the press and the one setting the LED start a whole number of
+// periods apart and write_seen is less than a period.
+TEST(LatencyWorst, FastPassesChargeTheRestToTheGrid) {
+  const LatencyResult r = latency_scenario(lab_line(true), LatencyCase{1000, true}, 1, nullptr, nullptr);
+  ASSERT_TRUE(r.bound.ok) << r.bound.error;
+  const SimNs period = fast_timing().loop_ns;
+  uint64_t chain = 0, write_seen = 0, led_pass = 0;
+  bool in = false;
+  for (size_t i = 0; i < r.bound.bound.count; ++i) {
+    const std::string name = r.bound.bound.terms[i].name;
+    if (name == "tpdo_pass") in = true;
+    if (name == "led_pass") {
+      led_pass = r.bound.bound.terms[i].worst_ns;
+      in = false;
+    }
+    if (name == "write_seen") write_seen = r.bound.bound.terms[i].worst_ns;
+    if (in) chain += r.bound.bound.terms[i].worst_ns;
+  }
+  EXPECT_LT(write_seen, period);
+  // The LED's pass: the rest to the grid, then the pass itself.
+  const uint64_t led_start = chain + led_pass - r.bound.plain_pass_ns;
+  EXPECT_EQ(led_start % period, 0u);
+  EXPECT_LT(led_pass, period + r.bound.plain_pass_ns);
 }
 
 // The two hops together (docs/timing.md §9): the line-state TPDO1s, above

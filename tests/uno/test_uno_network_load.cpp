@@ -59,18 +59,18 @@ constexpr uint32_t kBitRate = 500000;  // the gateway's default (2000h/2)
 constexpr uint32_t kFullLoad = kBitRate;
 /// A third of the bus in 8-byte frames (~1,400 frames/s; 127 nodes'
 /// heartbeats every 100 ms are 1,270/s): the image does not keep up with
-/// that either, the frames coming in bursts (measured: 18 % dropped by the
-/// chip, 10 of 282 remote uploads 05040000h).
+/// that either, the frames coming in bursts (measured: 8-20 % dropped by
+/// the chip, 3-14 % of the remote uploads 05040000h).
 constexpr uint32_t kThirdBitRate = kBitRate / 3;
 constexpr size_t kIntervals = 100;      // heartbeat intervals measured (10 s)
 constexpr uint16_t kHeartbeatMs = 100;  // 1017h, written through the gateway
 constexpr double kMinBusyShare = 0.9;   // the wire's busy time / the image's time, of the load asked
 /// Of the remote uploads, the share that may end in 05040000h at any load:
-/// three of four (measured at full load: 29-51 %, the chip dropping ~42 %
+/// three of four (measured at full load: 29-53 %, the chip dropping ~42 %
 /// of all frames; a response is lost with the frames the chip has no room
-/// for). Over kMinUploads, a true share of 0.5 passes 3/4 with p < 1e-4.
+/// for). Over kMinUploads, a true share of 0.55 passes 3/4 with p < 1e-3.
 constexpr double kMaxLost = 3.0 / 4.0;
-constexpr uint64_t kMinUploads = 60;
+constexpr uint64_t kMinUploads = 80;
 constexpr uint32_t kClientTimeoutMs = 20000;
 constexpr size_t kMaxOverBoundOnNode = 2;
 constexpr uint64_t kWorstIntervalOnNodeUs = 125000;
@@ -237,11 +237,15 @@ class UnoNetworkLoad : public ::testing::Test {
     return p;
   }
 
-  /// Every request answered as documented, the load what was asked.
+  /// Every request answered as documented, the load what was asked: on
+  /// the image, its wire's busy time in its own time (a host that runs it
+  /// slower than the wall clock gives it more load, never less); on
+  /// mb2co-node, the flood's rate.
   void expect_answered(const Phase& p, uint32_t bit_rate) {
-    EXPECT_GE(p.flood_bits_per_s, kMinBusyShare * bit_rate) << "the flood was not the load asked";
     if (uno_) {
       EXPECT_GE(p.busy_share, kMinBusyShare * bit_rate / kBitRate) << "the image did not see that load";
+    } else {
+      EXPECT_GE(p.flood_bits_per_s, kMinBusyShare * bit_rate) << "the flood was not the load asked";
     }
     EXPECT_TRUE(p.wrong.empty()) << p.wrong.size() << " not answered as documented, first: "
                                  << (p.wrong.empty() ? "" : p.wrong[0]);

@@ -7,7 +7,7 @@ set -u
 list=$(ctest --test-dir "${1:?usage: registered_tests.sh BUILD_DIR}" -N)
 missing=0
 for name in vcan.socketcan_port node.ring node.network node.wide_types load.bus_flood uno.vcan uno.ionode_vcan master.network master.transfers master.configure \
-            master.via_modbus uno.network uno.network_pymodbus \
+            master.via_modbus uno.network uno.network_pymodbus uno.network_load \
             node.tcp_network master.via_modbus_tcp node.pymodbus_tcp pcapp.e2e.tcp_station pcapp.e2e.remote_latency_common_clock \
             master.serve master.serve_npm \
             node.trace_can node.ring_ids node.sdo_flood uno.student_line live.uno_chain3 master.bounds master.bursts master.bursts_calls \

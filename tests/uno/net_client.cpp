@@ -6,7 +6,8 @@
 // by byte as the document lays them out. The tests (tests/uno/
 // test_uno_network.cpp) drive it through a gateway to remote nodes.
 //
-// Usage: mb2co-net-client DEVICE [SLAVE]   (115200 8N1, slave 1)
+// Usage: mb2co-net-client DEVICE [SLAVE [TIMEOUT_MS]]   (115200 8N1, slave 1,
+// kResponseTimeoutMs)
 // Commands on stdin, one answer line on stdout each (numbers in hex but
 // NODE, START, COUNT, MS; data as one hex string, CANopen byte order):
 //   upload NODE INDEX SUB [START [COUNT]]  -> upload size=S more=M data=HEX ms=T
@@ -43,7 +44,8 @@ using Bytes = std::vector<uint8_t>;
 
 // A master waits 500 ms plus the frame times for a missing node
 // (docs/gateway-network.md, "How long a master waits"): 2 s leaves room for
-// a slow host.
+// a slow host. A test that starves the gateway's host longer (a simulated
+// Uno then runs slower than the wall clock) gives its own.
 constexpr uint32_t kResponseTimeoutMs = 2000;
 // Every part before the last carries whole SDO segments; 63 bytes (9
 // segments) fit the Uno's frame buffer (docs/gateway-network.md, "Limits").
@@ -122,13 +124,19 @@ uint16_t crc16(const uint8_t* data, size_t n) {  // Modbus over serial line V1.0
   return crc;
 }
 
-// Reads exactly `n` more bytes of the frame from the port (at most 100 ms
-// between two: the frame is on its way).
+// The longest pause between two bytes of a response. The gateway sends
+// them back to back; a longer pause is the host's: a simulated Uno
+// (mb2co-uno) starved by a loaded host pauses with its whole clock
+// (uno.network_load saw more than 100 ms).
+constexpr int kByteGapMs = 1000;
+
+// Reads exactly `n` more bytes of the frame from the port (at most
+// kByteGapMs between two: the frame is on its way).
 bool read_more(uint8_t* out, size_t n) {
   const int fd = modbus_get_socket(g_ctx);
   for (size_t got = 0; got < n;) {
     pollfd p{fd, POLLIN, 0};
-    if (poll(&p, 1, 100) <= 0) return false;
+    if (poll(&p, 1, kByteGapMs) <= 0) return false;
     const ssize_t r = read(fd, out + got, n - got);
     if (r <= 0) return false;
     got += static_cast<size_t>(r);
@@ -444,17 +452,18 @@ std::string run(const std::string& line) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2 || argc > 3) {
-    std::fprintf(stderr, "usage: mb2co-net-client DEVICE [SLAVE]\n");
+  if (argc < 2 || argc > 4) {
+    std::fprintf(stderr, "usage: mb2co-net-client DEVICE [SLAVE [TIMEOUT_MS]]\n");
     return 2;
   }
   g_ctx = modbus_new_rtu(argv[1], 115200, 'N', 8, 1);
-  if (g_ctx == nullptr || modbus_set_slave(g_ctx, argc == 3 ? std::atoi(argv[2]) : 1) != 0 ||
+  if (g_ctx == nullptr || modbus_set_slave(g_ctx, argc >= 3 ? std::atoi(argv[2]) : 1) != 0 ||
       modbus_connect(g_ctx) != 0) {
     std::fprintf(stderr, "mb2co-net-client: %s: %s\n", argv[1], modbus_strerror(errno));
     return 1;
   }
-  modbus_set_response_timeout(g_ctx, kResponseTimeoutMs / 1000, (kResponseTimeoutMs % 1000) * 1000);
+  const uint32_t timeout_ms = argc == 4 ? static_cast<uint32_t>(std::atol(argv[3])) : kResponseTimeoutMs;
+  modbus_set_response_timeout(g_ctx, timeout_ms / 1000, (timeout_ms % 1000) * 1000);
   std::string line;
   while (std::getline(std::cin, line)) {
     if (line.empty()) continue;

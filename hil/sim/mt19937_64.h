@@ -1,0 +1,58 @@
+// MT19937-64 as the C++ standard specifies std::mt19937_64 (the same stream
+// for the same seed, word for word; tests/sim/test_rng.cpp compares them),
+// written for the simulator's hot path: every idle firmware pass draws its
+// jitter from it. Two differences from libstdc++'s engine, none in the
+// numbers: the twist picks the matrix term without a branch (libstdc++'s
+// `(y & 1) ? a : 0` is a branch taken at random, half of them mispredicted),
+// and a draw is inline.
+#pragma once
+#include <stddef.h>
+#include <stdint.h>
+
+namespace mb2co {
+namespace sim {
+
+class Mt19937x64 {
+ public:
+  explicit Mt19937x64(uint64_t seed) {
+    x_[0] = seed;
+    for (size_t i = 1; i < kN; ++i) x_[i] = kInitMultiplier * (x_[i - 1] ^ (x_[i - 1] >> 62)) + i;
+    p_ = kN;  // the first draw twists, as the standard's engine does
+  }
+
+  uint64_t operator()() {
+    if (p_ >= kN) twist();
+    uint64_t z = x_[p_++];
+    z ^= (z >> 29) & 0x5555555555555555ull;
+    z ^= (z << 17) & 0x71D67FFFEDA60000ull;
+    z ^= (z << 37) & 0xFFF7EEE000000000ull;
+    return z ^ (z >> 43);
+  }
+
+ private:
+  static constexpr size_t kN = 312;
+  static constexpr size_t kM = 156;
+  static constexpr uint64_t kMatrix = 0xB5026F5AA96619E9ull;
+  static constexpr uint64_t kUpper = ~uint64_t{0} << 31;
+  static constexpr uint64_t kLower = ~kUpper;
+  static constexpr uint64_t kInitMultiplier = 6364136223846793005ull;
+
+  /// One word of the recurrence: x_[k] from x_[k], x_[k1] and x_[km].
+  static uint64_t next_word(uint64_t xk, uint64_t xk1, uint64_t xkm) {
+    const uint64_t y = (xk & kUpper) | (xk1 & kLower);
+    return xkm ^ (y >> 1) ^ ((uint64_t{0} - (y & 1)) & kMatrix);
+  }
+  __attribute__((noinline)) void twist() {
+    size_t k = 0;
+    for (; k < kN - kM; ++k) x_[k] = next_word(x_[k], x_[k + 1], x_[k + kM]);
+    for (; k < kN - 1; ++k) x_[k] = next_word(x_[k], x_[k + 1], x_[k + kM - kN]);
+    x_[kN - 1] = next_word(x_[kN - 1], x_[0], x_[kM - 1]);
+    p_ = 0;
+  }
+
+  uint64_t x_[kN];
+  size_t p_;
+};
+
+}  // namespace sim
+}  // namespace mb2co

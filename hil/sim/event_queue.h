@@ -40,6 +40,14 @@ class Sleeper : public Handler {
   /// Runs the idle occurrence at `t_ns` (its own bookkeeping and random
   /// draws, in the order the event would make them); returns the next one's time.
   virtual SimNs idle_pass(SimNs t_ns) = 0;
+  /// The queue keeps wake_floor() while the sleeper sleeps (it is asked
+  /// before every event otherwise). Whoever changes what it depends on (an
+  /// input arrives: a CAN frame, a serial character, a button) calls this;
+  /// the queue asks again before its next occurrence runs. The sleeper's own
+  /// events need not (sleep() and wake() forget the floor). A floor kept
+  /// too low only wakes the sleeper early into a heap, where its occurrence
+  /// runs as the idle event it is; one kept too high skips work: wrong.
+  void floor_moved() { floor_known_ = false; }
 
  protected:
   ~Sleeper() = default;
@@ -51,7 +59,9 @@ class Sleeper : public Handler {
   uint32_t sleep_code_ = 0;
   uint64_t sleep_arg_ = 0;
   bool asleep_ = false;
-  SimNs floor_ = 0;  ///< wake_floor() as run_sleepers() last asked (~0: not due)
+  bool floor_known_ = false;  ///< known_floor_ is wake_floor() (floor_moved() clears it)
+  SimNs known_floor_ = 0;
+  SimNs floor_ = 0;  ///< the floor run_sleepers() used last (~0: not due)
 };
 
 /// Events in (time, sequence) order. Not thread-safe; handlers may schedule

@@ -15,6 +15,7 @@ NodeStation::NodeStation(EventQueue& queue, CanBus& bus, int index, uint32_t bau
       rng_(seed),
       uart_(baud, timing.uart_rx_bytes) {
   can_.set_powered(false);
+  can_.on_rx = [this] { floor_moved(); };  // a frame waits: the next pass calls the firmware
 }
 
 void NodeStation::power_on() {
@@ -54,10 +55,12 @@ void NodeStation::power_off() {
 
 void NodeStation::on_event(uint32_t code, uint64_t arg) {
   if (arg != generation_ || !gw_) return;  // from before a power cycle
-  if (code == kPass)
+  if (code == kPass) {
     pass();
-  else
+  } else {
     release();
+    floor_moved();  // the outputs left: the passes after it may be idle again
+  }
 }
 
 void NodeStation::pass() {

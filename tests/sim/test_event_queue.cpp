@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "sim/event_queue.h"
 #include "sim/rng.h"
@@ -46,6 +47,7 @@ class Ticker final : public Sleeper {
   /// is at power off) instead of by its wake floor at its next tick.
   void set_input(bool wake_now) {
     input = true;
+    floor_moved();
     if (sleeps_ && wake_now) q_.wake(this);
   }
 
@@ -102,6 +104,77 @@ TEST(EventQueue, SleepingKeepsTheOrderOfEveryEventOnTheSameNanosecond) {
     EXPECT_NE(eager.find(" i"), std::string::npos);
     EXPECT_NE(eager.find(" B"), std::string::npos);
   }
+}
+
+/// Ticks every 10 ns, idle before `wake_at`; counts the queue's questions
+/// for its wake floor and its busy ticks.
+class CountingSleeper final : public Sleeper {
+ public:
+  explicit CountingSleeper(EventQueue& q) : q_(q) {}
+  void on_event(uint32_t, uint64_t) override {
+    if (q_.now() >= wake_at) {
+      busy.push_back(q_.now());
+      wake_at = ~SimNs{0};
+    }
+    q_.sleep(this, q_.now() + 10, 0, 0);
+  }
+  SimNs wake_floor() const override {
+    ++asked;
+    return wake_at;
+  }
+  SimNs idle_pass(SimNs t) override { return t + 10; }
+
+  SimNs wake_at = ~SimNs{0};
+  mutable int asked = 0;
+  std::vector<SimNs> busy;
+
+ private:
+  EventQueue& q_;
+};
+
+/// An event every ns; at 503 the sleeper's input comes.
+class Input final : public Handler {
+ public:
+  Input(EventQueue& q, CountingSleeper& s, bool tell) : q_(q), s_(s), tell_(tell) {}
+  void on_event(uint32_t, uint64_t) override {
+    if (q_.now() == 503) {
+      s_.wake_at = 0;
+      if (tell_) s_.floor_moved();
+    }
+    if (q_.now() < 1000) q_.after(1, this, 0);
+  }
+
+ private:
+  EventQueue& q_;
+  CountingSleeper& s_;
+  bool tell_;
+};
+
+TEST(EventQueue, AWakeFloorIsKeptUntilItMoves) {
+  EventQueue q;
+  CountingSleeper s(q);
+  Input input(q, s, true);
+  q.at(0, &s, 0);
+  q.at(0, &input, 0);
+  q.run_until(1000);
+  // Asked after its first event, after floor_moved() and after the busy
+  // tick (its own event), not before each of the 1,000 other events; the
+  // input is seen at the first tick after it.
+  EXPECT_EQ(s.asked, 3);
+  EXPECT_EQ(s.busy, (std::vector<SimNs>{510}));
+}
+
+TEST(EventQueue, AnInputNotToldIsNotSeenWhileTheFloorIsKept) {
+  // The contract's other side: a change of the floor without floor_moved()
+  // stays unseen (why every input of a station tells it).
+  EventQueue q;
+  CountingSleeper s(q);
+  Input input(q, s, false);
+  q.at(0, &s, 0);
+  q.at(0, &input, 0);
+  q.run_until(1000);
+  EXPECT_EQ(s.asked, 1);
+  EXPECT_TRUE(s.busy.empty());
 }
 
 }  // namespace

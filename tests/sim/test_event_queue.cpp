@@ -150,31 +150,37 @@ class Input final : public Handler {
   bool tell_;
 };
 
-TEST(EventQueue, AWakeFloorIsKeptUntilItMoves) {
+/// 1,000 ns of the sleeper among an event every ns, its input at 503 (told
+/// by floor_moved() or not); the sleeper as it ends.
+struct InputRun {
+  int asked;
+  std::vector<SimNs> busy;
+};
+InputRun run_with_input(bool tell) {
   EventQueue q;
   CountingSleeper s(q);
-  Input input(q, s, true);
+  Input input(q, s, tell);
   q.at(0, &s, 0);
   q.at(0, &input, 0);
   q.run_until(1000);
+  return InputRun{s.asked, s.busy};
+}
+
+TEST(EventQueue, AWakeFloorIsKeptUntilItMoves) {
+  const InputRun r = run_with_input(true);
   // Asked after its first event, after floor_moved() and after the busy
   // tick (its own event), not before each of the 1,000 other events; the
   // input is seen at the first tick after it.
-  EXPECT_EQ(s.asked, 3);
-  EXPECT_EQ(s.busy, (std::vector<SimNs>{510}));
+  EXPECT_EQ(r.asked, 3);
+  EXPECT_EQ(r.busy, (std::vector<SimNs>{510}));
 }
 
 TEST(EventQueue, AnInputNotToldIsNotSeenWhileTheFloorIsKept) {
   // The contract's other side: a change of the floor without floor_moved()
   // stays unseen (why every input of a station tells it).
-  EventQueue q;
-  CountingSleeper s(q);
-  Input input(q, s, false);
-  q.at(0, &s, 0);
-  q.at(0, &input, 0);
-  q.run_until(1000);
-  EXPECT_EQ(s.asked, 1);
-  EXPECT_TRUE(s.busy.empty());
+  const InputRun r = run_with_input(false);
+  EXPECT_EQ(r.asked, 1);
+  EXPECT_TRUE(r.busy.empty());
 }
 
 }  // namespace

@@ -114,11 +114,15 @@ bool EventQueue::run_sleepers(SimNs t, uint64_t seq) {
       }
       floor = std::min(floor, s->floor_);
     }
+    // After a sleeper's first occurrence in place the next ones carry
+    // stretch_seq: before (t, seq) when earlier than t, or at t when
+    // stretch_seq < seq (the end of a run_until).
+    const SimNs stretch_end = (stretch_seq < seq && t != ~SimNs{0}) ? t + 1 : t;
+    const SimNs limit = std::min(floor, stretch_end);
     SimNs min_t = ~SimNs{0};
     for (Sleeper* s : sleepers_) {
-      while (s->sleep_t_ < floor && before(s)) {
-        ++handled_;
-        s->sleep_t_ = std::max(s->idle_pass(s->sleep_t_), s->sleep_t_);
+      if (s->sleep_t_ < floor && before(s)) {
+        s->sleep_t_ = s->idle_passes(s->sleep_t_, limit, &handled_);
         s->sleep_seq_ = stretch_seq;
       }
       min_t = std::min(min_t, s->sleep_t_);

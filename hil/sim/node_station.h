@@ -116,8 +116,9 @@ class NodeStation final : public Sleeper {
   /// came). The rule of "Idle passes": before wake_ns_, no CAN frame, no
   /// button change, no serial character complete.
   SimNs wake_floor() const override;
-  /// Sleeper: an idle pass at `t` (its jitter drawn as pass() draws it).
-  SimNs idle_pass(SimNs t) override;
+  /// Sleeper: idle passes from `t` on, before `limit` (each one's jitter
+  /// drawn as pass() draws it).
+  SimNs idle_passes(SimNs t, SimNs limit, uint64_t* count) override;
   /// CanControl::set_filters: the controller admits what the gateway's
   /// acceptance ranges admit (planned as the Uno plans them).
   static void set_filters(void* ctx, const CanIdRange* ranges, uint8_t count);

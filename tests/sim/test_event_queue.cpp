@@ -39,9 +39,13 @@ class Ticker final : public Sleeper {
       q_.again_at(next);
   }
   SimNs wake_floor() const override { return input ? 0 : wake_at; }
-  SimNs idle_pass(SimNs t) override {
-    log_ += "i" + std::to_string(t) + " ";
-    return t + 3 + rng_.below(2);
+  SimNs idle_passes(SimNs t, SimNs limit, uint64_t* count) override {
+    do {
+      ++*count;
+      log_ += "i" + std::to_string(t) + " ";
+      t += 3 + rng_.below(2);
+    } while (t < limit);
+    return t;
   }
   /// An input; `wake_now`: the sleeper is also woken at once (as a station
   /// is at power off) instead of by its wake floor at its next tick.
@@ -122,7 +126,11 @@ class CountingSleeper final : public Sleeper {
     ++asked;
     return wake_at;
   }
-  SimNs idle_pass(SimNs t) override { return t + 10; }
+  SimNs idle_passes(SimNs t, SimNs limit, uint64_t* count) override {
+    const uint64_t n = (limit - t + 9) / 10;  // the ticks from t before limit (t < limit)
+    *count += n;
+    return t + 10 * n;
+  }
 
   SimNs wake_at = ~SimNs{0};
   mutable int asked = 0;

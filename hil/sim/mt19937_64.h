@@ -4,7 +4,8 @@
 // jitter from it. Two differences from libstdc++'s engine, none in the
 // numbers: the twist picks the matrix term without a branch (libstdc++'s
 // `(y & 1) ? a : 0` is a branch taken at random, half of them mispredicted),
-// and a draw is inline.
+// and a draw is inline (the outputs of a state are tempered together when
+// it is made).
 #pragma once
 #include <stddef.h>
 #include <stdint.h>
@@ -22,11 +23,7 @@ class Mt19937x64 {
 
   uint64_t operator()() {
     if (p_ >= kN) twist();
-    uint64_t z = x_[p_++];
-    z ^= (z >> 29) & 0x5555555555555555ull;
-    z ^= (z << 17) & 0x71D67FFFEDA60000ull;
-    z ^= (z << 37) & 0xFFF7EEE000000000ull;
-    return z ^ (z >> 43);
+    return out_[p_++];
   }
 
  private:
@@ -42,15 +39,25 @@ class Mt19937x64 {
     const uint64_t y = (xk & kUpper) | (xk1 & kLower);
     return xkm ^ (y >> 1) ^ ((uint64_t{0} - (y & 1)) & kMatrix);
   }
+  static uint64_t temper(uint64_t z) {
+    z ^= (z >> 29) & 0x5555555555555555ull;
+    z ^= (z << 17) & 0x71D67FFFEDA60000ull;
+    z ^= (z << 37) & 0xFFF7EEE000000000ull;
+    return z ^ (z >> 43);
+  }
+  /// The next kN words of the state, and their outputs: tempered here, in
+  /// a loop without dependencies between words, not on the draw's path.
   __attribute__((noinline)) void twist() {
     size_t k = 0;
     for (; k < kN - kM; ++k) x_[k] = next_word(x_[k], x_[k + 1], x_[k + kM]);
     for (; k < kN - 1; ++k) x_[k] = next_word(x_[k], x_[k + 1], x_[k + kM - kN]);
     x_[kN - 1] = next_word(x_[kN - 1], x_[0], x_[kM - 1]);
+    for (k = 0; k < kN; ++k) out_[k] = temper(x_[k]);
     p_ = 0;
   }
 
   uint64_t x_[kN];
+  uint64_t out_[kN];  ///< the draws of this state, in order (from x_[p_] on: not yet drawn)
   size_t p_;
 };
 

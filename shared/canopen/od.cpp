@@ -219,22 +219,20 @@ uint32_t ObjectDictionary::constant_at(Place p) const {
 uint32_t ObjectDictionary::get(uint16_t row) const {
 #if MB2CO_CONFIG_OD_DIRECT_GET
   if (row < kDirectRows && direct_[row].size != 0) {
-    // One load of the value's own width (little-endian, checked above): a
-    // memcpy of a variable size into a 4-byte variable stores its bytes
-    // singly and the 4-byte read of them then waits for the stores
-    // (no store-to-load forwarding), most of get()'s time in the simulator.
-    const uint8_t* p = values_ + direct_[row].offset;
-    if (direct_[row].size == 1) return p[0];
-    if (direct_[row].size == 2) {
-      uint16_t v;
-      memcpy(&v, p, 2);
-      return v;
-    }
+    // One 4-byte load, masked to the value's width (little-endian, checked
+    // above): no branch on the width, and no memcpy of a variable size,
+    // whose bytes stored singly make the read of them wait (no
+    // store-to-load forwarding). The bytes beyond a narrow value are the
+    // next values' (inside values_: the last 3 bytes are read bytewise).
+    static const uint32_t kWidthMask[5] = {0, 0xFFu, 0xFFFFu, 0xFFFFFFu, 0xFFFFFFFFu};
+    const Direct d = direct_[row];
+    const uint8_t* p = values_ + d.offset;
     uint32_t v = 0;
-    if (direct_[row].size == 4)
+    if (d.offset + 4u <= def_.values_size) {
       memcpy(&v, p, 4);
-    else
-      memcpy(&v, p, 3);
+      return v & kWidthMask[d.size];
+    }
+    for (uint8_t i = 0; i < d.size; ++i) v |= static_cast<uint32_t>(p[i]) << (8 * i);
     return v;
   }
 #endif

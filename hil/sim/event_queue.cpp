@@ -73,6 +73,7 @@ void EventQueue::sleep(Sleeper* s, SimNs t_ns, uint32_t code, uint64_t arg) {
   s->sleep_seq_ = next_seq();
   s->sleep_code_ = code;
   s->sleep_arg_ = arg;
+  s->floor_known_ = false;  // its event just ran: its floor moves
   if (!s->asleep_) {
     s->asleep_ = true;
     sleepers_.push_back(s);
@@ -83,6 +84,7 @@ void EventQueue::sleep(Sleeper* s, SimNs t_ns, uint32_t code, uint64_t arg) {
 void EventQueue::wake(Sleeper* s) {
   if (!s->asleep_) return;
   s->asleep_ = false;
+  s->floor_known_ = false;
   sleepers_.erase(std::find(sleepers_.begin(), sleepers_.end(), s));
   const SimNs t = s->sleep_t_;
   push(t - now_ < kNearNs ? near_ : far_, Ev{t, s->sleep_seq_, s, s->sleep_code_, s->sleep_arg_});
@@ -102,14 +104,25 @@ bool EventQueue::run_sleepers(SimNs t, uint64_t seq) {
     // is idle: run them, up to the next event.
     SimNs floor = ~SimNs{0};
     for (Sleeper* s : sleepers_) {
-      s->floor_ = before(s) ? s->wake_floor() : ~SimNs{0};
+      s->floor_ = ~SimNs{0};
+      if (before(s)) {
+        if (!s->floor_known_) {
+          s->known_floor_ = s->wake_floor();
+          s->floor_known_ = true;
+        }
+        s->floor_ = s->known_floor_;
+      }
       floor = std::min(floor, s->floor_);
     }
+    // After a sleeper's first occurrence in place the next ones carry
+    // stretch_seq: before (t, seq) when earlier than t, or at t when
+    // stretch_seq < seq (the end of a run_until).
+    const SimNs stretch_end = (stretch_seq < seq && t != ~SimNs{0}) ? t + 1 : t;
+    const SimNs limit = std::min(floor, stretch_end);
     SimNs min_t = ~SimNs{0};
     for (Sleeper* s : sleepers_) {
-      while (s->sleep_t_ < floor && before(s)) {
-        ++handled_;
-        s->sleep_t_ = std::max(s->idle_pass(s->sleep_t_), s->sleep_t_);
+      if (s->sleep_t_ < floor && before(s)) {
+        s->sleep_t_ = s->idle_passes(s->sleep_t_, limit, &handled_);
         s->sleep_seq_ = stretch_seq;
       }
       min_t = std::min(min_t, s->sleep_t_);

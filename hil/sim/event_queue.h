@@ -30,16 +30,28 @@ class Handler {
 
 /// A handler whose recurring event (a station's firmware pass) may be
 /// jumped while it provably does nothing: the queue runs such an occurrence
-/// in place (idle_pass()) instead of through its heaps, at the same place in
+/// in place (idle_passes()) instead of through its heaps, at the same place in
 /// the order (EventQueue, "Sleeping").
 class Sleeper : public Handler {
  public:
   /// The earliest time from which an occurrence is not idle (0: the next
   /// one is not: an input came).
   virtual SimNs wake_floor() const = 0;
-  /// Runs the idle occurrence at `t_ns` (its own bookkeeping and random
-  /// draws, in the order the event would make them); returns the next one's time.
-  virtual SimNs idle_pass(SimNs t_ns) = 0;
+  /// Runs the idle occurrence at `t_ns` and every next one earlier than
+  /// `limit_ns` (their own bookkeeping and random draws, in the order the
+  /// events would make them), adding their count to `*count`; returns the
+  /// time of the next one (>= limit_ns; each occurrence comes after the one
+  /// before). One call per stretch: a station's idle passes in a loop of
+  /// their own, not a virtual call each.
+  virtual SimNs idle_passes(SimNs t_ns, SimNs limit_ns, uint64_t* count) = 0;
+  /// The queue keeps wake_floor() while the sleeper sleeps (it is asked
+  /// before every event otherwise). Whoever changes what it depends on (an
+  /// input arrives: a CAN frame, a serial character, a button) calls this;
+  /// the queue asks again before its next occurrence runs. The sleeper's own
+  /// events need not (sleep() and wake() forget the floor). A floor kept
+  /// too low only wakes the sleeper early into a heap, where its occurrence
+  /// runs as the idle event it is; one kept too high skips work: wrong.
+  void floor_moved() { floor_known_ = false; }
 
  protected:
   ~Sleeper() = default;
@@ -51,7 +63,9 @@ class Sleeper : public Handler {
   uint32_t sleep_code_ = 0;
   uint64_t sleep_arg_ = 0;
   bool asleep_ = false;
-  SimNs floor_ = 0;  ///< wake_floor() as run_sleepers() last asked (~0: not due)
+  bool floor_known_ = false;  ///< known_floor_ is wake_floor() (floor_moved() clears it)
+  SimNs known_floor_ = 0;
+  SimNs floor_ = 0;  ///< the floor run_sleepers() used last (~0: not due)
 };
 
 /// Events in (time, sequence) order. Not thread-safe; handlers may schedule
@@ -67,7 +81,7 @@ class Sleeper : public Handler {
 /// handled may call sleep() instead of again_at(). Its next occurrence then
 /// waits outside the heaps, keyed as again_at() would have keyed it. Before
 /// each event from the heaps, every sleeper's occurrences ordered before it
-/// run in place by idle_pass(), each counted in handled(); the first that
+/// run in place by idle_passes(), each counted in handled(); the first that
 /// is not idle (at or after wake_floor()) goes into a heap with its key and
 /// runs as an ordinary event. Sequence numbers of scheduled events are
 /// even; an occurrence scheduled by an idle one gets the odd number between

@@ -15,6 +15,7 @@ NodeStation::NodeStation(EventQueue& queue, CanBus& bus, int index, uint32_t bau
       rng_(seed),
       uart_(baud, timing.uart_rx_bytes) {
   can_.set_powered(false);
+  can_.on_rx = [this] { floor_moved(); };  // a frame waits: the next pass calls the firmware
 }
 
 void NodeStation::power_on() {
@@ -54,10 +55,12 @@ void NodeStation::power_off() {
 
 void NodeStation::on_event(uint32_t code, uint64_t arg) {
   if (arg != generation_ || !gw_) return;  // from before a power cycle
-  if (code == kPass)
+  if (code == kPass) {
     pass();
-  else
+  } else {
     release();
+    floor_moved();  // the outputs left: the passes after it may be idle again
+  }
 }
 
 void NodeStation::pass() {
@@ -125,11 +128,21 @@ SimNs NodeStation::wake_floor() const {
   return rx_ != nullptr ? std::min(wake_ns_, rx_->first_end()) : wake_ns_;
 }
 
-SimNs NodeStation::idle_pass(SimNs t) {
-  // pass() and finish_pass() for an idle pass.
-  ++passes_;
-  const SimNs proc = timing_.pass_ns + rng_.range(0, timing_.jitter_ns);
-  return t + (timing_.loop_ns > proc ? timing_.loop_ns : proc);
+SimNs NodeStation::idle_passes(SimNs t, SimNs limit, uint64_t* count) {
+  // pass() and finish_pass() for each idle pass (timing in locals: the
+  // draws' stores cannot change them).
+  const SimNs pass_ns = timing_.pass_ns;
+  const SimNs jitter_ns = timing_.jitter_ns;
+  const SimNs loop_ns = timing_.loop_ns;
+  uint64_t n = 0;
+  do {
+    ++n;
+    const SimNs proc = pass_ns + rng_.range(0, jitter_ns);
+    t += loop_ns > proc ? loop_ns : proc;
+  } while (t < limit);
+  passes_ += n;
+  *count += n;
+  return t;
 }
 
 SimNs NodeStation::take_serial(SimNs t, uint32_t now_us) {

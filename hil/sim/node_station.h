@@ -80,12 +80,19 @@ class NodeStation final : public Sleeper {
   bool powered() const { return gw_ != nullptr; }
 
   /// Where serial characters come from (the link's PC-to-node channel).
-  void attach_serial(UartChannel* rx) { rx_ = rx; }
+  void attach_serial(UartChannel* rx) {
+    rx_ = rx;
+    if (rx != nullptr) rx->reader = this;  // a character on an empty line moves the wake floor
+    floor_moved();
+  }
   /// Serial output: bytes leave at the end of the pass that produced them.
   std::function<void(const uint8_t* data, uint16_t n)> serial_out;
 
   /// Raw button levels (gateway::Button bits), sampled by the next pass.
-  void set_buttons(uint8_t raw) { buttons_ = raw; }
+  void set_buttons(uint8_t raw) {
+    buttons_ = raw;
+    floor_moved();
+  }
   uint8_t buttons() const { return buttons_; }
   uint8_t leds() const { return leds_; }
   const NodeState& state() const { return state_; }
@@ -109,8 +116,9 @@ class NodeStation final : public Sleeper {
   /// came). The rule of "Idle passes": before wake_ns_, no CAN frame, no
   /// button change, no serial character complete.
   SimNs wake_floor() const override;
-  /// Sleeper: an idle pass at `t` (its jitter drawn as pass() draws it).
-  SimNs idle_pass(SimNs t) override;
+  /// Sleeper: idle passes from `t` on, before `limit` (each one's jitter
+  /// drawn as pass() draws it).
+  SimNs idle_passes(SimNs t, SimNs limit, uint64_t* count) override;
   /// CanControl::set_filters: the controller admits what the gateway's
   /// acceptance ranges admit (planned as the Uno plans them).
   static void set_filters(void* ctx, const CanIdRange* ranges, uint8_t count);

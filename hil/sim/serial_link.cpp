@@ -15,6 +15,7 @@ void UartChannel::send(const uint8_t* data, size_t n, size_t gap_index, SimNs ga
     lost_ += n;
     return;
   }
+  if (n != 0 && line_.empty() && reader != nullptr) reader->floor_moved();
   for (size_t k = 0; k < n; ++k) {
     const SimNs gap = (split && k >= gap_index) ? gap_ns : 0;
     line_.push_back(SerialChar{data[k], start + gap + chars_ns(k + 1)});

@@ -48,6 +48,10 @@ class UartChannel final : public Handler {
   bool take(SimNs until_ns, SerialChar* out);
   /// Called when the last character of a send() is complete (now()).
   std::function<void()> on_sent;
+  /// The station that takes the characters, when it sleeps over idle
+  /// passes (null: none): told when first_end() comes earlier (a character
+  /// sent onto an empty line).
+  Sleeper* reader = nullptr;
 
   uint64_t bytes_sent() const { return sent_; }
   uint64_t bytes_lost() const { return lost_; }

@@ -219,8 +219,20 @@ uint32_t ObjectDictionary::constant_at(Place p) const {
 uint32_t ObjectDictionary::get(uint16_t row) const {
 #if MB2CO_CONFIG_OD_DIRECT_GET
   if (row < kDirectRows && direct_[row].size != 0) {
+    // One 4-byte load, masked to the value's width (little-endian, checked
+    // above): no branch on the width, and no memcpy of a variable size,
+    // whose bytes stored singly make the read of them wait (no
+    // store-to-load forwarding). The bytes beyond a narrow value are the
+    // next values' (inside values_: the last 3 bytes are read bytewise).
+    static const uint32_t kWidthMask[5] = {0, 0xFFu, 0xFFFFu, 0xFFFFFFu, 0xFFFFFFFFu};
+    const Direct d = direct_[row];
+    const uint8_t* p = values_ + d.offset;
     uint32_t v = 0;
-    memcpy(&v, values_ + direct_[row].offset, direct_[row].size);  // little-endian (checked above)
+    if (d.offset + 4u <= def_.values_size) {
+      memcpy(&v, p, 4);
+      return v & kWidthMask[d.size];
+    }
+    for (uint8_t i = 0; i < d.size; ++i) v |= static_cast<uint32_t>(p[i]) << (8 * i);
     return v;
   }
 #endif

@@ -5,11 +5,13 @@
 // the 24/40/48/56-bit lengths.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
 
 #include "canopen/pdo_map.h"
+#include "ionode/io_node_od.h"
 #include "test_fixture.h"
 #include "types_od.h"
 #include "value_bytes.h"
@@ -291,6 +293,62 @@ TEST_F(OdTypes, MappingLengthsBeyondTheEntryAreRefused) {
     EXPECT_EQ(pdo_check_entry(od, (static_cast<uint32_t>(t.index) << 16) | bits, true), kSdoOk)
         << std::hex << t.index;
   }
+}
+
+// get() of every numeric RAM row gives its value's bytes (little-endian, the
+// low 4 of a wider one), whatever way it reads them: on hosts a direct
+// table read as one masked 4-byte load (MB2CO_CONFIG_OD_DIRECT_GET), the
+// last values of the block bytewise; on the Uno the row's decoding.
+// Compared with copy_out(), which always decodes the row.
+
+/// Fills the value block with distinct bytes, checks every row; returns
+/// the end of the last numeric value and whether one lay within the
+/// block's last 3 bytes (read bytewise).
+uint16_t every_numeric_row_reads_its_bytes(const OdDefinition& def, uint8_t* values, bool* in_last_bytes) {
+  for (uint16_t i = 0; i < def.values_size; ++i) values[i] = static_cast<uint8_t>(0x11 + 7 * i);
+  const ObjectDictionary od(def, values);
+  int checked = 0;
+  uint16_t end = 0;
+  *in_last_bytes = false;
+  for (uint16_t row = 0; row < od.row_count(); ++row) {
+    if ((od.attr(row) & (kAttrRam | kAttrString)) != kAttrRam) continue;
+    uint8_t bytes[8] = {};
+    const uint16_t n = od.copy_out(row, bytes, sizeof bytes);
+    if (n == 0) continue;
+    uint32_t expected = 0;
+    memcpy(&expected, bytes, n < 4 ? n : 4);  // little-endian, as both targets
+    EXPECT_EQ(od.get(row), expected) << "row " << row << ", " << n << " bytes";
+    const uint16_t at = static_cast<uint16_t>(od.ram(row) - values);
+    end = std::max(end, static_cast<uint16_t>(at + n));
+    *in_last_bytes = *in_last_bytes || at + 4 > def.values_size;
+    ++checked;
+  }
+  EXPECT_GT(checked, 10);
+  return end;
+}
+
+/// As the OD is, and with the value block cut right after its last numeric
+/// value; true when a value then lay within the last 3 bytes (read bytewise).
+bool every_numeric_row_reads_its_bytes_also_at_the_block_end(const OdDefinition& def, uint8_t* values) {
+  bool in_last_bytes = false;
+  OdDefinition tight = def;
+  tight.values_size = every_numeric_row_reads_its_bytes(def, values, &in_last_bytes);
+  every_numeric_row_reads_its_bytes(tight, values, &in_last_bytes);
+  return in_last_bytes;
+}
+
+TEST(OdGet, EveryNumericRowOfTheAllTypesOdReadsItsBytes) {
+  types::od::TypesValues values{};
+  ASSERT_EQ(sizeof values, types::od::TypesDefinition.values_size);
+  every_numeric_row_reads_its_bytes_also_at_the_block_end(types::od::TypesDefinition,
+                                                          reinterpret_cast<uint8_t*>(&values));
+}
+
+TEST(OdGet, EveryNumericRowOfTheIoNodeOdReadsItsBytes) {
+  ionode::od::IoNodeValues values{};
+  ASSERT_EQ(sizeof values, ionode::od::IoNodeDefinition.values_size);
+  EXPECT_TRUE(every_numeric_row_reads_its_bytes_also_at_the_block_end(ionode::od::IoNodeDefinition,
+                                                                      reinterpret_cast<uint8_t*>(&values)));
 }
 
 }  // namespace

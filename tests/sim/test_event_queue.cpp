@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "sim/event_queue.h"
 #include "sim/rng.h"
@@ -38,14 +39,19 @@ class Ticker final : public Sleeper {
       q_.again_at(next);
   }
   SimNs wake_floor() const override { return input ? 0 : wake_at; }
-  SimNs idle_pass(SimNs t) override {
-    log_ += "i" + std::to_string(t) + " ";
-    return t + 3 + rng_.below(2);
+  SimNs idle_passes(SimNs t, SimNs limit, uint64_t* count) override {
+    do {
+      ++*count;
+      log_ += "i" + std::to_string(t) + " ";
+      t += 3 + rng_.below(2);
+    } while (t < limit);
+    return t;
   }
   /// An input; `wake_now`: the sleeper is also woken at once (as a station
   /// is at power off) instead of by its wake floor at its next tick.
   void set_input(bool wake_now) {
     input = true;
+    floor_moved();
     if (sleeps_ && wake_now) q_.wake(this);
   }
 
@@ -102,6 +108,87 @@ TEST(EventQueue, SleepingKeepsTheOrderOfEveryEventOnTheSameNanosecond) {
     EXPECT_NE(eager.find(" i"), std::string::npos);
     EXPECT_NE(eager.find(" B"), std::string::npos);
   }
+}
+
+/// Ticks every 10 ns, idle before `wake_at`; counts the queue's questions
+/// for its wake floor and its busy ticks.
+class CountingSleeper final : public Sleeper {
+ public:
+  explicit CountingSleeper(EventQueue& q) : q_(q) {}
+  void on_event(uint32_t, uint64_t) override {
+    if (q_.now() >= wake_at) {
+      busy.push_back(q_.now());
+      wake_at = ~SimNs{0};
+    }
+    q_.sleep(this, q_.now() + 10, 0, 0);
+  }
+  SimNs wake_floor() const override {
+    ++asked;
+    return wake_at;
+  }
+  SimNs idle_passes(SimNs t, SimNs limit, uint64_t* count) override {
+    const uint64_t n = (limit - t + 9) / 10;  // the ticks from t before limit (t < limit)
+    *count += n;
+    return t + 10 * n;
+  }
+
+  SimNs wake_at = ~SimNs{0};
+  mutable int asked = 0;
+  std::vector<SimNs> busy;
+
+ private:
+  EventQueue& q_;
+};
+
+/// An event every ns; at 503 the sleeper's input comes.
+class Input final : public Handler {
+ public:
+  Input(EventQueue& q, CountingSleeper& s, bool tell) : q_(q), s_(s), tell_(tell) {}
+  void on_event(uint32_t, uint64_t) override {
+    if (q_.now() == 503) {
+      s_.wake_at = 0;
+      if (tell_) s_.floor_moved();
+    }
+    if (q_.now() < 1000) q_.after(1, this, 0);
+  }
+
+ private:
+  EventQueue& q_;
+  CountingSleeper& s_;
+  bool tell_;
+};
+
+/// 1,000 ns of the sleeper among an event every ns, its input at 503 (told
+/// by floor_moved() or not); the sleeper as it ends.
+struct InputRun {
+  int asked;
+  std::vector<SimNs> busy;
+};
+InputRun run_with_input(bool tell) {
+  EventQueue q;
+  CountingSleeper s(q);
+  Input input(q, s, tell);
+  q.at(0, &s, 0);
+  q.at(0, &input, 0);
+  q.run_until(1000);
+  return InputRun{s.asked, s.busy};
+}
+
+TEST(EventQueue, AWakeFloorIsKeptUntilItMoves) {
+  const InputRun r = run_with_input(true);
+  // Asked after its first event, after floor_moved() and after the busy
+  // tick (its own event), not before each of the 1,000 other events; the
+  // input is seen at the first tick after it.
+  EXPECT_EQ(r.asked, 3);
+  EXPECT_EQ(r.busy, (std::vector<SimNs>{510}));
+}
+
+TEST(EventQueue, AnInputNotToldIsNotSeenWhileTheFloorIsKept) {
+  // The contract's other side: a change of the floor without floor_moved()
+  // stays unseen (why every input of a station tells it).
+  const InputRun r = run_with_input(false);
+  EXPECT_EQ(r.asked, 1);
+  EXPECT_TRUE(r.busy.empty());
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // histograms, and a progress bar that redraws at most ~10 times a second.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <regex>
 #include <string>

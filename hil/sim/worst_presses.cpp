@@ -27,6 +27,15 @@ constexpr uint32_t kFineRepeats = 12;
 // each pressed kPhasingRepeats times at the worst phase.
 constexpr uint32_t kPhasings = 96;
 constexpr uint32_t kPhasingRepeats = 6;
+// The neighbours' power-on phase against the end of the path: kEndPhasings
+// offsets over kEndSpan pressed kEndRepeats times each, then kEndFine + 1
+// offsets over kEndFineSpan around the worst, kEndFineRepeats times each.
+constexpr uint32_t kEndPhasings = 70;
+constexpr uint32_t kEndRepeats = 3;
+constexpr SimNs kEndSpan = 7 * kMs;
+constexpr uint32_t kEndFine = 20;
+constexpr uint32_t kEndFineRepeats = 12;
+constexpr SimNs kEndFineSpan = 400 * kNsPerUs;
 constexpr SimNs kPowerOff = 50 * kMs;  ///< off that long (capacitors drained)
 
 class Operator {
@@ -166,8 +175,11 @@ PressRun search_worst_presses(Line& line, int button_station, int led_station, b
   for (int s = 0; s < line.size(); ++s) {
     if (s != button_station && s != led_station && s != c.lab_pc) neighbours.push_back(s);
   }
-  const uint32_t total = kCoarse * kCoarseRepeats + (kFine + 1) * kFineRepeats +
-                         (neighbours.empty() ? 0 : kPhasings * kPhasingRepeats);
+  const uint32_t total =
+      kCoarse * kCoarseRepeats + (kFine + 1) * kFineRepeats +
+      (neighbours.empty() ? 0 : kPhasings * kPhasingRepeats) +
+      (neighbours.empty() || interference ? 0
+                                          : kEndPhasings * kEndRepeats + (kEndFine + 1) * kEndFineRepeats);
   uint32_t presses = 0;
   // The next time ≥ 150 ms from now whose offset in the PC's cycle (counted
   // from `origin`) is `phase`: the line has settled after the last press.
@@ -212,16 +224,24 @@ PressRun search_worst_presses(Line& line, int button_station, int led_station, b
   }
   const SimNs span = 4 * coarse_step;
   SimNs fine_worst = 0;
+  SimNs steady_sum = 0;  // the phase whose presses are longest on average
+  SimNs steady_phase = worst_phase;
   SimNs fine_phase = worst_phase;
   for (uint32_t k = 0; k <= kFine; ++k) {
     const SimNs phase = (worst_phase + cycle - span / 2 + k * span / kFine) % cycle;
     SimNs led_pdo = 0;
+    SimNs sum = 0;
     for (uint32_t n = 0; n < kFineRepeats; ++n) {
       const SimNs v = measure(phase, &led_pdo, lead_of(n));
+      sum += v;
       if (v > fine_worst) {
         fine_worst = v;
         fine_phase = phase;
       }
+    }
+    if (sum > steady_sum) {
+      steady_sum = sum;
+      steady_phase = phase;
     }
   }
   if (neighbours.empty() || fine_worst == 0) return r;
@@ -236,6 +256,41 @@ PressRun search_worst_presses(Line& line, int button_station, int led_station, b
   const SimNs first_hb = op.first_frame(hb_id, calibrate_on + kS);
   if (first_hb == 0) return r;
   const SimNs boot_to_hb = first_hb - calibrate_on;
+  // The end of the path: the neighbours' first heartbeat (and their TPDO1
+  // timer, about 1 ms on) `offset` after a press at the steady phase,
+  // offsets spread over the last kEndSpan of its mean latency: there the
+  // frames reach the passes of the PC's poll (the pass in progress when
+  // the read's t3.5 ends, the read pass, write_seen's, the write pass).
+  // Then kEndFine + 1 offsets within ±kEndFineSpan / 2 of the worst,
+  // pressed kEndFineRepeats times each: the PC's start jitter, which the
+  // bound charges whole, differs at every press.
+  // Modbus only: with the interference the STOP2 and STOP frames fill
+  // those passes already.
+  const bool end_stage = !interference;
+  const SimNs steady_end = steady_sum / kFineRepeats;
+  auto end_press = [&](SimNs offset, SimNs* led_pdo, uint32_t n) {
+    const SimNs at = next_at(steady_phase, kPowerOff + 10 * kMs + boot_to_hb + 300 * kMs);
+    op.repower(neighbours, at + offset - boot_to_hb);
+    return measure(steady_phase, led_pdo, lead_of(n), at);
+  };
+  SimNs end_worst = 0;
+  SimNs end_offset = steady_end;
+  for (uint32_t k = 0; end_stage && k < kEndPhasings; ++k) {
+    const SimNs offset = steady_end - kEndSpan - kMs / 2 + k * kEndSpan / kEndPhasings;
+    SimNs led_pdo = 0;
+    for (uint32_t n = 0; n < kEndRepeats; ++n) {
+      const SimNs v = end_press(offset, &led_pdo, n);
+      if (v > end_worst) {
+        end_worst = v;
+        end_offset = offset;
+      }
+    }
+  }
+  for (uint32_t k = 0; end_stage && k <= kEndFine; ++k) {
+    const SimNs offset = end_offset - kEndFineSpan / 2 + k * kEndFineSpan / kEndFine;
+    SimNs led_pdo = 0;
+    for (uint32_t n = 0; n < kEndFineRepeats; ++n) end_press(offset, &led_pdo, n);
+  }
   for (uint32_t k = 0; k < kPhasings; ++k) {
     // Half of the offsets just before the press, half just before the
     // debounce runs out: there a frame lengthens the pass in progress and

@@ -27,6 +27,17 @@ constexpr uint32_t kFineRepeats = 12;
 // each pressed kPhasingRepeats times at the worst phase.
 constexpr uint32_t kPhasings = 96;
 constexpr uint32_t kPhasingRepeats = 6;
+// The neighbours' power-on phase against the end of the path (Modbus only):
+// kEndPhasings offsets over kEndSpan pressed kEndRepeats times each, then
+// kEndFine + 1 offsets over kEndFineSpan around the worst and around the
+// worst at least kEndApart from it, kEndFineRepeats times each.
+constexpr uint32_t kEndPhasings = 70;
+constexpr uint32_t kEndRepeats = 3;
+constexpr SimNs kEndSpan = 7 * kMs;
+constexpr uint32_t kEndFine = 16;
+constexpr uint32_t kEndFineRepeats = 24;
+constexpr SimNs kEndApart = 2 * kMs;
+constexpr SimNs kEndFineSpan = 400 * kNsPerUs;
 constexpr SimNs kPowerOff = 50 * kMs;  ///< off that long (capacitors drained)
 
 class Operator {
@@ -167,7 +178,10 @@ PressRun search_worst_presses(Line& line, int button_station, int led_station, b
     if (s != button_station && s != led_station && s != c.lab_pc) neighbours.push_back(s);
   }
   const uint32_t total = kCoarse * kCoarseRepeats + (kFine + 1) * kFineRepeats +
-                         (neighbours.empty() ? 0 : kPhasings * kPhasingRepeats);
+                         (neighbours.empty() ? 0 : kPhasings * kPhasingRepeats) +
+                         (neighbours.empty() || interference
+                              ? 0
+                              : kEndPhasings * kEndRepeats + 2 * (kEndFine + 1) * kEndFineRepeats);
   uint32_t presses = 0;
   // The next time ≥ 150 ms from now whose offset in the PC's cycle (counted
   // from `origin`) is `phase`: the line has settled after the last press.
@@ -212,16 +226,24 @@ PressRun search_worst_presses(Line& line, int button_station, int led_station, b
   }
   const SimNs span = 4 * coarse_step;
   SimNs fine_worst = 0;
+  SimNs steady_sum = 0;  // the phase whose presses are longest on average
+  SimNs steady_phase = worst_phase;
   SimNs fine_phase = worst_phase;
   for (uint32_t k = 0; k <= kFine; ++k) {
     const SimNs phase = (worst_phase + cycle - span / 2 + k * span / kFine) % cycle;
     SimNs led_pdo = 0;
+    SimNs sum = 0;
     for (uint32_t n = 0; n < kFineRepeats; ++n) {
       const SimNs v = measure(phase, &led_pdo, lead_of(n));
+      sum += v;
       if (v > fine_worst) {
         fine_worst = v;
         fine_phase = phase;
       }
+    }
+    if (sum > steady_sum) {
+      steady_sum = sum;
+      steady_phase = phase;
     }
   }
   if (neighbours.empty() || fine_worst == 0) return r;
@@ -236,6 +258,68 @@ PressRun search_worst_presses(Line& line, int button_station, int led_station, b
   const SimNs first_hb = op.first_frame(hb_id, calibrate_on + kS);
   if (first_hb == 0) return r;
   const SimNs boot_to_hb = first_hb - calibrate_on;
+  // The end of the path: the neighbours' first heartbeat (and their TPDO1
+  // timer, within 1.7 ms of it) `offset` after a press at the steady phase (the
+  // fine phase whose presses are longest on average: the press is counted
+  // after the read it just misses at nearly every repetition), offsets
+  // spread over the last kEndSpan of its mean latency: there the frames
+  // reach the passes of the PC's poll (the pass in progress when the
+  // read's t3.5 ends, the read pass, write_seen's, the write pass). Then
+  // the refinement, every other press at the fine stage's worst phase
+  // (missed less often, longer when missed): the PC's start jitter, which
+  // the bound charges whole, differs at every press. Modbus only: with
+  // the interference the STOP2 and STOP frames fill those passes already
+  // and the CANopen cases keep their samples.
+  const bool end_stage = !interference;
+  const SimNs steady_end = steady_sum / kFineRepeats;
+  // `phase` pressed with the neighbours' first heartbeat `offset` after the
+  // steady phase's press time (the end of the path stays where it was).
+  auto end_press = [&](SimNs phase, SimNs offset, SimNs* led_pdo, uint32_t n) {
+    const SimNs at = next_at(phase, kPowerOff + 10 * kMs + boot_to_hb + 300 * kMs + kMs);
+    const SimNs later = (phase + cycle - steady_phase) % cycle;  // wrapped: up to a cycle
+    const SimNs steady_at = later < cycle / 2 ? at - later : at + (cycle - later);
+    op.repower(neighbours, steady_at + offset - boot_to_hb);
+    return measure(phase, led_pdo, lead_of(n), at);
+  };
+  auto coarse_offset = [&](uint32_t k) {
+    return steady_end - kEndSpan - kMs / 2 + k * kEndSpan / kEndPhasings;
+  };
+  std::vector<SimNs> end_latency;  // per coarse offset, the worst of its presses
+  for (uint32_t k = 0; end_stage && k < kEndPhasings; ++k) {
+    const SimNs offset = coarse_offset(k);
+    SimNs led_pdo = 0;
+    SimNs worst_here = 0;
+    for (uint32_t n = 0; n < kEndRepeats; ++n)
+      worst_here = std::max(worst_here, end_press(steady_phase, offset, &led_pdo, n));
+    end_latency.push_back(worst_here);
+  }
+  // Refined around the worst offset and around the worst one at least
+  // kEndApart from it: the frames reach the read's passes and the write's
+  // passes at offsets that far apart, and which of them wins the coarse
+  // grid is chance (the PC's jitter).
+  std::vector<SimNs> end_offsets;
+  for (uint32_t pick = 0; pick < 2 && !end_latency.empty(); ++pick) {
+    SimNs best = 0;
+    SimNs best_offset = 0;
+    for (uint32_t k = 0; k < end_latency.size(); ++k) {
+      const SimNs offset = coarse_offset(k);
+      const bool apart = end_offsets.empty() || offset + kEndApart <= end_offsets.front() ||
+                         offset >= end_offsets.front() + kEndApart;
+      if (apart && end_latency[k] > best) {
+        best = end_latency[k];
+        best_offset = offset;
+      }
+    }
+    if (best != 0) end_offsets.push_back(best_offset);
+  }
+  for (SimNs around : end_offsets) {
+    for (uint32_t k = 0; k <= kEndFine; ++k) {
+      const SimNs offset = around - kEndFineSpan / 2 + k * kEndFineSpan / kEndFine;
+      SimNs led_pdo = 0;
+      for (uint32_t n = 0; n < kEndFineRepeats; ++n)
+        end_press(n % 2 == 0 ? steady_phase : fine_phase, offset, &led_pdo, n);
+    }
+  }
   for (uint32_t k = 0; k < kPhasings; ++k) {
     // Half of the offsets just before the press, half just before the
     // debounce runs out: there a frame lengthens the pass in progress and

@@ -15,7 +15,10 @@ namespace sim {
 /// Presses START on `button_station` at phases of the PC's cycle chosen by
 /// a grid search (coarse grid over one cycle, then a fine grid around the
 /// worst phase found, each point pressed several times: the pass and PC
-/// jitters differ at every repetition) and measures press → lab LED on at
+/// jitters differ at every repetition), then with the other stations
+/// switched off and on so that their heartbeat and TPDO1 timer frames reach
+/// the passes of the PC's poll (without `interference`) and those around
+/// the press and the debounce's end, and measures press → lab LED on at
 /// `led_station`. With `interference`, every other station's START or STOP
 /// is pressed so that its TPDO1 is queued with the lab's PDOs (the critical
 /// instant of the CAN analysis). Deterministic: the same line gives the same

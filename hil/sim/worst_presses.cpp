@@ -4,6 +4,7 @@
 #include <functional>
 #include <vector>
 
+#include "canopen/nmt_slave.h"
 #include "gateway/line_app.h"
 
 namespace mb2co {
@@ -39,6 +40,20 @@ constexpr uint32_t kEndFineRepeats = 24;
 constexpr SimNs kEndApart = 2 * kMs;
 constexpr SimNs kEndFineSpan = 400 * kNsPerUs;
 constexpr SimNs kPowerOff = 50 * kMs;  ///< off that long (capacitors drained)
+// Then every station's frames at once (with the interference): the PC's
+// Arduino's communication reset (NMT) so that its heartbeat and TPDO1
+// timer come kPressOffsets offsets up to kPressSpan before the press, the
+// neighbours' power-on so that theirs come kLedOffsets offsets up to
+// kLedSpan before the LED's PDO, the other stations' STOP2 kStop2Leads
+// leads up to kStop2Span before the press; each point pressed once.
+constexpr uint32_t kPressOffsets = 6;
+constexpr SimNs kPressSpan = 3 * kMs;
+constexpr uint32_t kLedOffsets = 6;
+constexpr SimNs kLedSpan = 3 * kMs;
+constexpr uint32_t kStop2Leads = 3;
+constexpr SimNs kStop2Span = 600 * kNsPerUs;
+constexpr uint32_t kPollOffsets = 28;
+constexpr uint32_t kPollPressOffsets = 3;
 
 class Operator {
  public:
@@ -83,6 +98,12 @@ class Operator {
   /// not; their TPDO2s leave with the LED's PDO when down_at is the LED
   /// PDO's time less a debounce).
   bool press(SimNs at, SimNs down_at, SimNs* latency, SimNs* led_pdo_after) {
+    if (interference_ && stop2_lead_ != 0) {
+      line_.run_until(at - stop2_lead_);
+      for (int s = 0; s < line_.size(); ++s) {
+        if (s != button_) line_.set_button(s, gateway::kStop2, true);
+      }
+    }
     line_.run_until(at);
     // Still on from the last press (its LED-off PDO lost in a receive
     // overflow): this press measures nothing.
@@ -91,7 +112,9 @@ class Operator {
     lab_pdo_lost_ = false;
     line_.set_button(button_, gateway::kStart, true);
     if (interference_) {
-      for (int s = 0; s < line_.size(); ++s) line_.set_button(s, gateway::kStop2, true);
+      for (int s = 0; s < line_.size(); ++s) {
+        if (s == button_ ? lab_stop2_ : stop2_lead_ == 0) line_.set_button(s, gateway::kStop2, true);
+      }
       if (down_at != 0) {
         line_.at(at + down_at, [this] {
           for (int s = 0; s < line_.size(); ++s) line_.set_button(s, gateway::kStop, true);
@@ -122,6 +145,14 @@ class Operator {
     line_.run_until(on_at);
     for (int s : stations) line_.power(s, true);
   }
+
+  /// With the interference, the other stations' STOP2 is pressed `lead`
+  /// before the lab button (0: with it), so that their frames reach the
+  /// lab's Arduino before the pass that counts its press.
+  void set_stop2_lead(SimNs lead) { stop2_lead_ = lead; }
+  /// With the interference, whether the lab button's station presses STOP2
+  /// too (its TPDO1 then leaves with the button's PDO).
+  void set_lab_stop2(bool pressed) { lab_stop2_ = pressed; }
 
   /// Start of the first frame with `id` (not a boot-up: first byte ≠ 0)
   /// from now until `deadline` (0: none).
@@ -159,6 +190,8 @@ class Operator {
   bool lab_pdo_lost_ = false;
   uint32_t watched_id_ = 0;
   SimNs watched_sof_ = 0;
+  SimNs stop2_lead_ = 0;
+  bool lab_stop2_ = true;
   std::vector<std::function<void(const CanFrame&)>> saved_;
 };
 
@@ -181,7 +214,10 @@ PressRun search_worst_presses(Line& line, int button_station, int led_station, b
                          (neighbours.empty() ? 0 : kPhasings * kPhasingRepeats) +
                          (neighbours.empty() || interference
                               ? 0
-                              : kEndPhasings * kEndRepeats + 2 * (kEndFine + 1) * kEndFineRepeats);
+                              : kEndPhasings * kEndRepeats + 2 * (kEndFine + 1) * kEndFineRepeats) +
+                         (neighbours.empty() || !interference
+                              ? 0
+                              : kStop2Leads * kPressOffsets * kLedOffsets + kPollOffsets * kPollPressOffsets);
   uint32_t presses = 0;
   // The next time ≥ 150 ms from now whose offset in the PC's cycle (counted
   // from `origin`) is `phase`: the line has settled after the last press.
@@ -271,6 +307,8 @@ PressRun search_worst_presses(Line& line, int button_station, int led_station, b
   // the interference the STOP2 and STOP frames fill those passes already
   // and the CANopen cases keep their samples.
   const bool end_stage = !interference;
+  // Needs a PC's Arduino other than the lab button's (Modbus + CANopen).
+  const bool all_at_once = interference && c.lab_pc != button_station;
   const SimNs steady_end = steady_sum / kFineRepeats;
   // `phase` pressed with the neighbours' first heartbeat `offset` after the
   // steady phase's press time (the end of the path stays where it was).
@@ -337,6 +375,73 @@ PressRun search_worst_presses(Line& line, int button_station, int led_station, b
       measure(phase, &led_pdo, lead_of(n), at);
     }
   }
+  if (!all_at_once) return r;
+  // Every station's frames at once. The PC's Arduino cannot be switched off
+  // (its Modbus slave would stop): the lab's NMT master (a PC on the bus)
+  // resets its communication instead, which restarts its heartbeat and its
+  // TPDO1 event timer (CiA 301: the TPDO1 leaves on entering operational,
+  // the timer runs from there) while the application and the Modbus slave
+  // run on; the RUN state is the application's and stays. Calibrated once:
+  // the time from the NMT frame to its first heartbeat.
+  CanController master(line.bus());
+  auto reset_comm = [&](int station, SimNs at) {
+    line.at(at, [&master, station] {
+      CanFrame f{};
+      f.dlc = 2;
+      f.data[0] = canopen::kNmtResetCommunication;
+      f.data[1] = static_cast<uint8_t>(station + 1);
+      master.send(f);
+    });
+  };
+  auto reset_to_hb_of = [&](int station) {
+    const SimNs reset_at = line.now() + 10 * kMs;
+    reset_comm(station, reset_at);
+    line.run_until(reset_at + 10 * kMs);  // its boot-up has left
+    const SimNs hb = op.first_frame(0x700u + static_cast<uint32_t>(station + 1), reset_at + kS);
+    return hb != 0 ? hb - reset_at : 0;
+  };
+  const SimNs reset_to_hb = reset_to_hb_of(c.lab_pc);
+  const SimNs lab_reset_to_hb = reset_to_hb_of(button_station);
+  if (reset_to_hb == 0 || lab_reset_to_hb == 0) return r;
+  SimNs led_pdo = 0;
+  SimNs led_pdo_after = steady_end;  // refined by every press
+  uint32_t n = 0;
+  // One press with station 1's heartbeat `pc_before` before it, the
+  // neighbours' `before_led` before the LED's PDO and, unless 0, the lab
+  // Arduino's `lab_after` after it.
+  auto press_placed = [&](SimNs pc_before, SimNs before_led, SimNs lab_after) {
+    const SimNs phase = n % 2 == 0 ? fine_phase : steady_phase;
+    const SimNs at = next_at(phase, kPowerOff + 10 * kMs + std::max(boot_to_hb, reset_to_hb) + 300 * kMs);
+    reset_comm(c.lab_pc, at - pc_before - reset_to_hb);
+    if (lab_after != 0) reset_comm(button_station, at + lab_after - lab_reset_to_hb);
+    if (led_pdo_after > before_led) op.repower(neighbours, at + led_pdo_after - before_led - boot_to_hb);
+    measure(phase, &led_pdo, lead_of(n), at);
+    if (led_pdo != 0) led_pdo_after = led_pdo;
+    ++n;
+  };
+  for (uint32_t k = 0; k < kStop2Leads; ++k) {
+    op.set_stop2_lead(k * kStop2Span / (kStop2Leads - 1));
+    for (uint32_t a = 0; a < kPressOffsets; ++a) {
+      for (uint32_t b = 0; b < kLedOffsets; ++b)
+        press_placed((a + 1) * kPressSpan / kPressOffsets, (b + 1) * kLedSpan / kLedOffsets, 0);
+    }
+  }
+  op.set_stop2_lead(0);
+  // The same without STOP2 on the lab's Arduino: its TPDO1 no longer
+  // blocks the button's PDO, but its event timer is not restarted by a
+  // STOP2 send, so its heartbeat and timer TPDO1 (its communication reset
+  // like the PC's Arduino's) can reach the passes of the PC's poll, as in
+  // stage 3: kPollOffsets offsets over the last kEndSpan before the LED's
+  // PDO.
+  op.set_lab_stop2(false);
+  for (uint32_t p = 0; p < kPollOffsets; ++p) {
+    for (uint32_t a = 0; a < kPollPressOffsets; ++a) {
+      const SimNs spread = (a + 1) * kMs / (kPollPressOffsets + 1);
+      press_placed(spread * kPressSpan / kMs, spread * kLedSpan / kMs,
+                   led_pdo_after - kEndSpan + p * kEndSpan / kPollOffsets);
+    }
+  }
+  op.set_lab_stop2(true);
   return r;
 }
 

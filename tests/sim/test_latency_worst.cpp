@@ -67,8 +67,8 @@ TEST(LatencyWorst, EveryCaseReachesItsShareOfTheBound) {
   };
   const Case cases[] = {
       {false, 125, false, 0.950},  {false, 125, true, 0.824},  {false, 250, false, 0.957},
-      {false, 250, true, 0.839},   {false, 500, false, 0.953}, {false, 500, true, 0.838},
-      {false, 1000, false, 0.953}, {false, 1000, true, 0.841}, {true, 125, false, 0.978},
+      {false, 250, true, 0.839},   {false, 500, false, 0.953}, {false, 500, true, 0.842},
+      {false, 1000, false, 0.953}, {false, 1000, true, 0.856}, {true, 125, false, 0.978},
       {true, 125, true, 0.938},    {true, 250, false, 0.978},  {true, 250, true, 0.938},
       {true, 500, false, 0.978},   {true, 500, true, 0.940},   {true, 1000, false, 0.978},
       {true, 1000, true, 0.956},

@@ -73,7 +73,7 @@ NodeProcess* MasterTransfers::nodes_[4] = {};
 TEST_F(MasterTransfers, ScanFindsTheUnoAndTheNodesWithTheirIdentity) {
   const MasterRun run = run_master({"-t", "300", "scan", "1", "10"});
   ASSERT_EQ(run.exit_code, 0) << run.err;
-  ASSERT_EQ(run.out.size(), 4u) << run.text();
+  ASSERT_EQ(run.out.size(), 4u) << run.text() << uno_->ask("bus?", "bus ");
   for (int id = 1; id <= 3; ++id) {
     const std::string& l = run.out[static_cast<size_t>(id - 1)];
     EXPECT_EQ(l.rfind("node " + std::to_string(id) +
@@ -88,7 +88,10 @@ TEST_F(MasterTransfers, ScanFindsTheUnoAndTheNodesWithTheirIdentity) {
 
 TEST_F(MasterTransfers, TypedReadAndWriteOnTheCommandLineAndViaTheEds) {
   MasterRun run = run_master({"read", "1-3", "1008", "0", "vs"});
-  ASSERT_EQ(run.exit_code, 0) << run.err;
+  // On failure: the Uno's chip counters (overflowed=) and how far its
+  // image's clock (sim_us) lags the wall (at_us).
+  ASSERT_EQ(run.exit_code, 0) << run.err << uno_->ask("bus?", "bus ") << "\n"
+                              << uno_->ask("stack?", "stack ");
   EXPECT_EQ(run.text(), "node 1: mb2co gateway\nnode 2: mb2co gateway\nnode 3: mb2co gateway\n");
   // The Uno's debounce time 2000h/6 (ms): written, read back with the type
   // the EDS gives, then restored.
@@ -256,8 +259,8 @@ TEST(MasterWatchdog, ANodeKilledMidTransferAbortsWithinTheConsumerTimeTheOthersF
       std::string::npos)
       << err;
   const std::vector<uint8_t> pattern = program_data_pattern();
-  EXPECT_TRUE(file_bytes(dir.path("up.4")) == pattern) << "node 4's transfer finished";
-  EXPECT_TRUE(file_bytes(dir.path("up.6")) == pattern) << "node 6's transfer finished";
+  EXPECT_TRUE(file_bytes(dir.path("up.4")) == pattern) << "node 4's transfer finished\n" << err;
+  EXPECT_TRUE(file_bytes(dir.path("up.6")) == pattern) << "node 6's transfer finished\n" << err;
   EXPECT_TRUE(file_bytes(dir.path("up.5")).empty()) << "nothing half-written for node 5";
 }
 

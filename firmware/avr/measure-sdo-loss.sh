@@ -5,8 +5,10 @@
 # heartbeat and TPDO1 every 100 ms, which node 1's filters admit) on vcan0;
 # mb2co-master reads node 1's 1008h (a segmented upload: three requests)
 # READS times, one after the other. Prints the reads that ended in the SDO
-# timeout and the Uno's `bus?` line (overflowed=: frames lost to full
-# receive buffers). Runs itself inside hil/uml/run-with-vcan.sh.
+# timeout (mb2co-master starts a transfer over once when node 1's heartbeat
+# says it serves SDO: these are reads lost twice) and the Uno's `bus?` line
+# (overflowed=: frames lost to full receive buffers, requests among them).
+# Runs itself inside hil/uml/run-with-vcan.sh.
 #
 # Usage: firmware/avr/measure-sdo-loss.sh [READS]   (default 300)
 # Needs the host build (scripts/test.sh or cmake --build build): build/ of

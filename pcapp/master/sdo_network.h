@@ -4,6 +4,12 @@
 // nodes"), and the watchdog: with a heartbeat consumer time set, a node whose
 // heartbeats stop has its running transfer aborted (05040000h sent) and its
 // queue failed, instead of waiting for the SDO timeout (seed 002's watchdog).
+// A request that times out while the node's heartbeat says it serves SDO
+// (operational or pre-operational) is taken for lost and the transfer is
+// started over once (the timeout's abort sent first): a station Uno loses
+// a request now and then when a neighbour's frames fill its two receive
+// buffers (firmware/avr/README.md). A node heard from in no such state in
+// that time (silent, stopped, without heartbeat) times out as before.
 #pragma once
 #include <stdint.h>
 
@@ -50,7 +56,17 @@ class SdoNetwork : public BusService {
     canopen::SdoClient client;
     std::deque<Transfer*> queue;  ///< front(): running
     bool used = false;
+    /// A heartbeat saying operational or pre-operational came since the
+    /// running transfer (re)started: the node is there to serve SDO.
+    bool heard_serving = false;
   };
+  /// The front transfer timed out (ours or the server's 05040000h) while
+  /// the node was heard serving, for the first time and with nothing of it
+  /// handed on yet (a streamed upload's bytes): started over
+  /// kAskAgainPauseUs later, true. Else false (it ends).
+  bool ask_again(uint8_t id, uint32_t now_us, const CanSink& sink);
+  /// Out of step with periods of whole 10 ms (heartbeats, event timers).
+  static const uint32_t kAskAgainPauseUs = 7000;
   /// Ends the node's transfers from position `from` of its queue on with
   /// `code` (nothing is sent: the caller aborts a running one);
   /// `notify`: their on_done is called.

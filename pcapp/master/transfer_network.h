@@ -58,6 +58,10 @@ struct Transfer {
   bool by_server = false;  ///< result is the server's abort code
   bool node_lost = false;  ///< ended by the watchdog (heartbeat lost)
   bool crc = false;        ///< a block transfer with CRC
+  /// It timed out once while the node's heartbeat said it serves SDO, and
+  /// was started over 7 ms later (SdoNetwork, which then sets
+  /// not_before_us; a gateway's client decides for itself).
+  bool asked_again = false;
   /// Through a gateway: why the gateway itself refused the request (an
   /// exception other than an SDO abort), "" otherwise; `link_down`: the
   /// gateway did not answer at all (or not usably).

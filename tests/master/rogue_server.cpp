@@ -103,6 +103,14 @@ void RogueServer::send(const std::vector<Bytes8>& frames) {
   frames_sent_ += done;
 }
 
+void RogueServer::heartbeat(uint8_t state) {
+  can_frame f{};
+  f.can_id = 0x700u + kNode;
+  f.can_dlc = 1;
+  f.data[0] = state;
+  if (write(fd_, &f, sizeof f) != static_cast<ssize_t>(sizeof f)) error_ = "heartbeat not sent";
+}
+
 void RogueServer::send_later(std::chrono::milliseconds delay, const Bytes8& frame) {
   later_.emplace_back(Clock::now() + delay, frame);
 }

@@ -57,6 +57,9 @@ class RogueServer {
   /// Frames on 585h now, in one sendmmsg where possible.
   void send(const std::vector<Bytes8>& frames);
   void send(const Bytes8& frame) { send(std::vector<Bytes8>{frame}); }
+  /// Node 5's heartbeat (705h) with NMT `state` now (05h operational, 04h
+  /// stopped): the node shows it is there without answering.
+  void heartbeat(uint8_t state);
   /// A frame on 585h `delay` from now (a slow server), unless the master
   /// aborted meanwhile.
   void send_later(std::chrono::milliseconds delay, const Bytes8& frame);

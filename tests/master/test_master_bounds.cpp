@@ -11,7 +11,9 @@
 // on the monotonic clock, no file left behind, and the master's peak RSS
 // within 512 KiB of a plain read's. Then a scan against a node that loses
 // a request (asked once more) and a node id that never answers (no abort:
-// a probe).
+// a probe). Last, a node whose heartbeat says it serves SDO and that loses
+// a request (or times out itself) is asked once more, one that never
+// answers times out after two asks, a stopped one after one.
 // ctest runs this binary inside hil/uml/run-with-vcan.sh.
 #include <gtest/gtest.h>
 #include <stdlib.h>
@@ -413,6 +415,71 @@ TEST_F(MasterBounds, AScanSendsNoAbortToANodeIdThatNeverAnswered) {
   EXPECT_EQ(r.exit_code, 4) << r.err << r.error;
   EXPECT_EQ(asked, 1) << "a silent node id is asked once";
   EXPECT_EQ(server_.abort_code(), 0u) << "a probe that nobody answered sent an abort";
+}
+
+/// `read 5 2000 0 u8` against a node that answers 7 but loses the first
+/// `lost` requests, sending its heartbeat with NMT `state` instead (each
+/// request counted in *asked).
+RogueServer::Handler loses_while_beating(int lost, uint8_t state, int* asked) {
+  return [=](RogueServer& s, const CanFrame& q) {
+    if (q.data[0] != 0x40) return;
+    if (++*asked <= lost) return s.heartbeat(state);  // lost in its receive buffers, yet there
+    s.progress();
+    s.send(mux(q, 0x4F, 7));
+  };
+}
+
+TEST_F(MasterBounds, ARequestLostWhileTheNodeBeatsIsAskedOnceMore) {
+  int asked = 0;
+  server_.keep_answering_after_abort();
+  EXPECT_TRUE(server_.start(loses_while_beating(1, 0x05, &asked))) << server_.error();
+  const MeasuredRun r = run_measured({"-t", kTArg, "read", "5", "2000", "0", "u8"}, dir_, kT * 4 + kSlack);
+  server_.stop();
+  EXPECT_EQ(r.exit_code, 0) << r.err << r.error;
+  EXPECT_EQ(r.out, "0x7\n") << r.err;
+  EXPECT_EQ(asked, 2);
+  EXPECT_EQ(server_.abort_code(), 0x05040000u) << "the timeout's abort goes out before it is asked again";
+}
+
+TEST_F(MasterBounds, AServerTimeoutWhileTheNodeBeatsIsAskedOnceMore) {
+  // The node's own SDO timeout (it waited for a request that did not
+  // come): abort 05040000h from it, its heartbeat operational; then it answers.
+  int asked = 0;
+  EXPECT_TRUE(server_.start([&asked](RogueServer& s, const CanFrame& q) {
+    if (q.data[0] != 0x40) return;
+    if (++asked == 1) {
+      s.heartbeat(0x05);
+      return s.send(mux(q, 0x80, 0x05040000));
+    }
+    s.send(mux(q, 0x4F, 7));
+  })) << server_.error();
+  const MeasuredRun r = run_measured({"-t", kTArg, "read", "5", "2000", "0", "u8"}, dir_, kT * 4 + kSlack);
+  server_.stop();
+  EXPECT_EQ(r.exit_code, 0) << r.err << r.error;
+  EXPECT_EQ(r.out, "0x7\n") << r.err;
+  EXPECT_EQ(asked, 2);
+}
+
+TEST_F(MasterBounds, ANodeThatBeatsButNeverAnswersTimesOutAfterTwoAsks) {
+  int asked = 0;
+  server_.keep_answering_after_abort();
+  const MeasuredRun r =
+      run(loses_while_beating(1000, 0x7F, &asked), {"-t", kTArg, "read", "5", "2000", "0", "u8"}, 2 * kT);
+  EXPECT_EQ(r.exit_code, 4) << r.err << r.error;
+  EXPECT_EQ(asked, 2) << "asked once more, not again";
+  EXPECT_NE(r.err.find("SDO abort sent 05040000h"), std::string::npos) << r.err;
+  const long exit_ms = ms_between(server_.progress_at(), r.exited_at);
+  EXPECT_GE(exit_ms, 2 * kT.count()) << "two timeouts";
+  EXPECT_LE(exit_ms, (2 * kT + kSlack).count());
+}
+
+TEST_F(MasterBounds, AStoppedNodeIsAskedOnce) {
+  int asked = 0;
+  const MeasuredRun r =
+      run(loses_while_beating(1000, 0x04, &asked), {"-t", kTArg, "read", "5", "2000", "0", "u8"}, kT);
+  EXPECT_EQ(r.exit_code, 4) << r.err << r.error;
+  EXPECT_EQ(asked, 1) << "a stopped node serves no SDO: its silence is no lost request";
+  expect_end(r, 0x05040000u, 4, kT);
 }
 
 }  // namespace

@@ -36,15 +36,38 @@ ObjectDictionary::ObjectDictionary(const OdDefinition& def, uint8_t* values)
 
 #if MB2CO_CONFIG_OD_DIRECT_GET
 void ObjectDictionary::resolve_direct() {
-  for (uint16_t row = 0; row < kDirectRows; ++row) {
-    direct_[row] = Direct{0, 0};
-    if (row >= def_.row_count) continue;
+  static const uint32_t kWidthMask[5] = {0, 0xFFu, 0xFFFFu, 0xFFFFFFu, 0xFFFFFFFFu};
+  memset(found_, 0, sizeof found_);
+  memset(direct_, 0, sizeof direct_);
+  direct_rows_ = def_.row_count < kDirectRows ? def_.row_count : kDirectRows;
+  for (uint16_t row = 0; row < direct_rows_; ++row) {
     const Place pl = place(row);
-    if ((flash_read(&pl.row->attr) & (kAttrRam | kAttrString)) != kAttrRam) continue;
-    const uint8_t n = numeric_size(pl.row);
-    if (n == 0 || n > 4) continue;
-    direct_[row] = Direct{static_cast<uint16_t>(value_at(pl) - values_), n};
+    Direct& d = direct_[row];
+    d.index = static_cast<uint16_t>(flash_read(&pl.row->index) + pl.n);
+    d.sub = flash_read(&pl.row->sub);
+    d.attr = flash_read(&pl.row->attr);
+    d.numeric = (d.attr & kAttrString) ? 0 : numeric_size(pl.row);
+    if ((d.attr & (kAttrRam | kAttrString)) != kAttrRam || d.numeric == 0 || d.numeric > 4) continue;
+    // A value in the block's last 3 bytes is decoded: its 4-byte load would
+    // read past values_.
+    const uint16_t offset = static_cast<uint16_t>(value_at(pl) - values_);
+    if (offset + 4u > def_.values_size) continue;
+    d.offset = offset;
+    d.mask = kWidthMask[d.numeric];
   }
+}
+
+// Remembered answers first (found_): the search costs ~120 instructions, a
+// hit ~10, and the hosts' hot paths (a PDO's mapped entries, a Modbus
+// table's map) ask for the same few keys on every frame and request.
+uint16_t ObjectDictionary::find(uint16_t index, uint8_t sub) const {
+  const uint32_t key = ((static_cast<uint32_t>(index) << 8) | sub) + 1u;
+  Found& f = found_[static_cast<uint8_t>(index * 31u + sub)];
+  if (f.key != key) {
+    f.row = search(index, sub);
+    f.key = key;
+  }
+  return f.row;
 }
 #endif
 
@@ -83,7 +106,11 @@ ObjectDictionary::Place ObjectDictionary::place(uint16_t row) const {
   return p;
 }
 
+#if MB2CO_CONFIG_OD_DIRECT_GET
+uint16_t ObjectDictionary::decoded_index(uint16_t row) const {
+#else
 uint16_t ObjectDictionary::index_of(uint16_t row) const {
+#endif
   const Place p = place(row);
   return static_cast<uint16_t>(flash_read(&p.row->index) + p.n);
 }
@@ -134,7 +161,11 @@ static uint16_t plain_to_row(const OdDefinition& def, uint16_t plain) {
   return plain < def.record_first ? plain : static_cast<uint16_t>(plain + def.record_count);
 }
 
+#if MB2CO_CONFIG_OD_DIRECT_GET
+uint16_t ObjectDictionary::search(uint16_t index, uint8_t sub) const {
+#else
 uint16_t ObjectDictionary::find(uint16_t index, uint8_t sub) const {
+#endif
   if (static_cast<uint16_t>(index - kOdRecordFirst) < kOdRecordEnd - kOdRecordFirst) {
     return find_record(index, sub);
   }
@@ -175,12 +206,18 @@ uint8_t ObjectDictionary::type_bits(uint8_t type) const {
 }
 
 uint16_t ObjectDictionary::capacity_of(uint16_t row) const {
+#if MB2CO_CONFIG_OD_DIRECT_GET
+  if (row < direct_rows_ && direct_[row].numeric != 0) return direct_[row].numeric;
+#endif
   const Place p = place(row);
   if (flash_read(&p.row->attr) & kAttrString) return static_cast<uint16_t>(def_at(p) >> 16);
   return numeric_size(p.row);
 }
 
 uint16_t ObjectDictionary::size_of(uint16_t row) const {
+#if MB2CO_CONFIG_OD_DIRECT_GET
+  if (row < direct_rows_ && direct_[row].numeric != 0) return direct_[row].numeric;
+#endif
   const Place p = place(row);
   if (!(flash_read(&p.row->attr) & kAttrString)) return numeric_size(p.row);
   return string_length(p);
@@ -215,26 +252,13 @@ uint32_t ObjectDictionary::constant_at(Place p) const {
 
 // get() and set() are on every path (services, PDOs, Modbus): they read the
 // three fields they need straight from the row and move the value with one
-// memcpy (values are little-endian, like both targets).
-uint32_t ObjectDictionary::get(uint16_t row) const {
+// memcpy (values are little-endian, like both targets). With the direct
+// table (MB2CO_CONFIG_OD_DIRECT_GET) get() reads a numeric RAM row inline
+// (od.h) and comes here for the rest.
 #if MB2CO_CONFIG_OD_DIRECT_GET
-  if (row < kDirectRows && direct_[row].size != 0) {
-    // One 4-byte load, masked to the value's width (little-endian, checked
-    // above): no branch on the width, and no memcpy of a variable size,
-    // whose bytes stored singly make the read of them wait (no
-    // store-to-load forwarding). The bytes beyond a narrow value are the
-    // next values' (inside values_: the last 3 bytes are read bytewise).
-    static const uint32_t kWidthMask[5] = {0, 0xFFu, 0xFFFFu, 0xFFFFFFu, 0xFFFFFFFFu};
-    const Direct d = direct_[row];
-    const uint8_t* p = values_ + d.offset;
-    uint32_t v = 0;
-    if (d.offset + 4u <= def_.values_size) {
-      memcpy(&v, p, 4);
-      return v & kWidthMask[d.size];
-    }
-    for (uint8_t i = 0; i < d.size; ++i) v |= static_cast<uint32_t>(p[i]) << (8 * i);
-    return v;
-  }
+uint32_t ObjectDictionary::decoded(uint16_t row) const {
+#else
+uint32_t ObjectDictionary::get(uint16_t row) const {
 #endif
   const Place pl = place(row);
   const uint8_t a = flash_read(&pl.row->attr);

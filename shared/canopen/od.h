@@ -5,6 +5,7 @@
 // answer with a CiA 301 SDO abort code (kSdoOk = done).
 #pragma once
 #include <stdint.h>
+#include <string.h>
 
 #include "canopen/od_define.h"
 #include "canopen/od_types.h"
@@ -135,7 +136,9 @@ class ObjectDictionary {
   const OdDefinition& definition() const { return def_; }
 
   // ---- lookup ---------------------------------------------------------------
-  /// Row number of (index, sub), or kNoRow.
+  /// Row number of (index, sub), or kNoRow. With MB2CO_CONFIG_OD_DIRECT_GET
+  /// the answers are remembered (found_): find() then writes the OD's own
+  /// memory, so two threads must not call it on one OD at once.
   uint16_t find(uint16_t index, uint8_t sub) const;
   /// Row of a generated entry key (`Name##Entry::x2100_2_runState`), or kNoRow.
   uint16_t find(OdKey key) const { return find(key.index, key.sub); }
@@ -151,10 +154,11 @@ class ObjectDictionary {
   /// A row's metadata, decoded (from flash on AVR). Hot paths read single
   /// fields instead (attr(), index_of(), ...).
   OdEntry entry(uint16_t row) const;
-  /// Single fields of a row (OdAttr bits, index, sub-index).
-  MB2CO_INLINE uint8_t attr(uint16_t row) const { return flash_read(&place(row).row->attr); }
+  /// Single fields of a row (OdAttr bits, index, sub-index); on hosts from
+  /// the direct table (below the class).
+  uint8_t attr(uint16_t row) const;
   uint16_t index_of(uint16_t row) const;
-  MB2CO_INLINE uint8_t sub_of(uint16_t row) const { return flash_read(&place(row).row->sub); }
+  uint8_t sub_of(uint16_t row) const;
   /// Handler slot of a row (OdHook; kHookNone: no handler validates writes to it).
   MB2CO_INLINE uint8_t hook_of(uint16_t row) const {
     return static_cast<uint8_t>(
@@ -309,20 +313,78 @@ class ObjectDictionary {
 #if MB2CO_CONFIG_OD_DIRECT_GET
   // Profiles with MB2CO_CONFIG_OD_DIRECT_GET (the hosts': the simulator
   // runs every station's core on every pass; the Uno's keep their RAM and
-  // flash as they are, profiles/profile.h refuses it there): where get()
-  // finds a numeric RAM row's value, resolved once at construction from the constant rows,
-  // so get() skips place() and the type decoding. Offsets into values_ and
-  // sizes never change after construction (rows, types and the value
-  // layout are constant; the node id changes constants, not RAM rows).
+  // flash as they are, profiles/profile.h refuses it there): each row's
+  // fields that the hot paths read, and where get() finds a numeric RAM
+  // row's value, resolved once at construction from the constant rows, so
+  // these skip place() and the type decoding. None of it changes after
+  // construction (rows, types and the value layout are constant; the node
+  // id changes constants' values, which get() decodes, not these fields).
   struct Direct {
-    uint16_t offset;  ///< of the value in values_
-    uint8_t size;     ///< 1..4 bytes; 0: not a numeric RAM row of <= 4 bytes, get() decodes
+    uint32_t mask;    ///< a numeric RAM row of 1..4 bytes read as 4: its width's bits; 0: get() decodes
+    uint16_t offset;  ///< of the value in values_ (with a mask)
+    uint16_t index;   ///< index_of()
+    uint8_t sub;      ///< sub_of()
+    uint8_t attr;     ///< attr()
+    uint8_t numeric;  ///< size_of() and capacity_of() of a number (numeric_size); 0: decoded
   };
   static const uint16_t kDirectRows = 1024;  ///< rows beyond this decode (no OD here has as many)
   Direct direct_[kDirectRows];
+  uint16_t direct_rows_;  ///< rows of direct_ filled: the OD's, at most kDirectRows
   void resolve_direct();
+  /// get() of a row not in the direct table: its decoding.
+  uint32_t decoded(uint16_t row) const;
+  /// index_of() of a row beyond the direct table.
+  uint16_t decoded_index(uint16_t row) const;
+  /// find()'s binary search (and the records' walk).
+  uint16_t search(uint16_t index, uint8_t sub) const;
+  /// find()'s answers, by a hash of (index, sub): rows never move, so an
+  /// answer (kNoRow too) stays true for the OD's life; a slot holds the last
+  /// key that hashed to it. `key` is (index << 8 | sub) + 1, 0: empty.
+  struct Found {
+    uint32_t key;
+    uint16_t row;
+  };
+  static const uint16_t kFoundSlots = 256;
+  mutable Found found_[kFoundSlots];
 #endif
 };
+
+MB2CO_INLINE uint8_t ObjectDictionary::attr(uint16_t row) const {
+#if MB2CO_CONFIG_OD_DIRECT_GET
+  if (row < direct_rows_) return direct_[row].attr;
+#endif
+  return flash_read(&place(row).row->attr);
+}
+
+MB2CO_INLINE uint8_t ObjectDictionary::sub_of(uint16_t row) const {
+#if MB2CO_CONFIG_OD_DIRECT_GET
+  if (row < direct_rows_) return direct_[row].sub;
+#endif
+  return flash_read(&place(row).row->sub);
+}
+
+#if MB2CO_CONFIG_OD_DIRECT_GET
+// On the Uno both are out of line in od.cpp (the decoding alone).
+MB2CO_INLINE uint16_t ObjectDictionary::index_of(uint16_t row) const {
+  return row < direct_rows_ ? direct_[row].index : decoded_index(row);
+}
+
+MB2CO_INLINE uint32_t ObjectDictionary::get(uint16_t row) const {
+  // A numeric RAM row of 1-4 bytes: one 4-byte load masked to its width
+  // (little-endian: od.cpp checks), inline at every caller. The bytes beyond
+  // a narrow value are the next values' (a row whose load would pass the
+  // block's end has mask 0 and is decoded).
+  if (row < kDirectRows) {
+    const Direct& d = direct_[row];
+    if (d.mask != 0) {
+      uint32_t v;
+      memcpy(&v, values_ + d.offset, 4);
+      return v & d.mask;
+    }
+  }
+  return decoded(row);
+}
+#endif
 
 /// Little-endian helpers (the bus byte order).
 inline uint16_t le16(const uint8_t* p) {

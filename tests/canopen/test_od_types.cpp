@@ -12,6 +12,7 @@
 
 #include "canopen/pdo_map.h"
 #include "ionode/io_node_od.h"
+#include "od_rows_check.h"
 #include "test_fixture.h"
 #include "types_od.h"
 #include "value_bytes.h"
@@ -349,6 +350,38 @@ TEST(OdGet, EveryNumericRowOfTheIoNodeOdReadsItsBytes) {
   ASSERT_EQ(sizeof values, ionode::od::IoNodeDefinition.values_size);
   EXPECT_TRUE(every_numeric_row_reads_its_bytes_also_at_the_block_end(ionode::od::IoNodeDefinition,
                                                                       reinterpret_cast<uint8_t*>(&values)));
+}
+
+// The hosts' direct table and remembered find() answers on the all-types
+// OD (test_od_direct.cpp has the I/O node's): every row as decoded, and a
+// string's size, which the table does not keep, follows its text.
+TEST(OdDirect, EveryRowOfTheAllTypesOdReadsAsItsRowSays) {
+  types::od::TypesValues values{};
+  const ObjectDictionary od(types::od::TypesDefinition, reinterpret_cast<uint8_t*>(&values));
+  EXPECT_GT(every_row_reads_as_decoded(od), 20);
+}
+
+// A string's size is its text now (not in the table: size_of() decodes it),
+// its capacity the row's.
+TEST(OdDirect, AStringsSizeFollowsItsText) {
+  types::od::TypesValues values{};
+  ObjectDictionary od(types::od::TypesDefinition, reinterpret_cast<uint8_t*>(&values));
+  od.restore_defaults(0x0000, 0xFFFF);
+  uint16_t row = kNoRow;
+  for (uint16_t r = 0; r < od.row_count() && row == kNoRow; ++r) {
+    if ((od.attr(r) & (kAttrRam | kAttrString | kAttrWrite)) == (kAttrRam | kAttrString | kAttrWrite) &&
+        od.type_of(r) == kVisibleString && od.capacity_of(r) >= 3) {
+      row = r;
+    }
+  }
+  ASSERT_NE(row, kNoRow);
+  const uint8_t one[1] = {'a'};
+  ASSERT_EQ(od.write_row(row, one, 1), kSdoOk);
+  EXPECT_EQ(od.size_of(row), 1u);
+  const uint8_t three[3] = {'a', 'b', 'c'};
+  ASSERT_EQ(od.write_row(row, three, 3), kSdoOk);
+  EXPECT_EQ(od.size_of(row), 3u);
+  EXPECT_GE(od.capacity_of(row), 3u);
 }
 
 }  // namespace

@@ -197,7 +197,7 @@ void CanBus::arbitrate() {
   }
   state_ = State::kBusy;
   const CanFrame& f = winner->tx_[buf].frame;
-  const timing::ExactFrameBits bits = timing::frame_bits_exact(f);
+  const timing::ExactFrameBits bits = frame_bits_.of(f);
   current_.sender = winner->index();
   current_.frame = f;
   current_.bits = bits.total_bits;

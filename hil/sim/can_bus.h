@@ -29,6 +29,7 @@
 #include "canopen/can_frame.h"
 #include "filter_plan.h"
 #include "sim/event_queue.h"
+#include "sim/frame_bits_memo.h"
 #include "sim/rng.h"
 
 namespace mb2co {
@@ -177,6 +178,7 @@ class CanBus final : public Handler {
   uint32_t bitrate_bps_;
   SimNs bit_ns_;
   Rng rng_;
+  FrameBitsMemo frame_bits_;  ///< each frame's exact length (arbitrate)
   uint32_t corruption_ppm_ = 0;
   std::vector<CanController*> controllers_;
   State state_ = State::kIdle;

@@ -62,7 +62,7 @@ void ObjectDictionary::resolve_direct() {
 // table's map) ask for the same few keys on every frame and request.
 uint16_t ObjectDictionary::find(uint16_t index, uint8_t sub) const {
   const uint32_t key = ((static_cast<uint32_t>(index) << 8) | sub) + 1u;
-  Found& f = found_[static_cast<uint8_t>(index * 31u + sub)];
+  Found& f = found_[(key * 0x9E3779B1u) >> 24];  // Fibonacci hashing: the top 8 bits
   if (f.key != key) {
     f.row = search(index, sub);
     f.key = key;
@@ -279,6 +279,19 @@ uint32_t ObjectDictionary::get(uint16_t row) const {
 }
 
 bool ObjectDictionary::set(uint16_t row, uint32_t value) {
+#if MB2CO_CONFIG_OD_DIRECT_GET
+  // A numeric RAM row in the direct table: compared and stored where it is
+  // (its `numeric` bytes, none beyond).
+  if (row < kDirectRows && direct_[row].mask != 0) {
+    const Direct& d = direct_[row];
+    uint32_t old;
+    memcpy(&old, values_ + d.offset, 4);
+    if (((old ^ value) & d.mask) == 0) return false;
+    memcpy(values_ + d.offset, &value, d.numeric);  // little-endian, as on the bus
+    touch();
+    return true;
+  }
+#endif
   const Place pl = place(row);
   if ((flash_read(&pl.row->attr) & (kAttrRam | kAttrString)) != kAttrRam) return false;
   uint8_t* p = value_at(pl);
@@ -304,6 +317,14 @@ const uint8_t* ObjectDictionary::ram(uint16_t row) const {
 }
 
 uint16_t ObjectDictionary::copy_out(uint16_t row, uint8_t* buf, uint16_t cap) const {
+#if MB2CO_CONFIG_OD_DIRECT_GET
+  // A numeric RAM row in the direct table: its bytes where they are.
+  if (row < kDirectRows && direct_[row].mask != 0) {
+    const uint16_t n = direct_[row].numeric < cap ? direct_[row].numeric : cap;
+    memcpy(buf, values_ + direct_[row].offset, n);
+    return n;
+  }
+#endif
   const Place pl = place(row);
   const uint8_t a = flash_read(&pl.row->attr);
   uint16_t n = size_of(row);

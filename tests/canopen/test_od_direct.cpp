@@ -24,24 +24,22 @@ TEST(OdDirect, EveryRowOfTheIoNodeOdReadsAsItsRowSays) {
   EXPECT_GT(every_row_reads_as_decoded(od), 100);
 }
 
-// Keys that share a remembered slot (index * 31 + sub, modulo 256: sub 31
-// of an index and sub 0 of the next) and absent keys: each asked in turn
-// answers its own row, or kNoRow, never the slot's previous key's.
+// More keys than remembered slots (every row's, and an absent one beside
+// each), asked in turn over and over: slots are shared (pigeonhole, whatever
+// the hash), and each key still answers its own row or kNoRow, never the
+// answer of the slot's previous key.
 TEST(OdDirect, KeysSharingARememberedSlotEachFindTheirOwnRow) {
   ionode::od::IoNodeValues values{};
   const ObjectDictionary od(ionode::od::IoNodeDefinition, reinterpret_cast<uint8_t*>(&values));
-  const uint16_t heartbeat = od.find(0x1017, 0);
-  const uint16_t emcy = od.find(0x1014, 0);
-  ASSERT_NE(heartbeat, kNoRow);
-  ASSERT_NE(emcy, kNoRow);
+  ASSERT_GT(2 * od.row_count(), 256);  // more keys than the host's 256 slots
   for (int round = 0; round < 3; ++round) {
-    EXPECT_EQ(od.find(0x1016, 31), kNoRow);  // the slot of 1017h/0
-    EXPECT_EQ(od.find(0x1017, 0), heartbeat);
-    EXPECT_EQ(od.find(0x1013, 31), kNoRow);  // the slot of 1014h/0
-    EXPECT_EQ(od.find(0x1014, 0), emcy);
-    EXPECT_EQ(od.find(0x1014, 1), kNoRow);
-    EXPECT_EQ(od.find(0x0000, 0), kNoRow);  // key 0 + 1: not an empty slot
+    for (uint16_t row = 0; row < od.row_count(); ++row) {
+      const OdEntry e = od.entry(row);
+      EXPECT_EQ(od.find(e.index, e.sub), row);
+      EXPECT_EQ(od.find(e.index, 0xFF), kNoRow) << std::hex << e.index;  // no OD here has sub FFh
+    }
   }
+  EXPECT_EQ(od.find(0x0000, 0), kNoRow);  // key 0 + 1: not an empty slot's
 }
 
 // The table keeps where a value is, never the value: a value changed by
@@ -60,6 +58,27 @@ TEST(OdDirect, AWriteIsReadAtOnceThroughTheTable) {
   EXPECT_EQ(od.get(heartbeat), 0xBEEFu);
   od.ram(heartbeat)[1] = 0x01;
   EXPECT_EQ(od.get(heartbeat), 0x01EFu);
+  uint8_t bytes[4] = {};
+  EXPECT_EQ(od.copy_out(heartbeat, bytes, sizeof bytes), 2u);
+  EXPECT_EQ(bytes[0], 0xEF);
+  EXPECT_EQ(bytes[1], 0x01);
+
+  // set() changes only the row's own bytes, and says (and counts) a change
+  // only when one was made.
+  const uint8_t* value = od.ram_untracked(heartbeat);
+  ASSERT_LE(value + 4, reinterpret_cast<const uint8_t*>(&values) + sizeof values);
+  const uint8_t beyond[2] = {value[2], value[3]};  // the bytes of whatever follows 1017h
+  const uint16_t revision = od.revision();
+  // Bits above the row's 16 that differ from the bytes beyond it.
+  const uint32_t high = static_cast<uint32_t>(static_cast<uint8_t>(~beyond[0]) | (~beyond[1] & 0xFF) << 8)
+                        << 16;
+  EXPECT_FALSE(od.set(heartbeat, high | 0x01EF));  // the same 16 bits
+  EXPECT_EQ(od.revision(), revision);
+  EXPECT_TRUE(od.set(heartbeat, high | 0x01EE));
+  EXPECT_NE(od.revision(), revision);
+  EXPECT_EQ(od.get(heartbeat), 0x01EEu);
+  EXPECT_EQ(value[2], beyond[0]);
+  EXPECT_EQ(value[3], beyond[1]);
 
   const uint16_t sdo_rx = od.find(0x1200, 1);  // CONST, 600h + node id
   ASSERT_EQ(od.attr(sdo_rx) & (kAttrRam | kAttrNodeId), kAttrNodeId);

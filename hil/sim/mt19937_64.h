@@ -10,6 +10,12 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define MB2CO_SIM_TWIST_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define MB2CO_SIM_TWIST_CLONES
+#endif
+
 namespace mb2co {
 namespace sim {
 
@@ -47,7 +53,11 @@ class Mt19937x64 {
   }
   /// The next kN words of the state, and their outputs: tempered here, in
   /// a loop without dependencies between words, not on the draw's path.
-  __attribute__((noinline)) void twist() {
+  /// Built twice where the compiler can (GCC on x86-64): for AVX2 (four
+  /// words a step) and for the baseline (two), picked once when the program
+  /// loads (an ifunc on the CPU's features); integer steps only, so both give
+  /// the same words (tests/sim/test_rng.cpp).
+  MB2CO_SIM_TWIST_CLONES __attribute__((noinline)) void twist() {
     // Three loops of 156, 156 and 312 words (even: vectorised by pairs
     // without a remainder); x_[kN] is x_[0] as the first loop made it, so
     // that the last word's successor needs no loop of its own.

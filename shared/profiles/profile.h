@@ -33,12 +33,13 @@
     "mb2co_profile.h: Modbus/TCP routes FC 2Bh/0Dh's deferred answers: MB2CO_CONFIG_MODBUS_TCP needs MB2CO_CONFIG_NETWORK"
 #endif
 
-// The direct table is 4 bytes of RAM per row up to 1,024 rows (4 KB per
-// dictionary, canopen/od.h): twice the Uno's 2 KB. It is for hosts, where
-// the simulator calls every station's core on every pass.
+// The direct table is 12 bytes of RAM per row up to 1,024 rows, and find()
+// remembers 256 answers of 8 bytes (14 KB per dictionary, canopen/od.h):
+// seven times the Uno's 2 KB. It is for hosts, where the simulator calls
+// every station's core on every pass.
 #if MB2CO_CONFIG_OD_DIRECT_GET && defined(__AVR__)
 #error \
-    "mb2co_profile.h: MB2CO_CONFIG_OD_DIRECT_GET is for hosts (4 KB of RAM per OD): 0 in the Uno's profiles"
+    "mb2co_profile.h: MB2CO_CONFIG_OD_DIRECT_GET is for hosts (14 KB of RAM per OD): 0 in the Uno's profiles"
 #endif
 
 #if MB2CO_CONFIG_GUARDING
@@ -117,10 +118,11 @@ constexpr bool kAcceptanceFilters = MB2CO_CONFIG_ACCEPTANCE_FILTERS != 0;
 /// too (1012h bit 30; its day state costs RAM the station has not).
 constexpr bool kTime = MB2CO_CONFIG_TIME != 0;
 constexpr bool kTimeProducer = MB2CO_CONFIG_TIME >= 2;
-/// ObjectDictionary::get() reads a numeric RAM row of <= 4 bytes through an
-/// offset and size resolved once at construction (canopen/od.h), not by
-/// placing the row and decoding its type: the hot lookup of the simulator
-/// and the Linux node. Hosts only (4 KB of RAM per dictionary).
+/// ObjectDictionary's hot reads (get(), copy_out() and set() of a numeric RAM
+/// row, attr(), index_of(), sub_of(), a number's size) go through a table
+/// resolved once at construction (canopen/od.h), not by placing the row and
+/// decoding its type, and find() remembers its answers: the hot lookups of
+/// the simulator and the Linux node. Hosts only (14 KB of RAM per dictionary).
 constexpr bool kOdDirectGet = MB2CO_CONFIG_OD_DIRECT_GET != 0;
 
 }  // namespace profile

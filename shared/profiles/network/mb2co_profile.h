@@ -17,5 +17,5 @@
 #define MB2CO_CONFIG_WIDE_TYPES 0          // 64-bit types, 0008h-001Bh, 2500h
 #define MB2CO_CONFIG_MODBUS_TCP 0          // Modbus/TCP channels into the slave
 #define MB2CO_CONFIG_ACCEPTANCE_FILTERS 0  // CAN filters set from the acceptance ranges
-#define MB2CO_CONFIG_OD_DIRECT_GET 0       // get() of a numeric RAM row without decoding (4 KB RAM per OD)
+#define MB2CO_CONFIG_OD_DIRECT_GET 0       // the OD's hot reads without decoding (14 KB RAM per OD)
 #define MB2CO_CONFIG_TIME 0                // TIME (CiA 301), 1012h/1013h: 1 consumer, 2 + producer
